@@ -1,0 +1,89 @@
+"""Result files: ``summary.json`` and ``history.csv``, written atomically on rank 0.
+
+Atomic means write to a temporary file in the same folder, then ``os.replace``: a killed run leaves
+either the old file or the new one, never half of one.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["SUMMARY_KEYS", "atomic_write_text", "read_history", "write_history", "write_summary"]
+
+# The summary.json contract (foundation issue): every model writes these keys, SI units.
+SUMMARY_KEYS = (
+    "model",
+    "scene",
+    "impact_speed",
+    "peak_contact_force",
+    "contact_radius",
+    "contact_area",
+    "peak_contact_pressure",
+    "contact_duration",
+    "midpoint_peak_speed",
+    "midpoint_peak_strain",
+    "wall_time",
+)
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and an atomic rename."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _jsonable(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _jsonable(x.tolist())
+    if isinstance(x, np.generic):
+        return _jsonable(x.item())
+    if isinstance(x, float) and not math.isfinite(x):
+        return str(x)  # JSON has no inf/nan
+    return x
+
+
+def write_summary(path: str | Path, summary: Mapping[str, Any]) -> None:
+    """Write ``summary.json``; refuses a summary that misses a contract key."""
+    missing = [k for k in SUMMARY_KEYS if k not in summary]
+    if missing:
+        raise KeyError(f"summary lacks contract keys {missing}")
+    atomic_write_text(path, json.dumps(_jsonable(summary), indent=2) + "\n")
+
+
+def write_history(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarray], units: Mapping[str, str]) -> None:
+    """Write a CSV of equally long columns; the header carries the units, ``name [unit]``."""
+    names = list(columns)
+    data = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
+    header = ",".join(f"{n} [{units.get(n, '-')}]" for n in names)
+    lines = [header] + [",".join(f"{v:.10e}" for v in row) for row in data]
+    atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def read_history(path: str | Path) -> dict[str, np.ndarray]:
+    """Read a history CSV back into ``{name: array}`` (units stripped from the header)."""
+    with open(path) as f:
+        header = f.readline().strip().split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return {h.split(" [")[0]: data[:, i] for i, h in enumerate(header)}

@@ -1,0 +1,480 @@
+"""Scenes: one impact described in TOML, validated before anything runs.
+
+A scene file has the tables ``[rod1]``, ``[rod2]`` (each with a ``[rodN.material]`` table),
+``[impact]``, ``[simulation]`` and optional ``[analytical]``, ``[fe]``, ``[[station]]`` and a
+top-level ``effects`` list. Every value is in SI units. ``load_scene(path, overrides)`` applies
+command-line overrides (``impact.speed=1.848``) *before* validation, so overrides pass the same
+checks as the file. Any problem raises :class:`SceneError` naming the key, the value and the
+allowed range; nothing is run or written on a bad scene.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "EFFECTS",
+    "Material",
+    "Rod",
+    "Scene",
+    "SceneError",
+    "Station",
+    "load_scene",
+    "parse_override",
+    "scene_from_dict",
+]
+
+EFFECTS = ("wave_response", "contact_patch", "subsurface_stress", "fields", "misalignment")
+FE_KINDS = ("axisymmetric", "3d")
+SYMMETRIES = ("full", "half", "quarter")
+
+
+class SceneError(ValueError):
+    """A scene value is missing, unknown, of the wrong type or out of range."""
+
+    def __init__(self, key: str, value: Any, allowed: str, hint: str = ""):
+        self.key, self.value, self.allowed, self.hint = key, value, allowed, hint
+        msg = f"scene key '{key}' = {value!r}: {allowed}"
+        if hint:
+            msg += f" ({hint})"
+        super().__init__(msg)
+
+
+# --------------------------------------------------------------------------------------------
+# Schema: key -> (kind, default, check).  REQUIRED marks keys without a default.
+# kind: "float", "int", "str", "list[str]", "float|auto"; check(key, value) raises SceneError.
+# --------------------------------------------------------------------------------------------
+REQUIRED = object()
+
+
+def _positive(unit: str, hi: float = math.inf, hint_hi: str = ""):
+    """Check 0 < value <= hi; ``hint_hi`` explains a too-large value (often wrong units)."""
+
+    def check(key: str, v: float) -> None:
+        lo = 0.0
+        if not v > lo:
+            raise SceneError(key, v, f"must be > 0 {unit}")
+        if v > hi:
+            raise SceneError(key, v, f"must be in ({lo:g}, {hi:g}] {unit}", hint_hi)
+
+    return check
+
+
+def _interval(lo: float, hi: float, unit: str = "", closed_lo: bool = False, closed_hi: bool = False):
+    def check(key: str, v: float) -> None:
+        ok_lo = v >= lo if closed_lo else v > lo
+        ok_hi = v <= hi if closed_hi else v < hi
+        if not (ok_lo and ok_hi):
+            br = ("[" if closed_lo else "(") + f"{lo:g}, {hi:g}" + ("]" if closed_hi else ")")
+            raise SceneError(key, v, f"must be in {br} {unit}".rstrip())
+
+    return check
+
+
+def _choice(options: Iterable[str]):
+    opts = tuple(options)
+
+    def check(key: str, v: str) -> None:
+        if v not in opts:
+            raise SceneError(key, v, f"must be one of {', '.join(opts)}")
+
+    return check
+
+
+def _effects(key: str, v: list[str]) -> None:
+    for e in v:
+        if e not in EFFECTS:
+            raise SceneError(key, e, f"unknown effect; known effects: {', '.join(EFFECTS)}")
+    if len(set(v)) != len(v):
+        raise SceneError(key, v, "effects must not repeat")
+
+
+def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
+    p = f"rod{n}"
+    return {
+        f"{p}.length": ("float", REQUIRED, _positive("m", hi=20.0, hint_hi="looks like millimetres; give metres")),
+        f"{p}.diameter": (
+            "float",
+            REQUIRED,
+            _positive("m", hi=1.0, hint_hi="looks like millimetres; give metres"),
+        ),
+        f"{p}.tip_radius": (
+            "float|inf",
+            math.inf,
+            _positive("m (inf = flat)"),
+        ),
+        f"{p}.material.density": (
+            "float",
+            REQUIRED,
+            _positive("kg/m^3", hi=1e5),
+        ),
+        f"{p}.material.youngs_modulus": ("float", REQUIRED, _positive("Pa", hi=1e13)),
+        f"{p}.material.poisson_ratio": ("float", REQUIRED, _interval(-1.0, 0.5)),
+        f"{p}.material.yield_strength": ("float|none", None, _positive("Pa", hi=1e11)),
+    }
+
+
+SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
+    "name": ("str", "", None),
+    "description": ("str", "", None),
+    "effects": ("list[str]", ["wave_response"], _effects),
+    **_rod_schema(1),
+    **_rod_schema(2),
+    "impact.speed": ("float", REQUIRED, _positive("m/s", hi=100.0, hint_hi="low-speed impact model")),
+    "impact.offset": ("float", 0.0, _interval(0.0, 1.0, "m", closed_lo=True)),
+    "impact.tilt": ("float", 0.0, _interval(0.0, 0.1, "rad", closed_lo=True)),
+    "simulation.end_time": ("float", 1.5e-3, _positive("s", hi=1.0)),
+    "simulation.output_interval": ("float", 0.25e-6, _positive("s", hi=1e-3)),
+    "analytical.rtol": ("float", 1e-10, _interval(1e-14, 1e-2, closed_lo=True, closed_hi=True)),
+    "fe.kind": ("str", "axisymmetric", _choice(FE_KINDS)),
+    "fe.axial_size": ("float", 1.0e-3, _positive("m", hi=0.1)),
+    "fe.radial_size": ("float", 0.25e-3, _positive("m", hi=0.1)),
+    "fe.tip_grading": ("float", 1.0, _interval(0.05, 1.0, closed_hi=True)),
+    "fe.degree": ("int", 1, _interval(1, 2, closed_lo=True, closed_hi=True)),
+    "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
+    "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
+    "fe.penalty": ("float", 1.0, _positive("x element stiffness", hi=1e4)),
+    "fe.bulk_viscosity": ("float", 0.0, _interval(0.0, 1.0, closed_lo=True)),
+    "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
+    "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
+    "fe.submodel_length": ("float", 14e-3, _positive("m", hi=1.0)),
+}
+
+
+def _type_check(key: str, kind: str, v: Any) -> Any:
+    """Coerce and check the TOML value's type; NaN is never allowed, inf only where stated."""
+    if kind == "str":
+        if not isinstance(v, str):
+            raise SceneError(key, v, "must be a string")
+        return v
+    if kind == "list[str]":
+        if isinstance(v, str):
+            v = [v]
+        if not isinstance(v, list) or not all(isinstance(e, str) for e in v):
+            raise SceneError(key, v, "must be a list of strings")
+        return list(v)
+    if kind == "float|auto" and v == "auto":
+        return v
+    if kind == "float|none" and v is None:
+        return v
+    if kind == "int":
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise SceneError(key, v, "must be an integer")
+        return v
+    if isinstance(v, bool) or not isinstance(v, int | float):
+        extra = " or 'auto'" if kind == "float|auto" else ""
+        raise SceneError(key, v, f"must be a number{extra}")
+    v = float(v)
+    if math.isnan(v):
+        raise SceneError(key, v, "must not be NaN")
+    if math.isinf(v) and kind != "float|inf":
+        raise SceneError(key, v, "must be finite")
+    return v
+
+
+def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for k, v in d.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, Mapping):
+            out.update(_flatten(v, key + "."))
+        else:
+            out[key] = v
+    return out
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Parse ``KEY=VALUE``; VALUE is read as a TOML value, else kept as a bare string."""
+    if "=" not in text:
+        raise SceneError(text, None, "an override must look like KEY=VALUE, e.g. impact.speed=1.848")
+    key, raw = (s.strip() for s in text.split("=", 1))
+    if not key:
+        raise SceneError(text, None, "an override needs a key before '='")
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return key, value
+
+
+def _apply_override(data: dict[str, Any], key: str, value: Any) -> None:
+    # stations are a list of tables and are set in the file, not on the command line
+    if key not in SCHEMA:
+        raise SceneError(key, value, _unknown_msg(key))
+    *parents, leaf = key.split(".")
+    node = data
+    for p in parents:
+        node = node.setdefault(p, {})
+        if not isinstance(node, dict):
+            raise SceneError(p, node, "must be a table")
+    node[leaf] = value
+
+
+def _unknown_msg(key: str) -> str:
+    head = key.split(".")[0]
+    near = sorted(k for k in SCHEMA if k.split(".")[0] == head)
+    return "unknown key" + (f"; keys in [{head}]: {', '.join(near)}" if near else f"; known keys: {', '.join(SCHEMA)}")
+
+
+# --------------------------------------------------------------------------------------------
+# Typed scene objects
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Material:
+    density: float  # ρ [kg/m^3]
+    youngs_modulus: float  # E [Pa]
+    poisson_ratio: float  # ν [-]
+    yield_strength: float | None = None  # S_y [Pa]
+
+    @property
+    def wave_speed(self) -> float:
+        """Bar wave speed c = sqrt(E/ρ) [m/s] (paper, after Eq. 1)."""
+        return math.sqrt(self.youngs_modulus / self.density)
+
+    @property
+    def lame(self) -> tuple[float, float]:
+        """Lamé parameters (λ, μ) [Pa]."""
+        E, ν = self.youngs_modulus, self.poisson_ratio
+        return E * ν / ((1 + ν) * (1 - 2 * ν)), E / (2 * (1 + ν))
+
+    @property
+    def dilatational_wave_speed(self) -> float:
+        """P-wave speed c_d = sqrt((λ + 2μ)/ρ) [m/s]: bounds the explicit step (h / c_d)."""
+        λ, μ = self.lame
+        return math.sqrt((λ + 2 * μ) / self.density)
+
+
+@dataclass(frozen=True)
+class Rod:
+    length: float  # L [m]
+    diameter: float  # d [m]
+    tip_radius: float  # r [m]; inf = flat
+    material: Material
+
+    @property
+    def area(self) -> float:
+        """Cross-section A = π d²/4 [m^2]."""
+        return math.pi * self.diameter**2 / 4
+
+    @property
+    def mass(self) -> float:
+        """m = ρ A L [kg] (the cap's missing volume is neglected, as in the 1D model)."""
+        return self.material.density * self.area * self.length
+
+    @property
+    def impedance(self) -> float:
+        """Mechanical impedance Z = ρ c A = E A / c [N s/m]."""
+        return self.material.density * self.material.wave_speed * self.area
+
+    @property
+    def transit_time(self) -> float:
+        """Round-trip time of a bar wave, 2L/c [s] (the delay of Eqs. 2 and 4)."""
+        return 2 * self.length / self.material.wave_speed
+
+    @property
+    def cap_height(self) -> float:
+        """Height of the spherical cap r - sqrt(r² - (d/2)²) [m]; 0 for a flat tip."""
+        r, ρ = self.tip_radius, self.diameter / 2
+        return 0.0 if math.isinf(r) else r - math.sqrt(r * r - ρ * ρ)
+
+
+@dataclass(frozen=True)
+class Station:
+    """A probe: distance ``position`` [m] from the impacted tip of rod ``rod`` (1 or 2)."""
+
+    rod: int
+    position: float
+    name: str
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    rod1: Rod
+    rod2: Rod
+    speed: float  # s1, Rod-1 impact speed [m/s]
+    end_time: float  # [s]
+    output_interval: float  # [s]
+    effects: tuple[str, ...]
+    stations: tuple[Station, ...]
+    values: Mapping[str, Any] = field(repr=False)  # every validated key, flat (fe.*, impact.* ...)
+    source: str = ""
+
+    def __getitem__(self, key: str) -> Any:
+        return self.values[key]
+
+    @property
+    def rods(self) -> tuple[Rod, Rod]:
+        return self.rod1, self.rod2
+
+    def as_dict(self) -> dict[str, Any]:
+        """Nested plain dict of the validated scene (for summary.json)."""
+        out: dict[str, Any] = {}
+        for k, v in self.values.items():
+            node = out
+            *parents, leaf = k.split(".")
+            for p in parents:
+                node = node.setdefault(p, {})
+            node[leaf] = "inf" if isinstance(v, float) and math.isinf(v) else v
+        out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations]
+        return out
+
+
+def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
+    if raw is None:
+        raw = []
+    if not isinstance(raw, list) or not all(isinstance(s, Mapping) for s in raw):
+        raise SceneError("station", raw, "must be an array of tables [[station]] with rod, position")
+    out = [Station(2, rods[1].length / 2, "rod2_mid")]
+    for i, s in enumerate(raw):
+        key = f"station[{i}]"
+        unknown = set(s) - {"rod", "position", "name"}
+        if unknown:
+            raise SceneError(f"{key}.{sorted(unknown)[0]}", s[sorted(unknown)[0]], "unknown key; allowed: rod, position, name")
+        for k in ("rod", "position"):
+            if k not in s:
+                raise SceneError(f"{key}.{k}", None, "missing required key")
+        rod = s["rod"]
+        if rod not in (1, 2) or isinstance(rod, bool):
+            raise SceneError(f"{key}.rod", rod, "must be 1 or 2")
+        pos = _type_check(f"{key}.position", "float", s["position"])
+        L = rods[rod - 1].length
+        if not 0.0 <= pos <= L:
+            raise SceneError(f"{key}.position", pos, f"must be in [0, {L:g}] m (distance from the tip of rod {rod})")
+        name = s.get("name", f"rod{rod}_x{pos * 1e3:g}mm")
+        if not isinstance(name, str) or not name.isidentifier():
+            raise SceneError(f"{key}.name", name, "must be an identifier (letters, digits, _)")
+        out.append(Station(rod, pos, name))
+    names = [s.name for s in out]
+    if len(set(names)) != len(names):
+        raise SceneError("station", names, "station names must be unique")
+    return tuple(out)
+
+
+def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
+    """Validate a parsed scene (plus ``KEY=VALUE`` overrides) and build a :class:`Scene`."""
+    data = copy.deepcopy(dict(data))
+    for text in overrides:
+        _apply_override(data, *parse_override(text))
+    stations_raw = data.pop("station", None)
+    flat = _flatten(data)
+    for key, v in flat.items():
+        if key not in SCHEMA:
+            raise SceneError(key, v, _unknown_msg(key))
+    values: dict[str, Any] = {}
+    for key, (kind, default, check) in SCHEMA.items():
+        if key not in flat:
+            if default is REQUIRED:
+                raise SceneError(key, None, "missing required key")
+            values[key] = copy.copy(default)
+            continue
+        v = _type_check(key, kind, flat[key])
+        if check is not None and v is not None and v != "auto":
+            check(key, v)
+        values[key] = v
+    _cross_checks(values)
+
+    def rod(n: int) -> Rod:
+        p = f"rod{n}"
+        mat = Material(
+            values[f"{p}.material.density"],
+            values[f"{p}.material.youngs_modulus"],
+            values[f"{p}.material.poisson_ratio"],
+            values[f"{p}.material.yield_strength"],
+        )
+        return Rod(values[f"{p}.length"], values[f"{p}.diameter"], values[f"{p}.tip_radius"], mat)
+
+    rods = (rod(1), rod(2))
+    return Scene(
+        name=values["name"] or (Path(source).stem if source else "scene"),
+        rod1=rods[0],
+        rod2=rods[1],
+        speed=values["impact.speed"],
+        end_time=values["simulation.end_time"],
+        output_interval=values["simulation.output_interval"],
+        effects=tuple(values["effects"]),
+        stations=_stations(stations_raw, rods),
+        values=values,
+        source=source,
+    )
+
+
+def _cross_checks(v: dict[str, Any]) -> None:
+    """Checks that involve several keys (contradictions, geometry)."""
+    for n in (1, 2):
+        r, d = v[f"rod{n}.tip_radius"], v[f"rod{n}.diameter"]
+        if r < d / 2:
+            raise SceneError(f"rod{n}.tip_radius", r, f"must be >= diameter/2 = {d / 2:g} m (a cap wider than a hemisphere)")
+        if v[f"rod{n}.length"] < 2 * d:
+            raise SceneError(f"rod{n}.length", v[f"rod{n}.length"], f"must be >= 2 x diameter = {2 * d:g} m (a slender rod)")
+        E, S = v[f"rod{n}.material.youngs_modulus"], v[f"rod{n}.material.yield_strength"]
+        if E < 1e6:
+            raise SceneError(f"rod{n}.material.youngs_modulus", E, "must be >= 1e6 Pa", "looks like GPa or MPa; give Pa")
+        if v[f"rod{n}.material.density"] < 100.0:
+            raise SceneError(
+                f"rod{n}.material.density", v[f"rod{n}.material.density"], "must be >= 100 kg/m^3", "looks like g/cm^3; give kg/m^3"
+            )
+        if S is not None and S >= E:
+            raise SceneError(f"rod{n}.material.yield_strength", S, f"must be < youngs_modulus = {E:g} Pa", "looks like wrong units")
+    if math.isinf(v["rod1.tip_radius"]) and math.isinf(v["rod2.tip_radius"]):
+        raise SceneError("rod1.tip_radius", math.inf, "at least one tip must be curved (Hertz contact of two flats is undefined)")
+    if v["simulation.output_interval"] > v["simulation.end_time"]:
+        raise SceneError("simulation.output_interval", v["simulation.output_interval"], f"must be <= end_time = {v['simulation.end_time']:g} s")
+    for n in (1, 2):
+        L = v[f"rod{n}.length"]
+        for k in ("fe.axial_size", "fe.radial_size"):
+            if v[k] > min(L, v[f"rod{n}.diameter"] / 2 if k == "fe.radial_size" else L):
+                lim = v[f"rod{n}.diameter"] / 2 if k == "fe.radial_size" else L
+                raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {'radius' if k == 'fe.radial_size' else 'length'})")
+    if "misalignment" in v["effects"] and v["fe.kind"] != "3d":
+        raise SceneError("effects", v["effects"], "'misalignment' needs fe.kind = '3d'")
+    if (v["impact.offset"] > 0 or v["impact.tilt"] > 0) and v["fe.kind"] != "3d":
+        raise SceneError("impact.offset", v["impact.offset"], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)")
+    if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
+        raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
+
+
+def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
+    """Read, override and validate a scene file; raises SceneError on any problem."""
+    p = Path(path)
+    if not p.is_file():
+        raise SceneError("--scene", str(path), "no such scene file")
+    return scene_from_dict(_read_with_base(p, ()), overrides, source=str(p))
+
+
+def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
+    """Parse TOML; a top-level ``base = "other.toml"`` (relative to this file) is read first and
+    this file's tables are merged over it, so a trial scene states only what differs."""
+    if p.resolve() in seen:
+        raise SceneError("base", str(p), "scene files include each other in a cycle")
+    try:
+        data = tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as e:
+        raise SceneError("--scene", str(p), f"malformed TOML: {e}") from None
+    except UnicodeDecodeError:
+        raise SceneError("--scene", str(p), "not a text (UTF-8) TOML file") from None
+    base = data.pop("base", None)
+    if base is None:
+        return data
+    if not isinstance(base, str):
+        raise SceneError("base", base, "must be a path string to another scene file")
+    bp = p.parent / base
+    if not bp.is_file():
+        raise SceneError("base", base, f"no such scene file ({bp})")
+    merged = _read_with_base(bp, (*seen, p.resolve()))
+    _merge(merged, data)
+    return merged
+
+
+def _merge(into: dict[str, Any], new: Mapping[str, Any]) -> None:
+    for k, v in new.items():
+        if isinstance(v, Mapping) and isinstance(into.get(k), dict):
+            _merge(into[k], v)
+        else:
+            into[k] = copy.deepcopy(v)
