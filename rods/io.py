@@ -72,7 +72,9 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> None:
     atomic_write_text(path, json.dumps(_jsonable(summary), indent=2) + "\n")
 
 
-def write_history(path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarray], units: Mapping[str, str]) -> None:
+def write_history(
+    path: str | Path, columns: Mapping[str, Sequence[float] | np.ndarray], units: Mapping[str, str]
+) -> None:
     """Write a CSV of equally long columns; the header carries the units, ``name [unit]``."""
     names = list(columns)
     data = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])

@@ -336,7 +336,9 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
         key = f"station[{i}]"
         unknown = set(s) - {"rod", "position", "name"}
         if unknown:
-            raise SceneError(f"{key}.{sorted(unknown)[0]}", s[sorted(unknown)[0]], "unknown key; allowed: rod, position, name")
+            raise SceneError(
+                f"{key}.{sorted(unknown)[0]}", s[sorted(unknown)[0]], "unknown key; allowed: rod, position, name"
+            )
         for k in ("rod", "position"):
             if k not in s:
                 raise SceneError(f"{key}.{k}", None, "missing required key")
@@ -410,32 +412,53 @@ def _cross_checks(v: dict[str, Any]) -> None:
     for n in (1, 2):
         r, d = v[f"rod{n}.tip_radius"], v[f"rod{n}.diameter"]
         if r < d / 2:
-            raise SceneError(f"rod{n}.tip_radius", r, f"must be >= diameter/2 = {d / 2:g} m (a cap wider than a hemisphere)")
+            raise SceneError(
+                f"rod{n}.tip_radius", r, f"must be >= diameter/2 = {d / 2:g} m (a cap wider than a hemisphere)"
+            )
         if v[f"rod{n}.length"] < 2 * d:
-            raise SceneError(f"rod{n}.length", v[f"rod{n}.length"], f"must be >= 2 x diameter = {2 * d:g} m (a slender rod)")
+            raise SceneError(
+                f"rod{n}.length", v[f"rod{n}.length"], f"must be >= 2 x diameter = {2 * d:g} m (a slender rod)"
+            )
         E, S = v[f"rod{n}.material.youngs_modulus"], v[f"rod{n}.material.yield_strength"]
         if E < 1e6:
-            raise SceneError(f"rod{n}.material.youngs_modulus", E, "must be >= 1e6 Pa", "looks like GPa or MPa; give Pa")
+            raise SceneError(
+                f"rod{n}.material.youngs_modulus", E, "must be >= 1e6 Pa", "looks like GPa or MPa; give Pa"
+            )
         if v[f"rod{n}.material.density"] < 100.0:
             raise SceneError(
-                f"rod{n}.material.density", v[f"rod{n}.material.density"], "must be >= 100 kg/m^3", "looks like g/cm^3; give kg/m^3"
+                f"rod{n}.material.density",
+                v[f"rod{n}.material.density"],
+                "must be >= 100 kg/m^3",
+                "looks like g/cm^3; give kg/m^3",
             )
         if S is not None and S >= E:
-            raise SceneError(f"rod{n}.material.yield_strength", S, f"must be < youngs_modulus = {E:g} Pa", "looks like wrong units")
+            raise SceneError(
+                f"rod{n}.material.yield_strength", S, f"must be < youngs_modulus = {E:g} Pa", "looks like wrong units"
+            )
     if math.isinf(v["rod1.tip_radius"]) and math.isinf(v["rod2.tip_radius"]):
-        raise SceneError("rod1.tip_radius", math.inf, "at least one tip must be curved (Hertz contact of two flats is undefined)")
+        raise SceneError(
+            "rod1.tip_radius", math.inf, "at least one tip must be curved (Hertz contact of two flats is undefined)"
+        )
     if v["simulation.output_interval"] > v["simulation.end_time"]:
-        raise SceneError("simulation.output_interval", v["simulation.output_interval"], f"must be <= end_time = {v['simulation.end_time']:g} s")
+        raise SceneError(
+            "simulation.output_interval",
+            v["simulation.output_interval"],
+            f"must be <= end_time = {v['simulation.end_time']:g} s",
+        )
     for n in (1, 2):
         L = v[f"rod{n}.length"]
         for k in ("fe.axial_size", "fe.radial_size"):
             if v[k] > min(L, v[f"rod{n}.diameter"] / 2 if k == "fe.radial_size" else L):
                 lim = v[f"rod{n}.diameter"] / 2 if k == "fe.radial_size" else L
-                raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {'radius' if k == 'fe.radial_size' else 'length'})")
+                raise SceneError(
+                    k, v[k], f"must be <= {lim:g} m (rod {n} {'radius' if k == 'fe.radial_size' else 'length'})"
+                )
     if "misalignment" in v["effects"] and v["fe.kind"] != "3d":
         raise SceneError("effects", v["effects"], "'misalignment' needs fe.kind = '3d'")
     if (v["impact.offset"] > 0 or v["impact.tilt"] > 0) and v["fe.kind"] != "3d":
-        raise SceneError("impact.offset", v["impact.offset"], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)")
+        raise SceneError(
+            "impact.offset", v["impact.offset"], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)"
+        )
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
 

@@ -1,0 +1,331 @@
+"""Closed-form Hertz contact of two elastic spheres (a flat tip is a sphere of infinite radius).
+
+Used for the contact law of the analytical model (paper Eq. 8), the contact radius and peak pressure
+(paper Eq. 10) and the elastic stress field that the FE results are checked against (paper Fig. 6,
+ref. [26] = Fischer-Cripps, Introduction to Contact Mechanics, 2000).
+
+Assumptions throughout (Johnson, Contact Mechanics 1985, §4.2): frictionless contact of linear
+elastic, isotropic bodies, each treated as a half-space (a << R and a << rod diameter), quasi-static.
+Sign convention: compressive stress is negative; force F and pressure p are positive magnitudes.
+All quantities are SI: force [N], length [m], stress and modulus [Pa].
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import minimize_scalar
+
+__all__ = [
+    "YIELD_FACTOR",
+    "HertzContact",
+    "YieldWarning",
+    "approach",
+    "axis_stresses",
+    "check_yield",
+    "contact_radius",
+    "contact_stiffness",
+    "effective_modulus",
+    "effective_radius",
+    "max_shear",
+    "peak_pressure",
+    "pressure",
+    "surface_hoop_stress",
+    "surface_radial_stress",
+    "yield_check",
+]
+
+YIELD_FACTOR = 1.1  # P < 1.1 S_y keeps the contact elastic (paper §2.3, Fischer-Cripps) [-]
+
+FloatOrArray = float | NDArray[np.float64]
+
+
+def _out(x: NDArray[np.float64]) -> FloatOrArray:
+    """Return a Python float for 0-d results so scalar calls stay scalar."""
+    return float(x) if np.ndim(x) == 0 else x
+
+
+# --------------------------------------------------------------------------------------------
+# Effective properties and the force-approach law
+# --------------------------------------------------------------------------------------------
+def effective_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
+    """Contact modulus E* = [(1-ν1²)/E1 + (1-ν2²)/E2]^-1 [Pa] (paper Eq. 8; Johnson Eq. 4.14ff).
+
+    Assumes linear elastic, isotropic bodies that behave as half-spaces near the contact.
+    """
+    if E1 <= 0 or E2 <= 0:
+        raise ValueError(f"Young's moduli must be > 0 Pa, got E1={E1!r}, E2={E2!r}")
+    return 1.0 / ((1 - nu1**2) / E1 + (1 - nu2**2) / E2)
+
+
+def effective_radius(r1: float, r2: float) -> float:
+    """Relative radius R* = r1 r2/(r1 + r2) [m]; ``math.inf`` marks a flat tip (Johnson Eq. 4.14ff).
+
+    The paper's Eq. 8 prints R* = sqrt(r1 r2/(r1 + r2)), a misprint: K = 4/3 E* sqrt(R*) already takes
+    the root, and R* must be a length. The dimensionally consistent form 1/R* = 1/r1 + 1/r2 is used;
+    the paper itself states R* = r1 for the flat Rod 2 (§2.3). Two flat tips have no Hertz contact
+    (the contact is conformal, not a point), so that raises ValueError. Assumes convex tips, a << R*.
+    """
+    if not (r1 > 0 and r2 > 0):
+        raise ValueError(f"tip radii must be > 0 m (inf = flat), got r1={r1!r}, r2={r2!r}")
+    if math.isinf(r1) and math.isinf(r2):
+        raise ValueError("both tips are flat: two flats have no Hertz (point) contact")
+    if math.isinf(r2):
+        return float(r1)
+    if math.isinf(r1):
+        return float(r2)
+    return r1 * r2 / (r1 + r2)
+
+
+def contact_stiffness(E_star: float, R_star: float) -> float:
+    """Hertz stiffness K = 4/3 E* sqrt(R*) [N/m^1.5], so that F = K δ^{3/2} (paper Eq. 8).
+
+    Assumes frictionless, elastic half-spaces and a << R*.
+    """
+    return 4.0 / 3.0 * E_star * math.sqrt(R_star)
+
+
+def _force(F: ArrayLike) -> NDArray[np.float64]:
+    F = np.asarray(F, dtype=float)
+    if np.any(F < 0):
+        # The DDE model's force is negative (compressive); Hertz formulas take its magnitude.
+        raise ValueError("contact force must be >= 0 N here; pass the magnitude |F|")
+    return F
+
+
+def contact_radius(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
+    """Contact radius a = (3 F R*/(4 E*))^{1/3} [m] (paper Eq. 10; Johnson §4.2).
+
+    Vectorised over F >= 0 [N]. Assumes frictionless, elastic half-spaces and a << R*.
+    """
+    return _out(np.cbrt(3.0 * _force(F) * R_star / (4.0 * E_star)))
+
+
+def peak_pressure(F: ArrayLike, a: ArrayLike) -> FloatOrArray:
+    """Peak (central) pressure p0 = 3F/(2π a²) [Pa] (paper Eq. 10, "P"; Johnson §4.2).
+
+    It is 1.5 x the mean pressure F/(π a²). Returns 0 where a == 0 (no contact). Vectorised.
+    Assumes the Hertz (elliptical) pressure distribution: frictionless, elastic half-spaces.
+    """
+    F = _force(F)
+    a = np.asarray(a, dtype=float)
+    F, a = np.broadcast_arrays(F, a)
+    den = 2.0 * np.pi * a**2
+    p0 = np.divide(3.0 * F, den, out=np.zeros_like(den), where=den > 0)
+    return _out(p0)
+
+
+def approach(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
+    """Mutual approach δ = a²/R* = (F/K)^{2/3} [m] (paper Eq. 8 inverted; Johnson §4.2).
+
+    Vectorised over F >= 0 [N]. Assumes frictionless, elastic half-spaces and a << R*.
+    """
+    K = contact_stiffness(E_star, R_star)
+    return _out((_force(F) / K) ** (2.0 / 3.0))
+
+
+# --------------------------------------------------------------------------------------------
+# One contact state
+# --------------------------------------------------------------------------------------------
+class _MaterialLike(Protocol):
+    @property
+    def youngs_modulus(self) -> float: ...  # [Pa]
+    @property
+    def poisson_ratio(self) -> float: ...  # [-]
+
+
+class _RodLike(Protocol):
+    @property
+    def tip_radius(self) -> float: ...  # [m]; inf = flat
+    @property
+    def material(self) -> _MaterialLike: ...
+
+
+@dataclass(frozen=True)
+class HertzContact:
+    """Hertz contact at one force level (paper Eqs. 8 and 10; Johnson §4.2).
+
+    ``nu`` is the Poisson ratio of the body whose stresses are evaluated (the stress field depends on
+    it, the contact size does not). Assumes frictionless, elastic half-spaces and a << R*.
+    """
+
+    F: float  # contact force magnitude [N]
+    E_star: float  # contact modulus [Pa]
+    R_star: float  # relative radius [m]
+    nu: float = 0.3  # Poisson ratio of the evaluated body [-]
+
+    def __post_init__(self) -> None:
+        if self.F < 0:
+            raise ValueError(f"contact force must be >= 0 N, got {self.F!r}")
+
+    @classmethod
+    def from_rods(cls, rod1: _RodLike, rod2: _RodLike, F: float, body: int = 1) -> HertzContact:
+        """Contact of two rods' tips at force F [N]; stresses are for rod ``body`` (1 or 2)."""
+        if body not in (1, 2):
+            raise ValueError(f"body must be 1 or 2, got {body!r}")
+        m1, m2 = rod1.material, rod2.material
+        E_star = effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
+        R_star = effective_radius(rod1.tip_radius, rod2.tip_radius)
+        nu = (m1 if body == 1 else m2).poisson_ratio
+        return cls(F=float(F), E_star=E_star, R_star=R_star, nu=nu)
+
+    @property
+    def K(self) -> float:
+        """Hertz stiffness [N/m^1.5] (paper Eq. 8)."""
+        return contact_stiffness(self.E_star, self.R_star)
+
+    @property
+    def a(self) -> float:
+        """Contact radius [m] (paper Eq. 10)."""
+        return float(contact_radius(self.F, self.E_star, self.R_star))
+
+    @property
+    def p0(self) -> float:
+        """Peak pressure [Pa] (paper Eq. 10)."""
+        return float(peak_pressure(self.F, self.a))
+
+    @property
+    def delta(self) -> float:
+        """Mutual approach δ = a²/R* [m]."""
+        return float(approach(self.F, self.E_star, self.R_star))
+
+    @property
+    def area(self) -> float:
+        """Contact area π a² [m^2] (paper Table 3)."""
+        return math.pi * self.a**2
+
+
+# --------------------------------------------------------------------------------------------
+# Pressure and stresses (Johnson §3.9, Eqs. 3.39-3.45)
+# --------------------------------------------------------------------------------------------
+def pressure(r: ArrayLike, a: float, p0: float) -> FloatOrArray:
+    """Hertz pressure p(r) = p0 sqrt(1 - r²/a²) for r <= a, 0 outside [Pa] (Johnson Eq. 4.22 / 3.39).
+
+    r [m] is the radial distance from the contact centre; vectorised. Assumes frictionless,
+    elastic half-spaces.
+    """
+    s = np.abs(np.asarray(r, dtype=float)) / a
+    return _out(p0 * np.sqrt(np.clip(1.0 - s**2, 0.0, None)))
+
+
+def _edge_term(s: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(1/s²)[1 - (1 - s²)^{3/2}] for 0 <= s <= 1, with its limit 3/2 at s = 0.
+
+    Written with expm1/log1p because the bracket cancels catastrophically for small s.
+    """
+    x = s**2
+    safe = np.where(x > 0, x, 1.0)
+    with np.errstate(divide="ignore"):  # log1p(-1) = -inf at the edge gives the exact value 1
+        val = -np.expm1(1.5 * np.log1p(-np.minimum(safe, 1.0))) / safe
+    return np.where(x > 0, val, 1.5)
+
+
+def surface_radial_stress(r: ArrayLike, a: float, p0: float, nu: float) -> FloatOrArray:
+    """Radial stress σ_r at the surface z = 0 [Pa] (Johnson Eq. 3.41a; Fischer-Cripps Eq. 6.2.1).
+
+    Inside (r <= a): σ_r/p0 = (1-2ν)/3 (a²/r²)[1 - (1 - r²/a²)^{3/2}] - sqrt(1 - r²/a²),
+    with σ_r(0) = -(1+2ν)/2 p0. Outside: σ_r/p0 = (1-2ν)/3 a²/r² (tensile, peak at the edge).
+    Vectorised over r [m]. Assumes frictionless, elastic half-space.
+    """
+    s = np.abs(np.asarray(r, dtype=float)) / a
+    c = (1.0 - 2.0 * nu) / 3.0
+    si = np.minimum(s, 1.0)
+    inside = c * _edge_term(si) - np.sqrt(1.0 - si**2)
+    outside = c / np.where(s > 1.0, s, 1.0) ** 2
+    return _out(p0 * np.where(s <= 1.0, inside, outside))
+
+
+def surface_hoop_stress(r: ArrayLike, a: float, p0: float, nu: float) -> FloatOrArray:
+    """Hoop stress σ_θ at the surface z = 0 [Pa] (Johnson Eq. 3.41b; Fischer-Cripps Eq. 6.2.1).
+
+    Inside (r <= a): σ_θ/p0 = -(1-2ν)/3 (a²/r²)[1 - (1 - r²/a²)^{3/2}] - 2ν sqrt(1 - r²/a²), so
+    σ_r + σ_θ = -(1+2ν) p(r); σ_θ(0) = σ_r(0). Outside: σ_θ = -σ_r (pure shear, σ_z = 0).
+    Vectorised over r [m]. Assumes frictionless, elastic half-space.
+    """
+    s = np.abs(np.asarray(r, dtype=float)) / a
+    c = (1.0 - 2.0 * nu) / 3.0
+    si = np.minimum(s, 1.0)
+    inside = -c * _edge_term(si) - 2.0 * nu * np.sqrt(1.0 - si**2)
+    outside = -c / np.where(s > 1.0, s, 1.0) ** 2
+    return _out(p0 * np.where(s <= 1.0, inside, outside))
+
+
+def _axis(ζ: NDArray[np.float64], nu: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Dimensionless (σ_z/p0, σ_r/p0) on the axis at depth ζ = z/a >= 0 (Johnson Eq. 3.45)."""
+    q = 1.0 / (1.0 + ζ**2)
+    # arctan2(1, ζ) = arctan(1/ζ) for ζ > 0 and tends to π/2 at ζ = 0, so ζ·arctan -> 0 there.
+    σ_r = -(1.0 + nu) * (1.0 - ζ * np.arctan2(1.0, ζ)) + 0.5 * q
+    return -q, σ_r
+
+
+def axis_stresses(z: ArrayLike, a: float, p0: float, nu: float) -> tuple[FloatOrArray, FloatOrArray, FloatOrArray]:
+    """Principal stresses (σ_z, σ_r, σ_θ) on the axis r = 0 at depth z >= 0 [Pa] (Johnson Eq. 3.45).
+
+    σ_z/p0 = -(1 + z²/a²)^{-1}; σ_r/p0 = σ_θ/p0 = -(1+ν)[1 - (z/a) arctan(a/z)] + ½(1 + z²/a²)^{-1},
+    with σ_r(0) = -(1+2ν)/2 p0, matching the surface values. Vectorised over z [m].
+    Assumes frictionless, elastic half-space.
+    """
+    ζ = np.asarray(z, dtype=float) / a
+    if np.any(ζ < 0):
+        raise ValueError("depth z must be >= 0 m (measured into the body)")
+    sz, sr = _axis(ζ, nu)
+    return _out(p0 * sz), _out(p0 * sr), _out(p0 * sr)
+
+
+def max_shear(a: float, p0: float, nu: float) -> tuple[float, float]:
+    """Largest principal shear τ = |σ_z - σ_r|/2 on the axis and its depth: (τ_max [Pa], z [m]).
+
+    Found numerically on 0 <= z <= 3a (Johnson Eq. 3.45 and §4.2: τ_max ≈ 0.31 p0 at z ≈ 0.48 a for
+    ν = 0.3). It is the subsurface maximum of the whole field, where first yield occurs.
+    Assumes frictionless, elastic half-space.
+    """
+
+    def neg_τ(ζ: float) -> float:
+        sz, sr = _axis(np.asarray(ζ, dtype=float), nu)
+        return -0.5 * abs(float(sz) - float(sr))
+
+    res = minimize_scalar(neg_τ, bounds=(0.0, 3.0), method="bounded", options={"xatol": 1e-10})
+    return -float(res.fun) * p0, float(res.x) * a
+
+
+# --------------------------------------------------------------------------------------------
+# Elastic limit
+# --------------------------------------------------------------------------------------------
+class YieldWarning(UserWarning):
+    """The peak contact pressure breaks the elastic criterion P < 1.1 S_y (paper §2.3)."""
+
+
+def yield_check(p0: float, yield_strength: float | None) -> bool:
+    """True if the contact stays elastic by the paper's criterion P < 1.1 S_y (paper §2.3, ref. [26]).
+
+    P is the peak pressure of Eq. 10. (Fischer-Cripps states 1.1 Y for the *mean* pressure at first
+    yield, i.e. p0 ≈ 1.6 Y, Johnson §6.2; applying it to p0 as the paper does is conservative.)
+    ``yield_strength`` None means unknown: returns True.
+    """
+    if yield_strength is None:
+        return True
+    return p0 < YIELD_FACTOR * yield_strength
+
+
+def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:
+    """:func:`yield_check`, warning with :class:`YieldWarning` when the criterion is violated.
+
+    p0 and S_y in [Pa]; ``where`` names the contact in the message. Returns the check's result.
+    """
+    if yield_check(p0, S_y):
+        return True
+    assert S_y is not None
+    limit = YIELD_FACTOR * S_y
+    at = f" at {where}" if where else ""
+    warnings.warn(
+        f"peak contact pressure{at} p0 = {p0 / 1e6:.1f} MPa exceeds 1.1 S_y = {limit / 1e6:.1f} MPa "
+        f"(p0 / 1.1 S_y = {p0 / limit:.3f}); the elastic Hertz solution no longer holds",
+        YieldWarning,
+        stacklevel=2,
+    )
+    return False

@@ -1,0 +1,29 @@
+"""Shared fixtures: the paper scene and a helper to build variants of it."""
+
+from __future__ import annotations
+
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "workflows" / "scenes"
+sys.path.insert(0, str(ROOT / "workflows"))
+
+
+@pytest.fixture(scope="session")
+def paper_dict() -> dict:
+    return tomllib.loads((SCENES / "paper.toml").read_text())
+
+
+@pytest.fixture
+def scene_with(paper_dict):
+    """``scene_with("impact.speed=1.0", ...)``: the paper scene with overrides, validated."""
+    from rods.scene import scene_from_dict
+
+    def make(*overrides: str):
+        return scene_from_dict(paper_dict, overrides, source="paper.toml")
+
+    return make

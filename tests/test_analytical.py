@@ -1,0 +1,148 @@
+"""The analytical wave + Hertz model against closed-form limits, conservation and Table 2."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rods import hertz
+from rods.analytical import WaveModel, simulate
+from rods.scene import load_scene
+
+from .conftest import SCENES
+
+
+def field_totals(m: WaveModel, t: float, n: int = 400_001) -> tuple[float, float]:
+    """Momentum [N s] and energy [J] of both rods at time t, integrated over their wave fields."""
+    P_tot, E_tot = 0.0, 0.0
+    for i, rod in enumerate((m.rod1, m.rod2), start=1):
+        x = np.linspace(0.0, rod.length, n)
+        v, ε = m.station(i, x, t)
+        ρA, EA = rod.material.density * rod.area, rod.material.youngs_modulus * rod.area
+        P_tot += np.trapezoid(ρA * v, x)
+        E_tot += np.trapezoid(0.5 * ρA * v**2 + 0.5 * EA * ε**2, x)
+    δ = max(float(m.compression(t)[0]), 0.0)
+    return P_tot, E_tot + 0.4 * m.K * δ**2.5  # Hertz energy ∫P dδ = (2/5) K δ^{5/2}
+
+
+def test_stiff_contact_limit_equal_impedance(scene_with):
+    """A very stiff contact between equal rods: Rod 2 carries s1/2 and strain -s1/(2c) (rigid-contact bar theory)."""
+    s = scene_with("rod1.tip_radius=1000.0", "simulation.end_time=3e-4")
+    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    c = s.rod2.material.wave_speed
+    x = s.rod2.length / 2
+    # middle of the first pulse passing the midpoint: arrives at x/c, lasts 2 L1/c
+    t = x / c + np.linspace(0.2, 0.8, 50) * s.rod1.transit_time
+    v, ε = m.station(2, x, t)
+    assert np.allclose(v, s.speed / 2, rtol=2e-3)
+    assert np.allclose(ε, -s.speed / (2 * c), rtol=2e-3)
+
+
+def test_equal_lengths_leave_rod1_at_rest(scene_with):
+    s = scene_with(f"rod2.length={0.25009}", "simulation.end_time=6e-4")
+    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    V1, V2 = m.rigid_velocities()
+    assert abs(V1) < 0.02 * s.speed  # nearly at rest: Hertz compliance leaves a small residue
+    assert V2 == pytest.approx(s.speed, rel=0.02)
+
+
+SHORT_STRIKER = (  # a short steel striker on a long aluminium rod acts like a mass: repeated impacts
+    "rod1.length=0.092",
+    "rod1.tip_radius=100.0",
+    "rod2.length=0.83",
+    "rod2.material.youngs_modulus=70e9",
+    "rod2.material.density=2700.0",
+)
+
+
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        (),  # the paper
+        ("rod1.length=0.9", "rod2.length=0.3"),  # striker longer than target
+        SHORT_STRIKER,  # several impacts
+        ("rod2.material.youngs_modulus=70e9", "rod2.material.density=2700.0"),  # steel on aluminium
+    ],
+    ids=["paper", "long-striker", "short-striker", "steel-on-aluminium"],
+)
+def test_momentum_and_energy_after_separation(scene_with, overrides):
+    """Fields integrated over both rods after the last contact: momentum m1 s1 (rel 1e-6) and
+    energy m1 s1²/2 (rel 1e-5; the trapezoid rule on the wave fields limits it)."""
+    s = scene_with(*overrides, "simulation.end_time=1.2e-3")
+    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    p0, E0 = s.rod1.mass * s.speed, 0.5 * s.rod1.mass * s.speed**2
+    for t in (0.5 * m.contacts[0][1], s.end_time):  # during the first contact, and at the end
+        p, E = field_totals(m, t)
+        assert p == pytest.approx(p0, rel=1e-6)
+        assert E == pytest.approx(E0, rel=1e-5)
+    V1, V2 = m.rigid_velocities()
+    assert s.rod1.mass * V1 + s.rod2.mass * V2 == pytest.approx(p0, rel=1e-12)
+
+
+def test_contact_releases_and_engages_again(scene_with):
+    s = scene_with(*SHORT_STRIKER, "simulation.end_time=1.2e-3")
+    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    assert len(m.contacts) >= 3
+    for (a0, b0), (a1, _) in zip(m.contacts, m.contacts[1:], strict=False):
+        assert a0 < b0 < a1
+        gap = m.compression(0.5 * (b0 + a1))[0]
+        assert gap < 0  # separated between episodes
+    # steel on aluminium: the lighter-impedance target rebounds the striker
+    s = scene_with("rod2.material.youngs_modulus=70e9", "rod2.material.density=2700.0", "simulation.end_time=1.2e-3")
+    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    assert m.rigid_velocities()[0] != pytest.approx(0.0, abs=1e-3)
+
+
+def test_force_never_negative_and_hertz_consistent():
+    r = simulate(load_scene(SCENES / "paper.toml"))
+    h = r.history
+    assert np.all(h["contact_force"] >= 0)
+    on = h["compression"] > 0
+    K = r.summary["hertz"]["K"]
+    assert np.allclose(h["contact_force"][on], K * h["compression"][on] ** 1.5, rtol=1e-12)
+    assert np.all(h["contact_force"][~on] == 0)
+
+
+@pytest.mark.convergence
+def test_tolerance_controls_the_error():
+    """Peak force to 1e-6 at modest tolerance; the history error falls with rtol at order >= 0.8 - 0.1."""
+    s = load_scene(SCENES / "paper.toml")
+    T = 3e-4
+    ref = WaveModel(s.rod1, s.rod2, s.speed, rtol=1e-13).run(T)
+    F_ref = ref.peak()[1]
+    grid = np.linspace(0, T, 6001)
+    P_ref = ref.force(grid)
+    rtols = np.array([1e-6, 1e-7, 1e-8, 1e-9, 1e-10])
+    errs = []
+    for rtol in rtols:
+        m = WaveModel(s.rod1, s.rod2, s.speed, rtol=rtol).run(T)
+        if rtol == 1e-6:
+            assert abs(m.peak()[1] - F_ref) / F_ref < 1e-6
+        errs.append(np.max(np.abs(m.force(grid) - P_ref)) / F_ref)
+    order = np.polyfit(np.log(rtols), np.log(errs), 1)[0]
+    assert order >= 0.8 - 0.1
+
+
+# Table 2 (paper): impact speed -> analytical contact radius [mm]
+TABLE2_RADIUS = {"1-1": 1.093, "1-3": 1.090, "2-4": 1.087, "2-5": 1.029, "3-2": 1.085, "3-3": 1.079}
+
+
+@pytest.mark.parametrize("trial", TABLE2_RADIUS)
+def test_table2_contact_radius(trial):
+    r = simulate(load_scene(SCENES / f"trial-{trial}.toml"))
+    assert r.summary["contact_radius"] * 1e3 == pytest.approx(TABLE2_RADIUS[trial], rel=5e-3)
+
+
+def test_table3_peak_force_and_summary_contract():
+    from rods.io import SUMMARY_KEYS
+
+    r = simulate(load_scene(SCENES / "paper.toml"))
+    assert r.summary["peak_contact_force"] == pytest.approx(5543.0, rel=5e-3)
+    assert set(SUMMARY_KEYS) <= set(r.summary)
+    a = hertz.contact_radius(r.summary["peak_contact_force"], r.model.E_star, r.model.R_star)
+    assert r.summary["contact_area"] == pytest.approx(math.pi * a**2, rel=1e-12)
+    # first midpoint plateau sits near s1/2, strain near -s1/(2c)
+    assert r.summary["midpoint_peak_speed"] == pytest.approx(2.197 / 2, rel=0.01)
+    assert r.summary["midpoint_peak_strain"] == pytest.approx(-2.197 / (2 * 5117.0), rel=0.02)

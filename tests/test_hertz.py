@@ -1,0 +1,195 @@
+"""Hertz contact (rods/hertz.py): textbook identities and the paper's contact numbers."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from rods import hertz
+from rods.hertz import (
+    HertzContact,
+    YieldWarning,
+    approach,
+    axis_stresses,
+    check_yield,
+    contact_radius,
+    contact_stiffness,
+    effective_modulus,
+    effective_radius,
+    max_shear,
+    peak_pressure,
+    pressure,
+    surface_hoop_stress,
+    surface_radial_stress,
+    yield_check,
+)
+
+# Paper Table 1: A2 steel, Rod 1 tip radius 35 mm, Rod 2 flat; Table 3: F = 5543 N.
+E = 204.3e9  # [Pa]
+NU = 0.3  # [-]
+R1 = 0.035  # [m]
+F_PAPER = 5543.0  # [N]
+
+
+def _paper_contact() -> HertzContact:
+    return HertzContact(F_PAPER, effective_modulus(E, NU, E, NU), effective_radius(R1, math.inf), NU)
+
+
+# -- effective properties -----------------------------------------------------------------------
+def test_effective_modulus_identical_materials():
+    assert effective_modulus(E, NU, E, NU) == pytest.approx(E / (2 * (1 - NU**2)), rel=1e-14)
+
+
+def test_effective_radius_flat_and_spheres():
+    assert effective_radius(0.035, math.inf) == 0.035
+    assert effective_radius(math.inf, 0.02) == 0.02
+    assert effective_radius(0.02, 0.02) == pytest.approx(0.01, rel=1e-14)
+    with pytest.raises(ValueError, match="flat"):
+        effective_radius(math.inf, math.inf)
+    with pytest.raises(ValueError):
+        effective_radius(-1.0, 0.02)
+
+
+# -- paper numbers ------------------------------------------------------------------------------
+def test_paper_contact_radius_and_area():
+    c = _paper_contact()
+    assert c.a == pytest.approx(1.090e-3, rel=5e-3)  # Table 2, Spec. 1 Trial 3 (2.197 m/s)
+    assert c.area * 1e6 == pytest.approx(3.73, rel=5e-3)  # Table 3, analytical [mm^2]
+    assert c.p0 == pytest.approx(1.5 * F_PAPER / c.area, rel=1e-12)  # peak = 1.5 x mean
+
+
+def test_from_rods_matches_direct():
+    steel = SimpleNamespace(youngs_modulus=E, poisson_ratio=NU)
+    soft = SimpleNamespace(youngs_modulus=E / 2, poisson_ratio=0.25)
+    rod1 = SimpleNamespace(tip_radius=R1, material=steel)
+    rod2 = SimpleNamespace(tip_radius=math.inf, material=soft)
+    c1 = HertzContact.from_rods(rod1, rod2, F_PAPER)
+    c2 = HertzContact.from_rods(rod1, rod2, F_PAPER, body=2)
+    assert c1.nu == NU and c2.nu == 0.25
+    assert c1.R_star == R1
+    assert c1.E_star == pytest.approx(effective_modulus(E, NU, E / 2, 0.25), rel=1e-14)
+    assert c1.a == c2.a
+    with pytest.raises(ValueError):
+        HertzContact.from_rods(rod1, rod2, F_PAPER, body=3)
+
+
+def test_from_rods_with_scene_objects():
+    scene = pytest.importorskip("rods.scene")
+    m = scene.Material(density=7803.0, youngs_modulus=E, poisson_ratio=NU)
+    rod1 = scene.Rod(length=0.25009, diameter=0.0127, tip_radius=R1, material=m)
+    rod2 = scene.Rod(length=0.70099, diameter=0.0127, tip_radius=math.inf, material=m)
+    assert HertzContact.from_rods(rod1, rod2, F_PAPER).a == pytest.approx(_paper_contact().a, rel=1e-14)
+
+
+# -- force law consistency ----------------------------------------------------------------------
+def test_approach_and_stiffness_consistency():
+    c = _paper_contact()
+    assert c.delta == pytest.approx(c.a**2 / c.R_star, rel=1e-12)
+    K = contact_stiffness(c.E_star, c.R_star)
+    assert K * c.delta**1.5 == pytest.approx(F_PAPER, rel=1e-12)
+    assert K == pytest.approx(4 / 3 * c.E_star * math.sqrt(R1), rel=1e-14)
+
+
+def test_pressure_integrates_to_force():
+    c = _paper_contact()
+    total, _ = quad(lambda r: float(pressure(r, c.a, c.p0)) * 2 * math.pi * r, 0.0, c.a, epsabs=0)
+    assert total == pytest.approx(F_PAPER, rel=1e-8)
+    assert pressure(0.0, c.a, c.p0) == c.p0
+    assert pressure(1.5 * c.a, c.a, c.p0) == 0.0
+
+
+def test_vectorised_over_force():
+    c = _paper_contact()
+    F = np.array([0.0, 1000.0, F_PAPER])
+    a = contact_radius(F, c.E_star, c.R_star)
+    assert isinstance(a, np.ndarray) and a.shape == (3,)
+    assert a[2] == pytest.approx(c.a, rel=1e-14)
+    p0 = peak_pressure(F, a)
+    assert p0[0] == 0.0  # no contact, no 0/0
+    assert p0[2] == pytest.approx(c.p0, rel=1e-14)
+    d = approach(F, c.E_star, c.R_star)
+    np.testing.assert_allclose(d, a**2 / c.R_star, rtol=1e-12)
+    assert isinstance(contact_radius(F_PAPER, c.E_star, c.R_star), float)
+    with pytest.raises(ValueError):
+        contact_radius(-1.0, c.E_star, c.R_star)
+
+
+# -- stress field -------------------------------------------------------------------------------
+@pytest.mark.parametrize("nu", [0.0, 0.25, 0.3, 0.45])
+def test_surface_radial_stress_continuous_at_edge(nu):
+    a, p0 = 1.2e-3, 2.0e9
+    expected = (1 - 2 * nu) * p0 / 3
+    inside = surface_radial_stress(a, a, p0, nu)
+    r_out = a * (1 + 1e-13)
+    assert r_out / a > 1.0  # really takes the outside branch
+    outside = surface_radial_stress(r_out, a, p0, nu)
+    assert inside == pytest.approx(expected, rel=1e-12, abs=1e-3)
+    assert outside == pytest.approx(expected, rel=1e-12, abs=1e-3)
+    assert surface_hoop_stress(a, a, p0, nu) == pytest.approx(-expected, rel=1e-12, abs=1e-3)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.3, 0.45])
+def test_surface_stress_centre_limit_and_sum(nu):
+    a, p0 = 1.0e-3, 1.0e9
+    centre = -(1 + 2 * nu) / 2 * p0
+    assert surface_radial_stress(0.0, a, p0, nu) == pytest.approx(centre, rel=1e-14)
+    assert surface_hoop_stress(0.0, a, p0, nu) == pytest.approx(centre, rel=1e-14)
+    # Limit is approached smoothly (no cancellation blow-up near r = 0).
+    assert surface_radial_stress(1e-9 * a, a, p0, nu) == pytest.approx(centre, rel=1e-9)
+    r = np.linspace(0, a, 201)
+    total = surface_radial_stress(r, a, p0, nu) + surface_hoop_stress(r, a, p0, nu)
+    np.testing.assert_allclose(total, -(1 + 2 * nu) * pressure(r, a, p0), rtol=1e-12, atol=1e-3)
+    ro = np.linspace(1.01 * a, 5 * a, 50)
+    np.testing.assert_allclose(surface_hoop_stress(ro, a, p0, nu), -surface_radial_stress(ro, a, p0, nu))
+
+
+def test_axis_stresses_at_surface_and_depth():
+    a, p0, nu = 1.0e-3, 1.0e9, 0.3
+    sz, sr, st = axis_stresses(0.0, a, p0, nu)
+    assert sz == -p0
+    assert sr == pytest.approx(-(1 + 2 * nu) / 2 * p0, rel=1e-14)
+    assert st == sr
+    # z -> 0 meets the surface solution at r = 0.
+    sz, sr, _ = axis_stresses(1e-9 * a, a, p0, nu)
+    assert sz == pytest.approx(-float(pressure(0.0, a, p0)), rel=1e-12)
+    assert sr == pytest.approx(surface_radial_stress(0.0, a, p0, nu), rel=1e-8)
+    # Deep below, all stresses decay.
+    sz, sr, _ = axis_stresses(np.array([10 * a, 100 * a]), a, p0, nu)
+    assert abs(sz[1]) < abs(sz[0]) < 0.01 * p0
+    assert np.all(np.abs(sr) < 0.01 * p0)
+    with pytest.raises(ValueError):
+        axis_stresses(-1e-6, a, p0, nu)
+
+
+def test_max_shear_textbook_value():
+    a, p0 = 1.0e-3, 2.0e9
+    τ, z = max_shear(a, p0, 0.3)
+    assert τ / p0 == pytest.approx(0.31, abs=0.005)
+    assert z / a == pytest.approx(0.48, abs=0.01)
+    # It is the maximum along the axis.
+    zz = np.linspace(0, 3 * a, 3001)
+    sz, sr, _ = axis_stresses(zz, a, p0, 0.3)
+    assert np.max(np.abs(sz - sr) / 2) <= τ * (1 + 1e-9)
+
+
+# -- elastic limit ------------------------------------------------------------------------------
+def test_yield_check_and_warning():
+    S_y = 2.0e9  # [Pa]
+    assert yield_check(2.1e9, S_y)
+    assert not yield_check(2.3e9, S_y)
+    assert yield_check(1e12, None)
+    with pytest.warns(YieldWarning, match=r"1\.1 S_y") as rec:
+        assert check_yield(2.3e9, S_y, where="Rod 1 tip") is False
+    msg = str(rec[0].message)
+    assert "2300.0 MPa" in msg and "2200.0 MPa" in msg and "1.045" in msg and "Rod 1 tip" in msg
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any warning would fail here
+        assert check_yield(2.1e9, S_y) is True
+        assert check_yield(1e12, None) is True
+    assert issubclass(YieldWarning, UserWarning)
+    assert hertz.YIELD_FACTOR == 1.1

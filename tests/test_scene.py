@@ -1,0 +1,120 @@
+"""Scenes: every bad-value class is refused with the key, the value and the allowed range."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rods.scene import SceneError, load_scene, parse_override, scene_from_dict
+
+from .conftest import SCENES
+
+
+def test_paper_scene_is_table_1():
+    s = load_scene(SCENES / "paper.toml")
+    assert s.rod1.length == pytest.approx(250.09e-3) and s.rod2.length == pytest.approx(700.99e-3)
+    assert s.rod1.tip_radius == pytest.approx(35e-3) and math.isinf(s.rod2.tip_radius)
+    assert s.rod1.diameter == s.rod2.diameter == pytest.approx(12.70e-3)
+    assert s.rod1.material.density == pytest.approx(7803.0)
+    assert s.rod1.material.youngs_modulus == pytest.approx(204.3e9)
+    assert s.speed == pytest.approx(2.197)
+    assert s.stations[0].name == "rod2_mid" and s.stations[0].position == pytest.approx(s.rod2.length / 2)
+
+
+@pytest.mark.parametrize(
+    ("trial", "speed"),
+    [("1-1", 2.208), ("1-3", 2.197), ("2-4", 2.178), ("2-5", 1.848), ("3-2", 2.166), ("3-3", 2.128)],
+)
+def test_trial_scenes_inherit_the_paper_rods(trial, speed):
+    s = load_scene(SCENES / f"trial-{trial}.toml")
+    assert s.speed == speed and s.name == f"trial-{trial}"
+    assert s.rod1 == load_scene(SCENES / "paper.toml").rod1
+
+
+def test_overrides_reach_any_value(scene_with):
+    s = scene_with("rod2.material.youngs_modulus=70e9", "impact.speed=1.848", "fe.kind=3d", "effects=['fields']")
+    assert s.rod2.material.youngs_modulus == 70e9 and s.speed == 1.848
+    assert s["fe.kind"] == "3d" and s.effects == ("fields",)
+    assert parse_override("rod1.tip_radius=inf") == ("rod1.tip_radius", math.inf)
+
+
+BAD = [
+    ("rod1.length=0", "rod1.length", "> 0"),
+    ("rod1.length=-0.25", "rod1.length", "> 0"),
+    ("rod2.diameter=0", "rod2.diameter", "> 0"),
+    ("impact.speed=0", "impact.speed", "> 0"),
+    ("impact.speed=-2", "impact.speed", "> 0"),
+    ("rod1.material.density=0", "rod1.material.density", "> 0"),
+    ("rod2.material.youngs_modulus=-1", "rod2.material.youngs_modulus", "> 0"),
+    ("rod1.material.poisson_ratio=0.5", "rod1.material.poisson_ratio", "(-1, 0.5)"),
+    ("rod1.material.poisson_ratio=-1", "rod1.material.poisson_ratio", "(-1, 0.5)"),
+    ("impact.speed=nan", "impact.speed", "NaN"),
+    ("rod1.length=inf", "rod1.length", "finite"),
+    ("impact.speed=inf", "impact.speed", "finite"),
+    ("impact.speed='fast'", "impact.speed", "number"),
+    ("impact.speed=true", "impact.speed", "number"),
+    ("rod1.tip_radius=[1]", "rod1.tip_radius", "number"),
+    ("impact.velocity=2", "impact.velocity", "unknown key"),
+    ("rod3.length=1", "rod3.length", "unknown key"),
+    ("fe.kind=2d", "fe.kind", "one of"),
+    ("effects=['wave_response','teleport']", "effects", "unknown effect"),
+    ("rod1.length=250.09", "rod1.length", "millimetres"),
+    ("rod1.material.youngs_modulus=204.3", "rod1.material.youngs_modulus", "GPa"),
+    ("rod1.material.density=7.803", "rod1.material.density", "g/cm^3"),
+    ("rod1.tip_radius=0.001", "rod1.tip_radius", "diameter/2"),
+    ("fe.radial_size=0.01", "fe.radial_size", "radius"),
+    ("fe.dt=-1e-9", "fe.dt", "> 0"),
+    ("fe.dt='fast'", "fe.dt", "'auto'"),
+    ("simulation.end_time=1e-7", "simulation.output_interval", "end_time"),
+]
+
+
+@pytest.mark.parametrize(("override", "key", "words"), BAD)
+def test_bad_values_are_refused_with_key_value_and_range(scene_with, override, key, words):
+    with pytest.raises(SceneError) as e:
+        scene_with(override)
+    assert e.value.key == key
+    assert words in str(e.value)
+    assert f"'{key}'" in str(e.value)
+
+
+def test_missing_and_unknown_keys_in_files(paper_dict):
+    d = {k: v for k, v in paper_dict.items() if k != "impact"}
+    with pytest.raises(SceneError, match="'impact.speed'.*missing"):
+        scene_from_dict(d)
+    with pytest.raises(SceneError, match="'rod1.colour'.*unknown"):
+        scene_from_dict({**paper_dict, "rod1": {**paper_dict["rod1"], "colour": "red"}})
+
+
+def test_both_flat_tips_and_off_axis_axisymmetric_are_contradictions(scene_with):
+    with pytest.raises(SceneError, match="curved"):
+        scene_with("rod1.tip_radius=inf")
+    with pytest.raises(SceneError, match="3d"):
+        scene_with("impact.offset=1e-4")
+    with pytest.raises(SceneError, match="3d"):
+        scene_with("effects=['misalignment']")
+
+
+def test_files(tmp_path):
+    with pytest.raises(SceneError, match="no such scene file"):
+        load_scene(tmp_path / "nope.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[rod1\nlength = ")
+    with pytest.raises(SceneError, match="malformed TOML"):
+        load_scene(bad)
+    loop = tmp_path / "loop.toml"
+    loop.write_text('base = "loop.toml"\n')
+    with pytest.raises(SceneError, match="cycle"):
+        load_scene(loop)
+    with pytest.raises(SceneError, match="KEY=VALUE"):
+        parse_override("impact.speed")
+
+
+def test_stations(paper_dict):
+    s = scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": 0.1, "name": "r1"}]})
+    assert [st.name for st in s.stations] == ["rod2_mid", "r1"]
+    with pytest.raises(SceneError, match=r"station\[0\].position"):
+        scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": 0.3}]})
+    with pytest.raises(SceneError, match=r"station\[0\].rod"):
+        scene_from_dict({**paper_dict, "station": [{"rod": 3, "position": 0.1}]})
