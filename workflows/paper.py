@@ -43,7 +43,10 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     out, results = Path(args.out), Path(args.results)
     paper = tomllib.loads((HERE / "paper_data.toml").read_text())
-    print(f"plan: analytical model for {len(TRIALS)} Table-2 trials -> {out}/analytical/<trial>; tables and Fig. 4 -> {results}")
+    print(
+        f"plan: analytical model for {len(TRIALS)} Table-2 trials -> {out}/analytical/<trial>; "
+        f"tables and Fig. 4 -> {results}"
+    )
 
     runs = {}
     for name in TRIALS:
@@ -55,7 +58,10 @@ def main(argv: list[str] | None = None) -> int:
         io.write_history(out / "analytical" / name / "history.csv", r.history, r.units)
         io.write_summary(out / "analytical" / name / "summary.json", r.summary)
         runs[name] = r
-        print(f"  {name}: s1 = {scene.speed} m/s, F = {r.summary['peak_contact_force']:.1f} N, a = {r.summary['contact_radius'] * 1e3:.4f} mm")
+        print(
+            f"  {name}: s1 = {scene.speed} m/s, F = {r.summary['peak_contact_force']:.1f} N, "
+            f"a = {r.summary['contact_radius'] * 1e3:.4f} mm"
+        )
 
     # ---- Table 2 ------------------------------------------------------------------------
     header = [

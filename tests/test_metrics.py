@@ -1,0 +1,37 @@
+"""The shared scalar measures on synthetic signals with known answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rods import metrics
+
+
+def test_contact_duration_of_a_half_sine():
+    t = np.linspace(0, 300e-6, 30001)
+    F = np.where(t < 200e-6, 5000 * np.sin(np.pi * t / 200e-6), 0.0)
+    # threshold 1e-3 of the peak cuts (2/π)·asin(1e-3)·100 µs ≈ 0.064 µs off each end
+    expected = 200e-6 * (1 - 2 * np.arcsin(1e-3) / np.pi)
+    assert metrics.contact_duration(t, F) == pytest.approx(expected, rel=1e-6)
+    assert metrics.contact_duration(t, np.zeros_like(t)) == 0.0
+
+
+def test_two_episodes_are_found():
+    t = np.linspace(0, 1, 10001)
+    F = np.clip(np.sin(2 * np.pi * 2 * t), 0, None)
+    ep = metrics.contact_episodes(t, F)
+    assert len(ep) == 2
+    assert ep[1][0] == pytest.approx(0.5, abs=1e-3)
+
+
+def test_average_peak_speed_of_square_plateaus():
+    t = np.linspace(0, 1, 100001)
+    v = np.where((np.floor(t * 10) % 2) == 1, 1.1, 0.0)  # plateaus of 1.1 at odd tenths
+    assert metrics.midpoint_peak_speed(t, v) == pytest.approx(1.1, rel=1e-12)
+    assert len(metrics.plateaus(t, v)) == 5
+
+
+def test_rms_difference():
+    t = np.linspace(0, 1, 1001)
+    assert metrics.rms_difference(t, np.sin(t), t, np.sin(t) + 2e-6, (0, 1)) == pytest.approx(2e-6, rel=1e-9)
