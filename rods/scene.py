@@ -313,17 +313,23 @@ class Scene:
     def rods(self) -> tuple[Rod, Rod]:
         return self.rod1, self.rod2
 
-    def as_dict(self) -> dict[str, Any]:
-        """Nested plain dict of the validated scene (for summary.json)."""
+    def as_dict(self, json_safe: bool = True) -> dict[str, Any]:
+        """Nested plain dict of the validated scene (``json_safe``: inf as "inf", for summary.json)."""
         out: dict[str, Any] = {}
         for k, v in self.values.items():
+            if v is None:
+                continue  # optional key left unset
             node = out
             *parents, leaf = k.split(".")
             for p in parents:
                 node = node.setdefault(p, {})
-            node[leaf] = "inf" if isinstance(v, float) and math.isinf(v) else v
-        out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations]
+            node[leaf] = "inf" if json_safe and isinstance(v, float) and math.isinf(v) else v
+        out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations[1:]]
         return out
+
+    def with_overrides(self, *overrides: str) -> Scene:
+        """A new, validated scene: this one with ``KEY=VALUE`` overrides applied."""
+        return scene_from_dict(self.as_dict(json_safe=False), overrides, source=self.source)
 
 
 def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:

@@ -26,7 +26,8 @@ import matplotlib.pyplot as plt
 from rods import io
 from rods.analytical import simulate
 from rods.hertz import YieldWarning
-from rods.scene import load_scene
+from rods.scene import Scene, load_scene
+from rods.uncertainty import PAPER_UNCERTAINTY, propagate
 
 HERE = Path(__file__).resolve().parent
 TRIALS = ["trial-1-1", "trial-1-3", "trial-2-4", "trial-2-5", "trial-3-2", "trial-3-3"]
@@ -34,6 +35,33 @@ TRIALS = ["trial-1-1", "trial-1-3", "trial-2-4", "trial-2-5", "trial-3-2", "tria
 
 def pct(ours: float, ref: float) -> str:
     return "-" if math.isnan(ref) else f"{100 * (ours - ref) / ref:+.1f}%"
+
+
+def plot_table2(path: Path, table2: dict, runs: dict, bands: dict) -> None:
+    """Contact radius and average peak speed per trial: experiment, paper's model, ours with its band."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    x = list(range(len(TRIALS)))
+    labels = [f"{table2[n][0]}-{table2[n][1]}\n{table2[n][2]:.3f} m/s" for n in TRIALS]
+    for k, (q, col_exp, col_pap, unit, scale) in enumerate(
+        [("radius", 4, 5, "contact radius [mm]", 1e3), ("speed", 6, 7, "average peak speed [m/s]", 1.0)]
+    ):
+        a = ax[k]
+        nom = [bands[n][q].nominal * scale for n in TRIALS]
+        err = [bands[n][q].uncertainty * scale for n in TRIALS]
+        a.errorbar([i + 0.1 for i in x], nom, yerr=err, fmt="o", capsize=4, label="ours (± propagated uncertainty)")
+        a.plot([i - 0.1 for i in x], [table2[n][col_pap] for n in TRIALS], "s", mfc="none", label="paper, analytical")
+        exp = [table2[n][col_exp] for n in TRIALS]
+        yerr = [table2[n][3] for n in TRIALS] if q == "radius" else None
+        a.errorbar(x, exp, yerr=yerr, fmt="k^", capsize=3, label="experiment" + (" (± circularity)" if yerr else ""))
+        a.set_xticks(x, labels, fontsize=8)
+        a.set(ylabel=unit)
+        a.grid(alpha=0.3)
+    ax[0].legend(fontsize=8)
+    ax[0].set_title("a) contact radius")
+    ax[1].set_title("b) Rod-2 midpoint average peak speed")
+    fig.suptitle("Table 2: experiment, the paper's analytical model, and ours")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -48,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
         f"tables and Fig. 4 -> {results}"
     )
 
-    runs = {}
+    runs, scenes = {}, {}
     for name in TRIALS:
         scene = load_scene(HERE / "scenes" / f"{name}.toml")
         with warnings.catch_warnings(record=True) as caught:
@@ -57,7 +85,7 @@ def main(argv: list[str] | None = None) -> int:
         r.summary["yield_warnings"] = [str(w.message) for w in caught]
         io.write_history(out / "analytical" / name / "history.csv", r.history, r.units)
         io.write_summary(out / "analytical" / name / "summary.json", r.summary)
-        runs[name] = r
+        runs[name], scenes[name] = r, scene
         print(
             f"  {name}: s1 = {scene.speed} m/s, F = {r.summary['peak_contact_force']:.1f} N, "
             f"a = {r.summary['contact_radius'] * 1e3:.4f} mm"
@@ -109,6 +137,24 @@ def main(argv: list[str] | None = None) -> int:
         "  records are not available, so they are quoted, not recomputed.",
     ]
     io.atomic_write_text(results / "table2.md", "\n".join(md) + "\n")
+
+    # ---- uncertainty bands on the analytical predictions (Table-2 figure) -------------------
+    def predictions(sc: Scene) -> dict[str, float]:
+        s = simulate(sc.with_overrides("simulation.end_time=8e-4"), rtol=1e-8).summary  # 5 plateaus end ~0.7 ms
+        return {"radius": s["contact_radius"], "speed": s["midpoint_peak_speed"]}
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", YieldWarning)
+        bands = {name: propagate(scenes[name], predictions) for name in TRIALS}
+    plot_table2(results / "table2.png", paper["table2"], runs, bands)
+    unc = ", ".join(f"{k} ±{v:g}{' (rel.)' if kind == 'rel' else ''}" for k, (kind, v) in PAPER_UNCERTAINTY.items())
+    with open(results / "table2.md", "a") as f:
+        f.write(
+            "\n![Table 2 comparison with uncertainty bands](table2.png)\n\n"
+            f"Bands (figure): first-order propagation (rods/uncertainty.py) of {unc}. Combined standard "
+            f"uncertainty at 2.197 m/s: radius ±{bands['trial-1-3']['radius'].uncertainty * 1e3:.4f} mm, "
+            f"average peak speed ±{bands['trial-1-3']['speed'].uncertainty:.4f} m/s.\n"
+        )
 
     # ---- Fig. 4 (analytical curves at 2.197 m/s) -----------------------------------------
     h = runs["trial-1-3"].history
