@@ -136,7 +136,6 @@ def main(argv: list[str] | None = None) -> int:
         "- the RMS strain differences are the paper's (experiment against its analytical model); the experimental",
         "  records are not available, so they are quoted, not recomputed.",
     ]
-    io.atomic_write_text(results / "table2.md", "\n".join(md) + "\n")
 
     # ---- uncertainty bands on the analytical predictions (Table-2 figure) -------------------
     def predictions(sc: Scene) -> dict[str, float]:
@@ -148,13 +147,15 @@ def main(argv: list[str] | None = None) -> int:
         bands = {name: propagate(scenes[name], predictions) for name in TRIALS}
     plot_table2(results / "table2.png", paper["table2"], runs, bands)
     unc = ", ".join(f"{k} ±{v:g}{' (rel.)' if kind == 'rel' else ''}" for k, (kind, v) in PAPER_UNCERTAINTY.items())
-    with open(results / "table2.md", "a") as f:
-        f.write(
-            "\n![Table 2 comparison with uncertainty bands](table2.png)\n\n"
-            f"Bands (figure): first-order propagation (rods/uncertainty.py) of {unc}. Combined standard "
-            f"uncertainty at 2.197 m/s: radius ±{bands['trial-1-3']['radius'].uncertainty * 1e3:.4f} mm, "
-            f"average peak speed ±{bands['trial-1-3']['speed'].uncertainty:.4f} m/s.\n"
-        )
+    md += [
+        "",
+        "![Table 2 comparison with uncertainty bands](table2.png)",
+        "",
+        f"Bands (figure): first-order propagation (rods/uncertainty.py) of {unc}. Combined standard "
+        f"uncertainty at 2.197 m/s: radius ±{bands['trial-1-3']['radius'].uncertainty * 1e3:.4f} mm, "
+        f"average peak speed ±{bands['trial-1-3']['speed'].uncertainty:.4f} m/s.",
+    ]
+    io.atomic_write_text(results / "table2.md", "\n".join(md) + "\n")
 
     # ---- Fig. 4 (analytical curves at 2.197 m/s) -----------------------------------------
     h = runs["trial-1-3"].history
