@@ -33,6 +33,8 @@ __all__ = [
 EFFECTS = ("wave_response", "contact_patch", "subsurface_stress", "fields", "misalignment")
 FE_KINDS = ("axisymmetric", "3d")
 SYMMETRIES = ("full", "half", "quarter")
+# submodel mesh levels: element size across [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625 mm)
+SUBMODEL_LEVELS = ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
 
 
 class SceneError(ValueError):
@@ -87,12 +89,18 @@ def _choice(options: Iterable[str]):
     return check
 
 
-def _effects(key: str, v: list[str]) -> None:
-    for e in v:
-        if e not in EFFECTS:
-            raise SceneError(key, e, f"unknown effect; known effects: {', '.join(EFFECTS)}")
-    if len(set(v)) != len(v):
-        raise SceneError(key, v, "effects must not repeat")
+def _choices(options: Iterable[str], noun: str = "entry"):
+    """Check a list whose entries come from ``options`` and do not repeat."""
+    opts = tuple(options)
+
+    def check(key: str, v: list[str]) -> None:
+        for e in v:
+            if e not in opts:
+                raise SceneError(key, e, f"unknown {noun}; known: {', '.join(opts)}")
+        if len(set(v)) != len(v):
+            raise SceneError(key, v, "entries must not repeat")
+
+    return check
 
 
 def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
@@ -123,7 +131,7 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
 SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "name": ("str", "", None),
     "description": ("str", "", None),
-    "effects": ("list[str]", ["wave_response"], _effects),
+    "effects": ("list[str]", ["wave_response"], _choices(EFFECTS, "effect")),
     **_rod_schema(1),
     **_rod_schema(2),
     "impact.speed": ("float", REQUIRED, _positive("m/s", hi=100.0, hint_hi="low-speed impact model")),
@@ -144,6 +152,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
     "fe.submodel_length": ("float", 14e-3, _positive("m", hi=1.0)),
+    "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
 }
 
 

@@ -1,0 +1,37 @@
+"""Effects switch the parts of a run on and off."""
+
+from __future__ import annotations
+
+import pytest
+
+from rods.plan import CONTACT_MARGIN, make_plan
+from rods.scene import SceneError
+
+
+def test_wave_response_alone_runs_no_submodel(scene_with):
+    p = make_plan(scene_with("effects=['wave_response']"), contact_end=2e-4)
+    assert p.analytical and p.global_model and not p.submodel_levels and not p.fields
+    assert p.global_end_time == pytest.approx(1.5e-3)
+
+
+def test_contact_patch_adds_submodel_and_stops_global_after_contact(scene_with):
+    p = make_plan(scene_with("effects=['contact_patch']"), contact_end=2e-4)
+    assert p.submodel_levels == ("coarse", "mid", "fine")
+    assert p.global_end_time == pytest.approx(CONTACT_MARGIN * 2e-4)
+    assert not p.fields
+    both = make_plan(scene_with("effects=['contact_patch', 'wave_response']"), contact_end=2e-4)
+    assert both.global_end_time == pytest.approx(1.5e-3) and both.submodel_levels
+
+
+def test_fields_only_when_asked(scene_with):
+    assert make_plan(scene_with("effects=['fields']")).fields
+    assert not make_plan(scene_with()).fields
+    assert make_plan(scene_with("fe.field_interval=1e-5")).fields
+
+
+def test_misalignment_needs_3d_and_unknown_effects_fail(scene_with):
+    assert make_plan(scene_with("effects=['misalignment']", "fe.kind=3d", "impact.offset=1e-4")).global_kind == "3d"
+    with pytest.raises(SceneError, match="unknown effect"):
+        scene_with("effects=['wave']")
+    with pytest.raises(SceneError, match="submodel.levels"):
+        scene_with("submodel.levels=['huge']")
