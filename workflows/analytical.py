@@ -14,7 +14,6 @@ import warnings
 from collections.abc import Sequence
 
 import _cli
-
 from rods import io
 from rods.analytical import simulate
 from rods.hertz import YieldWarning
