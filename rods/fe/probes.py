@@ -1,0 +1,96 @@
+"""Point probes as precomputed linear maps: value = row · (owned dof array), one dot product per step.
+
+A probe at a point X (a surface station: vibrometer and strain gauges sit on r = d/2) evaluates
+u_z(X) = Σ_j N_j(X) u_z,j and ε_zz(X) = ∂u_z/∂z(X) = Σ_j ∂N_j/∂z(X) u_z,j. The rank owning the cell
+containing X computes the basis values (pull-back to the reference cell, Jacobian of the coordinate
+map); every rank keeps the entries of the dofs it owns, and the partial dot products are summed
+with one Allreduce.
+"""
+
+from __future__ import annotations
+
+import basix
+import dolfinx
+import dolfinx.geometry
+import numpy as np
+import scipy.sparse
+from mpi4py import MPI
+
+__all__ = ["PointProbes"]
+
+
+def _cell_rows(V: dolfinx.fem.FunctionSpace, cell: int, point: np.ndarray, axial: int) -> tuple[np.ndarray, ...]:
+    """Global vector indices, basis values and ∂/∂z of the basis at ``point`` in local ``cell``."""
+    msh = V.mesh
+    gdim = msh.geometry.dim
+    cmap = msh.geometry.cmaps[0]
+    xc = msh.geometry.x[msh.geometry.dofmaps[0][cell], :gdim]
+    X = cmap.pull_back(point[None, :gdim], xc)
+    cel = basix.create_element(
+        basix.ElementFamily.P,
+        basix.CellType.quadrilateral if gdim == 2 else basix.CellType.hexahedron,
+        cmap.degree,
+        basix.LagrangeVariant(cmap.variant),
+    )
+    dφ = cel.tabulate(1, X)[1:, 0, :, 0]  # (tdim, n_geom)
+    J = xc.T @ dφ.T  # J_ij = ∂x_i/∂X_j
+    tab = V.element.basix_element.tabulate(1, X)[:, 0, :, 0]  # (1 + tdim, ndofs)
+    N = tab[0]
+    dN = np.linalg.solve(J.T, tab[1:])  # ∇_x N = J^-T ∇_X N
+    dofs = V.dofmap.cell_dofs(cell)
+    bs = V.dofmap.index_map_bs
+    g = V.dofmap.index_map.local_to_global(dofs.astype(np.int32)) * bs + axial
+    return g, N, dN[axial]
+
+
+class PointProbes:
+    """Axial velocity/displacement and axial strain at points; ``rows(x)`` -> (values, strains)."""
+
+    def __init__(self, V: dolfinx.fem.FunctionSpace, points: np.ndarray, axial: int):
+        msh = V.mesh
+        comm = msh.comm
+        tdim = msh.topology.dim
+        n_owned_cells = msh.topology.index_map(tdim).size_local
+        pts = np.zeros((len(points), 3))
+        pts[:, : points.shape[1]] = points
+        tree = dolfinx.geometry.bb_tree(msh, tdim)
+        cand = dolfinx.geometry.compute_collisions_points(tree, pts)
+        coll = dolfinx.geometry.compute_colliding_cells(msh, cand, pts)
+        mine = []
+        for i in range(len(pts)):
+            cells = [c for c in coll.links(i) if c < n_owned_cells]
+            mine.append(cells[0] if cells else -1)
+        found = comm.allgather([c >= 0 for c in mine])
+        owner = []
+        for i in range(len(pts)):
+            ranks = [r for r in range(comm.size) if found[r][i]]
+            if not ranks:
+                raise ValueError(f"probe point {points[i]} lies outside the mesh")
+            owner.append(ranks[0])
+        rows = {i: _cell_rows(V, mine[i], pts[i], axial) for i in range(len(pts)) if owner[i] == comm.rank}
+        allrows: dict[int, tuple] = {}
+        for d in comm.allgather(rows):
+            allrows.update(d)
+        bs = V.dofmap.index_map_bs
+        lo = V.dofmap.index_map.local_range[0] * bs
+        n_local = V.dofmap.index_map.size_local * bs
+        data, ri, ci = [], [], []
+        for i in range(len(pts)):
+            g, N, dNz = allrows[i]
+            keep = (g >= lo) & (g < lo + n_local)
+            for row, w in ((2 * i, N), (2 * i + 1, dNz)):
+                data.append(w[keep])
+                ri.append(np.full(keep.sum(), row))
+                ci.append(g[keep] - lo)
+        self.P = scipy.sparse.csr_matrix(
+            (np.concatenate(data), (np.concatenate(ri), np.concatenate(ci))), shape=(2 * len(pts), n_local)
+        )
+        self.comm = comm
+        self.n = len(pts)
+
+    def apply(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(value, ∂/∂z) of the axial field ``x`` (owned array) at every probe point."""
+        y = self.P @ x
+        if self.comm.size > 1:
+            self.comm.Allreduce(MPI.IN_PLACE, y, op=MPI.SUM)
+        return y[0::2], y[1::2]
