@@ -52,12 +52,40 @@ def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
 
 
 def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[str] | None], int]:
-    """Turn SceneError anywhere in ``main`` into exit code 2 with one clean line."""
+    """Turn SceneError anywhere in ``main`` into exit code 2 with one clean line. Under MPI, any other
+    failure on one rank prints its message with the rank and aborts all ranks (never a hang in a
+    collective the failed rank will not reach)."""
 
     def run(argv: Sequence[str] | None = None) -> int:
         try:
             return main(argv)
         except SceneError as e:
             fail(str(e))
+        except Exception as e:
+            mpi = sys.modules.get("mpi4py.MPI")
+            if mpi is None or mpi.COMM_WORLD.size == 1:
+                raise
+            import traceback
+
+            rank = mpi.COMM_WORLD.rank
+            traceback.print_exc()
+            print(f"error on rank {rank}: {type(e).__name__}: {e}; aborting all ranks", file=sys.stderr, flush=True)
+            mpi.COMM_WORLD.Abort(1)
+            raise
 
     return run
+
+
+def progress_bar(step: int, total: int, elapsed: float) -> None:
+    """Rank-0 progress: a redrawn bar on a terminal, a line every 10% otherwise (logs stay short)."""
+    rate = step / elapsed if elapsed > 0 else 0.0
+    eta = (total - step) / rate if rate > 0 else 0.0
+    tty = sys.stderr.isatty()
+    if not tty and step != total and (step * 10) // max(total, 1) == ((step - 500) * 10) // max(total, 1):
+        return
+    done = int(30 * step / max(total, 1))
+    line = f"[{'#' * done}{'.' * (30 - done)}] {step}/{total} steps  {rate:,.0f} steps/s  eta {eta:5.1f} s"
+    sys.stderr.write(("\r" + line + " ") if tty else (line + "\n"))
+    if tty and step == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()

@@ -15,7 +15,7 @@ import json
 import sys
 from collections.abc import Sequence
 
-import dolfinx_solver  # noqa: F401  (wheel-specific: must precede dolfinx/petsc4py)
+import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
 
 # isort: split
 from mpi4py import MPI
@@ -23,18 +23,6 @@ from mpi4py import MPI
 import _cli
 from rods import io
 from rods.fe.model import GlobalModel
-
-
-def _progress(step: int, total: int, elapsed: float) -> None:
-    rate = step / elapsed if elapsed > 0 else 0.0
-    done = int(30 * step / max(total, 1))
-    eta = (total - step) / rate if rate > 0 else 0.0
-    sys.stderr.write(
-        f"\r[{'#' * done}{'.' * (30 - done)}] {step}/{total} steps  {rate:,.0f} steps/s  eta {eta:5.1f} s "
-    )
-    if step == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -52,7 +40,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             "plan: " + "\n      ".join(f"{k}: {v}" for k, v in plan.items()) + f"\n      outputs -> {out}", flush=True
         )
     # solve
-    result = model.run(out, _progress if root else None)
+    result = model.run(out, _cli.progress_bar if root else None)
     # output (scalars on rank 0; fields were written collectively during the run)
     if root:
         io.write_history(out / "history.csv", result.history, result.units)

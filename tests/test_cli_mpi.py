@@ -1,0 +1,42 @@
+"""A failure on one rank stops every rank with its message; it never hangs in a collective."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from .conftest import ROOT
+
+MPIRUN = Path(sys.executable).parent / "mpirun"
+
+
+@pytest.mark.mpi
+def test_failure_on_one_rank_aborts_all(tmp_path):
+    script = tmp_path / "fail_on_rank1.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            import sys
+            sys.path.insert(0, {str(ROOT / "workflows")!r})
+            from mpi4py import MPI
+            import _cli
+
+            def main(argv=None):
+                if MPI.COMM_WORLD.rank == 1:
+                    raise RuntimeError("mesh inverted on rank 1")
+                MPI.COMM_WORLD.barrier()  # rank 0 waits here forever unless rank 1 aborts the job
+                return 0
+
+            sys.exit(_cli.guarded(main)())
+            """
+        )
+    )
+    p = subprocess.run(
+        [str(MPIRUN), "-n", "2", sys.executable, str(script)], capture_output=True, text=True, timeout=60
+    )
+    assert p.returncode != 0
+    assert "error on rank 1: RuntimeError: mesh inverted on rank 1" in p.stderr
