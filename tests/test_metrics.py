@@ -35,3 +35,11 @@ def test_average_peak_speed_of_square_plateaus():
 def test_rms_difference():
     t = np.linspace(0, 1, 1001)
     assert metrics.rms_difference(t, np.sin(t), t, np.sin(t) + 2e-6, (0, 1)) == pytest.approx(2e-6, rel=1e-9)
+
+
+def test_chatter_shorter_than_min_gap_is_one_episode():
+    t = np.linspace(0, 200e-6, 200001)
+    F = 5000 * np.sin(np.pi * t / 200e-6) * (np.sin(2 * np.pi * t / 0.2e-6) > -0.5)  # gaps of ~0.07 µs
+    ep = metrics.contact_episodes(t, F)
+    assert len(ep) == 1
+    assert ep[0][1] - ep[0][0] == pytest.approx(200e-6, rel=1e-3)
