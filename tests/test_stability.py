@@ -1,0 +1,97 @@
+"""Stability matrix: hard cases stay stable and keep their physics (issue: hard cases stay stable).
+
+Fast cases run on a coarse axisymmetric mesh (2 mm x 0.5 mm, 0.4 ms); each asserts energy balance,
+momentum, and the wave response (Rod-2 midpoint plateau speed) and peak force against the analytical
+model. The slow cases (`make test-slow`) refine the tip mesh and run 200,000 steps.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import rods.fe  # noqa: F401
+from rods.analytical import simulate
+from rods.fe.model import GlobalModel
+from rods.hertz import YieldWarning
+
+COARSE = ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=4e-4")
+ALU = ("youngs_modulus=70e9", "density=2700.0", "poisson_ratio=0.33")
+
+# name -> (overrides, peak-force tolerance, midpoint plateau-speed tolerance), relative to the analytical model.
+# Measured on this mesh: penalty 100x adds ~11% contact-node chatter spikes to the force (energy stays exact);
+# at 0.01 m/s the Hertz patch (0.37 mm) is smaller than one element, the force is 29% low and the contact
+# softer (see the slow refined case: -5%); on 0.25 m rods the midpoint is only 10 diameters from the tip,
+# where the 1D model's plateau differs from the 3D-elastic one by ~1.3%.
+CASES = {
+    "penalty-10x": (("fe.penalty=10",), 0.02, 0.01),
+    "penalty-100x": (("fe.penalty=100",), 0.15, 0.01),
+    "speed-0.01": (("impact.speed=0.01",), None, 0.04),
+    "speed-20": (("impact.speed=20",), 0.01, 0.01),
+    "steel-on-aluminium": (tuple(f"rod2.material.{a}" for a in ALU), 0.01, 0.01),
+    "aluminium-on-steel": (tuple(f"rod1.material.{a}" for a in ALU), 0.01, 0.01),
+    "striker-longer": (("rod1.length=0.7", "rod2.length=0.25"), 0.01, 0.02),
+    "equal-lengths": (("rod2.length=0.25009",), 0.01, 0.02),
+}
+
+
+def run_case(scene):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", YieldWarning)
+        fe = GlobalModel(scene)
+        return fe, fe.run(), simulate(scene)
+
+
+def check_physics(scene, fe, r, a, force_tol, speed_tol=0.01):
+    s, h = r.summary, r.history
+    assert np.all(np.isfinite(h["contact_force"])) and s["energy_error"] < 0.01
+    p = h["momentum"]
+    assert np.max(np.abs(p - p[0])) < 1e-9 * abs(p[0])  # conserved to round-off
+    assert p[0] == pytest.approx(scene.rod1.mass * scene.speed, rel=2e-3)  # the cap's missing volume
+    assert s["midpoint_peak_speed"] == pytest.approx(a.summary["midpoint_peak_speed"], rel=speed_tol)
+    if force_tol is not None:
+        assert s["peak_contact_force"] == pytest.approx(a.summary["peak_contact_force"], rel=force_tol)
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_stability_matrix(scene_with, name):
+    overrides, force_tol, speed_tol = CASES[name]
+    scene = scene_with(*COARSE, *overrides)
+    fe, r, a = run_case(scene)
+    check_physics(scene, fe, r, a, force_tol, speed_tol)
+    assert fe.dt <= fe.dt_critical
+
+
+def test_stiffer_penalty_shrinks_the_step(scene_with):
+    dts = [GlobalModel(scene_with(*COARSE, f"fe.penalty={p}")).dt_critical for p in (1, 100)]
+    assert dts[1] < 0.8 * dts[0]
+
+
+def test_yield_warning_at_high_speed(scene_with):
+    with pytest.warns(YieldWarning, match="1.1 S_y"):
+        simulate(scene_with("impact.speed=20", "simulation.end_time=3e-4"))
+
+
+@pytest.mark.slow
+def test_low_speed_needs_a_refined_tip(scene_with):
+    """At 0.01 m/s the Hertz patch is ~0.37 mm: refined to 0.0625 mm the force comes within 6% (coarse: -29%)."""
+    scene = scene_with(
+        *COARSE, "simulation.end_time=6e-4", "impact.speed=0.01", "fe.radial_size=0.0625e-3", "fe.tip_grading=0.1"
+    )
+    fe, r, a = run_case(scene)
+    check_physics(scene, fe, r, a, 0.06)
+
+
+@pytest.mark.slow
+def test_200k_steps_bounded_energy_drift(scene_with):
+    """200,000 central-difference steps (13 ms, many wave round trips and the whole contact): drift < 1e-4."""
+    scene = scene_with(*COARSE, "simulation.end_time=1.31e-2", "simulation.output_interval=1e-6")
+    fe = GlobalModel(scene)
+    assert fe.steps >= 200_000
+    r = fe.run()
+    assert r.summary["energy_error"] < 1e-4
+    E = r.history["kinetic_energy"] + r.history["strain_energy"] + r.history["contact_energy"]
+    late = E[E.size // 2 :]
+    assert np.ptp(late) / E[0] < 1e-4  # no secular growth in the second half
