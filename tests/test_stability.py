@@ -48,7 +48,7 @@ def check_physics(scene, fe, r, a, force_tol, speed_tol=0.01):
     s, h = r.summary, r.history
     assert np.all(np.isfinite(h["contact_force"])) and s["energy_error"] < 0.01
     p = h["momentum"]
-    assert np.max(np.abs(p - p[0])) < 1e-9 * abs(p[0])  # conserved to round-off
+    assert np.max(np.abs(p - p[0])) < 1e-13 * max(fe.steps, 10_000) * abs(p[0])  # round-off, grows with steps
     assert p[0] == pytest.approx(scene.rod1.mass * scene.speed, rel=2e-3)  # the cap's missing volume
     assert s["midpoint_peak_speed"] == pytest.approx(a.summary["midpoint_peak_speed"], rel=speed_tol)
     if force_tol is not None:
@@ -87,7 +87,7 @@ def test_low_speed_needs_a_refined_tip(scene_with):
 @pytest.mark.slow
 def test_200k_steps_bounded_energy_drift(scene_with):
     """200,000 central-difference steps (13 ms, many wave round trips and the whole contact): drift < 1e-4."""
-    scene = scene_with(*COARSE, "simulation.end_time=1.31e-2", "simulation.output_interval=1e-6")
+    scene = scene_with(*COARSE, "simulation.end_time=1.32e-2", "simulation.output_interval=1e-6")
     fe = GlobalModel(scene)
     assert fe.steps >= 200_000
     r = fe.run()

@@ -1,0 +1,113 @@
+"""Comparison-stage math: Hertz at a model's own force, Hertz subsurface stresses, Richardson/GCI.
+
+* :func:`hertz_at_force`: closed-form Hertz (paper Eq. 10) at a model's own peak force F, so that a
+  model's contact size is judged against the contact law and not against a different force.
+* :func:`hertz_stresses`: Hertz stresses below the surface (Johnson, Contact Mechanics, 1985,
+  Eq. 3.44; Huber 1904) at (r, z), z the depth: the paper computed the closed form at the FE
+  integration points (Fig. 6), which lie ~0.21 h below the surface.
+* :func:`richardson`: observed order, extrapolated value and grid-convergence index over three
+  levels of constant refinement ratio (Roache 1998; ASME V&V 20-2009, Sec. 2.4):
+
+      p = ln((f3 - f2)/(f2 - f1)) / ln r,   f_ext = f1 + (f1 - f2)/(r^p - 1),
+      GCI_fine = F_s |(f1 - f2)/f1| / (r^p - 1),  F_s = 1.25
+
+  with f1 the finest level. Monotone convergence ((f3 - f2)/(f2 - f1) > 0) is required for p.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rods import hertz
+
+__all__ = ["Richardson", "hertz_at_force", "hertz_stresses", "percent", "richardson"]
+
+SAFETY_FACTOR = 1.25  # GCI factor of safety for three-grid studies (Roache) [-]
+
+
+def percent(x: float, ref: float) -> float:
+    """Relative difference 100 (x - ref)/ref [%]."""
+    return 100.0 * (x - ref) / ref
+
+
+def hertz_at_force(F: float, E_star: float, R_star: float) -> dict[str, float]:
+    """Hertz contact radius a [m], area π a² [m^2] and peak pressure p0 [Pa] at force F [N] (paper Eq. 10)."""
+    a = float(hertz.contact_radius(F, E_star, R_star))
+    return {
+        "force": F,
+        "contact_radius": a,
+        "contact_area": math.pi * a * a,
+        "peak_pressure": float(hertz.peak_pressure(F, a)),
+    }
+
+
+def hertz_stresses(
+    r: ArrayLike, z: ArrayLike, a: float, p0: float, nu: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(σ_r, σ_θ, σ_z) [Pa] at radius r > 0 and depth z >= 0 [m] below a Hertz pressure p0, radius a.
+
+    Johnson Eq. 3.44 with u = ½[(r² + z² - a²) + sqrt((r² + z² - a²)² + 4 a² z²)]:
+
+        σ_r/p0 = (1-2ν)/3 a²/r² [1 - (z/√u)³] + (z/√u)³ a² u/(u² + a² z²)
+                 + (z/√u)[(1-ν) u/(a² + u) + (1+ν)(√u/a) arctan(a/√u) - 2]
+        σ_θ/p0 = -(1-2ν)/3 a²/r² [1 - (z/√u)³] - (z/√u)[2ν + (1-ν) u/(a² + u) - (1+ν)(√u/a) arctan(a/√u)]
+        σ_z/p0 = -(z/√u)³ a² u/(u² + a² z²)
+
+    At z = 0 it reduces to :func:`rods.hertz.surface_radial_stress` (z/√u -> sqrt(1 - r²/a²) inside,
+    0 outside). Frictionless, elastic half-space. Vectorised.
+    """
+    r, z = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(z, dtype=float))
+    s = r * r + z * z - a * a
+    u = 0.5 * (s + np.sqrt(s * s + 4.0 * a * a * z * z))
+    inside = u <= 0.0  # z = 0, r <= a
+    uu = np.where(inside, 1.0, u)
+    q = np.where(inside, np.sqrt(np.clip(1.0 - r * r / (a * a), 0.0, None)), z / np.sqrt(uu))  # z/√u
+    # a² u/(u² + a² z²) -> 1/(1 - r²/a²) inside on the surface; times q³ gives q
+    frac = np.where(inside, 0.0, a * a * uu / (uu * uu + a * a * z * z))
+    t3 = np.where(inside, q, q**3 * frac)
+    su = np.sqrt(np.where(inside, 0.0, u))
+    atan_term = np.where(su > 0, (su / a) * np.arctan(a / np.where(su > 0, su, 1.0)), 0.0)
+    c = (1.0 - 2.0 * nu) / 3.0
+    edge = c * a * a / (r * r) * (1.0 - q**3)
+    g = np.where(inside, 0.0, u / (a * a + u))
+    σ_r = edge + t3 + q * ((1.0 - nu) * g + (1.0 + nu) * atan_term - 2.0)
+    σ_θ = -edge - q * (2.0 * nu + (1.0 - nu) * g - (1.0 + nu) * atan_term)
+    σ_z = -t3
+    return p0 * σ_r, p0 * σ_θ, p0 * σ_z
+
+
+@dataclass(frozen=True)
+class Richardson:
+    """Three-level Richardson extrapolation; f1 finest. ``order`` is NaN for non-monotone data."""
+
+    f1: float
+    f2: float
+    f3: float
+    ratio: float  # refinement ratio r = h2/h1 = h3/h2 [-]
+    order: float  # observed order p [-]
+    extrapolated: float  # f_ext
+    gci_fine: float  # GCI of the finest level, a fraction of |f1| [-]
+    monotone: bool
+
+    @property
+    def error_band(self) -> float:
+        """Absolute uncertainty GCI_fine |f1| (same unit as f)."""
+        return self.gci_fine * abs(self.f1)
+
+
+def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0) -> Richardson:
+    """Observed order, extrapolated value and GCI_fine (Roache; ASME V&V 20) from three levels."""
+    f1, f2, f3 = float(f_fine), float(f_mid), float(f_coarse)
+    e21, e32 = f1 - f2, f2 - f3
+    monotone = e21 != 0 and e32 / e21 > 0
+    if not monotone:
+        return Richardson(f1, f2, f3, ratio, math.nan, math.nan, math.nan, False)
+    p = math.log(e32 / e21) / math.log(ratio)
+    denom = ratio**p - 1.0
+    f_ext = f1 + e21 / denom
+    gci = SAFETY_FACTOR * abs(e21 / f1) / denom
+    return Richardson(f1, f2, f3, ratio, p, f_ext, gci, True)

@@ -1,0 +1,460 @@
+"""Submodel of the contact region driven at its cut by the global solution (paper Sec. 2.2).
+
+The submodel is the same :class:`rods.fe.model.GlobalModel` machinery on a shorter region: the first
+L_s = ``fe.submodel_length`` of each rod (cut planes z = -L_s for Rod 1 and z = +L_s for Rod 2,
+measured from the apexes), meshed with a uniform size h across and along (aspect 1:1, as the paper).
+It is built by :func:`submodel_scene`: a copy of the scene with both rod lengths set to L_s, so the
+"far ends" (facet tags ``rod1_end``/``rod2_end``) *are* the cut planes and no mesher change is needed.
+
+Storage (global side, :class:`CutRecorder`): during the global run a step hook copies the owned
+entries of u_n and v_{n+1/2} of a *band* of nodes — every global cell whose nodes all lie within
+±2 global axial elements of a cut plane (both rods) — at every global step up to ``record_until``
+(the band is small: ~270 nodes on the paper mesh). Rank 0 gathers and writes ``cut.h5`` (h5py):
+
+    /times (n_rec,) [s]            times t_n of the recorded steps
+    /u, /v (n_rec, n_nodes, gdim)  u_n [m] and v_{n+1/2} [m/s] at the band nodes
+    /nodes (n_nodes, gdim) [m]     band node coordinates
+    /cells (n_cells, n_verts)      band cells (DOLFINx vertex order), indices into /nodes
+    attrs: cell_type, gdim, kind, dt, every, halfwidth, cut_planes, scene_values (JSON)
+
+Driving (submodel side, :class:`CutDriver`): the band is rebuilt as a DOLFINx mesh on the submodel's
+communicator and the stored P1 field is interpolated onto the submodel's cut-boundary nodes with
+DOLFINx non-matching interpolation (``create_interpolation_data`` + ``interpolate_nonmatching`` on
+the cut cells only). Interpolation is linear, so it is done once per band node (unit fields) to
+build a sparse matrix W (owned cut nodes x band nodes); at run time u_cut(t) = W U_band(t). Works
+for meshes that do not nest node for node, for any number of ranks (the cut nodes may be on any
+rank), and for 2D (axisymmetric) and 3D band cells alike. In time, U_band is interpolated linearly
+between recorded steps: the central-difference displacement is itself piecewise linear in time
+(u_{n+1} = u_n + Δt v_{n+1/2}), so this reproduces the global trajectory exactly at any submodel time.
+
+Prescription in the explicit scheme: after v_{n+1/2} is computed, its cut entries are overwritten by
+(u_cut(t_{n+1}) - u_n)/Δt, so u_{n+1} = u_cut(t_{n+1}) exactly. Initial state = the global one
+(u = 0, Rod 1 at s1, Rod 2 at rest), consistent with the recorded u_0 = 0.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import basix.ufl
+import dolfinx
+import dolfinx.mesh
+import numpy as np
+import scipy.sparse
+import ufl
+from mpi4py import MPI
+
+from rods import hertz
+from rods.fe import forms
+from rods.fe.mesh import TAGS
+from rods.fe.model import FEResult, GlobalModel
+from rods.scene import Scene, SceneError, Station, scene_from_dict
+
+__all__ = [
+    "LEVEL_SIZES",
+    "CutDriver",
+    "CutRecorder",
+    "SubmodelResult",
+    "run_submodel",
+    "submodel_scene",
+    "surface_gauss_stress",
+]
+
+# element size across and along per level [m] (paper: coarse/mid/fine; finer: axisymmetric only)
+LEVEL_SIZES = {
+    "coarse": 0.25e-3,
+    "mid": 0.125e-3,
+    "fine": 0.0625e-3,
+    "extra-fine": 0.03125e-3,
+    "ultra-fine": 0.015625e-3,
+}
+BAND_ELEMENTS = 2  # band half-width in global axial elements [-]
+
+
+# ----------------------------------------------------------------------------------------------
+# region
+# ----------------------------------------------------------------------------------------------
+def submodel_scene(
+    scene: Scene,
+    h: float,
+    h_axial: float | None = None,
+    end_time: float | None = None,
+    dt: float | str = "auto",
+) -> Scene:
+    """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], uniform size
+    h [m] across and ``h_axial`` (default h) along, no tip grading, the default mid station only
+    (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
+    L_s = scene["fe.submodel_length"]
+    for k, rod in enumerate(scene.rods, start=1):
+        if L_s >= rod.length:
+            raise SceneError("fe.submodel_length", L_s, f"must be < rod{k}.length = {rod.length:g} m")
+        if L_s <= 2 * rod.cap_height:
+            raise SceneError("fe.submodel_length", L_s, f"must exceed twice the cap height of rod {k}")
+    d = scene.as_dict(json_safe=False)
+    d["station"] = []
+    d["fe"].update({"radial_size": h, "axial_size": h_axial or h, "tip_grading": 1.0, "dt": dt})
+    end = scene.end_time if end_time is None else end_time
+    d["simulation"]["end_time"] = end
+    d["simulation"]["output_interval"] = min(scene.output_interval, end)
+    d["effects"] = [e for e in d.get("effects", []) if e != "fields"]
+    d["fe"]["field_interval"] = 0.0
+    sub = scene_from_dict(d, source=scene.source)
+    # the cut rods are not slender (L_s < 2 d): set the lengths after validation, past that cross-check
+    values = dict(sub.values)
+    values["rod1.length"] = values["rod2.length"] = L_s
+    return dataclasses.replace(
+        sub,
+        rod1=dataclasses.replace(sub.rod1, length=L_s),
+        rod2=dataclasses.replace(sub.rod2, length=L_s),
+        stations=(Station(2, L_s / 2, "rod2_mid"),),
+        values=values,
+    )
+
+
+def cut_planes(scene: Scene) -> tuple[float, float]:
+    """Axial coordinates of the cut planes [m]: Rod 1 at -L_s, Rod 2 at +L_s."""
+    L_s = scene["fe.submodel_length"]
+    return -L_s, L_s
+
+
+def _dof_to_geometry(V: dolfinx.fem.FunctionSpace) -> np.ndarray:
+    """Geometry node of every local P1 dof (degree-1 Lagrange on a degree-1 mesh: cell-local order agrees)."""
+    msh = V.mesh
+    gdm = msh.geometry.dofmaps[0]
+    dm = V.dofmap.list
+    if dm.shape != gdm.shape:
+        raise ValueError("cut recording needs P1 fields on a linear (Q1/hex8) mesh")
+    out = np.full(V.dofmap.index_map.size_local + V.dofmap.index_map.num_ghosts, -1, dtype=np.int64)
+    out[dm.ravel()] = gdm.ravel()
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# storage (global run)
+# ----------------------------------------------------------------------------------------------
+class CutRecorder:
+    """Step hook of the global run: records u_n, v_{n+1/2} of the cut band every ``every`` steps
+    up to ``record_until`` [s]; :meth:`write` gathers to rank 0 and writes ``cut.h5``."""
+
+    def __init__(self, model: GlobalModel, record_until: float | None = None, every: int = 1):
+        sc, V = model.scene, model.V
+        msh = V.mesh
+        self.model, self.every = model, max(1, int(every))
+        self.axial = model.axial
+        gdim = msh.geometry.dim
+        self.gdim = gdim
+        self.halfwidth = BAND_ELEMENTS * sc["fe.axial_size"]  # [m]
+        self.planes = cut_planes(sc)
+        tol = 1e-9 * max(sc.rod1.length, sc.rod2.length)
+        w = self.halfwidth + tol
+
+        def in_band(z: np.ndarray) -> np.ndarray:
+            return (np.abs(z - self.planes[0]) <= w) | (np.abs(z - self.planes[1]) <= w)
+
+        imap = V.dofmap.index_map
+        n_own = imap.size_local
+        X = V.tabulate_dof_coordinates()[:n_own]
+        band = np.flatnonzero(in_band(X[:, self.axial]))
+        self.band = band
+        self.idx = (band[:, None] * model.bs + np.arange(model.bs)[None, :]).ravel()  # owned entries
+        gidx = msh.geometry.input_global_indices
+        d2g = _dof_to_geometry(V)
+        self.keys = np.asarray(gidx, dtype=np.int64)[d2g[band]]
+        self.coords = X[band, :gdim]
+        # band cells: owned cells all of whose nodes lie in the band
+        n_cells = msh.topology.index_map(msh.topology.dim).size_local
+        gdm = msh.geometry.dofmaps[0][:n_cells]
+        zc = msh.geometry.x[gdm, self.axial]
+        cells = np.flatnonzero(in_band(zc).all(axis=1))
+        self.cell_keys = np.asarray(gidx, dtype=np.int64)[gdm[cells]]
+        self.cell_type = msh.topology.cell_name()
+        until = sc.end_time if record_until is None else min(record_until, sc.end_time)
+        # records cover [0, until]: one past it (capped at the run's last step N)
+        n_rec = min(int(math.ceil(until / (model.dt * self.every) - 1e-9)), model.steps // self.every) + 1
+        self.last = (n_rec - 1) * self.every  # last recorded step
+        self.times = np.arange(n_rec) * self.every * model.dt
+        self.U = np.zeros((n_rec, self.idx.size))
+        self.Vv = np.zeros((n_rec, self.idx.size))
+        self.n = 0
+
+    def __call__(self, step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:  # noqa: ARG002
+        if step > self.last or step % self.every:
+            return
+        self.U[self.n] = u[self.idx]
+        self.Vv[self.n] = v[self.idx]
+        self.n += 1
+
+    def write(self, path: str | Path) -> None:
+        """Gather the band to rank 0 and write ``path`` (HDF5; layout in the module docstring)."""
+        comm = self.model.comm
+        n = self.n
+        parts = comm.gather((self.keys, self.coords, self.cell_keys, self.U[:n], self.Vv[:n]), root=0)
+        if comm.rank != 0:
+            comm.barrier()
+            return
+        import h5py
+
+        keys = np.concatenate([p[0] for p in parts])
+        coords = np.vstack([p[1] for p in parts])
+        cells = np.vstack([p[2] for p in parts if len(p[2])])
+        gd = self.gdim
+        U = np.concatenate([p[3].reshape(n, -1, gd) for p in parts], axis=1)
+        Vv = np.concatenate([p[4].reshape(n, -1, gd) for p in parts], axis=1)
+        used = np.unique(cells)
+        order = np.argsort(keys)
+        keys, coords, U, Vv = keys[order], coords[order], U[:, order], Vv[:, order]
+        keep = np.isin(keys, used)
+        keys, coords, U, Vv = keys[keep], coords[keep], U[:, keep], Vv[:, keep]
+        if not np.array_equal(keys, used):
+            raise RuntimeError("cut band: a band cell node was not recorded")
+        cells_local = np.searchsorted(keys, cells)
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".h5.tmp")
+        m = self.model
+        with h5py.File(tmp, "w") as f:
+            f["times"] = self.times[:n]
+            f["u"] = U
+            f["v"] = Vv
+            f["nodes"] = coords
+            f["cells"] = cells_local.astype(np.int64)
+            f.attrs["cell_type"] = self.cell_type
+            f.attrs["gdim"] = gd
+            f.attrs["kind"] = m.kind
+            f.attrs["axial"] = self.axial
+            f.attrs["dt"] = m.dt
+            f.attrs["every"] = self.every
+            f.attrs["halfwidth"] = self.halfwidth
+            f.attrs["cut_planes"] = np.array(self.planes)
+            f.attrs["scene_values"] = json.dumps(m.scene.as_dict())
+            f.attrs["note"] = "u = u_n [m], v = v_{n+1/2} [m/s] at t_n = times; nodes [m]"
+        tmp.replace(path)
+        comm.barrier()
+
+
+# ----------------------------------------------------------------------------------------------
+# driving (submodel run)
+# ----------------------------------------------------------------------------------------------
+def _read_cut(path: Path) -> dict[str, Any]:
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        d = {k: f[k][()] for k in ("times", "u", "v", "nodes", "cells")}
+        d.update({k: f.attrs[k] for k in f.attrs})
+    return d
+
+
+class CutDriver:
+    """Step hook of the submodel run: prescribes u at the cut nodes from a global ``cut.h5``."""
+
+    def __init__(self, model: GlobalModel, cut_file: str | Path, tol: float = 1e-6):
+        comm = model.comm
+        d = _read_cut(Path(cut_file))  # every rank reads (small, read-only)
+        gdim = int(d["gdim"])
+        self.times, self.U = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim)
+        if model.steps * model.dt > self.times[-1] + (self.times[-1] - self.times[-2] if self.times.size > 1 else 0):
+            raise SceneError(
+                "simulation.end_time",
+                model.scene.end_time,
+                f"must be <= the recorded global time {self.times[-1]:g} s (global run's --record-until)",
+            )
+        # band mesh on the submodel's communicator (rank 0 holds the input)
+        cell = str(d["cell_type"])
+        el = basix.ufl.element("Lagrange", cell, 1, shape=(gdim,))
+        root = comm.rank == 0
+        cells = d["cells"] if root else np.empty((0, d["cells"].shape[1]), dtype=np.int64)
+        x = d["nodes"] if root else np.empty((0, gdim))
+        band = dolfinx.mesh.create_mesh(comm, cells, ufl.Mesh(el), x)
+        Vb = dolfinx.fem.functionspace(band, ("Lagrange", 1))
+        node_of_dof = np.asarray(band.geometry.input_global_indices, dtype=np.int64)[_dof_to_geometry(Vb)]
+        n_nodes = d["nodes"].shape[0]
+        # submodel cut: cells incident to the cut facets, and their owned nodes
+        msh, rm = model.V.mesh, model.rm
+        fdim, tdim = msh.topology.dim - 1, msh.topology.dim
+        facets = np.concatenate([rm.facet_tags.find(TAGS["rod1_end"]), rm.facet_tags.find(TAGS["rod2_end"])])
+        msh.topology.create_connectivity(fdim, tdim)
+        cut_cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim).astype(np.int32)
+        V0, to_parent = model.V.sub(0).collapse()
+        nodes0 = dolfinx.fem.locate_dofs_topological(V0, fdim, facets)
+        nodes0 = nodes0[nodes0 < V0.dofmap.index_map.size_local]
+        to_parent = np.asarray(to_parent[0] if isinstance(to_parent, list | tuple) else to_parent)
+        bs = model.bs
+        self.cut_nodes = to_parent[nodes0] // bs  # parent (unrolled) dof of component 0 is node * bs
+        self.idx = self.cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries
+        # W: interpolate each band node's unit scalar field onto the cut cells (non-matching)
+        data = dolfinx.fem.create_interpolation_data(V0, Vb, cut_cells, padding=1e-10)
+        fb, g = dolfinx.fem.Function(Vb), dolfinx.fem.Function(V0)
+        n_own_b = Vb.dofmap.index_map.size_local
+        dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
+        own = np.arange(n_own_b)
+        dof_of_node[node_of_dof[own]] = own
+        rows, cols, vals = [], [], []
+        t0 = time.perf_counter()
+        for j in range(n_nodes):
+            fb.x.array[:] = 0.0
+            if dof_of_node[j] >= 0:
+                fb.x.array[dof_of_node[j]] = 1.0
+            fb.x.scatter_forward()
+            g.x.array[:] = 0.0
+            g.interpolate_nonmatching(fb, cut_cells, data, tol=tol)
+            w = g.x.array[nodes0]
+            nz = np.flatnonzero(np.abs(w) > 1e-14)
+            rows.append(nz)
+            cols.append(np.full(nz.size, j))
+            vals.append(w[nz])
+        self.W = scipy.sparse.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nodes0.size, n_nodes)
+        )
+        self.build_time = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
+        # partition of unity: each cut node must be covered by the band (row sums 1)
+        rs = np.asarray(self.W.sum(axis=1)).ravel()
+        bad = np.flatnonzero(np.abs(rs - 1.0) > 1e-8)
+        if comm.allreduce(bad.size) > 0:
+            raise RuntimeError(f"{bad.size} cut nodes are not covered by the recorded band (row sums != 1)")
+        self.n_cut = comm.allreduce(nodes0.size)
+        self.dt = model.dt
+        self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
+
+    def displacement(self, t: float) -> np.ndarray:
+        """u at the owned cut nodes at time t [s]: linear in time between records, W in space. (n_cut, gdim)"""
+        T = self.times
+        k = int(np.clip(np.searchsorted(T, t, side="right") - 1, 0, T.size - 2)) if T.size > 1 else 0
+        if T.size == 1:
+            ub = self.U[0]
+        else:
+            θ = (t - T[k]) / (T[k + 1] - T[k])
+            ub = (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
+        return self.W @ ub
+
+    def __call__(self, step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:
+        """Overwrite v_{n+1/2} at the cut so that u_{n+1} = u_cut(t_{n+1})."""
+        target = self.displacement(t + self.dt)
+        v[self.idx] = (target - u[self.idx]) / self.dt
+
+
+# ----------------------------------------------------------------------------------------------
+# stresses at the integration points nearest the surface (paper Fig. 6)
+# ----------------------------------------------------------------------------------------------
+def surface_gauss_stress(model: GlobalModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
+    """σ_rr [Pa] at the 2x2 Gauss points of the Rod-1 tip cells nearest the tip surface.
+
+    For each cell on the Rod-1 tip face, σ_rr of the displacement ``u_owned`` is evaluated at the
+    four Gauss points (reference coordinates ½ ± ½/√3); the row of two points closest to the
+    surface z_s(r) = -(r_k - sqrt(r_k² - r²)) is kept. Returns, on every rank, sorted by r:
+    r [m], depth below the surface [m], sigma_r [Pa]. Axisymmetric only.
+    """
+    if model.kind != "axisymmetric":
+        raise NotImplementedError("surface Gauss-point stresses: axisymmetric only")
+    msh, rm = model.V.mesh, model.rm
+    fdim, tdim = msh.topology.dim - 1, msh.topology.dim
+    uf = dolfinx.fem.Function(model.V)
+    uf.x.array[: model.n_local] = u_owned
+    uf.x.scatter_forward()
+    cells = dolfinx.mesh.compute_incident_entities(msh.topology, rm.facet_tags.find(TAGS["rod1_tip"]), fdim, tdim)
+    cells = cells[cells < msh.topology.index_map(tdim).size_local].astype(np.int32)
+    g = 0.5 / math.sqrt(3.0)
+    X = np.array([[0.5 - g, 0.5 - g], [0.5 + g, 0.5 - g], [0.5 - g, 0.5 + g], [0.5 + g, 0.5 + g]])
+    x = ufl.SpatialCoordinate(msh)
+    σ = forms.stress(forms.strain(uf, x, model.kind), model.mat.λ, model.mat.μ)
+    s_rr = dolfinx.fem.Expression(σ[0, 0], X)
+    xe = dolfinx.fem.Expression(x, X)
+    if cells.size:
+        S = s_rr.eval(msh, cells).reshape(cells.size, 4)
+        P = xe.eval(msh, cells).reshape(cells.size, 4, 2)
+    else:
+        S, P = np.zeros((0, 4)), np.zeros((0, 4, 2))
+    rk = model.scene.rod1.tip_radius
+    r, z = P[..., 0], P[..., 1]
+    zs = np.zeros_like(r) if math.isinf(rk) else -(rk - np.sqrt(rk * rk - r * r))
+    depth = zs - z
+    near = np.argsort(depth, axis=1)[:, :2]
+    take = np.take_along_axis
+    out = np.column_stack([take(r, near, 1).ravel(), take(depth, near, 1).ravel(), take(S, near, 1).ravel()])
+    allrows = np.vstack(model.comm.allgather(out))
+    allrows = allrows[np.argsort(allrows[:, 0])]
+    return {"r": allrows[:, 0], "depth": allrows[:, 1], "sigma_r": allrows[:, 2]}
+
+
+class _PeakField:
+    """Step hook: keeps u_n at the (latest) largest contact force, copying at most every ``every`` steps."""
+
+    def __init__(self, model: GlobalModel, every: int):
+        self.model, self.every = model, max(1, every)
+        self.F, self.step, self.last = -1.0, -1, -(10**9)
+        self.u = np.zeros(model.n_local)
+
+    def __call__(self, step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:  # noqa: ARG002
+        F = self.model.contact.force  # at u_n (evaluated at the start of the step)
+        if F > self.F and step - self.last >= self.every:
+            self.F, self.step, self.last = F, step, step
+            self.u[:] = u
+
+
+# ----------------------------------------------------------------------------------------------
+# one submodel run
+# ----------------------------------------------------------------------------------------------
+@dataclass
+class SubmodelResult:
+    result: FEResult
+    sigma_r: dict[str, np.ndarray] = field(default_factory=dict)  # r, depth [m], sigma_r [Pa]
+    summary: dict[str, Any] = field(default_factory=dict)
+
+
+def run_submodel(
+    scene: Scene,
+    cut_file: str | Path,
+    h: float,
+    h_axial: float | None = None,
+    end_time: float | None = None,
+    dt: float | str = "auto",
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    progress=None,
+    level: str = "",
+) -> SubmodelResult:
+    """Set up and run the submodel of ``scene`` (the *global* scene) at size h [m], driven by ``cut_file``."""
+    sub = submodel_scene(scene, h, h_axial, end_time, dt)
+    model = GlobalModel(sub, comm)
+    driver = CutDriver(model, cut_file)
+    peak = _PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
+
+    def hook(step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:
+        driver(step, t, u, v)
+        peak(step, t, u, v)
+
+    res = model.run(None, progress, step_hook=hook)
+    sig = surface_gauss_stress(model, peak.u)
+    s = res.summary
+    s["model"] = f"fe-submodel-{level}" if level else "fe-submodel"
+    E_star, F = model.E_star, s["peak_contact_force"]
+    flat = math.isinf(scene.rod1.tip_radius) and math.isinf(scene.rod2.tip_radius)  # no Hertz contact
+    R_star = math.inf if flat else hertz.effective_radius(scene.rod1.tip_radius, scene.rod2.tip_radius)
+    a_H = math.nan if flat else float(hertz.contact_radius(F, E_star, R_star))
+    s.update(
+        {
+            "level": level,
+            "element_size": h,
+            "element_size_axial": h_axial or h,
+            "submodel_length": scene["fe.submodel_length"],
+            "cut_nodes": driver.n_cut,
+            "driver_build_time": driver.build_time,
+            "stress_field_time": peak.step * model.dt,
+            "stress_field_force": peak.F,
+            "energy_error_note": "not a balance: the cut does work on the submodel (not counted)",
+            "hertz_at_own_force": {
+                "contact_radius": a_H,
+                "contact_area": math.pi * a_H**2,
+                "peak_pressure": math.nan if flat else float(hertz.peak_pressure(F, a_H)),
+                "E_star": E_star,
+                "R_star": R_star,
+            },
+            "sigma_r_profile": {k: v.tolist() for k, v in sig.items()},
+            "plan": {k: v for k, v in model.plan().items() if k in ("mesh", "cells", "dofs", "dt", "steps")},
+        }
+    )
+    return SubmodelResult(res, sig, s)

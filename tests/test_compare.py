@@ -1,0 +1,51 @@
+"""Comparison-stage math (issue #5): Richardson/GCI on synthetic data, Hertz at own force, subsurface Hertz."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rods import compare, hertz
+
+
+@pytest.mark.parametrize("p", [1.0, 1.5, 2.0])
+def test_richardson_recovers_order_and_limit(p):
+    f_exact, C, h = 3.7, 0.8, 0.1
+    f = [f_exact + C * (h * 2**k) ** p for k in range(3)]  # fine, mid, coarse
+    r = compare.richardson(*f, ratio=2.0)
+    assert r.monotone
+    assert r.order == pytest.approx(p, rel=1e-12)
+    assert r.extrapolated == pytest.approx(f_exact, rel=1e-12)
+    # GCI_fine = 1.25 |e21/f1| / (2^p - 1) and it bounds the true error of the fine level
+    assert r.gci_fine == pytest.approx(1.25 * abs((f[0] - f[1]) / f[0]) / (2**p - 1), rel=1e-12)
+    assert abs(f[0] - f_exact) <= r.error_band
+
+
+def test_richardson_non_monotone():
+    r = compare.richardson(1.0, 1.2, 1.1)
+    assert not r.monotone and math.isnan(r.order) and math.isnan(r.extrapolated)
+
+
+def test_hertz_at_force_consistent():
+    E_star, R_star, F = 112.25e9, 0.035, 5543.0
+    H = compare.hertz_at_force(F, E_star, R_star)
+    assert H["contact_radius"] == pytest.approx((3 * F * R_star / (4 * E_star)) ** (1 / 3), rel=1e-12)
+    assert H["contact_area"] == pytest.approx(math.pi * H["contact_radius"] ** 2)
+    assert H["peak_pressure"] == pytest.approx(1.5 * F / H["contact_area"], rel=1e-12)
+    assert compare.percent(1.1, 1.0) == pytest.approx(10.0)
+
+
+def test_subsurface_hertz_reduces_to_surface_and_axis():
+    a, p0, nu = 1.1e-3, 2.2e9, 0.3
+    r = np.linspace(0.02, 2.5, 40) * a
+    σ_r, σ_θ, σ_z = compare.hertz_stresses(r, np.zeros_like(r), a, p0, nu)
+    assert np.allclose(σ_r, hertz.surface_radial_stress(r, a, p0, nu), rtol=1e-9, atol=1e-6 * p0)
+    assert np.allclose(σ_θ, hertz.surface_hoop_stress(r, a, p0, nu), rtol=1e-9, atol=1e-6 * p0)
+    assert np.allclose(σ_z, -hertz.pressure(r, a, p0), atol=1e-6 * p0)
+    z = np.array([0.2, 0.5, 1.0, 2.0]) * a
+    sz, sr, _ = hertz.axis_stresses(z, a, p0, nu)
+    σ_r, _, σ_z = compare.hertz_stresses(1e-3 * a, z, a, p0, nu)
+    assert np.allclose(σ_z, sz, rtol=1e-5)
+    assert np.allclose(σ_r, sr, rtol=1e-2, atol=1e-3 * p0)  # a²/r² (1 - q³) cancels near the axis
