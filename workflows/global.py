@@ -1,11 +1,14 @@
-"""The paper's global FE model (Section 2.2), axisymmetric: both rods, penalty contact, explicit dynamics.
+"""The paper's global FE model (Section 2.2), axisymmetric or 3D: both rods, penalty contact, explicit dynamics.
 
     python workflows/global.py --scene workflows/scenes/paper.toml --set fe.axial_size=2e-3 --out DIR
     mpirun -n 2 python workflows/global.py ...          # same histories to round-off
+    mpirun -n 2 python workflows/global.py --scene workflows/scenes/paper-3d-coarse.toml   # 3D (fe.kind = "3d")
 
 Writes DIR/history.csv (contact force, radius, area, peak pressure, velocity and strain at every
 station, energies), DIR/summary.json, DIR/pressure_profile.csv (p(r) at peak force) and, only when
-the scene asks ("fields" in effects or fe.field_interval > 0), DIR/fields.xdmf. Prints the plan
+the scene asks ("fields" in effects or fe.field_interval > 0), DIR/fields.xdmf; with --record-cut,
+DIR/cut.h5 (the band of displacements that drives workflows/submodel.py, every global step by
+default). Prints the plan
 first, a progress bar while stepping, and the summary last (rank 0).
 """
 
@@ -28,7 +31,15 @@ from rods.fe.model import GlobalModel
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
     root = comm.rank == 0
-    args = _cli.parser(__doc__.splitlines()[0]).parse_args(argv)
+    ap = _cli.parser(__doc__.splitlines()[0])
+    ap.add_argument(
+        "--record-cut",
+        action="store_true",
+        help="write DIR/cut.h5: the displacement band around the submodel cut planes (rods.fe.submodel)",
+    )
+    ap.add_argument("--record-until", type=float, default=None, help="last recorded time [s] (default end time)")
+    ap.add_argument("--record-every", type=int, default=1, help="record every k-th global step (default 1)")
+    args = ap.parse_args(argv)
     # parameters
     scene = _cli.load(args)
     out = _cli.out_dir(args, "global", scene)
@@ -40,7 +51,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             "plan: " + "\n      ".join(f"{k}: {v}" for k, v in plan.items()) + f"\n      outputs -> {out}", flush=True
         )
     # solve
-    result = model.run(out, _cli.progress_bar if root else None)
+    recorder = None
+    if args.record_cut:
+        from rods.fe.submodel import CutRecorder
+
+        recorder = CutRecorder(model, args.record_until, args.record_every)
+    result = model.run(out, _cli.progress_bar if root else None, step_hook=recorder)
+    if recorder is not None:
+        recorder.write(out / "cut.h5")
     # output (scalars on rank 0; fields were written collectively during the run)
     if root:
         io.write_history(out / "history.csv", result.history, result.units)

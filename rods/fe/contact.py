@@ -21,28 +21,47 @@ energy E_c = ½ Σ ε_pen a_s <-g_s>², so it is conservative.
 MPI: the tip arrays are small (tens of nodes); every rank holds all of them, in r order, and the owned
 axial displacements are summed into them with one Allreduce per step; every rank then evaluates the
 identical contact law and adds the forces of the nodes it owns.
+
+3D (the same class, the same law): slaves are the nodes of Rod 1's cap, the master is Rod 2's tip face,
+a quadrilateral surface interpolated bilinearly, z_m(x, y) = Σ_j W_sj (Z_j + u_z,j) over the 4 nodes of
+the face quadrilateral that contains the slave's (x, y). The pairing (:func:`bilinear_pairing`) is a
+geometric search — a k-d tree of the face quadrilaterals' centroids and an inverse bilinear map —
+run identically on every rank over the allgathered face (nodes and quadrilaterals), so the cap and the
+face may sit on different ranks. It is computed once, at the reference (placed) positions, and kept
+fixed: the same small-displacement assumption as in the axisymmetric case (lateral motion of the cap
+~µm against 0.25 mm elements), which keeps the contact force conservative and momentum exact. The
+contact normal is z (Rod 2's face). With a symmetry model (half, quarter) the force, energy and area
+are reported for the full rods (x ``multiplicity``). Contact radius in 3D: r = sqrt(A/π) of the active
+nodal area A (the paper's definition, Sec. 3), plus the patch's force-weighted centroid and its largest
+node distance from the centroid (:meth:`PenaltyContact.patch`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import dolfinx
 import numpy as np
 from mpi4py import MPI
 
-__all__ = ["PenaltyContact", "TipNodes", "tip_nodes"]
+__all__ = ["PATCH_KEYS", "PenaltyContact", "TipNodes", "bilinear_pairing", "face_quads", "tip_nodes"]
+
+# 3D-only history/summary keys of the contact patch [m] (see PenaltyContact.patch)
+PATCH_KEYS = ("contact_centroid_x", "contact_centroid_y", "contact_radius_max")
 
 
 @dataclass
 class TipNodes:
-    """Nodes of one tip face, identical on every rank, sorted by r."""
+    """Nodes of one tip face, identical on every rank, sorted by r (3D: by r, x, y)."""
 
     r: np.ndarray  # reference radius [m]
     z: np.ndarray  # reference axial coordinate [m]
-    area: np.ndarray  # row-sum tributary area ∫ N 2πr ds [m^2]
+    area: np.ndarray  # row-sum tributary area ∫ N 2πr ds [m^2] (3D: ∫ N ds)
     local: np.ndarray  # owned-array index of the u_z entry of the nodes this rank owns
     pos: np.ndarray  # their positions in the sorted arrays
+    xy: np.ndarray | None = None  # 3D: reference (x, y) [m], shape (n, 2)
+    gid: np.ndarray | None = None  # global node (block) indices, for face_quads
 
 
 def tip_nodes(V: dolfinx.fem.FunctionSpace, facets: np.ndarray, area_vec: np.ndarray, axial: int) -> TipNodes:
@@ -56,31 +75,141 @@ def tip_nodes(V: dolfinx.fem.FunctionSpace, facets: np.ndarray, area_vec: np.nda
     x = V.tabulate_dof_coordinates()[nodes]
     gidx = imap.local_to_global(nodes.astype(np.int32))
     local = nodes * bs + axial
-    rows = np.column_stack([gidx.astype(float), x[:, 0], x[:, 1], area_vec[local]])
+    three_d = msh.geometry.dim == 3
+    if three_d:  # columns: gid, r, z, area, x, y
+        rows = np.column_stack([gidx.astype(float), np.hypot(x[:, 0], x[:, 1]), x[:, 2], area_vec[local], x[:, :2]])
+    else:
+        rows = np.column_stack([gidx.astype(float), x[:, 0], x[:, 1], area_vec[local]])
     allrows = np.vstack(comm.allgather(rows))
-    order = np.lexsort((allrows[:, 0], allrows[:, 1]))  # by r, ties by global index
+    if three_d:  # by r, x, y: independent of the partition
+        order = np.lexsort((allrows[:, 0], allrows[:, 5], allrows[:, 4], allrows[:, 1]))
+    else:
+        order = np.lexsort((allrows[:, 0], allrows[:, 1]))  # by r, ties by global index
     allrows = allrows[order]
     rank_of = np.concatenate([np.full(len(rr), i) for i, rr in enumerate(comm.allgather(rows))])[order]
     mine = np.flatnonzero(rank_of == comm.rank)
     # map my sorted positions back to my local entries (same global index)
     g_local = {int(g): loc for g, loc in zip(gidx, local, strict=True)}
     my_local = np.array([g_local[int(allrows[p, 0])] for p in mine], dtype=np.int64)
-    return TipNodes(allrows[:, 1].copy(), allrows[:, 2].copy(), allrows[:, 3].copy(), my_local, mine)
+    xy = allrows[:, 4:6].copy() if three_d else None
+    gid = allrows[:, 0].astype(np.int64)
+    return TipNodes(allrows[:, 1].copy(), allrows[:, 2].copy(), allrows[:, 3].copy(), my_local, mine, xy, gid)
+
+
+def face_quads(V: dolfinx.fem.FunctionSpace, facets: np.ndarray, face: TipNodes) -> np.ndarray:
+    """Quadrilaterals of the (hexahedral, P1) face ``facets`` as positions in ``face``'s sorted arrays,
+    (n_q, 4) in counter-clockwise order in the x-y plane, sorted; identical on every rank (allgather)."""
+    msh = V.mesh
+    tdim = msh.topology.dim
+    msh.topology.create_connectivity(tdim - 1, tdim)
+    msh.topology.create_connectivity(tdim, tdim - 1)
+    f2c, c2f = msh.topology.connectivity(tdim - 1, tdim), msh.topology.connectivity(tdim, tdim - 1)
+    layout = V.dofmap.dof_layout
+    imap = V.dofmap.index_map
+    quads = []
+    for f in facets:
+        c = f2c.links(f)[0]
+        lf = int(np.flatnonzero(c2f.links(c) == f)[0])
+        dofs = V.dofmap.cell_dofs(c)[layout.entity_closure_dofs(tdim - 1, lf)]
+        quads.append(imap.local_to_global(dofs.astype(np.int32)))
+    allq = np.vstack([q for q in msh.comm.allgather(np.array(quads, dtype=np.int64).reshape(-1, 4)) if q.size])
+    pos_of = {int(g): i for i, g in enumerate(face.gid)}
+    q = np.vectorize(pos_of.__getitem__, otypes=[np.int64])(allq)
+    xy = face.xy[q]  # (n_q, 4, 2)
+    angle = np.arctan2(*(xy - xy.mean(axis=1, keepdims=True)).transpose(2, 0, 1)[::-1])
+    q = np.take_along_axis(q, np.argsort(angle, axis=1), axis=1)
+    q = _start_at_min(q)
+    return np.unique(q, axis=0)
+
+
+def _start_at_min(q: np.ndarray) -> np.ndarray:
+    """Rotate each cyclic row to start at its smallest entry (a canonical form for np.unique)."""
+    k = np.argmin(q, axis=1)
+    idx = (k[:, None] + np.arange(q.shape[1])[None, :]) % q.shape[1]
+    return np.take_along_axis(q, idx, axis=1)
+
+
+def _bilinear(ξ: np.ndarray, η: np.ndarray) -> np.ndarray:
+    """Q1 shape functions of the unit square at (ξ, η), nodes in cyclic order (0,0), (1,0), (1,1), (0,1)."""
+    return np.stack([(1 - ξ) * (1 - η), ξ * (1 - η), ξ * η, (1 - ξ) * η], axis=-1)
+
+
+def bilinear_pairing(
+    xy_s: np.ndarray, xy_m: np.ndarray, quads: np.ndarray, k: int = 8, tol: float = 1e-9
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pair slaves at ``xy_s`` (n_s, 2) with the master quadrilaterals ``quads`` (positions in ``xy_m``).
+
+    Geometric search: the ``k`` quadrilaterals with the nearest centroids (k-d tree) are tried in order
+    of distance; the first whose inverse bilinear map (Newton, 12 iterations) gives (ξ, η) in
+    [-tol, 1 + tol]² is taken. Returns (J, W, inside): master positions (n_s, 4), bilinear weights
+    (n_s, 4; rows sum to 1) and whether the slave lies over the face (else W = 0, no contact).
+    """
+    from scipy.spatial import cKDTree
+
+    n = len(xy_s)
+    J, W = np.zeros((n, 4), dtype=np.int64), np.zeros((n, 4))
+    inside = np.zeros(n, dtype=bool)
+    if n == 0 or len(quads) == 0:
+        return J, W, inside
+    X = xy_m[quads]  # (n_q, 4, 2)
+    k = min(k, len(quads))
+    _, cand = cKDTree(X.mean(axis=1)).query(xy_s, k=k)
+    cand = cand.reshape(n, k)
+    for c in range(k):
+        todo = np.flatnonzero(~inside)
+        if todo.size == 0:
+            break
+        Xq = X[cand[todo, c]]  # (m, 4, 2)
+        p = xy_s[todo]
+        ξ, η = np.full(todo.size, 0.5), np.full(todo.size, 0.5)
+        for _ in range(12):
+            N = _bilinear(ξ, η)
+            r = np.einsum("mi,mij->mj", N, Xq) - p
+            dξ = np.stack([-(1 - η), 1 - η, η, -η], axis=-1)
+            dη = np.stack([-(1 - ξ), -ξ, ξ, 1 - ξ], axis=-1)
+            Jac = np.stack([np.einsum("mi,mij->mj", dξ, Xq), np.einsum("mi,mij->mj", dη, Xq)], axis=-1)
+            step = np.linalg.solve(Jac, r[..., None])[..., 0]
+            ξ, η = ξ - step[:, 0], η - step[:, 1]
+        ok = (ξ >= -tol) & (ξ <= 1 + tol) & (η >= -tol) & (η <= 1 + tol)
+        hit = todo[ok]
+        inside[hit] = True
+        J[hit] = quads[cand[hit, c]]
+        W[hit] = _bilinear(np.clip(ξ[ok], 0.0, 1.0), np.clip(η[ok], 0.0, 1.0))
+    return J, W, inside
 
 
 class PenaltyContact:
-    """Node-to-surface penalty contact (see module docstring); all arrays in SI units."""
+    """Node-to-surface penalty contact (see module docstring); all arrays in SI units.
 
-    def __init__(self, slave: TipNodes, master: TipNodes, ε_pen: float, comm: MPI.Comm):
+    ``pairing`` = (J, W, inside): master positions and interpolation weights per slave (3D:
+    :func:`bilinear_pairing`); default: linear in r between neighbouring master nodes (axisymmetric).
+    ``multiplicity`` (1, 2, 4) scales the reported force, energy and area to the full rods;
+    ``mirrored`` = (about x = 0, about y = 0) says which symmetry planes bound the model (patch centroid).
+    """
+
+    def __init__(
+        self,
+        slave: TipNodes,
+        master: TipNodes,
+        ε_pen: float,
+        comm: MPI.Comm,
+        pairing: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+        multiplicity: int = 1,
+        mirrored: tuple[bool, bool] = (False, False),
+    ):
         self.slave, self.master, self.ε, self.comm = slave, master, ε_pen, comm
-        rm = master.r
-        j = np.clip(np.searchsorted(rm, slave.r, side="right") - 1, 0, max(len(rm) - 2, 0))
-        t = (slave.r - rm[j]) / np.where(rm[j + 1] > rm[j], rm[j + 1] - rm[j], 1.0)
-        self.inside = (t >= -1e-12) & (t <= 1 + 1e-12)  # slaves over the master face
-        t = np.clip(t, 0.0, 1.0)
-        self.j0, self.j1 = j, j + 1
-        self.w0, self.w1 = 1.0 - t, t
-        self.g0 = self.w0 * master.z[j] + self.w1 * master.z[j + 1] - slave.z  # initial gap [m]
+        self.multiplicity, self.mirrored = multiplicity, mirrored
+        if pairing is None:
+            rm = master.r
+            j = np.clip(np.searchsorted(rm, slave.r, side="right") - 1, 0, max(len(rm) - 2, 0))
+            t = (slave.r - rm[j]) / np.where(rm[j + 1] > rm[j], rm[j + 1] - rm[j], 1.0)
+            inside = (t >= -1e-12) & (t <= 1 + 1e-12)  # slaves over the master face
+            t = np.clip(t, 0.0, 1.0)
+            pairing = (np.column_stack([j, j + 1]), np.column_stack([1.0 - t, t]), inside)
+        self.J, self.W, self.inside = pairing  # (n_s, n_w) master positions, weights; (n_s,) bool
+        self.three_d = slave.xy is not None
+        self.patch_keys = PATCH_KEYS if self.three_d else ()
+        self.g0 = self._interp(master.z) - slave.z  # initial gap [m]
         self.k = np.where(self.inside, ε_pen * slave.area, 0.0)  # nodal penalty stiffness [N/m]
         self.ns, self.nm = len(slave.r), len(master.r)
         self._buf = np.zeros(self.ns + self.nm)
@@ -105,6 +234,20 @@ class PenaltyContact:
             self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
         return b[: self.ns], b[self.ns :]
 
+    def _interp(self, zm: np.ndarray) -> np.ndarray:
+        """Σ_j W_sj zm_j at every slave (columns summed in order: the 2-node case is w0 z0 + w1 z1)."""
+        out = self.W[:, 0] * zm[self.J[:, 0]]
+        for c in range(1, self.J.shape[1]):
+            out = out + self.W[:, c] * zm[self.J[:, c]]
+        return out
+
+    def _transpose(self, t: np.ndarray) -> np.ndarray:
+        """Wᵀ t: the slave values ``t`` distributed to the master nodes."""
+        out = np.bincount(self.J[:, 0], self.W[:, 0] * t, self.nm)
+        for c in range(1, self.J.shape[1]):
+            out = out + np.bincount(self.J[:, c], self.W[:, c] * t, self.nm)
+        return out
+
     def _scatter(self, f: np.ndarray, fs: np.ndarray, fm: np.ndarray) -> None:  # fs, fm: all tip nodes
         """f[owned slave/master axial entries] += fs, fm (forces as arrays over all tip nodes)."""
         f[self.slave.local] += fs[self.slave.pos]
@@ -113,15 +256,15 @@ class PenaltyContact:
     def evaluate(self, u: np.ndarray) -> None:
         """Contact state at displacement ``u`` (owned array): gaps, pressures, nodal forces, energy."""
         us, um = self.gather(u)
-        g = self.g0 + self.w0 * um[self.j0] + self.w1 * um[self.j1] - us
+        g = self.g0 + self._interp(um) - us
         pen = np.maximum(-g, 0.0) * self.inside  # penetration [m]
         F = self.k * pen  # compressive nodal forces on the slaves [N]
         self._Fs = F
-        self._Fm = np.bincount(self.j0, self.w0 * F, self.nm) + np.bincount(self.j1, self.w1 * F, self.nm)
+        self._Fm = self._transpose(F)
         self.gap = g
         self.pressure = self.ε * pen
-        self.force = float(F.sum())
-        self.energy = 0.5 * float(np.dot(self.k, pen * pen))
+        self.force = self.multiplicity * float(F.sum())  # full rods [N]
+        self.energy = 0.5 * self.multiplicity * float(np.dot(self.k, pen * pen))  # [J]
 
     def add_force(self, y: np.ndarray, scale: np.ndarray | None = None) -> None:
         """y += scale ⊙ f_c for the owned tip entries: f_c = -F on the slaves (pushed along -z),
@@ -145,12 +288,14 @@ class PenaltyContact:
     def apply_stiffness(self, x: np.ndarray, y: np.ndarray) -> None:
         """y += K_c x with every potential contact pair active (full engagement): K_c = Σ k_s b_s b_sᵀ."""
         xs, xm = self.gather(x)
-        t = self.k * (self.w0 * xm[self.j0] + self.w1 * xm[self.j1] - xs)
-        ym = np.bincount(self.j0, self.w0 * t, self.nm) + np.bincount(self.j1, self.w1 * t, self.nm)
-        self._scatter(y, -t, ym)
+        t = self.k * (self._interp(xm) - xs)
+        self._scatter(y, -t, self._transpose(t))
 
     def radius(self) -> float:
-        """Contact radius [m]: the gap's zero crossing beyond the outermost active slave (linear)."""
+        """Contact radius [m]: the gap's zero crossing beyond the outermost active slave (linear).
+        3D: r = sqrt(A/π) of the active nodal area A of the full rods (the paper's definition)."""
+        if self.three_d:
+            return math.sqrt(self.active_area() / math.pi)
         act = np.flatnonzero(self.pressure > 0)
         if act.size == 0:
             return 0.0
@@ -161,5 +306,21 @@ class PenaltyContact:
         return float(r[k])
 
     def active_area(self) -> float:
-        """Sum of the tributary areas of the active slaves [m^2] (a node-based area, as FE codes report)."""
-        return float(self.slave.area[self.pressure > 0].sum())
+        """Sum of the tributary areas of the active slaves [m^2] (a node-based area, as FE codes report),
+        full rods."""
+        return self.multiplicity * float(self.slave.area[self.pressure > 0].sum())
+
+    def patch(self) -> tuple[float, ...]:
+        """3D contact patch (values for :data:`PATCH_KEYS`): force-weighted centroid (x_c, y_c) of the
+        active slaves at their reference positions and their largest distance from it [m]; a
+        coordinate normal to a symmetry plane is 0 by symmetry. () in the axisymmetric case."""
+        if not self.three_d:
+            return ()
+        F = self._Fs
+        act = F > 0
+        if not act.any():
+            return (0.0, 0.0, 0.0)
+        xy = self.slave.xy[act]
+        c = (F[act] @ xy) / F[act].sum()
+        c[np.array(self.mirrored)] = 0.0
+        return (float(c[0]), float(c[1]), float(np.hypot(*(xy - c).T).max()))

@@ -76,12 +76,18 @@ def materials(
     return fields
 
 
+# 3D: 2x2x2 Gauss points for the trilinear hexahedra (the usual full integration, exact for
+# parallelepipeds); UFL's estimate (degree 5: 3x3x3 points) triples the assembly time for nothing.
+QUADRATURE_DEGREE_3D = 2
+
+
 def stiffness_form(V: dolfinx.fem.FunctionSpace, mat: Materials, kind: str) -> ufl.Form:
     """a(u, v) = ∫ σ(ε(u)) : ε(v) w dx — the stiffness K (paper's linear elastic rods)."""
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     x = ufl.SpatialCoordinate(V.mesh)
     w = measure_weight(x, kind)
-    return ufl.inner(stress(strain(u, x, kind), mat.λ, mat.μ), strain(v, x, kind)) * w * ufl.dx
+    dx = ufl.dx(metadata={"quadrature_degree": QUADRATURE_DEGREE_3D}) if kind == "3d" else ufl.dx
+    return ufl.inner(stress(strain(u, x, kind), mat.λ, mat.μ), strain(v, x, kind)) * w * dx
 
 
 def lumped_mass_form(V: dolfinx.fem.FunctionSpace, mat: Materials, kind: str) -> ufl.Form:

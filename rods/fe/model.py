@@ -1,10 +1,20 @@
-"""The paper's global FE model (Sec. 2.2) in axisymmetric form: both rods, penalty contact, explicit dynamics.
+"""The paper's global FE model (Sec. 2.2), axisymmetric or 3D: both rods, penalty contact, explicit dynamics.
 
 :class:`GlobalModel` sets everything up once — mesh, stiffness K (one PETSc block matrix, BAIJ with
-block size 2), row-sum lumped mass, contact, probes, stable step — and :meth:`GlobalModel.run`
-marches the central-difference scheme (:mod:`rods.fe.explicit`) with Mat/Vec operations and
-vectorised numpy only. Initial state: u = 0, Rod 1 moving at +s1 along z (the impact direction),
-Rod 2 at rest, the tips touching at the axis. Free rods: no external work.
+block size 2 axisymmetric, 3 in 3D), row-sum lumped mass, contact, probes, stable step — and
+:meth:`GlobalModel.run` marches the central-difference scheme (:mod:`rods.fe.explicit`) with Mat/Vec
+operations and vectorised numpy only. Initial state: u = 0, Rod 1 moving at +s1 along z (the impact
+direction; in 3D along Rod 2's axis also when Rod 1 is tilted), Rod 2 at rest, the tips touching at
+one point. Free rods: no external work.
+
+One code path for both geometry kinds (``fe.kind``): the kind selects the mesh builder
+(:mod:`rods.fe.mesh` or :mod:`rods.fe.mesh3d`), the volume weight and strain in the forms, the block
+size and axial index, the contact pairing (linear in r or bilinear over the face) and the
+constrained entries with zero inverse mass (u_r on the axis; u_x on x = 0 and u_y on y = 0 for
+half/quarter symmetry in 3D). A symmetry model reports extensive quantities (force, energies,
+momentum, area) for the full rods. 3D adds the probes ``rod2_mid_*_plus_x``/``_minus_x`` (Rod 2's
+midpoint at x = ±R2: their strain difference is the bending an offset or tilt induces) and the
+contact-patch keys :data:`rods.fe.contact.PATCH_KEYS`.
 
 Sign conventions of the outputs: velocity along +z (the impact direction) positive; strain
 ε_zz, compression negative; contact force, pressure: compressive magnitudes >= 0.
@@ -28,9 +38,10 @@ from petsc4py import PETSc
 
 from rods import metrics
 from rods.fe import forms
-from rods.fe.contact import PenaltyContact, tip_nodes
+from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import largest_eigenvalue, stable_step
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
+from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
 from rods.fe.probes import PointProbes
 from rods.scene import Scene, SceneError
 
@@ -70,17 +81,21 @@ class GlobalModel:
         t0 = time.perf_counter()
         self.scene, self.comm = scene, comm
         self.kind = kind = scene["fe.kind"]
-        if kind != "axisymmetric":
-            raise SceneError("fe.kind", kind, "the global model implements 'axisymmetric' (3d: issue #4)")
+        if kind not in forms.KINDS:
+            raise SceneError("fe.kind", kind, f"must be one of {forms.KINDS}")
         if scene["fe.degree"] != 1:  # ∫ N_0 r dr = 0 for the P2 axis vertex: a zero (or negative) row sum
             raise SceneError(
                 "fe.degree",
                 scene["fe.degree"],
-                "the explicit model supports 1 (row-sum lumped Q2 masses vanish on the axis)",
+                "the explicit model supports 1 (row-sum lumped Q2 masses vanish on the axis; "
+                "3D contact pairs Q1 face quadrilaterals)",
             )
-        self.axial = 1  # index of the axial (z) component
-        rm: RodsMesh = build_mesh(scene, comm)
+        three_d = kind == "3d"
+        self.axial = 2 if three_d else 1  # index of the axial (z) component
+        self.tags = tags = TAGS_3D if three_d else TAGS
+        rm: RodsMesh = build_mesh_3d(scene, comm) if three_d else build_mesh(scene, comm)
         self.rm = rm
+        self.multiplicity = getattr(rm, "multiplicity", 1)  # full rods / modelled part [-]
         msh = rm.mesh
         V = dolfinx.fem.functionspace(msh, ("Lagrange", scene["fe.degree"], (msh.geometry.dim,)))
         self.V = V
@@ -88,7 +103,7 @@ class GlobalModel:
         self.bs = bs
         self.n_local = imap.size_local * bs  # owned dofs on this rank
         self.n_global = imap.size_global * bs
-        self.mat = forms.materials(msh, rm.cell_tags, scene, TAGS)
+        self.mat = forms.materials(msh, rm.cell_tags, scene, tags)
 
         # stiffness: assembled once, block AIJ (2x2 node blocks)
         self.stiffness = dolfinx.fem.form(forms.stiffness_form(V, self.mat, kind))
@@ -96,36 +111,59 @@ class GlobalModel:
 
         # row-sum lumped mass (owned entries)
         self.mass = self._assemble_owned(forms.lumped_mass_form(V, self.mat, kind))  # [kg]
-        # u_r = 0 on the axis: those entries get zero inverse mass (no radial acceleration)
+        # constrained entries get zero inverse mass (no acceleration): u_r = 0 on the axis (axisymmetric),
+        # the normal component on a symmetry plane (3D: u_x on x = 0, u_y on y = 0)
         fdim = msh.topology.dim - 1
-        axis_nodes = dolfinx.fem.locate_dofs_topological(V, fdim, rm.facet_tags.find(TAGS["axis"]))
-        axis_nodes = axis_nodes[axis_nodes < imap.size_local]
-        self.axis_r = axis_nodes * bs + 0
+
+        def entries(tag: str, comp: int) -> np.ndarray:
+            nodes = dolfinx.fem.locate_dofs_topological(V, fdim, rm.facet_tags.find(tags[tag]))
+            return nodes[nodes < imap.size_local] * bs + comp
+
+        self.axis_r = entries("axis", 0) if not three_d else np.zeros(0, dtype=np.int64)
+        self.fixed = np.concatenate([entries("sym_x", 0), entries("sym_y", 1)]) if three_d else self.axis_r
         self.inv_mass = 1.0 / self.mass
-        self.inv_mass[self.axis_r] = 0.0
+        self.inv_mass[self.fixed] = 0.0
 
         # initial velocity: Rod 1 at +s1 along z
-        rod1_nodes = dolfinx.fem.locate_dofs_topological(V, msh.topology.dim, rm.cell_tags.find(TAGS["rod1"]))
+        rod1_nodes = dolfinx.fem.locate_dofs_topological(V, msh.topology.dim, rm.cell_tags.find(tags["rod1"]))
         rod1_nodes = rod1_nodes[rod1_nodes < imap.size_local]
         self.rod1_z = rod1_nodes * bs + self.axial
 
         # contact: Rod-1 tip nodes (slaves) against the Rod-2 tip face (master)
         ds = ufl.Measure("ds", domain=msh, subdomain_data=rm.facet_tags)
-        area1 = self._assemble_owned(forms.tributary_area_form(V, ds(TAGS["rod1_tip"]), kind))
-        area2 = self._assemble_owned(forms.tributary_area_form(V, ds(TAGS["rod2_tip"]), kind))
-        slave = tip_nodes(V, rm.facet_tags.find(TAGS["rod1_tip"]), area1, self.axial)
-        master = tip_nodes(V, rm.facet_tags.find(TAGS["rod2_tip"]), area2, self.axial)
+        area1 = self._assemble_owned(forms.tributary_area_form(V, ds(tags["rod1_tip"]), kind))
+        area2 = self._assemble_owned(forms.tributary_area_form(V, ds(tags["rod2_tip"]), kind))
+        slave = tip_nodes(V, rm.facet_tags.find(tags["rod1_tip"]), area1, self.axial)
+        master = tip_nodes(V, rm.facet_tags.find(tags["rod2_tip"]), area2, self.axial)
         self.E_star = contact_modulus(scene)
         self.h_normal = rm.h_tip  # element size normal to the contact faces [m]
         self.ε_pen = scene["fe.penalty"] * self.E_star / self.h_normal  # [Pa/m]
-        self.contact = PenaltyContact(slave, master, self.ε_pen, comm)
+        pairing, mirrored = None, (False, False)
+        if three_d:  # geometric search over the allgathered face (the same on every rank)
+            quads = face_quads(V, rm.facet_tags.find(tags["rod2_tip"]), master)
+            pairing = bilinear_pairing(slave.xy, master.xy, quads)
+            mirrored = (rm.symmetry == "quarter", rm.symmetry != "full")
+        self.contact = PenaltyContact(slave, master, self.ε_pen, comm, pairing, self.multiplicity, mirrored)
 
         # probes: stations on the rod surface (r = d/2); rod 2 at z = +x, rod 1 at z = -x from the tip
+        # (3D: at x = +d/2, y = 0, Rod 1's placed with the rod), then in 3D Rod 2's midpoint at x = ±R2
         pts = []
+        self.probe_keys = [(f"{s.name}_velocity", f"{s.name}_strain") for s in scene.stations]
         for s in scene.stations:
             rod = scene.rods[s.rod - 1]
-            pts.append([rod.diameter / 2, s.position if s.rod == 2 else -s.position])
-        self.probes = PointProbes(V, np.array(pts), self.axial)
+            if not three_d:
+                pts.append([rod.diameter / 2, s.position if s.rod == 2 else -s.position])
+            elif s.rod == 2:
+                pts.append([rod.diameter / 2, 0.0, s.position])
+            else:
+                pts.append(rm.placement.apply(np.array([[rod.diameter / 2, 0.0, -s.position]]))[0])
+        if three_d:
+            R2, z_mid = scene.rod2.diameter / 2, scene.rod2.length / 2
+            for side, x_side in (("plus_x", R2), ("minus_x", -R2)):
+                # quarter model: the -x side is the mirror image of the +x side
+                pts.append([abs(x_side) if rm.symmetry == "quarter" else x_side, 0.0, z_mid])
+                self.probe_keys.append((f"rod2_mid_velocity_{side}", f"rod2_mid_strain_{side}"))
+        self.probes = PointProbes(V, np.array(pts, dtype=float), self.axial)
 
         # stable step
         self._stable_step()
@@ -169,7 +207,7 @@ class GlobalModel:
         self.ξ = sc["fe.bulk_viscosity"]
         self.dt_critical = stable_step(self.ω_max, self.ξ)  # [s]
         self.dt_critical_no_contact = stable_step(self.ω_max_K, self.ξ)
-        h_min = min(cell_sizes(self.rm.mesh))
+        h_min = min(cell_sizes_3d(self.rm.mesh) if self.kind == "3d" else cell_sizes(self.rm.mesh))
         c_d = max(r.material.dilatational_wave_speed for r in sc.rods)
         self.dt_element = h_min / c_d  # [s]
         req = sc["fe.dt"]
@@ -185,12 +223,15 @@ class GlobalModel:
     def plan(self) -> dict[str, Any]:
         """What will run (printed by the workflow before the time loop)."""
         sc, rm = self.scene, self.rm
+        mesh_text = getattr(rm, "description", None) or (
+            f"{rm.n_radial} radial x ({rm.n_axial[0]} + {rm.n_axial[1]}) axial Q{sc['fe.degree']} cells, "
+            f"h_r = {rm.h_radial * 1e3:.4g} mm, h_z = {rm.h_axial * 1e3:.4g} mm (tip {rm.h_tip * 1e3:.4g} mm)"
+        )
         return {
-            "model": "fe-axisymmetric",
+            "model": self.model_name,
             "scene": sc.name,
-            "mesh": f"{rm.n_radial} radial x ({rm.n_axial[0]} + {rm.n_axial[1]}) axial Q{sc['fe.degree']} cells, "
-            f"h_r = {rm.h_radial * 1e3:.4g} mm, h_z = {rm.h_axial * 1e3:.4g} mm (tip {rm.h_tip * 1e3:.4g} mm)",
-            "cells": rm.mesh.topology.index_map(2).size_global,
+            "mesh": mesh_text,
+            "cells": rm.mesh.topology.index_map(rm.mesh.topology.dim).size_global,
             "dofs": self.n_global,
             "ranks": self.comm.size,
             "penalty": f"{self.ε_pen:.4g} Pa/m ({sc['fe.penalty']:g} x E*/h, "
@@ -206,11 +247,20 @@ class GlobalModel:
             "fields": self.wants_fields(),
         }
 
+    @property
+    def model_name(self) -> str:
+        return "fe-3d" if self.kind == "3d" else "fe-axisymmetric"
+
     def wants_fields(self) -> bool:
         return "fields" in self.scene.effects or self.scene["fe.field_interval"] > 0
 
     # ------------------------------------------------------------------------------------------
-    def run(self, out: Path | None = None, progress: Callable[[int, int, float], None] | None = None) -> FEResult:
+    def run(
+        self,
+        out: Path | None = None,
+        progress: Callable[[int, int, float], None] | None = None,
+        step_hook: Callable[[int, float, np.ndarray, np.ndarray], None] | None = None,
+    ) -> FEResult:
         """March the central-difference scheme to the scene's end time (collective).
 
         Per step: one block-matrix multiply-add v += A (u [+ β v]) with A = -Δt M^-1 K (assembled
@@ -238,8 +288,11 @@ class GlobalModel:
         out_steps = out_steps[out_steps <= N]
         is_out = np.zeros(N + 1, dtype=bool)
         is_out[out_steps] = True
-        n_st = len(sc.stations)
-        rec = np.zeros((out_steps.size, 9 + 2 * n_st))  # t, F, a, πa², p_max, E_k, E_s, E_c, probes, p_z
+        n_st = len(self.probe_keys)  # probe points: the stations (+ 3D midpoint sides)
+        n_pk = len(c.patch_keys)  # 3D contact-patch columns
+        m_sym = float(self.multiplicity)  # extensive outputs for the full rods
+        # t, F, a, πa², p_max, E_k, E_s, E_c, probes (velocity, strain), patch, p_z
+        rec = np.zeros((out_steps.size, 9 + 2 * n_st + n_pk))
         W_hist = np.zeros(out_steps.size)
         W_local, s_prev = 0.0, 0.0  # dissipated energy (this rank's partial sum) [J]; v_{n-1/2}·f_d,n-1
         force = np.zeros(N + 1)  # total contact force at every step [N]
@@ -260,6 +313,7 @@ class GlobalModel:
             force[step] = F
             if F > peak["F"]:
                 peak = {"F": F, "t": step * dt, "a": c.radius(), "A_nodal": c.active_area(), "p": c.pressure.copy()}
+                peak["patch"] = c.patch()
             record = is_out[step]
             if record:
                 u_old, v_old = u.copy(), v.copy()
@@ -280,6 +334,8 @@ class GlobalModel:
                 if damped:
                     vv.axpy(β, yv)
                 c.add_force(v, dt_inv_mass)
+            if step_hook is not None:  # submodel cut: record (global) or prescribe v_{n+1/2} (rods.fe.submodel)
+                step_hook(step, step * dt, u, v)  # u = u_n, v = v_{n+1/2} (owned arrays, v may be edited)
             uv.axpy(dt, vv)  # u_{n+1} = u_n + Δt v_{n+1/2}
             if damped:
                 s_prev = -β * dot(mass_dt * v, y)
@@ -296,6 +352,9 @@ class GlobalModel:
                 loc = np.concatenate(([Ek_local, Es_local, W_local], P @ (v_old + v), P @ u_old, [dot(mass_z, v)]))
                 if comm.size > 1:
                     comm.Allreduce(MPI.IN_PLACE, loc, op=MPI.SUM)
+                if m_sym != 1.0:
+                    loc[:3] *= m_sym
+                    loc[-1] *= m_sym
                 pv, pu = loc[3 : 3 + 2 * n_st], loc[3 + 2 * n_st : 3 + 4 * n_st]
                 pmax = float(c.pressure.max()) if c.ns else 0.0
                 p_max_all = max(p_max_all, pmax)
@@ -303,6 +362,7 @@ class GlobalModel:
                 rec[k, :8] = (step * dt, F, a, math.pi * a * a, pmax, loc[0], loc[1], c.energy)
                 rec[k, 8 : 8 + n_st] = 0.5 * pv[0::2]  # axial velocity at t_n, mean of the half steps
                 rec[k, 8 + n_st : 8 + 2 * n_st] = pu[1::2]  # ε_zz at t_n
+                rec[k, 8 + 2 * n_st : 8 + 2 * n_st + n_pk] = c.patch()
                 rec[k, -1] = loc[-1]  # axial momentum at t_{n+1/2}
                 W_hist[k] = loc[2]
                 k += 1
@@ -319,7 +379,7 @@ class GlobalModel:
     # ------------------------------------------------------------------------------------------
     def _result(self, rec, W_hist, force, peak, p_max_all, wall_loop) -> FEResult:
         sc, dt = self.scene, self.dt
-        n_st = len(sc.stations)
+        n_st = len(self.probe_keys)
         hist: dict[str, np.ndarray] = {
             "time": rec[:, 0],
             "contact_force": rec[:, 1],
@@ -328,10 +388,13 @@ class GlobalModel:
             "peak_pressure": rec[:, 4],
         }
         units = {"time": "s", "contact_force": "N", "contact_radius": "m", "contact_area": "m^2", "peak_pressure": "Pa"}
-        for i, s in enumerate(sc.stations):
-            hist[f"{s.name}_velocity"] = rec[:, 8 + i]
-            hist[f"{s.name}_strain"] = rec[:, 8 + n_st + i]
-            units[f"{s.name}_velocity"], units[f"{s.name}_strain"] = "m/s", "-"
+        for i, (kv, ks) in enumerate(self.probe_keys):
+            hist[kv] = rec[:, 8 + i]
+            hist[ks] = rec[:, 8 + n_st + i]
+            units[kv], units[ks] = "m/s", "-"
+        for i, key in enumerate(self.contact.patch_keys):
+            hist[key] = rec[:, 8 + 2 * n_st + i]
+            units[key] = "m"
         hist["kinetic_energy"], hist["strain_energy"], hist["contact_energy"] = rec[:, 5], rec[:, 6], rec[:, 7]
         hist["dissipated_energy"] = W_hist
         hist["momentum"] = rec[:, -1]
@@ -345,7 +408,7 @@ class GlobalModel:
         a_peak = peak.get("a", 0.0)
         s_mid = sc.stations[0].name
         summary: dict[str, Any] = {
-            "model": "fe-axisymmetric",
+            "model": self.model_name,
             "scene": sc.name,
             "impact_speed": sc.speed,
             "peak_contact_force": peak["F"],
@@ -361,7 +424,7 @@ class GlobalModel:
             "wall_time": wall_loop,
             "setup_time": self.setup_time,
             "dofs": self.n_global,
-            "cells": self.rm.mesh.topology.index_map(2).size_global,
+            "cells": self.rm.mesh.topology.index_map(self.rm.mesh.topology.dim).size_global,
             "steps": int(force.size - 1),
             "dt": dt,
             "dt_critical": self.dt_critical,
@@ -384,6 +447,15 @@ class GlobalModel:
             "pressure_profile": {"r": self.contact.slave.r.tolist(), "p": np.asarray(peak.get("p", [])).tolist()},
             "scene_values": sc.as_dict(),
         }
+        if self.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending
+            summary["symmetry"] = self.rm.symmetry
+            summary["impact_offset"] = sc["impact.offset"]
+            summary["impact_tilt"] = sc["impact.tilt"]
+            summary["rod1_placement_dz"] = self.rm.placement.dz
+            summary.update(zip(self.contact.patch_keys, peak.get("patch", (0.0, 0.0, 0.0)), strict=True))
+            bend = 0.5 * (hist["rod2_mid_strain_plus_x"] - hist["rod2_mid_strain_minus_x"])
+            summary["midpoint_peak_bending_strain"] = float(np.max(np.abs(bend)))
+            summary["mesh"]["n_core"] = self.rm.n_core
         profile = {"r": self.contact.slave.r.copy(), "p": np.asarray(peak.get("p", np.zeros(self.contact.ns)))}
         return FEResult(hist, units, summary, profile)
 
@@ -403,7 +475,7 @@ class GlobalModel:
         s = ufl.dev(σ)
         exprs = {
             "sigma_zz": σ[2, 2],
-            "sigma_rr": σ[0, 0],
+            "sigma_xx" if kind == "3d" else "sigma_rr": σ[0, 0],
             "von_mises": ufl.sqrt(1.5 * ufl.inner(s, s)),
         }
         qf = {}
