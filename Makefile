@@ -2,14 +2,24 @@
 PY := .venv/bin/python
 NPROC ?= 2
 
-.PHONY: venv paper test test-slow bench lint clean
+.PHONY: venv paper paper-full sweep test test-slow bench lint clean
 
 venv:
 	@./.ci/ensure-venv
 
-## The main job: reproduce the paper (today: the analytical model, Table 2 and Fig. 4) into results/.
+SNAKE := .venv/bin/snakemake -s workflows/Snakefile --cores $(NPROC)
+
+## The main job: the whole paper into results/ (REPORT.md links every table and figure); reruns only what changed.
 paper: venv
-	$(PY) workflows/paper.py
+	$(SNAKE) paper
+
+## The main job plus the extra-fine submodel level (about 10 more minutes on 2 cores).
+paper-full: venv
+	$(SNAKE) paper --config 'paper_levels=[coarse,mid,fine,extra-fine]'
+
+## Parameter sweeps (impact speed, mesh level, time-step fraction): results/sweep-*.csv
+sweep: venv
+	$(SNAKE) speed_sweep mesh_sweep dt_sweep
 
 ## The default test suite (no slow cases); what CI runs.
 test: venv

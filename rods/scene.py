@@ -28,6 +28,7 @@ __all__ = [
     "load_scene",
     "parse_override",
     "scene_from_dict",
+    "scene_from_summary",
 ]
 
 EFFECTS = ("wave_response", "contact_patch", "subsurface_stress", "fields", "misalignment")
@@ -476,6 +477,19 @@ def _cross_checks(v: dict[str, Any]) -> None:
         )
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
+
+
+def scene_from_summary(values: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
+    """Rebuild a scene from a summary.json's ``scene_values`` (where inf was written as "inf")."""
+
+    def restore(d: Any) -> Any:
+        if isinstance(d, Mapping):
+            return {k: restore(v) for k, v in d.items()}
+        if isinstance(d, list):
+            return [restore(v) for v in d]
+        return math.inf if d == "inf" else d
+
+    return scene_from_dict(restore(values), overrides, source=source)
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

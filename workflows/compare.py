@@ -27,19 +27,11 @@ import numpy as np
 
 import _cli
 from rods import compare, hertz, io
-from rods.scene import scene_from_dict
+from rods.scene import scene_from_summary
 
 HERE = Path(__file__).resolve().parent
 EXP_RADIUS = 1.109e-3  # [m] Table 2, Spec. 1 Trial 3 (the FE impact speed)
 SIGMA_EDGE_BAND = 0.2  # sigma_r compared away from the edge: |r - a| > 0.2 a [-]
-
-
-def _unsafe(d):
-    if isinstance(d, dict):
-        return {k: _unsafe(v) for k, v in d.items()}
-    if isinstance(d, list):
-        return [_unsafe(v) for v in d]
-    return math.inf if d == "inf" else d
 
 
 def _load(d: Path) -> dict:
@@ -77,7 +69,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = Path(args.out or "results")
     out.mkdir(parents=True, exist_ok=True)
     g = _load(Path(args.global_dir))
-    scene = scene_from_dict(_unsafe(g["scene_values"]), args.overrides)
+    scene = scene_from_summary(g["scene_values"], args.overrides)
     from rods.analytical import simulate
 
     an = simulate(scene).summary

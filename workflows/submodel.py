@@ -16,7 +16,6 @@ sigma_r profile at the Gauss points nearest the surface), DIR/history.csv, DIR/p
 from __future__ import annotations
 
 import json
-import math
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -29,18 +28,9 @@ from mpi4py import MPI
 import _cli
 from rods import io
 from rods.fe.submodel import LEVEL_SIZES, run_submodel
-from rods.scene import SceneError, load_scene, scene_from_dict
+from rods.scene import SceneError, load_scene, scene_from_summary
 
 END_FACTOR = 1.2  # default end time: this x the analytical contact end [-]
-
-
-def _unsafe(d):
-    """summary.json's scene_values back to TOML values ("inf" -> math.inf)."""
-    if isinstance(d, dict):
-        return {k: _unsafe(v) for k, v in d.items()}
-    if isinstance(d, list):
-        return [_unsafe(v) for v in d]
-    return math.inf if d == "inf" else d
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -64,8 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if given:
             scene = load_scene(args.scene, args.overrides)
         else:
-            values = _unsafe(gsum["scene_values"])
-            scene = scene_from_dict(values, args.overrides, source=str(gdir / "summary.json"))
+            scene = scene_from_summary(gsum["scene_values"], args.overrides, source=str(gdir / "summary.json"))
     except SceneError as e:
         _cli.fail(str(e))
     h = args.size or LEVEL_SIZES[args.level]
