@@ -153,6 +153,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
     "fe.submodel_length": ("float", 14e-3, _positive("m", hi=1.0)),
+    "fe.checkpoint_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no checkpoints)", closed_lo=True)),
+    "fe.energy_growth_limit": ("float", 0.05, _interval(0.0, 10.0, "(relative energy growth that stops a run)")),
     "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
 }
 

@@ -25,6 +25,7 @@ from mpi4py import MPI
 
 import _cli
 from rods import io
+from rods.fe.guards import SimulationError
 from rods.fe.model import GlobalModel
 
 
@@ -38,6 +39,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="write DIR/cut.h5: the displacement band around the submodel cut planes (rods.fe.submodel)",
     )
     ap.add_argument("--record-until", type=float, default=None, help="last recorded time [s] (default end time)")
+    ap.add_argument(
+        "--restart",
+        action="store_true",
+        help="resume from the last checkpoint in --out (written when fe.checkpoint_interval > 0)",
+    )
     ap.add_argument("--record-every", type=int, default=1, help="record every k-th global step (default 1)")
     args = ap.parse_args(argv)
     # parameters
@@ -56,7 +62,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         from rods.fe.submodel import CutRecorder
 
         recorder = CutRecorder(model, args.record_until, args.record_every)
-    result = model.run(out, _cli.progress_bar if root else None, step_hook=recorder)
+    if args.restart and recorder is not None:
+        _cli.fail("--restart cannot be combined with --record-cut (the cut record is not checkpointed)")
+    try:
+        result = model.run(out, _cli.progress_bar if root else None, step_hook=recorder, restart=args.restart)
+    except SimulationError as e:  # a guard stopped the run: keep what was recorded, readable, then exit 1
+        if root:
+            if e.partial is not None:
+                io.write_history(out / "history.csv", e.partial.history, e.partial.units)
+                io.write_summary(out / "summary.json", e.partial.summary)
+            print(f"error: run stopped: {e}\n       histories up to the failure are in {out}", file=sys.stderr)
+        return 1
     if recorder is not None:
         recorder.write(out / "cut.h5")
     # output (scalars on rank 0; fields were written collectively during the run)

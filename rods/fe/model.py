@@ -23,6 +23,7 @@ Sign conventions of the outputs: velocity along +z (the impact direction) positi
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -37,9 +38,10 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from rods import metrics
-from rods.fe import forms
+from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import largest_eigenvalue, stable_step
+from rods.fe.guards import FINITE_EVERY, Guard, SimulationError
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
 from rods.fe.probes import PointProbes
@@ -105,7 +107,7 @@ class GlobalModel:
         self.n_global = imap.size_global * bs
         self.mat = forms.materials(msh, rm.cell_tags, scene, tags)
 
-        # stiffness: assembled once, block AIJ (2x2 node blocks)
+        # stiffness: assembled once, block AIJ (bs x bs node blocks: 2 axisymmetric, 3 in 3D)
         self.stiffness = dolfinx.fem.form(forms.stiffness_form(V, self.mat, kind))
         self.K = self._assemble_stiffness()
 
@@ -208,6 +210,7 @@ class GlobalModel:
         self.dt_critical = stable_step(self.ω_max, self.ξ)  # [s]
         self.dt_critical_no_contact = stable_step(self.ω_max_K, self.ξ)
         h_min = min(cell_sizes_3d(self.rm.mesh) if self.kind == "3d" else cell_sizes(self.rm.mesh))
+        self.h_min = h_min  # smallest element size [m] (element step estimate, run guards)
         c_d = max(r.material.dilatational_wave_speed for r in sc.rods)
         self.dt_element = h_min / c_d  # [s]
         req = sc["fe.dt"]
@@ -260,12 +263,17 @@ class GlobalModel:
         out: Path | None = None,
         progress: Callable[[int, int, float], None] | None = None,
         step_hook: Callable[[int, float, np.ndarray, np.ndarray], None] | None = None,
+        restart: bool = False,
     ) -> FEResult:
         """March the central-difference scheme to the scene's end time (collective).
 
         Per step: one block-matrix multiply-add v += A (u [+ β v]) with A = -Δt M^-1 K (assembled
         once; axis u_r rows are zero), the contact impulse Δt M^-1 f_c on the tip entries, and
         u += Δt v. Energies and probes are evaluated at output steps only.
+
+        Guards (rods.fe.guards) stop a run whose energy grows or whose state turns non-finite with a
+        SimulationError carrying the histories so far. With ``fe.checkpoint_interval`` > 0 the state is
+        checkpointed into ``out`` (rods.fe.checkpoint); ``restart=True`` resumes from the last one.
         """
         sc, comm, dt = self.scene, self.comm, self.dt
         n, N = self.n_local, self.steps
@@ -305,9 +313,29 @@ class GlobalModel:
             field_every = max(1, int(round((sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL) / dt)))
 
         dot = _dot
-        k = 0
+        k, step0, wall_before = 0, 0, 0.0
+        guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"])
+        ck_every = int(round(sc["fe.checkpoint_interval"] / dt)) if sc["fe.checkpoint_interval"] > 0 else 0
+        ck_key = self._checkpoint_key()
+        if restart and out is not None:
+            state = checkpoint.load(out, comm, ck_key)
+            if state is not None:
+                u[:], v[:] = state["u"], state["v"]
+                step0, k = int(state["next_step"]), int(state["k"])
+                rec[:k], W_hist[:k], force[:step0] = state["rec"], state["W_hist"], state["force"]
+                W_local, s_prev, p_max_all = float(state["W_local"]), float(state["s_prev"]), float(state["p_max_all"])
+                wall_before = float(state["wall"])
+                peak = {
+                    key[5:]: (state[key] if state[key].ndim else float(state[key]))
+                    for key in state
+                    if key.startswith("peak_")
+                }
+                if progress is not None:
+                    sys.stderr.write(f"restart from checkpoint at step {step0} (t = {step0 * dt:.6g} s)\n")
+        failure: SimulationError | None = None
+        E0 = float(rec[0, 5:8].sum()) if k > 0 else 0.0
         t_start = time.perf_counter()
-        for step in range(N + 1):
+        for step in range(step0, N + 1):
             c.evaluate(u)  # contact at u_n
             F = c.force
             force[step] = F
@@ -365,16 +393,67 @@ class GlobalModel:
                 rec[k, 8 + 2 * n_st : 8 + 2 * n_st + n_pk] = c.patch()
                 rec[k, -1] = loc[-1]  # axial momentum at t_{n+1/2}
                 W_hist[k] = loc[2]
+                if k == 0:
+                    E0 = float(rec[0, 5:8].sum())
                 k += 1
+                try:
+                    if self.energy_closed:
+                        guard.check(step, step * dt, (loc[0], loc[1], c.energy, loc[2]), E0)
+                except SimulationError as e:
+                    failure = e
+                    break
+            if step % FINITE_EVERY == 0:
+                finite = np.array([float(np.isfinite(dot(v, v)))])  # one pass; NaN/Inf anywhere poisons it
+                if comm.size > 1:
+                    comm.Allreduce(MPI.IN_PLACE, finite, op=MPI.MIN)
+                try:
+                    guard.check_finite(step, step * dt, bool(finite[0]))
+                except SimulationError as e:
+                    failure = e
+                    break
+            if ck_every and out is not None and step % ck_every == 0 and step > step0 and step < N:
+                peak_state = {f"peak_{key}": np.asarray(val) for key, val in peak.items()}
+                checkpoint.save(
+                    out,
+                    step,
+                    step * dt,
+                    {
+                        "u": u, "v": v, "next_step": step + 1, "k": k, "rec": rec[:k], "W_hist": W_hist[:k],
+                        "force": force[: step + 1], "W_local": W_local, "s_prev": s_prev, "p_max_all": p_max_all,
+                        "wall": wall_before + time.perf_counter() - t_start, **peak_state,
+                    },
+                    comm,
+                    ck_key,
+                )  # fmt: skip
             if fields is not None and step % field_every == 0:
                 fields(step * dt, u - dt * v, v)  # u_n and v_{n+1/2}
             if progress is not None and (step % 500 == 0 or step == N):
                 progress(step, N, time.perf_counter() - t_start)
-        wall_loop = comm.allreduce(time.perf_counter() - t_start, op=MPI.MAX)
+        wall_loop = wall_before + comm.allreduce(time.perf_counter() - t_start, op=MPI.MAX)
         A.destroy()
         if fields is not None:
             fields(None, None, None)
+        if failure is not None:  # keep what was recorded up to the failure, readable
+            n_ok = max(k - 1, 1) if k > 1 else k
+            try:
+                failure.partial = self._result(
+                    rec[:n_ok], W_hist[:n_ok], force[: failure.step], peak, p_max_all, wall_loop
+                )
+                failure.partial.summary.update(status="failed", error=str(failure), failed_step=failure.step)
+            except Exception:  # too little recorded for a summary: the message alone must do
+                failure.partial = None
+            raise failure
         return self._result(rec, W_hist, force, peak, p_max_all, wall_loop)
+
+    energy_closed = True  # no work enters: the energy balance guards the run (a driven submodel sets False)
+
+    def _checkpoint_key(self) -> str:
+        """Identifies scene + step + partition: a checkpoint is only resumed by the same run."""
+        import hashlib
+        import json
+
+        text = json.dumps([self.scene.as_dict(), self.dt, self.comm.size, self.n_global], sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     # ------------------------------------------------------------------------------------------
     def _result(self, rec, W_hist, force, peak, p_max_all, wall_loop) -> FEResult:
