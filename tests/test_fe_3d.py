@@ -1,0 +1,291 @@
+"""3D global FE model (issue #4): hexahedral O-grid mesh, one code path with the axisymmetric model,
+symmetry models, off-axis impacts (offset, tilt), MPI, and validation against the axisymmetric and
+analytical models. Short rods and coarse meshes keep the default subset fast; full-length cases are
+``slow``."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+import subprocess
+from pathlib import Path
+
+import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+
+# isort: split
+import dolfinx
+import numpy as np
+import pytest
+import ufl
+
+from rods import io, metrics
+from rods.fe.mesh3d import TAGS_3D, section_counts
+from rods.fe.model import GlobalModel
+from rods.scene import SceneError, load_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "workflows" / "scenes"
+PAPER = SCENES / "paper.toml"
+PY = ROOT / ".venv" / "bin" / "python"
+MPIRUN = ROOT / ".venv" / "bin" / "mpirun"
+# tiny 3D model: short rods, 4 mm x 1 mm hexahedra (~22k DOFs)
+TINY = [
+    "fe.kind='3d'",
+    "fe.axial_size=4e-3",
+    "fe.radial_size=1e-3",
+    "rod1.length=0.05",
+    "rod2.length=0.1",
+    "simulation.end_time=1e-4",
+]
+
+
+def tiny(*extra: str):
+    return load_scene(PAPER, [*TINY, *extra])
+
+
+@pytest.fixture(scope="module")
+def model() -> GlobalModel:
+    return GlobalModel(tiny())
+
+
+@pytest.fixture(scope="module")
+def result(model):
+    return model.run()
+
+
+def _volume(model: GlobalModel, rod: int) -> float:
+    dx = ufl.Measure("dx", domain=model.rm.mesh, subdomain_data=model.rm.cell_tags)
+    v = dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(TAGS_3D[f"rod{rod}"])))
+    return model.comm.allreduce(v)
+
+
+def _rod_entries(model: GlobalModel, rod: int, comp: int) -> np.ndarray:
+    V, rm = model.V, model.rm
+    nodes = dolfinx.fem.locate_dofs_topological(V, 3, rm.cell_tags.find(TAGS_3D[f"rod{rod}"]))
+    nodes = nodes[nodes < V.dofmap.index_map.size_local]
+    return nodes * model.bs + comp
+
+
+def test_mesh_is_hexahedral_o_grid(model):
+    rm = model.rm
+    assert rm.mesh.topology.cell_type == dolfinx.mesh.CellType.hexahedron
+    assert model.bs == 3 and model.axial == 2
+    n_c, n_r, _ = section_counts(model.scene.rod2.diameter / 2, model.scene["fe.radial_size"])
+    per_section = n_c * n_c + 4 * n_c * n_r
+    assert rm.mesh.topology.index_map(3).size_global == per_section * sum(rm.n_axial)
+    assert model.K.getBlockSize() == 3
+
+
+def test_lumped_mass_positive_and_totals(model):
+    sc = model.scene
+    assert np.all(model.mass > 0)
+    R = sc.rod2.diameter / 2
+    N = 4 * model.rm.n_core  # the section is a polygon with N vertices on the circle
+    polygon = N / 2 * R**2 * math.sin(2 * math.pi / N)
+    for comp in (0, 1, 2):
+        m2 = model.mass[_rod_entries(model, 2, comp)].sum()
+        assert m2 == pytest.approx(sc.rod2.material.density * polygon * sc.rod2.length, rel=1e-10)
+        m1 = model.mass[_rod_entries(model, 1, comp)].sum()
+        assert m1 == pytest.approx(sc.rod1.material.density * _volume(model, 1), rel=1e-10)
+    # rod 1: cylinder of length L1 - h plus the spherical cap, on the polygonal section
+    r, h = sc.rod1.tip_radius, sc.rod1.cap_height
+    vol = math.pi * R**2 * (sc.rod1.length - h) + math.pi * h**2 * (3 * r - h) / 3
+    assert _volume(model, 1) == pytest.approx(vol * polygon / (math.pi * R**2), rel=1e-3)
+
+
+def test_stiffness_kills_rigid_motions(model):
+    x, y = model.K.createVecs()
+    coords = model.V.tabulate_dof_coordinates()[: model.n_local // 3]
+    modes = [np.eye(3)[i] for i in range(3)]
+    for comp in range(3):  # translations
+        ones = np.zeros(model.n_local)
+        ones[comp::3] = 1.0
+        x.array[:] = ones
+        model.K.mult(x, y)
+        assert np.abs(y.array).max() <= 1e-10 * model.K.norm(), modes[comp]
+    rot = np.zeros((len(coords), 3))  # infinitesimal rotation about z: (-y, x, 0)
+    rot[:, 0], rot[:, 1] = -coords[:, 1], coords[:, 0]
+    x.array[:] = rot.ravel()
+    model.K.mult(x, y)
+    assert np.abs(y.array).max() <= 1e-9 * model.K.norm() * np.abs(rot).max()
+
+
+def test_stable_step(model):
+    assert 0 < model.dt <= model.scene["fe.dt_fraction"] * model.dt_critical * (1 + 1e-12)
+    assert model.dt_critical <= model.dt_critical_no_contact * (1 + 1e-9)
+    assert 0.3 < model.dt_critical / model.dt_element < 2.0
+
+
+def test_conservation_and_contract(result):
+    s, h = result.summary, result.history
+    assert s["model"] == "fe-3d" and all(k in s for k in io.SUMMARY_KEYS)
+    p = h["momentum"]
+    assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
+    assert s["energy_error"] < 1e-2
+    assert h["contact_force"].max() > 1000
+    for key in ("rod2_mid_strain_plus_x", "rod2_mid_strain_minus_x", "contact_centroid_x", "contact_radius_max"):
+        assert key in h
+    # centric impact: no bending, patch centred on the axis
+    assert s["midpoint_peak_bending_strain"] < 1e-9 * abs(s["midpoint_peak_strain"])
+    assert abs(s["contact_centroid_x"]) < 1e-12
+    # contact radius r = sqrt(area/π) of the active nodal area
+    assert s["contact_radius"] == pytest.approx(math.sqrt(s["contact_area_nodal"] / math.pi))
+
+
+def _axisymmetric_vs_3d(extra: list[str], symmetry: str = "quarter") -> tuple[dict, dict, float]:
+    """(summary 3D, summary axisymmetric, RMS of the midpoint-strain difference over the run). The 3D
+    model is a quarter model by default (it reproduces the full model: test_symmetry_models_reproduce_full)."""
+    r3 = GlobalModel(load_scene(PAPER, ["fe.kind='3d'", f"fe.symmetry='{symmetry}'", *extra])).run()
+    ra = GlobalModel(load_scene(PAPER, extra)).run()
+    t = r3.history["time"]
+    rms = metrics.rms_difference(
+        t, r3.history["rod2_mid_strain"], ra.history["time"], ra.history["rod2_mid_strain"], (0.0, t[-1])
+    )
+    return r3.summary, ra.summary, rms
+
+
+def test_centric_3d_matches_axisymmetric_to_peak():
+    """Cheap version of the issue's criterion: paper rods, 4 x 1 mm meshes, up to just past the peak
+    force (120 µs). Peak force within 1% (measured 0.70%); midpoint strain RMS within 10 µε (measured
+    6.8 µε: the wave front at the midpoint follows the contact stiffness of the coarse tips, which the
+    2D node lattice of the 3D cap and the rings of the axisymmetric one resolve differently)."""
+    s3, sa, rms = _axisymmetric_vs_3d(["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=1.2e-4"])
+    assert s3["peak_contact_force"] == pytest.approx(sa["peak_contact_force"], rel=0.01)
+    assert rms < 10e-6
+    assert s3["peak_force_time"] == pytest.approx(sa["peak_force_time"], abs=5e-6)
+
+
+@pytest.mark.slow
+def test_centric_3d_matches_axisymmetric_paper_rods():
+    """Issue #4 criterion on the paper rods over 5 Rod-2 periods at 2 x 0.5 mm (quarter 3D model)."""
+    sc = load_scene(PAPER)
+    end = 5 * sc.rod2.transit_time
+    s3, sa, rms = _axisymmetric_vs_3d(["fe.axial_size=2e-3", "fe.radial_size=0.5e-3", f"simulation.end_time={end}"])
+    assert s3["peak_contact_force"] == pytest.approx(sa["peak_contact_force"], rel=0.01)
+    assert rms < 3e-6
+
+
+@pytest.fixture(scope="module")
+def full_short():
+    return GlobalModel(tiny("simulation.end_time=6e-5", "fe.dt=9e-8")).run()  # one step for all models
+
+
+@pytest.mark.parametrize("symmetry", ["half", "quarter"])
+def test_symmetry_models_reproduce_full(full_short, symmetry):
+    r = GlobalModel(tiny("simulation.end_time=6e-5", "fe.dt=9e-8", f"fe.symmetry='{symmetry}'")).run()
+    s, f = r.summary, full_short.summary
+    assert s["symmetry"] == symmetry
+    assert s["dofs"] < f["dofs"] / (1.7 if symmetry == "half" else 3.0)
+    assert s["peak_contact_force"] == pytest.approx(f["peak_contact_force"], rel=1e-6)
+    for key in ("contact_force", "rod2_mid_strain", "rod2_mid_strain_minus_x", "kinetic_energy", "momentum"):
+        scale = np.abs(full_short.history[key]).max()
+        assert np.abs(r.history[key] - full_short.history[key]).max() <= 1e-6 * scale, key
+    assert s["contact_area_nodal"] == pytest.approx(f["contact_area_nodal"], rel=1e-9)
+
+
+def test_symmetry_contradictions_refused(tmp_path):
+    with pytest.raises(SceneError, match="quarter symmetry needs"):
+        GlobalModel(tiny("fe.symmetry='quarter'", "impact.offset=1e-3"))
+    p = subprocess.run(
+        [
+            str(PY),
+            "workflows/global.py",
+            *sum((["--set", s] for s in [*TINY, "fe.symmetry='quarter'", "impact.tilt=0.01"]), []),
+        ]
+        + ["--out", str(tmp_path / "o")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 2 and "fe.symmetry" in p.stderr
+    assert not (tmp_path / "o" / "summary.json").exists()
+
+
+def test_offset_impact(result):
+    """Eccentric impact (e = 2 mm, half model): momentum exact, patch follows the offset, Rod 2 bends."""
+    e = 2e-3
+    r = GlobalModel(tiny(f"impact.offset={e}", "fe.symmetry='half'")).run()
+    s, h = r.summary, r.history
+    p = h["momentum"]
+    assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
+    assert s["energy_error"] < 1e-2
+    assert s["contact_centroid_x"] == pytest.approx(e, abs=0.3e-3)  # sphere on a flat: contact under the apex
+    assert s["contact_centroid_y"] == 0.0
+    bend = s["midpoint_peak_bending_strain"]
+    assert bend > 0.1 * abs(s["midpoint_peak_strain"])  # plus_x != minus_x
+    # the +x side (under the impact) is compressed more than the -x side
+    assert h["rod2_mid_strain_plus_x"].min() < h["rod2_mid_strain_minus_x"].min()
+    # same axial momentum transfer, a little softer and longer than centric
+    assert s["peak_contact_force"] == pytest.approx(result.summary["peak_contact_force"], rel=0.1)
+
+
+def test_tilt_impact():
+    """Tilted Rod 1 (θ = 0.02 rad about y): the sphere touches at x ≈ -r1 sin θ; bending appears."""
+    θ = 0.02
+    r = GlobalModel(tiny(f"impact.tilt={θ}", "fe.symmetry='half'")).run()
+    s = r.summary
+    x_touch = -r.summary["scene_values"]["rod1"]["tip_radius"] * math.sin(θ)
+    assert s["contact_centroid_x"] == pytest.approx(x_touch, abs=0.35e-3)
+    assert s["midpoint_peak_bending_strain"] > 0.02 * abs(s["midpoint_peak_strain"])
+    assert abs(s["rod1_placement_dz"]) < 2e-5  # rotation about the apex, then the gap closed
+    p = r.history["momentum"]
+    assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
+
+
+def test_scene_files():
+    sc = load_scene(SCENES / "paper-3d.toml")
+    assert sc["fe.kind"] == "3d" and sc["fe.axial_size"] == 1e-3 and sc["fe.radial_size"] == 0.25e-3
+    n_c, n_r, _ = section_counts(sc.rod1.diameter / 2, sc["fe.radial_size"])
+    cells = (n_c * n_c + 4 * n_c * n_r) * (math.ceil(sc.rod1.length / 1e-3) + math.ceil(sc.rod2.length / 1e-3))
+    assert 1.8e6 < cells < 2.6e6  # "about 2 million hexahedra"
+    coarse = load_scene(SCENES / "paper-3d-coarse.toml")
+    assert coarse["fe.kind"] == "3d" and coarse.speed == sc.speed and coarse.end_time == sc.end_time
+
+
+def _run_cli(out: Path, extra: list[str], ranks: int = 1) -> subprocess.CompletedProcess:
+    cmd = [str(PY), "workflows/global.py", *sum((["--set", s] for s in [*TINY, *extra]), []), "--out", str(out)]
+    if ranks > 1:
+        cmd = [str(MPIRUN), "-n", str(ranks), *cmd]
+    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
+def test_serial_and_mpi_histories_agree(tmp_path):
+    """1 and 2 ranks agree to round-off on a tiny offset 3D model (the cap and face on different ranks
+    or not: the pairing is searched over the allgathered face)."""
+    extra = ["simulation.end_time=6e-5", "impact.offset=1e-3"]
+    p1 = _run_cli(tmp_path / "s", extra)
+    p2 = _run_cli(tmp_path / "p", extra, ranks=2)
+    assert p1.returncode == 0, p1.stderr
+    assert p2.returncode == 0, p2.stderr
+    h1, h2 = io.read_history(tmp_path / "s" / "history.csv"), io.read_history(tmp_path / "p" / "history.csv")
+    assert json.loads((tmp_path / "p" / "summary.json").read_text())["ranks"] == 2
+    for k in h1:
+        # positions [m]: absolute round-off against the rod radius; energies from velocity increments: 1e-8
+        scale = 6.35e-3 if k.startswith("contact_centroid") else max(np.abs(h1[k]).max(), 1e-300)
+        tol = 1e-8 if k.endswith("energy") else 1e-9
+        assert np.abs(h1[k] - h2[k]).max() <= tol * scale, k
+
+
+@pytest.mark.slow
+@pytest.mark.mpi
+@pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
+def test_paper_3d_coarse_scene_vs_analytical(tmp_path):
+    """workflows/scenes/paper-3d-coarse.toml on 2 ranks: peak force within 3% of the analytical model."""
+    analytical = pytest.importorskip("rods.analytical")
+    scene = SCENES / "paper-3d-coarse.toml"
+    p = subprocess.run(
+        [str(MPIRUN), "-n", "2", str(PY), "workflows/global.py", "--scene", str(scene), "--out", str(tmp_path)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    assert p.returncode == 0, p.stderr
+    s = json.loads((tmp_path / "summary.json").read_text())
+    a = analytical.simulate(load_scene(scene)).summary
+    assert s["peak_contact_force"] == pytest.approx(a["peak_contact_force"], rel=0.03)
+    assert abs(s["contact_duration"] - a["contact_duration"]) < 20e-6
+    assert s["energy_error"] < 1e-2
