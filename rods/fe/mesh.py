@@ -18,7 +18,9 @@ grading (``fe.tip_grading`` g < 1) inserts a graded block next to each tip whose
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import dolfinx
 import dolfinx.io.gmsh
@@ -145,8 +147,9 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     return info
 
 
-def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
-    """Mesh both rods (gmsh on rank 0) and distribute; see the module docstring for the layout."""
+def gmsh_to_dolfinx(build: Callable[[], Any], comm: MPI.Comm, gdim: int) -> tuple[Any, Any]:
+    """Run ``build()`` (which fills the current gmsh model) on rank 0 only, broadcast what it returns,
+    and distribute the mesh with dolfinx.io.gmsh.model_to_mesh; returns (MeshData, build's result)."""
     import gmsh
 
     info = None
@@ -157,15 +160,21 @@ def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
             started = True
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("rods")
-        info = _build_gmsh_model(scene)
+        info = build()
     info = comm.bcast(info, root=0)
     try:
-        data = dolfinx.io.gmsh.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=2)
+        data = dolfinx.io.gmsh.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=gdim)
     finally:
         if comm.rank == 0:
             gmsh.model.remove()
             if started:
                 gmsh.finalize()
+    return data, info
+
+
+def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
+    """Mesh both rods (gmsh on rank 0) and distribute; see the module docstring for the layout."""
+    data, info = gmsh_to_dolfinx(lambda: _build_gmsh_model(scene), comm, gdim=2)
     msh = data.mesh
     msh.topology.create_connectivity(msh.topology.dim - 1, msh.topology.dim)
     n_r = info[1][0]

@@ -38,7 +38,7 @@ import dolfinx.io.gmsh
 import numpy as np
 from mpi4py import MPI
 
-from rods.fe.mesh import TAGS, RodsMesh, axial_spacing
+from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, gmsh_to_dolfinx
 from rods.scene import Rod, Scene, SceneError
 
 __all__ = ["CORE", "TAGS_3D", "Placement", "RodsMesh3D", "build_mesh_3d", "cell_sizes_3d", "section_counts"]
@@ -231,26 +231,8 @@ def check_symmetry(scene: Scene) -> str:
 
 def build_mesh_3d(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh3D:
     """Mesh both rods in 3D (gmsh on rank 0), distribute, map the tips and place Rod 1 (module docstring)."""
-    import gmsh
-
     symmetry = check_symmetry(scene)
-    info = None
-    started = False
-    if comm.rank == 0:
-        if not gmsh.isInitialized():
-            gmsh.initialize(interruptible=False)
-            started = True
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("rods3d")
-        info = _build_gmsh_model(scene, symmetry)
-    info = comm.bcast(info, root=0)
-    try:
-        data = dolfinx.io.gmsh.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=3)
-    finally:
-        if comm.rank == 0:
-            gmsh.model.remove()
-            if started:
-                gmsh.finalize()
+    data, info = gmsh_to_dolfinx(lambda: _build_gmsh_model(scene, symmetry), comm, gdim=3)
     msh = data.mesh
     x = msh.geometry.x  # (n, 3), writable view
     nodes1 = _rod_nodes(msh, data.cell_tags, TAGS_3D["rod1"])
