@@ -88,3 +88,19 @@ def test_killed_run_resumes_from_its_checkpoint_with_the_same_histories(tmp_path
         np.testing.assert_allclose(b[key], a[key], rtol=1e-12, atol=1e-14 * np.abs(a[key]).max(), err_msg=key)
     sa, sb = (json.loads((d / "summary.json").read_text()) for d in (ref, cut))
     assert sb["peak_contact_force"] == sa["peak_contact_force"] and sb["contact_duration"] == sa["contact_duration"]
+
+
+@pytest.mark.parametrize("kind", ["axisymmetric", "3d"])
+def test_inverted_cells_are_found_and_rigid_motion_is_not(scene_with, kind):
+    extra = ("fe.kind=3d", "fe.symmetry=quarter", "rod1.length=0.05", "rod2.length=0.05") if kind == "3d" else ()
+    m = GlobalModel(scene_with("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5", *extra))
+    u = np.zeros(m.n_local)
+    u[m.rod1_z] = 1.0  # 1 m of rigid translation: nothing is distorted
+    assert m.inverted_cells(u) == 0
+    u[:] = 0.0
+    u[m.rod1_z[m.rod1_z.size // 2]] = 0.05  # one interior node pushed 5 cm through its 4 mm neighbours
+    assert m.inverted_cells(u) > 0
+    with pytest.raises(SimulationError, match="mesh inverted"):
+        from rods.fe.guards import Guard
+
+        Guard(m.dt, m.dt_critical).check_inverted(7, 7 * m.dt, m.inverted_cells(u))

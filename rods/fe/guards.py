@@ -9,9 +9,9 @@ anyway) and, for non-finite values, on the velocity every ``FINITE_EVERY`` steps
   instability, not accumulated round-off);
 
 The likely cause is named from the state: a step near or above the stable limit ("step too large"),
-or a contact energy that dominates ("penalty too stiff"). Displacements are not tested against the
-element size: they include the rods' rigid-body motion, which the small-strain model carries exactly;
-a test of element distortion (mesh inversion) is not implemented.
+or a contact energy that dominates ("penalty too stiff"). Every ``FINITE_EVERY`` steps the corner
+Jacobians of the deformed cells are checked too ("mesh inverted"): displacements themselves are not
+bounded, since they include the rods' rigid-body motion, which the small-strain model carries exactly.
 """
 
 from __future__ import annotations
@@ -67,6 +67,14 @@ class Guard:
                 step,
                 t,
                 cause,
+            )
+
+    def check_inverted(self, step: int, t: float, n_cells: int) -> None:
+        """Raise if ``n_cells`` elements are inverted in the deformed configuration."""
+        if n_cells > 0:
+            cause = "mesh inverted: the deformation is too large for small-strain elements (impact too violent)"
+            raise SimulationError(
+                f"{n_cells} inverted cell(s) at step {step} (t = {t:.6g} s); likely cause: {cause}", step, t, cause
             )
 
     def check_finite(self, step: int, t: float, finite: bool) -> None:

@@ -403,11 +403,13 @@ class GlobalModel:
                     failure = e
                     break
             if step % FINITE_EVERY == 0:
-                finite = np.array([float(np.isfinite(dot(v, v)))])  # one pass; NaN/Inf anywhere poisons it
+                # one pass each: NaN/Inf anywhere poisons the dot product; inverted corners are counted
+                health = np.array([float(np.isfinite(dot(v, v))), -float(self.inverted_cells(u))])
                 if comm.size > 1:
-                    comm.Allreduce(MPI.IN_PLACE, finite, op=MPI.MIN)
+                    comm.Allreduce(MPI.IN_PLACE, health, op=MPI.MIN)
                 try:
-                    guard.check_finite(step, step * dt, bool(finite[0]))
+                    guard.check_finite(step, step * dt, bool(health[0]))
+                    guard.check_inverted(step, step * dt, int(-health[1]))
                 except SimulationError as e:
                     failure = e
                     break
@@ -446,6 +448,33 @@ class GlobalModel:
         return self._result(rec, W_hist, force, peak, p_max_all, wall_loop)
 
     energy_closed = True  # no work enters: the energy balance guards the run (a driven submodel sets False)
+
+    def inverted_cells(self, u_owned: np.ndarray) -> int:
+        """Number of this rank's cells with a corner whose deformed Jacobian changed sign (an inverted
+        element; P1 cells, corner Jacobians from the edges to the corner's tensor-product neighbours)."""
+        if not hasattr(self, "_corner"):
+            V = self.V
+            cells = V.dofmap.list  # (n_cells, corners) node indices, tensor-product vertex order
+            nc = cells.shape[1]
+            dim = int(round(np.log2(nc)))
+            nbr = np.array([[k ^ (1 << d) for d in range(dim)] for k in range(nc)])  # (corners, dim)
+            X = V.tabulate_dof_coordinates()[:, :dim]
+            self._corner = (cells, nbr, dim, X, dolfinx.fem.Function(V))
+
+            def dets(x: np.ndarray) -> np.ndarray:
+                e = x[cells[:, nbr]] - x[cells][:, :, None, :]  # (cells, corners, dim, dim) edge vectors
+                return np.linalg.det(e)
+
+            self._corner_dets = dets
+            self._corner_sign = np.sign(dets(X))
+        cells, nbr, dim, X, uf = self._corner
+        uf.x.array[: self.n_local] = u_owned
+        uf.x.scatter_forward()
+        x = X + uf.x.array.reshape(-1, self.bs)[:, :dim]
+        bad = self._corner_dets(x) * self._corner_sign <= 0
+        return int(
+            np.count_nonzero(bad.any(axis=1)[: self.rm.mesh.topology.index_map(self.rm.mesh.topology.dim).size_local])
+        )
 
     def _checkpoint_key(self) -> str:
         """Identifies scene + step + partition: a checkpoint is only resumed by the same run."""
