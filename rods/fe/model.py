@@ -41,7 +41,7 @@ from rods import metrics
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import largest_eigenvalue, stable_step
-from rods.fe.guards import FINITE_EVERY, Guard, SimulationError
+from rods.fe.guards import FINITE_EVERY, INVERSION_EVERY, Guard, SimulationError
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
 from rods.fe.probes import PointProbes
@@ -403,8 +403,9 @@ class GlobalModel:
                     failure = e
                     break
             if step % FINITE_EVERY == 0:
-                # one pass each: NaN/Inf anywhere poisons the dot product; inverted corners are counted
-                health = np.array([float(np.isfinite(dot(v, v))), -float(self.inverted_cells(u))])
+                # NaN/Inf anywhere poisons the dot product; inverted cells are counted every INVERSION_EVERY
+                inv = self.inverted_cells(u) if step % INVERSION_EVERY == 0 else 0
+                health = np.array([float(np.isfinite(dot(v, v))), -float(inv)])
                 if comm.size > 1:
                     comm.Allreduce(MPI.IN_PLACE, health, op=MPI.MIN)
                 try:
@@ -463,7 +464,9 @@ class GlobalModel:
 
             def dets(x: np.ndarray) -> np.ndarray:
                 e = x[cells[:, nbr]] - x[cells][:, :, None, :]  # (cells, corners, dim, dim) edge vectors
-                return np.linalg.det(e)
+                if dim == 2:
+                    return e[..., 0, 0] * e[..., 1, 1] - e[..., 0, 1] * e[..., 1, 0]
+                return np.einsum("...i,...i->...", e[..., 0, :], np.cross(e[..., 1, :], e[..., 2, :]))
 
             self._corner_dets = dets
             self._corner_sign = np.sign(dets(X))
