@@ -37,7 +37,7 @@ import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from rods import metrics
+from rods import hertz, metrics
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import largest_eigenvalue, stable_step
@@ -47,15 +47,9 @@ from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
 from rods.fe.probes import PointProbes
 from rods.scene import Scene, SceneError
 
-__all__ = ["FEResult", "GlobalModel", "contact_modulus"]
+__all__ = ["FEResult", "GlobalModel"]
 
 DEFAULT_FIELD_INTERVAL = 10e-6  # [s] when "fields" is requested without fe.field_interval
-
-
-def contact_modulus(scene: Scene) -> float:
-    """E* = [(1-ν1²)/E1 + (1-ν2²)/E2]^-1 [Pa] (paper Eq. 8)."""
-    m1, m2 = scene.rod1.material, scene.rod2.material
-    return 1.0 / ((1 - m1.poisson_ratio**2) / m1.youngs_modulus + (1 - m2.poisson_ratio**2) / m2.youngs_modulus)
 
 
 @dataclass
@@ -137,7 +131,8 @@ class GlobalModel:
         area2 = self._assemble_owned(forms.tributary_area_form(V, ds(tags["rod2_tip"]), kind))
         slave = tip_nodes(V, rm.facet_tags.find(tags["rod1_tip"]), area1, self.axial)
         master = tip_nodes(V, rm.facet_tags.find(tags["rod2_tip"]), area2, self.axial)
-        self.E_star = contact_modulus(scene)
+        m1, m2 = scene.rod1.material, scene.rod2.material
+        self.E_star = hertz.effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
         self.h_normal = rm.h_tip  # element size normal to the contact faces [m]
         self.ε_pen = scene["fe.penalty"] * self.E_star / self.h_normal  # [Pa/m]
         pairing, mirrored = None, (False, False)
