@@ -10,6 +10,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "workflows" / "scenes"
+PAPER = SCENES / "paper.toml"
+PY = Path(sys.executable)  # the interpreter running the tests (.venv/bin/python under make test)
+MPIRUN = PY.parent / "mpirun"  # the mpich wheel's launcher beside it
 sys.path.insert(0, str(ROOT / "workflows"))
 
 

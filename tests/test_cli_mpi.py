@@ -5,13 +5,10 @@ from __future__ import annotations
 import subprocess
 import sys
 import textwrap
-from pathlib import Path
 
 import pytest
 
-from .conftest import ROOT
-
-MPIRUN = Path(sys.executable).parent / "mpirun"
+from .conftest import MPIRUN, ROOT
 
 
 @pytest.mark.mpi

@@ -24,11 +24,8 @@ from rods.fe.mesh3d import TAGS_3D, section_counts
 from rods.fe.model import GlobalModel
 from rods.scene import SceneError, load_scene
 
-ROOT = Path(__file__).resolve().parents[1]
-SCENES = ROOT / "workflows" / "scenes"
-PAPER = SCENES / "paper.toml"
-PY = ROOT / ".venv" / "bin" / "python"
-MPIRUN = ROOT / ".venv" / "bin" / "mpirun"
+from .conftest import MPIRUN, PAPER, PY, ROOT, SCENES
+
 # tiny 3D model: short rods, 4 mm x 1 mm hexahedra (~22k DOFs)
 TINY = [
     "fe.kind='3d'",

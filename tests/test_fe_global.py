@@ -20,10 +20,8 @@ from rods.fe.mesh import TAGS
 from rods.fe.model import GlobalModel
 from rods.scene import SceneError, load_scene
 
-ROOT = Path(__file__).resolve().parents[1]
-PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
-PY = ROOT / ".venv" / "bin" / "python"
-MPIRUN = ROOT / ".venv" / "bin" / "mpirun"
+from .conftest import MPIRUN, PAPER, PY, ROOT
+
 COARSE = ["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=3e-4"]
 
 

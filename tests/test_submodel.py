@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
-from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
 
@@ -18,10 +17,8 @@ from rods.fe.model import GlobalModel
 from rods.fe.submodel import CutDriver, CutRecorder, run_submodel, submodel_scene
 from rods.scene import load_scene
 
-ROOT = Path(__file__).resolve().parents[1]
-PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
-PY = ROOT / ".venv" / "bin" / "python"
-MPIRUN = ROOT / ".venv" / "bin" / "mpirun"
+from .conftest import MPIRUN, PAPER, PY, ROOT
+
 # tiny scene: 0.1 m rods, 2 mm x 1 mm global mesh, 12 mm submodel region (a multiple of 2 mm)
 TINY = [
     "rod1.length=0.1",

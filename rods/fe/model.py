@@ -432,7 +432,7 @@ class GlobalModel:
         if fields is not None:
             fields(None, None, None)
         if failure is not None:  # keep what was recorded up to the failure, readable
-            n_ok = max(k - 1, 1) if k > 1 else k
+            n_ok = k - 1 if k > 1 else k  # the last record is the one the guard refused
             try:
                 failure.partial = self._result(
                     rec[:n_ok], W_hist[:n_ok], force[: failure.step], peak, p_max_all, wall_loop
