@@ -148,7 +148,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.degree": ("int", 1, _interval(1, 2, closed_lo=True, closed_hi=True)),
     "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
     "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
-    "fe.penalty": ("float", 1.0, _positive("x element stiffness", hi=1e4)),
+    "fe.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),
     "fe.bulk_viscosity": ("float", 0.0, _interval(0.0, 1.0, closed_lo=True)),
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),

@@ -16,18 +16,24 @@ import rods.fe  # noqa: F401
 from rods.analytical import simulate
 from rods.fe.model import GlobalModel
 from rods.hertz import YieldWarning
+from rods.metrics import smoothed_peak
+from rods.scene import SCHEMA, SceneError
 
 COARSE = ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=4e-4")
 ALU = ("youngs_modulus=70e9", "density=2700.0", "poisson_ratio=0.33")
 
+P0 = SCHEMA["fe.penalty"][1]  # the default penalty factor [-]
+
 # name -> (overrides, peak-force tolerance, midpoint plateau-speed tolerance), relative to the analytical model.
-# Measured on this mesh: penalty 100x adds ~11% contact-node chatter spikes to the force (energy stays exact);
-# at 0.01 m/s the Hertz patch (0.37 mm) is smaller than one element, the force is 29% low and the contact
-# softer (see the slow refined case: -5%); on 0.25 m rods the midpoint is only 10 diameters from the tip,
-# where the 1D model's plateau differs from the 3D-elastic one by ~1.3%.
+# Stiff penalties (10x, 100x the default) make the contact nodes rattle: the step adapts (contact-switching
+# limit, rods.fe.explicit) and the energy stays balanced, but the raw force carries spikes (+35% at 100x on
+# this mesh), so those cases compare the 2 µs-smoothed peak. At 0.01 m/s the Hertz patch (0.37 mm) is smaller
+# than one element, the force is 29% low and the contact softer (see the slow refined case: -5%); on 0.25 m
+# rods the midpoint is only 10 diameters from the tip, where the 1D model's plateau differs from the
+# 3D-elastic one by ~1.3%.
 CASES = {
-    "penalty-10x": (("fe.penalty=10",), 0.02, 0.01),
-    "penalty-100x": (("fe.penalty=100",), 0.15, 0.01),
+    "penalty-10x": ((f"fe.penalty={10 * P0}",), 0.02, 0.01),
+    "penalty-100x": ((f"fe.penalty={100 * P0}",), 0.05, 0.01),
     "speed-0.01": (("impact.speed=0.01",), None, 0.04),
     "speed-20": (("impact.speed=20",), 0.01, 0.01),
     "steel-on-aluminium": (tuple(f"rod2.material.{a}" for a in ALU), 0.01, 0.01),
@@ -52,7 +58,8 @@ def check_physics(scene, fe, r, a, force_tol, speed_tol=0.01):
     assert p[0] == pytest.approx(scene.rod1.mass * scene.speed, rel=2e-3)  # the cap's missing volume
     assert s["midpoint_peak_speed"] == pytest.approx(a.summary["midpoint_peak_speed"], rel=speed_tol)
     if force_tol is not None:
-        assert s["peak_contact_force"] == pytest.approx(a.summary["peak_contact_force"], rel=force_tol)
+        peak = smoothed_peak(h["time"], h["contact_force"])
+        assert peak == pytest.approx(smoothed_peak(a.history["time"], a.history["contact_force"]), rel=force_tol)
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -61,12 +68,33 @@ def test_stability_matrix(scene_with, name):
     scene = scene_with(*COARSE, *overrides)
     fe, r, a = run_case(scene)
     check_physics(scene, fe, r, a, force_tol, speed_tol)
-    assert fe.dt <= fe.dt_critical
+    assert fe.dt_gershgorin <= fe.dt_critical  # Gershgorin is a lower bound of the Krylov-Schur limit
+    assert fe.dt <= min(fe.dt_critical, fe.dt_switching)
 
 
 def test_stiffer_penalty_shrinks_the_step(scene_with):
-    dts = [GlobalModel(scene_with(*COARSE, f"fe.penalty={p}")).dt_critical for p in (1, 100)]
-    assert dts[1] < 0.8 * dts[0]
+    """The linear limit falls once the penalty controls the spectrum; the switching limit as 1/sqrt(penalty)."""
+    models = [GlobalModel(scene_with(*COARSE, f"fe.penalty={p * P0}")) for p in (1, 100)]
+    assert models[1].dt_critical < 0.8 * models[0].dt_critical
+    assert models[1].dt_switching == pytest.approx(models[0].dt_switching / 10, rel=1e-9)
+    assert models[1].dt == pytest.approx(models[1].dt_switching)  # the switching limit controls at 100x
+    assert models[0].dt == pytest.approx(0.8 * models[0].dt_critical)  # and not at the default
+
+
+def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
+    """Why the switching limit exists: 100x the default penalty marched at 0.8 x the linear limit (above
+    the switching limit) rattles and pumps energy until the guard stops it."""
+    from rods.fe.guards import SimulationError
+
+    scene = scene_with(*COARSE, f"fe.penalty={100 * P0}")
+    fe = GlobalModel(scene)
+    dt = 0.8 * fe.dt_critical
+    assert dt > 1.1 * fe.dt_switching
+    with pytest.raises(SceneError, match="switching"):
+        GlobalModel(scene_with(*COARSE, f"fe.penalty={100 * P0}", f"fe.dt={dt}"))
+    fe.dt, fe.steps = dt, int(scene.end_time / dt)  # bypass the refusal to show the instability
+    with pytest.raises(SimulationError, match="energy grew"):
+        fe.run()
 
 
 def test_yield_warning_at_high_speed(scene_with):

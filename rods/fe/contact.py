@@ -13,7 +13,12 @@ contact normal is the axis; frictionless.
 
 Pressure (penalty law) p_s = ε_pen <-g_s>, ε_pen = fe.penalty x E*/h_n [Pa/m], with E* the contact
 modulus (paper Eq. 8) and h_n the element size normal to the face: fe.penalty = 1 gives a contact
-layer as stiff as one element of the softer rod. Nodal force F_s = p_s a_s, a_s the row-sum tributary
+layer as stiff as one element of the softer rod. The default, 2, is measured (``benchmarks/penalty_study.py``,
+``results/penalty-study.md``): at the paper mesh 1 x E*/h adds enough compliance to stretch the low-force
+tail of the contact (duration +3.1 µs), 2 meets every target of the global model with margin, and beyond
+about 4 the stiffer contact sharpens the wave fronts and the midpoint strain departs from the 1D model
+(RMS > 10 µε). Stiff penalties also limit the step (:func:`rods.fe.explicit.switching_step`).
+Nodal force F_s = p_s a_s, a_s the row-sum tributary
 area ∫ N_s 2πr ds over the Rod-1 tip; the reaction W_sj F_s goes to the master nodes, so the
 pair forces cancel exactly (momentum is conserved to round-off). The force derives from the penalty
 energy E_c = ½ Σ ε_pen a_s <-g_s>², so it is conservative.
@@ -290,6 +295,23 @@ class PenaltyContact:
         xs, xm = self.gather(x)
         t = self.k * (self._interp(xm) - xs)
         self._scatter(y, -t, self._transpose(t))
+
+    def pair_frequency(self, inv_mass: np.ndarray) -> float:
+        """Largest angular frequency [rad/s] of an isolated contact pair: a slave and its master nodes
+        joined by the penalty spring k_s, ω_s² = k_s (1/m_s + Σ_j W_sj²/m_j) (2-mass spring; W: weights).
+
+        It sets the contact *switching* limit of the step (:func:`rods.fe.explicit.switching_step`);
+        ``inv_mass`` is the owned inverse lumped mass array [1/kg]."""
+        ims, imm = self.gather(inv_mass)
+        ω2 = self.k * (ims + (self.W**2 * imm[self.J]).sum(axis=1))
+        return float(math.sqrt(ω2.max())) if ω2.size else 0.0
+
+    def add_abs_row_sums(self, y: np.ndarray) -> None:
+        """y += Σ_j |K_c,ij| bound for the owned tip entries: K_c = Σ_s k_s b_s b_sᵀ with
+        b_s = W_s (master) - e_s (slave), so row i is bounded by Σ_s k_s |b_s,i| ‖b_s‖₁ (Gershgorin)."""
+        norm1 = 1.0 + np.abs(self.W).sum(axis=1)
+        t = self.k * norm1
+        self._scatter(y, t, self._transpose(t))
 
     def radius(self) -> float:
         """Contact radius [m]: the gap's zero crossing beyond the outermost active slave (linear).

@@ -40,7 +40,7 @@ from petsc4py import PETSc
 from rods import hertz, metrics
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
-from rods.fe.explicit import largest_eigenvalue, stable_step
+from rods.fe.explicit import largest_eigenvalue, stable_step, switching_step
 from rods.fe.guards import FINITE_EVERY, INVERSION_EVERY, Guard, SimulationError
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
@@ -197,6 +197,15 @@ class GlobalModel:
 
         return math.sqrt(largest_eigenvalue(apply, self.n_local, self.comm))
 
+    def _gershgorin(self) -> float:
+        """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
+        # DOLFINx's own CSR matrix (owned rows, all columns): no PETSc type conversion needed
+        S = dolfinx.fem.assemble_matrix(self.stiffness).to_scipy()
+        rows = np.asarray(abs(S).sum(axis=1)).ravel()[: self.n_local]
+        del S
+        self.contact.add_abs_row_sums(rows)
+        return self.comm.allreduce(float(np.max(rows * self.inv_mass, initial=0.0)), op=MPI.MAX)
+
     def _stable_step(self) -> None:
         sc = self.scene
         self.ω_max_K = self._omega_max(False)
@@ -204,16 +213,26 @@ class GlobalModel:
         self.ξ = sc["fe.bulk_viscosity"]
         self.dt_critical = stable_step(self.ω_max, self.ξ)  # [s]
         self.dt_critical_no_contact = stable_step(self.ω_max_K, self.ξ)
+        self.dt_gershgorin = stable_step(math.sqrt(self._gershgorin()), self.ξ)  # a safe lower bound [s]
+        self.ω_contact = self.contact.pair_frequency(self.inv_mass)  # [rad/s]
+        self.dt_switching = switching_step(self.ω_contact)  # [s]
         h_min = min(cell_sizes_3d(self.rm.mesh) if self.kind == "3d" else cell_sizes(self.rm.mesh))
         self.h_min = h_min  # smallest element size [m] (element step estimate, run guards)
         c_d = max(r.material.dilatational_wave_speed for r in sc.rods)
         self.dt_element = h_min / c_d  # [s]
         req = sc["fe.dt"]
         if req == "auto":
-            self.dt = sc["fe.dt_fraction"] * self.dt_critical
+            self.dt = min(sc["fe.dt_fraction"] * self.dt_critical, self.dt_switching)
         else:
             if req > self.dt_critical:
                 raise SceneError("fe.dt", req, f"must be <= stable limit {self.dt_critical:g} s")
+            if req > self.dt_switching:
+                raise SceneError(
+                    "fe.dt",
+                    req,
+                    f"must be <= contact-switching limit {self.dt_switching:g} s (stiff penalty: "
+                    "contact nodes would rattle and pump energy; lower fe.penalty or fe.dt)",
+                )
             self.dt = float(req)
         self.β_visc = 2.0 * self.ξ / self.ω_max  # stiffness-proportional damping C = β K [s]
         self.steps = math.ceil(sc.end_time / self.dt * (1 - 1e-12))
@@ -238,6 +257,8 @@ class GlobalModel:
             "dt_critical": self.dt_critical,
             "dt_critical_without_contact": self.dt_critical_no_contact,
             "dt_element_estimate": self.dt_element,
+            "dt_gershgorin": self.dt_gershgorin,
+            "dt_contact_switching": self.dt_switching,
             "steps": self.steps,
             "end_time": sc.end_time,
             "output_interval": sc.output_interval,
@@ -536,6 +557,8 @@ class GlobalModel:
             "dt_critical": self.dt_critical,
             "dt_critical_without_contact": self.dt_critical_no_contact,
             "dt_element_estimate": self.dt_element,
+            "dt_gershgorin": self.dt_gershgorin,
+            "dt_contact_switching": self.dt_switching,
             "energy_error": energy_error,
             "initial_energy": float(E0),
             "ranks": self.comm.size,
