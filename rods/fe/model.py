@@ -290,6 +290,10 @@ class GlobalModel:
         Guards (rods.fe.guards) stop a run whose energy grows or whose state turns non-finite with a
         SimulationError carrying the histories so far. With ``fe.checkpoint_interval`` > 0 the state is
         checkpointed into ``out`` (rods.fe.checkpoint); ``restart=True`` resumes from the last one.
+
+        ``step_hook(step, t_n, u_n, v_{n+1/2})`` runs after the velocity update and may edit v (a driven
+        submodel cut). A hook that does work on the model exposes ``step_hook.external_work()``: this
+        rank's accumulated work [J]; it then enters the energy balance (history ``external_work``).
         """
         sc, comm, dt = self.scene, self.comm, self.dt
         n, N = self.n_local, self.steps
@@ -318,6 +322,8 @@ class GlobalModel:
         # t, F, a, πa², p_max, E_k, E_s, E_c, probes (velocity, strain), patch, p_z
         rec = np.zeros((out_steps.size, 9 + 2 * n_st + n_pk))
         W_hist = np.zeros(out_steps.size)
+        Wext_hist = np.zeros(out_steps.size)  # work done by the step hook (driven cut) [J]
+        external_work = getattr(step_hook, "external_work", None)
         W_local, s_prev = 0.0, 0.0  # dissipated energy (this rank's partial sum) [J]; v_{n-1/2}·f_d,n-1
         force = np.zeros(N + 1)  # total contact force at every step [N]
         peak: dict[str, Any] = {"F": -1.0}
@@ -339,6 +345,7 @@ class GlobalModel:
                 u[:], v[:] = state["u"], state["v"]
                 step0, k = int(state["next_step"]), int(state["k"])
                 rec[:k], W_hist[:k], force[:step0] = state["rec"], state["W_hist"], state["force"]
+                Wext_hist[:k] = state.get("Wext_hist", np.zeros(k))
                 W_local, s_prev, p_max_all = float(state["W_local"]), float(state["s_prev"]), float(state["p_max_all"])
                 wall_before = float(state["wall"])
                 peak = {
@@ -393,13 +400,16 @@ class GlobalModel:
                     dv *= 2.0
                 Es_local = -0.5 * dot(mass_dt * u_old, dv)
                 Ek_local = 0.5 * dot(self.mass * v_old, v)
-                loc = np.concatenate(([Ek_local, Es_local, W_local], P @ (v_old + v), P @ u_old, [dot(mass_z, v)]))
+                W_ext = external_work() if external_work is not None else 0.0
+                loc = np.concatenate(
+                    ([Ek_local, Es_local, W_local, W_ext], P @ (v_old + v), P @ u_old, [dot(mass_z, v)])
+                )
                 if comm.size > 1:
                     comm.Allreduce(MPI.IN_PLACE, loc, op=MPI.SUM)
                 if m_sym != 1.0:
-                    loc[:3] *= m_sym
+                    loc[:4] *= m_sym
                     loc[-1] *= m_sym
-                pv, pu = loc[3 : 3 + 2 * n_st], loc[3 + 2 * n_st : 3 + 4 * n_st]
+                pv, pu = loc[4 : 4 + 2 * n_st], loc[4 + 2 * n_st : 4 + 4 * n_st]
                 pmax = float(c.pressure.max()) if c.ns else 0.0
                 p_max_all = max(p_max_all, pmax)
                 a = c.radius()
@@ -408,13 +418,13 @@ class GlobalModel:
                 rec[k, 8 + n_st : 8 + 2 * n_st] = pu[1::2]  # ε_zz at t_n
                 rec[k, 8 + 2 * n_st : 8 + 2 * n_st + n_pk] = c.patch()
                 rec[k, -1] = loc[-1]  # axial momentum at t_{n+1/2}
-                W_hist[k] = loc[2]
+                W_hist[k], Wext_hist[k] = loc[2], loc[3]
                 if k == 0:
                     E0 = float(rec[0, 5:8].sum())
                 k += 1
                 try:
                     if self.energy_closed:
-                        guard.check(step, step * dt, (loc[0], loc[1], c.energy, loc[2]), E0)
+                        guard.check(step, step * dt, (loc[0], loc[1], c.energy, loc[2] - loc[3]), E0)
                 except SimulationError as e:
                     failure = e
                     break
@@ -438,7 +448,8 @@ class GlobalModel:
                     step * dt,
                     {
                         "u": u, "v": v, "next_step": step + 1, "k": k, "rec": rec[:k], "W_hist": W_hist[:k],
-                        "force": force[: step + 1], "W_local": W_local, "s_prev": s_prev, "p_max_all": p_max_all,
+                        "Wext_hist": Wext_hist[:k], "force": force[: step + 1], "W_local": W_local, "s_prev": s_prev,
+                        "p_max_all": p_max_all,
                         "wall": wall_before + time.perf_counter() - t_start, **peak_state,
                     },
                     comm,
@@ -456,15 +467,15 @@ class GlobalModel:
             n_ok = k - 1 if k > 1 else k  # the last record is the one the guard refused
             try:
                 failure.partial = self._result(
-                    rec[:n_ok], W_hist[:n_ok], force[: failure.step], peak, p_max_all, wall_loop
+                    rec[:n_ok], W_hist[:n_ok], Wext_hist[:n_ok], force[: failure.step], peak, p_max_all, wall_loop
                 )
                 failure.partial.summary.update(status="failed", error=str(failure), failed_step=failure.step)
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
             raise failure
-        return self._result(rec, W_hist, force, peak, p_max_all, wall_loop)
+        return self._result(rec, W_hist, Wext_hist, force, peak, p_max_all, wall_loop)
 
-    energy_closed = True  # no work enters: the energy balance guards the run (a driven submodel sets False)
+    energy_closed = True  # the balance is closed (all work counted): the energy-growth guard watches the run
 
     def inverted_cells(self, u_owned: np.ndarray) -> int:
         """Number of this rank's cells with a corner whose deformed Jacobian changed sign (an inverted
@@ -504,7 +515,7 @@ class GlobalModel:
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     # ------------------------------------------------------------------------------------------
-    def _result(self, rec, W_hist, force, peak, p_max_all, wall_loop) -> FEResult:
+    def _result(self, rec, W_hist, Wext_hist, force, peak, p_max_all, wall_loop) -> FEResult:
         sc, dt = self.scene, self.dt
         n_st = len(self.probe_keys)
         hist: dict[str, np.ndarray] = {
@@ -524,13 +535,16 @@ class GlobalModel:
             units[key] = "m"
         hist["kinetic_energy"], hist["strain_energy"], hist["contact_energy"] = rec[:, 5], rec[:, 6], rec[:, 7]
         hist["dissipated_energy"] = W_hist
+        hist["external_work"] = Wext_hist
         hist["momentum"] = rec[:, -1]
         units["momentum"] = "kg m/s"
-        for key in ("kinetic_energy", "strain_energy", "contact_energy", "dissipated_energy"):
+        for key in ("kinetic_energy", "strain_energy", "contact_energy", "dissipated_energy", "external_work"):
             units[key] = "J"
         E_total = rec[:, 5] + rec[:, 6] + rec[:, 7]
         E0 = E_total[0]
-        energy_error = float(np.max(np.abs(E_total + W_hist - E0)) / E0)
+        # E(t) + dissipated(t) - work in(t) = E0; relative to the largest of E0 and the work put in
+        scale = max(E0, float(np.max(np.abs(Wext_hist), initial=0.0)))
+        energy_error = float(np.max(np.abs(E_total + W_hist - Wext_hist - E0)) / scale)
         t_steps = np.arange(force.size) * dt
         a_peak = peak.get("a", 0.0)
         s_mid = sc.stations[0].name
