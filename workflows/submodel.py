@@ -11,6 +11,9 @@ The scene is the global run's (GDIR/summary.json scene_values) unless --scene/--
 (peak force, contact radius/area, peak pressure, Hertz at the same force, DOFs, wall time, the
 sigma_r profile at the Gauss points nearest the surface), DIR/history.csv, DIR/pressure_profile.csv
 (p(r) at peak force) and DIR/sigma_r.csv (r, depth, sigma_r at peak force).
+
+3D (fe.kind = "3d" in the global run) works the same way; the submodel keeps the global's fe.symmetry
+(use a quarter model for a centric impact), and sigma_r is radial about Rod 1's axis (x-y plane).
 """
 
 from __future__ import annotations

@@ -23,7 +23,12 @@ DOLFINx non-matching interpolation (``create_interpolation_data`` + ``interpolat
 the cut cells only). Interpolation is linear, so it is done once per band node (unit fields) to
 build a sparse matrix W (owned cut nodes x band nodes); at run time u_cut(t) = W U_band(t). Works
 for meshes that do not nest node for node, for any number of ranks (the cut nodes may be on any
-rank), and for 2D (axisymmetric) and 3D band cells alike. In time, U_band is interpolated linearly
+rank), and for 2D (axisymmetric) and 3D (hexahedral) band cells alike. In 3D the submodel keeps the
+global ``fe.symmetry`` (half/quarter: the band and the cut share the symmetry planes, whose normal
+displacement is zero in both), and a submodel section finer than the global one puts circle nodes
+outside the band's polygonal section (by its sagitta, 0.03 mm for 1 mm global cells): DOLFINx
+extrapolates them linearly from the nearest band cell, bounded by :data:`MAX_EXTRAPOLATION`. In
+time, U_band is interpolated linearly
 between recorded steps: the central-difference displacement is itself piecewise linear in time
 (u_{n+1} = u_n + Δt v_{n+1/2}), so this reproduces the global trajectory exactly at any submodel time.
 
@@ -35,6 +40,7 @@ Prescription in the explicit scheme: after v_{n+1/2} is computed, its cut entrie
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
 import time
@@ -52,7 +58,6 @@ from mpi4py import MPI
 
 from rods import hertz
 from rods.fe import forms
-from rods.fe.mesh import TAGS
 from rods.fe.model import FEResult, GlobalModel
 from rods.scene import Scene, SceneError, Station, scene_from_dict
 
@@ -75,6 +80,9 @@ LEVEL_SIZES = {
     "ultra-fine": 0.015625e-3,
 }
 BAND_ELEMENTS = 2  # band half-width in global axial elements [-]
+# most negative interpolation weight accepted [-]: a cut node at most ~this fraction of a band cell outside it
+# (3D: a finer submodel's circle bulges past the band's polygonal section by its sagitta, 0.03 mm on 1 mm cells)
+MAX_EXTRAPOLATION = 0.1
 
 
 # ----------------------------------------------------------------------------------------------
@@ -277,7 +285,8 @@ class CutDriver:
         # submodel cut: cells incident to the cut facets, and their owned nodes
         msh, rm = model.V.mesh, model.rm
         fdim, tdim = msh.topology.dim - 1, msh.topology.dim
-        facets = np.concatenate([rm.facet_tags.find(TAGS["rod1_end"]), rm.facet_tags.find(TAGS["rod2_end"])])
+        tags = model.tags
+        facets = np.concatenate([rm.facet_tags.find(tags["rod1_end"]), rm.facet_tags.find(tags["rod2_end"])])
         msh.topology.create_connectivity(fdim, tdim)
         cut_cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim).astype(np.int32)
         V0, to_parent = model.V.sub(0).collapse()
@@ -312,11 +321,19 @@ class CutDriver:
             (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nodes0.size, n_nodes)
         )
         self.build_time = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
-        # partition of unity: each cut node must be covered by the band (row sums 1)
+        # partition of unity: each cut node must be covered by the band (row sums 1). DOLFINx assigns a point
+        # outside every cell but inside a candidate's bounding box to the closest cell and extrapolates (row sums
+        # stay 1): bound how far, through the most negative weight
         rs = np.asarray(self.W.sum(axis=1)).ravel()
         bad = np.flatnonzero(np.abs(rs - 1.0) > 1e-8)
         if comm.allreduce(bad.size) > 0:
             raise RuntimeError(f"{bad.size} cut nodes are not covered by the recorded band (row sums != 1)")
+        self.w_min = comm.allreduce(float(self.W.data.min(initial=0.0)), op=MPI.MIN)  # [-]
+        if self.w_min < -MAX_EXTRAPOLATION:
+            raise RuntimeError(
+                f"cut nodes lie outside the recorded band (interpolation weight {self.w_min:.3g} < "
+                f"-{MAX_EXTRAPOLATION}): the submodel cut is not inside the global model"
+            )
         self.n_cut = comm.allreduce(nodes0.size)
         self.dt = model.dt
         self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
@@ -341,43 +358,69 @@ class CutDriver:
 # ----------------------------------------------------------------------------------------------
 # stresses at the integration points nearest the surface (paper Fig. 6)
 # ----------------------------------------------------------------------------------------------
+def _rod1_frame(model: GlobalModel, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(r, z) [m] of points ``x`` (..., gdim) in Rod 1's own frame: r from its axis, z along it (apex at 0).
+
+    Axisymmetric: (x[0], x[1]). 3D: x_1 = R_y(θ)^T (x - (e, 0, δz)) undoes Rod 1's placement
+    (:class:`rods.fe.mesh3d.Placement`), r = sqrt(x_1² + y_1²), z = z_1 (a centric rod: r = sqrt(x² + y²))."""
+    if model.kind == "axisymmetric":
+        return x[..., 0], x[..., 1]
+    p = model.rm.placement
+    c, s = math.cos(p.tilt), math.sin(p.tilt)
+    dx, dz = x[..., 0] - p.offset, x[..., 2] - p.dz
+    return np.hypot(c * dx - s * dz, x[..., 1]), s * dx + c * dz  # R_y(θ)^T (x - (e, 0, δz))
+
+
 def surface_gauss_stress(model: GlobalModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
-    """σ_rr [Pa] at the 2x2 Gauss points of the Rod-1 tip cells nearest the tip surface.
+    """σ_rr [Pa] at the Gauss points of the Rod-1 tip cells nearest the tip surface.
 
     For each cell on the Rod-1 tip face, σ_rr of the displacement ``u_owned`` is evaluated at the
-    four Gauss points (reference coordinates ½ ± ½/√3); the row of two points closest to the
-    surface z_s(r) = -(r_k - sqrt(r_k² - r²)) is kept. Returns, on every rank, sorted by r:
-    r [m], depth below the surface [m], sigma_r [Pa]. Axisymmetric only.
+    2^tdim Gauss points (reference coordinates ½ ± ½/√3 in each direction: 2x2 quadrilateral, 2x2x2
+    hexahedron); the half closest to the surface z_s(r) = -(r_k - sqrt(r_k² - r²)) is kept (one layer:
+    the cells' reference axis normal to the tip runs along z on both meshes). σ_rr is σ[0, 0] in the
+    axisymmetric (r, θ, z) ordering and e_r·σ·e_r in 3D, e_r the unit radial vector from Rod 1's axis
+    (centric: e_r = (x, y, 0)/sqrt(x² + y²), radial in the x-y plane); r, z in Rod 1's own frame
+    (:func:`_rod1_frame`). Returns, on every rank, sorted by r: r [m], depth below the surface [m],
+    sigma_r [Pa].
     """
-    if model.kind != "axisymmetric":
-        raise NotImplementedError("surface Gauss-point stresses: axisymmetric only")
     msh, rm = model.V.mesh, model.rm
-    fdim, tdim = msh.topology.dim - 1, msh.topology.dim
+    fdim, tdim, gdim = msh.topology.dim - 1, msh.topology.dim, msh.geometry.dim
     uf = dolfinx.fem.Function(model.V)
     uf.x.array[: model.n_local] = u_owned
     uf.x.scatter_forward()
-    cells = dolfinx.mesh.compute_incident_entities(msh.topology, rm.facet_tags.find(TAGS["rod1_tip"]), fdim, tdim)
+    facets = rm.facet_tags.find(model.tags["rod1_tip"])
+    cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim)
     cells = cells[cells < msh.topology.index_map(tdim).size_local].astype(np.int32)
     g = 0.5 / math.sqrt(3.0)
-    X = np.array([[0.5 - g, 0.5 - g], [0.5 + g, 0.5 - g], [0.5 - g, 0.5 + g], [0.5 + g, 0.5 + g]])
+    X = np.array(list(itertools.product((0.5 - g, 0.5 + g), repeat=tdim)))  # (2^tdim, tdim) Gauss points
+    n_g = X.shape[0]
     x = ufl.SpatialCoordinate(msh)
     σ = forms.stress(forms.strain(uf, x, model.kind), model.mat.λ, model.mat.μ)
-    s_rr = dolfinx.fem.Expression(σ[0, 0], X)
-    xe = dolfinx.fem.Expression(x, X)
+    if model.kind == "axisymmetric":
+        s_rr = σ[0, 0]
+    else:  # radial about Rod 1's axis a = R_y(θ) e_z through its apex (e, 0, δz): the z axis if centric
+        p = model.rm.placement
+        a = ufl.as_vector([math.sin(p.tilt), 0.0, math.cos(p.tilt)])
+        d = x - ufl.as_vector([p.offset, 0.0, p.dz])
+        ρ = d - ufl.dot(d, a) * a
+        e_r = ρ / ufl.sqrt(ufl.dot(ρ, ρ))
+        s_rr = ufl.dot(e_r, ufl.dot(σ, e_r))
+    s_expr = dolfinx.fem.Expression(s_rr, X)
+    x_expr = dolfinx.fem.Expression(x, X)
     if cells.size:
-        S = s_rr.eval(msh, cells).reshape(cells.size, 4)
-        P = xe.eval(msh, cells).reshape(cells.size, 4, 2)
+        S = s_expr.eval(msh, cells).reshape(cells.size, n_g)
+        P = x_expr.eval(msh, cells).reshape(cells.size, n_g, gdim)
     else:
-        S, P = np.zeros((0, 4)), np.zeros((0, 4, 2))
+        S, P = np.zeros((0, n_g)), np.zeros((0, n_g, gdim))
     rk = model.scene.rod1.tip_radius
-    r, z = P[..., 0], P[..., 1]
+    r, z = _rod1_frame(model, P)
     zs = np.zeros_like(r) if math.isinf(rk) else -(rk - np.sqrt(rk * rk - r * r))
     depth = zs - z
-    near = np.argsort(depth, axis=1)[:, :2]
+    near = np.argsort(depth, axis=1)[:, : n_g // 2]
     take = np.take_along_axis
     out = np.column_stack([take(r, near, 1).ravel(), take(depth, near, 1).ravel(), take(S, near, 1).ravel()])
     allrows = np.vstack(model.comm.allgather(out))
-    allrows = allrows[np.argsort(allrows[:, 0])]
+    allrows = allrows[np.lexsort(allrows.T[::-1])]  # by r, then depth, σ: the same order on any rank count
     return {"r": allrows[:, 0], "depth": allrows[:, 1], "sigma_r": allrows[:, 2]}
 
 
