@@ -385,14 +385,17 @@ class GlobalModel:
                 if damped:
                     vv.axpy(β, yv)
                 c.add_force(v, dt_inv_mass)
+            v_scheme = v
             if step_hook is not None:  # submodel cut: record (global) or prescribe v_{n+1/2} (rods.fe.submodel)
+                if record:
+                    v_scheme = v.copy()  # the strain energy below is recovered from the scheme's own increment
                 step_hook(step, step * dt, u, v)  # u = u_n, v = v_{n+1/2} (owned arrays, v may be edited)
             uv.axpy(dt, vv)  # u_{n+1} = u_n + Δt v_{n+1/2}
             if damped:
                 s_prev = -β * dot(mass_dt * v, y)
             if record:
                 # K u_n recovered from the velocity increment: Δv_K = -Δt M^-1 K u_n
-                dv = v - v_old
+                dv = v_scheme - v_old
                 c.add_force(dv, -(0.5 if step == 0 else 1.0) * dt_inv_mass)
                 if damped:
                     dv -= (0.5 if step == 0 else 1.0) * β * y
