@@ -14,10 +14,9 @@ import pytest
 
 from rods import io
 from rods.fe.model import GlobalModel
-from rods.fe.submodel import CutDriver, CutRecorder, run_submodel, submodel_scene
-from rods.scene import load_scene
+from rods.fe.submodel import CutDriver, run_submodel, submodel_scene
 
-from .conftest import MPIRUN, PAPER, PY, ROOT
+from .conftest import MPIRUN, PY, ROOT, recorded_global
 
 # tiny scene: 0.1 m rods, 2 mm x 1 mm global mesh, 12 mm submodel region (a multiple of 2 mm). The Hertz
 # patch (1.1 mm) spans about one element, so the force depends on the penalty (measured: 3.9 kN at ε = E*/2 mm,
@@ -35,13 +34,7 @@ TINY = [
 
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
-    sc = load_scene(PAPER, TINY)
-    g = GlobalModel(sc)
-    rec = CutRecorder(g)
-    res = g.run(step_hook=rec)
-    path = tmp_path_factory.mktemp("global") / "cut.h5"
-    rec.write(path)
-    return sc, g, res, path
+    return recorded_global(TINY, tmp_path_factory, "global")
 
 
 def test_cut_file_contents(tiny):

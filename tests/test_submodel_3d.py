@@ -18,10 +18,10 @@ import pytest
 from rods import io
 from rods.fe.mesh3d import section_counts
 from rods.fe.model import GlobalModel
-from rods.fe.submodel import MAX_EXTRAPOLATION, CutDriver, CutRecorder, run_submodel, submodel_scene
+from rods.fe.submodel import MAX_EXTRAPOLATION, CutDriver, run_submodel, submodel_scene
 from rods.scene import load_scene
 
-from .conftest import MPIRUN, PAPER, PY, ROOT
+from .conftest import MPIRUN, PAPER, PY, ROOT, recorded_global
 
 # tiny quarter model: 48 + 100 mm rods, 4 mm along x 1 mm across (~6k DOFs), 12 mm submodel region (3 global
 # axial elements, so a submodel meshed like the global nests along z). Penalty fixed: global and submodel are
@@ -43,13 +43,7 @@ H_NN = 0.7e-3  # non-nested submodel size [m]: divides neither 4 mm, 1 mm nor L_
 
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
-    sc = load_scene(PAPER, TINY)
-    g = GlobalModel(sc)
-    rec = CutRecorder(g)
-    res = g.run(step_hook=rec)
-    path = tmp_path_factory.mktemp("global3d") / "cut.h5"
-    rec.write(path)
-    return sc, g, res, path
+    return recorded_global(TINY, tmp_path_factory, "global3d")
 
 
 def test_cut_file_contents_3d(tiny):
