@@ -25,11 +25,12 @@ from .conftest import MPIRUN, PAPER, PY, ROOT, recorded_global
 
 # tiny quarter model: 48 + 100 mm rods, 4 mm along x 1 mm across (~6k DOFs), 12 mm submodel region (3 global
 # axial elements, so a submodel meshed like the global nests along z). Penalty fixed: global and submodel are
-# compared at equal ε = fe.penalty E*/h_tip.
+# compared at equal ε = penalty factor x E*/h_tip (fe.penalty for the global, submodel.penalty for the submodel).
 TINY = [
     "fe.kind='3d'",
     "fe.symmetry='quarter'",
     "fe.penalty=1.0",
+    "submodel.penalty=1.0",
     "fe.axial_size=4e-3",
     "fe.radial_size=1e-3",
     "rod1.length=0.048",
@@ -131,7 +132,7 @@ def test_non_nested_submodel_3d(tiny):
     cells, so the finer tip changes the force (measured -4.8% peak, contact duration -0.5%)."""
     sc, g, res, path = tiny
     h_tip = L_S / math.ceil(L_S / H_NN)  # 18 elements of 0.667 mm along L_s
-    sub = run_submodel(sc.with_overrides(f"fe.penalty={h_tip / 4e-3!r}"), path, H_NN, level="non-nested")
+    sub = run_submodel(sc.with_overrides(f"submodel.penalty={h_tip / 4e-3!r}"), path, H_NN, level="non-nested")
     s = sub.summary
     assert s["penalty"] == pytest.approx(g.ε_pen, rel=1e-9)
     assert s["peak_contact_force"] == pytest.approx(res.summary["peak_contact_force"], rel=0.06)

@@ -99,7 +99,9 @@ def submodel_scene(
     dt: float | str = "auto",
 ) -> Scene:
     """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], uniform size
-    h [m] across and ``h_axial`` (default h) along, no tip grading, the default mid station only
+    h [m] across and ``h_axial`` (default h) along, no tip grading, penalty factor ``submodel.penalty``
+    (its own contact layer, ε = submodel.penalty x E*/h; the global's ``fe.penalty`` may be stiffer so
+    that the cut it drives moves as in a converged contact), the default mid station only
     (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
     L_s = scene["fe.submodel_length"]
     for k, rod in enumerate(scene.rods, start=1):
@@ -109,7 +111,15 @@ def submodel_scene(
             raise SceneError("fe.submodel_length", L_s, f"must exceed twice the cap height of rod {k}")
     d = scene.as_dict(json_safe=False)
     d["station"] = []
-    d["fe"].update({"radial_size": h, "axial_size": h_axial or h, "tip_grading": 1.0, "dt": dt})
+    d["fe"].update(
+        {
+            "radial_size": h,
+            "axial_size": h_axial or h,
+            "tip_grading": 1.0,
+            "dt": dt,
+            "penalty": scene["submodel.penalty"],
+        }
+    )
     end = scene.end_time if end_time is None else end_time
     d["simulation"]["end_time"] = end
     d["simulation"]["output_interval"] = min(scene.output_interval, end)
