@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz
 
-__all__ = ["Richardson", "hertz_at_force", "hertz_stresses", "percent", "richardson"]
+__all__ = ["Richardson", "hertz_at_force", "hertz_stresses", "percent", "plateau_radius_error", "richardson"]
 
 SAFETY_FACTOR = 1.25  # GCI factor of safety for three-grid studies (Roache) [-]
 
@@ -82,7 +82,9 @@ def hertz_stresses(
 
 @dataclass(frozen=True)
 class Richardson:
-    """Three-level Richardson extrapolation; f1 finest. ``order`` is NaN for non-monotone data."""
+    """Three-level Richardson extrapolation; f1 finest. ``order`` is NaN for non-monotone data; for
+    monotone data whose differences grow under refinement (p <= 0: not in the asymptotic range) the order is
+    kept but there is no extrapolation or GCI (NaN)."""
 
     f1: float
     f2: float
@@ -92,6 +94,11 @@ class Richardson:
     extrapolated: float  # f_ext
     gci_fine: float  # GCI of the finest level, a fraction of |f1| [-]
     monotone: bool
+
+    @property
+    def asymptotic(self) -> bool:
+        """Monotone and converging (p > 0): the extrapolation and the GCI apply."""
+        return self.monotone and self.order > 0
 
     @property
     def error_band(self) -> float:
@@ -107,7 +114,27 @@ def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0)
     if not monotone:
         return Richardson(f1, f2, f3, ratio, math.nan, math.nan, math.nan, False)
     p = math.log(e32 / e21) / math.log(ratio)
+    if p <= 0:  # the differences grow as h shrinks: extrapolating would move away from the data
+        return Richardson(f1, f2, f3, ratio, p, math.nan, math.nan, True)
     denom = ratio**p - 1.0
     f_ext = f1 + e21 / denom
     gci = SAFETY_FACTOR * abs(e21 / f1) / denom
     return Richardson(f1, f2, f3, ratio, p, f_ext, gci, True)
+
+
+PLATEAU = 0.95  # samples with F >= PLATEAU x F_max form the force plateau [-]
+
+
+def plateau_radius_error(
+    force: np.ndarray, radius: np.ndarray, E_star: float, R_star: float, fraction: float = PLATEAU
+) -> tuple[float, float]:
+    """Mean and standard deviation of a(t)/a_H(F(t)) - 1 [-] over the force plateau F >= ``fraction`` F_max:
+    the contact radius against Hertz (Johnson Eq. 4.22) at the *same* force, sample by sample.
+
+    At one instant the FE radius jumps as the patch edge passes a node; averaging over the plateau (hundreds
+    of samples, the edge moving across a fraction of an element) gives a steadier measure of the
+    discretisation error, one Richardson extrapolation can use."""
+    F, a = np.asarray(force, float), np.asarray(radius, float)
+    m = F >= fraction * F.max()
+    e = a[m] / hertz.contact_radius(F[m], E_star, R_star) - 1.0
+    return float(e.mean()), float(e.std())

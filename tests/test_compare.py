@@ -23,6 +23,13 @@ def test_richardson_recovers_order_and_limit(p):
     assert abs(f[0] - f_exact) <= r.error_band
 
 
+def test_richardson_divergent_has_no_extrapolation():
+    """Monotone but the differences grow (p < 0): the order is reported, nothing is extrapolated."""
+    r = compare.richardson(1.0, 1.5, 1.75)  # e21 = -0.5, e32 = -0.25: p = -1
+    assert r.monotone and r.order == pytest.approx(-1.0) and not r.asymptotic
+    assert math.isnan(r.extrapolated) and math.isnan(r.gci_fine)
+
+
 def test_richardson_non_monotone():
     r = compare.richardson(1.0, 1.2, 1.1)
     assert not r.monotone and math.isnan(r.order) and math.isnan(r.extrapolated)
@@ -49,3 +56,16 @@ def test_subsurface_hertz_reduces_to_surface_and_axis():
     σ_r, _, σ_z = compare.hertz_stresses(1e-3 * a, z, a, p0, nu)
     assert np.allclose(σ_z, sz, rtol=1e-5)
     assert np.allclose(σ_r, sr, rtol=1e-2, atol=1e-3 * p0)  # a²/r² (1 - q³) cancels near the axis
+
+
+def test_plateau_radius_error_against_hertz_at_the_same_force():
+    """Radii that follow Hertz at every force have zero error; a 2% larger patch has +2% with no spread."""
+    E_star, R_star = 112e9, 0.0175  # [Pa], [m]
+    F = 5e3 * np.sin(np.linspace(0.0, np.pi, 401))  # [N]
+    a = hertz.contact_radius(F, E_star, R_star)
+    m, s = compare.plateau_radius_error(F, a, E_star, R_star)
+    assert abs(m) < 1e-12 and s < 1e-12
+    m, s = compare.plateau_radius_error(F, 1.02 * a, E_star, R_star)
+    assert m == pytest.approx(0.02, rel=1e-9) and s < 1e-12
+    off = np.where(F < 0.9 * F.max(), 1.5, 1.0)  # errors off the plateau do not count
+    assert abs(compare.plateau_radius_error(F, off * a, E_star, R_star)[0]) < 1e-12
