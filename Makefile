@@ -13,7 +13,7 @@ SNAKE := .venv/bin/snakemake -s workflows/Snakefile --cores $(NPROC)
 paper: venv
 	$(SNAKE) paper
 
-## The main job plus the ultra-fine submodel level (0.0156 mm; about 40 more minutes on 2 cores).
+## The main job plus the ultra-fine submodel level (0.0156 mm; about 25 more minutes on 2 cores).
 paper-full: venv
 	$(SNAKE) paper --config 'paper_levels=[coarse,mid,fine,extra-fine,ultra-fine]'
 
