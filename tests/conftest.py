@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import subprocess
 import sys
 import tomllib
 from pathlib import Path
@@ -46,3 +47,16 @@ def recorded_global(overrides: list[str], tmp_path_factory, name: str = "global"
     path = tmp_path_factory.mktemp(name) / "cut.h5"
     rec.write(path)
     return sc, g, res, path
+
+
+def set_args(overrides: list[str]) -> list[str]:
+    """``--set KEY=VALUE`` arguments for scene overrides."""
+    return [a for o in overrides for a in ("--set", o)]
+
+
+def run_workflow(script: str, args: list[str], ranks: int = 1, timeout: float = 600) -> subprocess.CompletedProcess:
+    """Run ``workflows/<script>`` with ``args`` from the repository root (under mpirun when ranks > 1)."""
+    cmd = [str(PY), f"workflows/{script}", *args]
+    if ranks > 1:
+        cmd = [str(MPIRUN), "-n", str(ranks), *cmd]
+    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=timeout)

@@ -24,7 +24,7 @@ from rods.fe.mesh3d import TAGS_3D, section_counts
 from rods.fe.model import GlobalModel
 from rods.scene import SceneError, load_scene
 
-from .conftest import MPIRUN, PAPER, PY, ROOT, SCENES
+from .conftest import MPIRUN, PAPER, PY, ROOT, SCENES, run_workflow, set_args
 
 # tiny 3D model: short rods, 4 mm x 1 mm hexahedra (~22k DOFs)
 TINY = [
@@ -241,10 +241,7 @@ def test_scene_files():
 
 
 def _run_cli(out: Path, extra: list[str], ranks: int = 1) -> subprocess.CompletedProcess:
-    cmd = [str(PY), "workflows/global.py", *sum((["--set", s] for s in [*TINY, *extra]), []), "--out", str(out)]
-    if ranks > 1:
-        cmd = [str(MPIRUN), "-n", str(ranks), *cmd]
-    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
+    return run_workflow("global.py", [*set_args([*TINY, *extra]), "--out", str(out)], ranks)
 
 
 @pytest.mark.mpi

@@ -20,7 +20,7 @@ from rods.fe.mesh import TAGS
 from rods.fe.model import GlobalModel
 from rods.scene import SceneError, load_scene
 
-from .conftest import MPIRUN, PAPER, PY, ROOT
+from .conftest import MPIRUN, PAPER, PY, ROOT, run_workflow, set_args
 
 COARSE = ["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=3e-4"]
 
@@ -132,10 +132,7 @@ def test_summary_contract_and_against_analytical(result):
 
 
 def _run_cli(out: Path, extra: list[str], ranks: int = 1) -> subprocess.CompletedProcess:
-    cmd = [str(PY), "workflows/global.py", *sum((["--set", s] for s in [*COARSE, *extra]), []), "--out", str(out)]
-    if ranks > 1:
-        cmd = [str(MPIRUN), "-n", str(ranks), *cmd]
-    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    return run_workflow("global.py", [*set_args([*COARSE, *extra]), "--out", str(out)], ranks, timeout=300)
 
 
 def test_no_fields_unless_asked(tmp_path):

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import subprocess
 
 import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
 
@@ -17,7 +16,7 @@ from rods.fe.model import GlobalModel
 from rods.fe.submodel import CutDriver, run_submodel, submodel_scene
 from rods.scene import load_scene
 
-from .conftest import MPIRUN, PAPER, PY, ROOT, recorded_global
+from .conftest import MPIRUN, PAPER, recorded_global, run_workflow, set_args
 
 # tiny scene: 0.1 m rods, 2 mm x 1 mm global mesh, 12 mm submodel region (a multiple of 2 mm). The Hertz
 # patch (1.1 mm) spans about one element, so the force depends on the penalty (measured: 3.9 kN at ε = E*/2 mm,
@@ -115,24 +114,17 @@ def test_non_nested_submodel_runs_and_matches(tiny):
     assert sub.sigma_r["r"].size > 0 and np.all(np.isfinite(sub.sigma_r["sigma_r"]))
 
 
-def _cli(script: str, args: list[str], ranks: int = 1) -> subprocess.CompletedProcess:
-    cmd = [str(PY), f"workflows/{script}", *args]
-    if ranks > 1:
-        cmd = [str(MPIRUN), "-n", str(ranks), *cmd]
-    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
-
-
 @pytest.fixture(scope="module")
 def tiny_global_dir(tmp_path_factory):
     out = tmp_path_factory.mktemp("gcli")
-    p = _cli("global.py", [*sum((["--set", s] for s in TINY), []), "--record-cut", "--out", str(out)])
+    p = run_workflow("global.py", [*set_args(TINY), "--record-cut", "--out", str(out)])
     assert p.returncode == 0, p.stderr
     return out
 
 
-def test_end_to_end_cli(tiny_global_dir, tmp_path):
+def test_end_to_endrun_workflow(tiny_global_dir, tmp_path):
     assert (tiny_global_dir / "cut.h5").exists()
-    p = _cli("submodel.py", ["--global", str(tiny_global_dir), "--size", "1e-3", "--out", str(tmp_path)])
+    p = run_workflow("submodel.py", ["--global", str(tiny_global_dir), "--size", "1e-3", "--out", str(tmp_path)])
     assert p.returncode == 0, p.stderr
     s = json.loads((tmp_path / "summary.json").read_text())
     for k in (*io.SUMMARY_KEYS, "dofs", "hertz_at_own_force", "sigma_r_profile", "cut_nodes", "level"):
@@ -140,7 +132,7 @@ def test_end_to_end_cli(tiny_global_dir, tmp_path):
     for f in ("history.csv", "pressure_profile.csv", "sigma_r.csv"):
         assert (tmp_path / f).exists()
     # missing checkpoint: clean exit 2
-    p = _cli("submodel.py", ["--global", str(tmp_path), "--out", str(tmp_path / "x")])
+    p = run_workflow("submodel.py", ["--global", str(tmp_path), "--out", str(tmp_path / "x")])
     assert p.returncode == 2 and "cut.h5" in p.stderr
 
 
@@ -148,8 +140,8 @@ def test_end_to_end_cli(tiny_global_dir, tmp_path):
 @pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
 def test_serial_and_mpi_submodel_agree(tiny_global_dir, tmp_path):
     args = ["--global", str(tiny_global_dir), "--size", "0.7e-3", "--end-time", "6e-5"]
-    p1 = _cli("submodel.py", [*args, "--out", str(tmp_path / "s")])
-    p2 = _cli("submodel.py", [*args, "--out", str(tmp_path / "p")], ranks=2)
+    p1 = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "s")])
+    p2 = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "p")], ranks=2)
     assert p1.returncode == 0, p1.stderr
     assert p2.returncode == 0, p2.stderr
     h1, h2 = io.read_history(tmp_path / "s" / "history.csv"), io.read_history(tmp_path / "p" / "history.csv")
@@ -169,7 +161,7 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
     from rods.compare import hertz_stresses
 
     g = tmp_path / "g"
-    p = _cli(
+    p = run_workflow(
         "global.py",
         [
             *("--set", "fe.tip_grading=0.25", "--set", "fe.penalty=8", "--set", "simulation.end_time=1.5e-4"),
@@ -177,7 +169,7 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
         ],
     )
     assert p.returncode == 0, p.stderr
-    p = _cli(
+    p = run_workflow(
         "submodel.py",
         ["--global", str(g), "--level", "extra-fine", "--end-time", "1.4e-4", "--out", str(tmp_path / "s")],
     )

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import math
 import shutil
-import subprocess
 
 import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
 
@@ -21,7 +20,7 @@ from rods.fe.model import GlobalModel
 from rods.fe.submodel import MAX_EXTRAPOLATION, CutDriver, run_submodel, submodel_scene
 from rods.scene import load_scene
 
-from .conftest import MPIRUN, PAPER, PY, ROOT, recorded_global
+from .conftest import MPIRUN, PAPER, recorded_global, run_workflow, set_args
 
 # tiny quarter model: 48 + 100 mm rods, 4 mm along x 1 mm across (~6k DOFs), 12 mm submodel region (3 global
 # axial elements, so a submodel meshed like the global nests along z). Penalty fixed: global and submodel are
@@ -166,23 +165,16 @@ def test_surface_gauss_stress_linear_field(kind):
     assert np.all((out["depth"] > 0.9 * g * 4e-3) & (out["depth"] < 1.02 * g * 4e-3))
 
 
-def _cli(script: str, args: list[str], ranks: int = 1) -> subprocess.CompletedProcess:
-    cmd = [str(PY), f"workflows/{script}", *args]
-    if ranks > 1:
-        cmd = [str(MPIRUN), "-n", str(ranks), *cmd]
-    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
-
-
 @pytest.mark.mpi
 @pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
 def test_serial_and_mpi_submodel_3d_agree(tmp_path):
     """CLI end to end in 3D: global --record-cut, then the non-nested submodel on 1 and 2 ranks."""
     g = tmp_path / "g"
-    p = _cli("global.py", [*sum((["--set", s] for s in TINY), []), "--record-cut", "--out", str(g)])
+    p = run_workflow("global.py", [*set_args(TINY), "--record-cut", "--out", str(g)])
     assert p.returncode == 0, p.stderr
     args = ["--global", str(g), "--size", str(H_NN), "--end-time", "6e-5"]
-    p1 = _cli("submodel.py", [*args, "--out", str(tmp_path / "s")])
-    p2 = _cli("submodel.py", [*args, "--out", str(tmp_path / "p")], ranks=2)
+    p1 = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "s")])
+    p2 = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "p")], ranks=2)
     assert p1.returncode == 0, p1.stderr
     assert p2.returncode == 0, p2.stderr
     h1, h2 = io.read_history(tmp_path / "s" / "history.csv"), io.read_history(tmp_path / "p" / "history.csv")

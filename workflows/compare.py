@@ -202,12 +202,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             h = io.read_history(lv["_dir"] / "history.csv")
             e.append(100 * compare.plateau_radius_error(h["contact_force"], h["contact_radius"], E_star, R_star)[0])
         rp = compare.richardson(*e, ratio)
-        gci_abs = (
-            compare.SAFETY_FACTOR * abs(rp.f1 - rp.f2) / (ratio**rp.order - 1) if rp.asymptotic else math.nan
-        )  # [%]
         L.append(
             f"| radius vs Hertz at the same force, plateau mean [%] | {rp.f3:+.3f} | {rp.f2:+.3f} | {rp.f1:+.3f} "
-            f"| {fmt(rp.order, 2)} | {fmt(rp.extrapolated, 3)} | ±{fmt(gci_abs, 2)} points | 0 "
+            f"| {fmt(rp.order, 2)} | {fmt(rp.extrapolated, 3)} | ±{fmt(rp.error_band, 2)} points | 0 "
             f"| {fmt(rp.extrapolated, 2)}% |"
         )
         L += [

@@ -352,9 +352,7 @@ class CutDriver:
         # work done by the cut on the submodel (this rank's cut entries) [J]: the prescription adds the impulse
         # R = M (v_prescribed - v_free) [N s] per step, which moves through (v_{n-1/2} + v_{n+1/2})/2 Δt
         self.m_cut = model.mass[self.idx]  # [kg]
-        v0 = np.zeros(model.n_local)
-        v0[model.rod1_z] = model.scene.speed  # the initial velocity (Rod 1 at s1)
-        self.v_prev = v0[self.idx]  # v_{n-1/2} at the cut [m/s]
+        self.v_prev = model.initial_velocity()[self.idx]  # v_{n-1/2} at the cut [m/s], v_0 before the first step
         self.work = 0.0
         self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
 
