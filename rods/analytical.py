@@ -114,9 +114,7 @@ class WaveModel:
     K: float = field(init=False)  # Hertz stiffness [N/m^1.5]
 
     def __post_init__(self) -> None:
-        m1, m2 = self.rod1.material, self.rod2.material
-        self.E_star = hertz.effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
-        self.R_star = hertz.effective_radius(self.rod1.tip_radius, self.rod2.tip_radius)
+        self.E_star, self.R_star = hertz.contact_constants(self.rod1, self.rod2)
         self.K = hertz.contact_stiffness(self.E_star, self.R_star)
         self.Z = (self.rod1.impedance, self.rod2.impedance)  # [N s/m]
         self.T = (self.rod1.transit_time, self.rod2.transit_time)  # [s]

@@ -1,7 +1,5 @@
 """Comparison-stage math: Hertz at a model's own force, Hertz subsurface stresses, Richardson/GCI.
 
-* :func:`hertz_at_force`: closed-form Hertz (paper Eq. 10) at a model's own peak force F, so that a
-  model's contact size is judged against the contact law and not against a different force.
 * :func:`hertz_stresses`: Hertz stresses below the surface (Johnson, Contact Mechanics, 1985,
   Eq. 3.44; Huber 1904) at (r, z), z the depth: the paper computed the closed form at the FE
   integration points (Fig. 6), which lie ~0.21 h below the surface.
@@ -24,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz
 
-__all__ = ["Richardson", "hertz_at_force", "hertz_stresses", "percent", "plateau_radius_error", "richardson"]
+__all__ = ["Richardson", "hertz_stresses", "percent", "plateau_radius_error", "richardson"]
 
 SAFETY_FACTOR = 1.25  # GCI factor of safety for three-grid studies (Roache) [-]
 
@@ -32,17 +30,6 @@ SAFETY_FACTOR = 1.25  # GCI factor of safety for three-grid studies (Roache) [-]
 def percent(x: float, ref: float) -> float:
     """Relative difference 100 (x - ref)/ref [%]."""
     return 100.0 * (x - ref) / ref
-
-
-def hertz_at_force(F: float, E_star: float, R_star: float) -> dict[str, float]:
-    """Hertz contact radius a [m], area π a² [m^2] and peak pressure p0 [Pa] at force F [N] (paper Eq. 10)."""
-    a = float(hertz.contact_radius(F, E_star, R_star))
-    return {
-        "force": F,
-        "contact_radius": a,
-        "contact_area": math.pi * a * a,
-        "peak_pressure": float(hertz.peak_pressure(F, a)),
-    }
 
 
 def hertz_stresses(

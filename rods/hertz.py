@@ -29,6 +29,8 @@ __all__ = [
     "axis_stresses",
     "check_yield",
     "contact_radius",
+    "at_force",
+    "contact_constants",
     "contact_stiffness",
     "effective_modulus",
     "effective_radius",
@@ -146,6 +148,26 @@ class _RodLike(Protocol):
     def material(self) -> _MaterialLike: ...
 
 
+def contact_constants(rod1: _RodLike, rod2: _RodLike) -> tuple[float, float]:
+    """(E*, R*) of two rods' tips [Pa, m] (paper Eq. 8): the one definition every model uses.
+
+    R* is ``math.inf`` when both tips are flat (no Hertz point contact; :func:`at_force` then gives NaN)."""
+    m1, m2 = rod1.material, rod2.material
+    E_star = effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
+    flat = math.isinf(rod1.tip_radius) and math.isinf(rod2.tip_radius)
+    return E_star, (math.inf if flat else effective_radius(rod1.tip_radius, rod2.tip_radius))
+
+
+def at_force(F: float, E_star: float, R_star: float) -> dict[str, float]:
+    """Hertz at a model's own force F [N] (paper Eq. 10): contact radius a [m], area π a² [m^2], peak
+    pressure p0 [Pa], so that a model's contact size is judged against the contact law, not against a
+    different force. NaN for two flat tips (R* = inf)."""
+    if math.isinf(R_star):
+        return {"force": F, "contact_radius": math.nan, "contact_area": math.nan, "peak_pressure": math.nan}
+    a = float(contact_radius(F, E_star, R_star))
+    return {"force": F, "contact_radius": a, "contact_area": math.pi * a * a, "peak_pressure": float(peak_pressure(F, a))}
+
+
 @dataclass(frozen=True)
 class HertzContact:
     """Hertz contact at one force level (paper Eqs. 8 and 10; Johnson §4.2).
@@ -168,10 +190,8 @@ class HertzContact:
         """Contact of two rods' tips at force F [N]; stresses are for rod ``body`` (1 or 2)."""
         if body not in (1, 2):
             raise ValueError(f"body must be 1 or 2, got {body!r}")
-        m1, m2 = rod1.material, rod2.material
-        E_star = effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
-        R_star = effective_radius(rod1.tip_radius, rod2.tip_radius)
-        nu = (m1 if body == 1 else m2).poisson_ratio
+        E_star, R_star = contact_constants(rod1, rod2)
+        nu = (rod1.material if body == 1 else rod2.material).poisson_ratio
         return cls(F=float(F), E_star=E_star, R_star=R_star, nu=nu)
 
     @property

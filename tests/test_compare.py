@@ -37,7 +37,7 @@ def test_richardson_non_monotone():
 
 def test_hertz_at_force_consistent():
     E_star, R_star, F = 112.25e9, 0.035, 5543.0
-    H = compare.hertz_at_force(F, E_star, R_star)
+    H = hertz.at_force(F, E_star, R_star)
     assert H["contact_radius"] == pytest.approx((3 * F * R_star / (4 * E_star)) ** (1 / 3), rel=1e-12)
     assert H["contact_area"] == pytest.approx(math.pi * H["contact_radius"] ** 2)
     assert H["peak_pressure"] == pytest.approx(1.5 * F / H["contact_area"], rel=1e-12)

@@ -91,7 +91,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     rows = []
     for name, s, pp in models:
         F = s["peak_contact_force"]
-        H = compare.hertz_at_force(F, E_star, R_star)
+        H = hertz.at_force(F, E_star, R_star)
         a, A, p = s["contact_radius"], s["contact_area"], s["peak_contact_pressure"]
         err = sigma_r_error(s, nu)
         rows.append(
@@ -181,7 +181,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         ]
         rF = compare.richardson(f1["peak_contact_force"], f2["peak_contact_force"], f3["peak_contact_force"], ratio)
         F_ext = rF.extrapolated if rF.asymptotic else f1["peak_contact_force"]
-        H_ext = compare.hertz_at_force(F_ext, E_star, R_star)
+        H_ext = hertz.at_force(F_ext, E_star, R_star)
         spec = [
             ("peak force [N]", "peak_contact_force", 1.0, None),
             ("contact radius [mm]", "contact_radius", 1e3, H_ext["contact_radius"] * 1e3),
@@ -278,7 +278,7 @@ def _fig5c(out: Path, s: dict, E_star: float, R_star: float) -> None:
     import matplotlib.pyplot as plt
 
     r, p = np.asarray(s["pressure_profile"]["r"]), np.asarray(s["pressure_profile"]["p"])
-    H = compare.hertz_at_force(s["peak_contact_force"], E_star, R_star)
+    H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(r * 1e3, p / 1e9, "o-", ms=2, label=f"FE {s.get('level', 'global')}")
     rr = np.linspace(0, r.max(), 500)
