@@ -1,0 +1,28 @@
+"""The paper's tables are read by name from one data file and agree with the trial scenes."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rods import paper_data
+from rods.scene import load_scene
+from tests.conftest import SCENES
+
+
+def test_every_trial_scene_has_its_row_and_speed():
+    data = paper_data.load()
+    assert set(data.trials) == {p.stem for p in SCENES.glob("trial-*.toml")}
+    for name, row in data.trials.items():
+        assert load_scene(SCENES / f"{name}.toml").speed == pytest.approx(row.impact_speed, rel=1e-12)
+
+
+def test_fe_trial_and_units():
+    data = paper_data.load()
+    exp = data.fe_experiment
+    assert exp.impact_speed == 2.197 and exp.experimental_radius == pytest.approx(1.109e-3)
+    # Table 3's printed experimental area is π a² of the Table-2 radius to three digits
+    assert data.experimental_area == pytest.approx(math.pi * exp.experimental_radius**2, rel=2e-3)
+    assert data.table3_submodel("fine").force == 5492.0 and data.table3_submodel("extra-fine") is None
+    assert math.isnan(data.trials["trial-1-1"].experimental_peak_speed)
