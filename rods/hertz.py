@@ -165,7 +165,12 @@ def at_force(F: float, E_star: float, R_star: float) -> dict[str, float]:
     if math.isinf(R_star):
         return {"force": F, "contact_radius": math.nan, "contact_area": math.nan, "peak_pressure": math.nan}
     a = float(contact_radius(F, E_star, R_star))
-    return {"force": F, "contact_radius": a, "contact_area": math.pi * a * a, "peak_pressure": float(peak_pressure(F, a))}
+    return {
+        "force": F,
+        "contact_radius": a,
+        "contact_area": math.pi * a * a,
+        "peak_pressure": float(peak_pressure(F, a)),
+    }
 
 
 @dataclass(frozen=True)
