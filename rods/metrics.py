@@ -7,21 +7,28 @@
   ``MIN_GAP`` = 1 µs do not end an episode: a stiff penalty makes FE contact nodes chatter on a
   nanosecond scale, and the experiment (sampled every 2.26 µs) cannot see such gaps either.
 * Average peak speed (Table 2): the paper averages the Rod-2 midpoint speed over the first five
-  plateaus, taking samples >= 1.0 m/s. A fixed 1.0 m/s cannot apply to the 1.848 m/s trial (its
-  plateaus sit near s1/2 = 0.92 m/s), so the threshold here is relative: ``0.9 x`` the largest
-  midpoint speed, which reproduces the paper's 1.0 m/s at 2.2 m/s. A plateau is a maximal run of
-  samples above the threshold; the result is the mean of all samples in the first five plateaus.
+  plateaus, taking samples >= 1.0 m/s (``PAPER_PLATEAU_THRESHOLD``). A fixed 1.0 m/s cannot apply to
+  the 1.848 m/s trial (its plateaus sit near s1/2 = 0.92 m/s), so the default threshold here is
+  relative: ``0.9 x`` the largest midpoint speed, about the paper's 1.0 m/s at 2.2 m/s; an absolute
+  ``threshold`` [m/s] reproduces the paper's rule. A plateau is a maximal run of samples at or above
+  the threshold; the result is the mean of all samples in the first five plateaus.
 * Smoothed peak force: the largest value of the force averaged over a sliding window (default
   ``SMOOTHING`` = 2 µs, below the experiment's 2.26 µs sampling). Stiff penalties make contact nodes
   rattle and add nanosecond spikes to the raw force; the smoothed peak is what a sensor would see.
 * RMS strain difference (Table 2): over the first five periods 2 L2/c2 of the midpoint strain,
-  counted from impact; the two histories are compared on the first one's sample times.
+  counted from impact (:func:`strain_window`); the two histories are compared on the first one's
+  sample times.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from rods.scene import Rod
 
 __all__ = [
     "contact_episodes",
@@ -30,12 +37,16 @@ __all__ = [
     "plateaus",
     "rms_difference",
     "smoothed_peak",
+    "strain_window",
 ]
 
 CONTACT_THRESHOLD = 1e-3  # fraction of the peak force that counts as contact [-]
 MIN_GAP = 1e-6  # gaps shorter than this do not separate contact episodes [s]
 SMOOTHING = 2e-6  # sliding-average window of the smoothed peak force [s]
 PLATEAU_FRACTION = 0.9  # fraction of the largest midpoint speed that marks a plateau [-]
+PLATEAU_COUNT = 5  # plateaus averaged for the average peak speed [-]
+PAPER_PLATEAU_THRESHOLD = 1.0  # the paper's fixed plateau threshold (Results, printed "1.0 mm/s") [m/s]
+STRAIN_PERIODS = 5  # periods 2 L2/c2 of the midpoint strain compared by the RMS difference [-]
 
 
 def _crossing(t0: float, t1: float, y0: float, y1: float, level: float) -> float:
@@ -78,20 +89,36 @@ def contact_duration(t: ArrayLike, force: ArrayLike) -> float:
     return ep[0][1] - ep[0][0] if ep else 0.0
 
 
-def plateaus(t: ArrayLike, v: ArrayLike, count: int = 5, fraction: float = PLATEAU_FRACTION) -> list[slice]:
-    """Index ranges of the first ``count`` runs of ``v >= fraction x max(v)``."""
+def plateaus(
+    t: ArrayLike,
+    v: ArrayLike,
+    count: int = PLATEAU_COUNT,
+    fraction: float = PLATEAU_FRACTION,
+    threshold: float | None = None,
+) -> list[slice]:
+    """Index ranges of the first ``count`` runs of ``v >= fraction x max(v)``, or of ``v >= threshold``
+    [m/s] when an absolute threshold is given."""
     v = np.asarray(v, float)
-    on = v >= fraction * v.max()
+    on = v >= (fraction * v.max() if threshold is None else threshold)
     edges = np.flatnonzero(np.diff(np.concatenate(([0], on.astype(np.int8), [0]))))
     runs = [slice(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True)]
     return runs[:count]
 
 
-def midpoint_peak_speed(t: ArrayLike, v: ArrayLike, count: int = 5) -> float:
-    """Average peak speed: mean of the samples in the first ``count`` plateaus [m/s]."""
+def midpoint_peak_speed(
+    t: ArrayLike, v: ArrayLike, count: int = PLATEAU_COUNT, threshold: float | None = None
+) -> float:
+    """Average peak speed: mean of the samples in the first ``count`` plateaus [m/s] (relative threshold
+    by default, ``threshold`` [m/s] if given); NaN when no sample reaches the threshold."""
     v = np.asarray(v, float)
-    runs = plateaus(t, v, count)
-    return float(np.concatenate([v[s] for s in runs]).mean())
+    runs = plateaus(t, v, count, threshold=threshold)
+    return float(np.concatenate([v[s] for s in runs]).mean()) if runs else float("nan")
+
+
+def strain_window(rod2: Rod, periods: int = STRAIN_PERIODS) -> tuple[float, float]:
+    """Time window [s] of the strain RMS difference: the first ``periods`` periods 2 L2/c2 of the Rod-2
+    midpoint strain, counted from impact (a wave needs 2 L2/c2 to cross Rod 2 and come back)."""
+    return (0.0, periods * rod2.transit_time)
 
 
 def rms_difference(t: ArrayLike, a: ArrayLike, t_b: ArrayLike, b: ArrayLike, window: tuple[float, float]) -> float:

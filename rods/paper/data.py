@@ -1,0 +1,61 @@
+"""Stage results as JSON: NaN/inf written as null (JSON has neither) and read back as NaN; relative
+differences defined once for the tables and the report."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rods import io
+
+__all__ = ["dump", "load", "pct", "rel", "write_json"]
+
+
+def _plain(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, list | tuple | np.ndarray):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.generic):
+        return _plain(x.item())
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
+
+
+def _nan(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {k: _nan(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_nan(v) for v in x]
+    return math.nan if x is None else x
+
+
+def dump(data: Mapping[str, Any]) -> str:
+    """JSON text of a stage result (non-finite numbers as null)."""
+    return json.dumps(_plain(data), indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def write_json(path: str | Path, data: Mapping[str, Any]) -> None:
+    io.atomic_write_text(path, dump(data))
+
+
+def load(path: str | Path) -> dict[str, Any]:
+    """A stage result; every null reads back as NaN (no stage writes null for anything but a number)."""
+    return _nan(json.loads(Path(path).read_text(encoding="utf-8")))
+
+
+def rel(ours: float, ref: float) -> float:
+    """Relative difference (ours - ref)/ref [-]; NaN where either is missing."""
+    return (ours - ref) / ref if math.isfinite(ours) and math.isfinite(ref) and ref != 0 else math.nan
+
+
+def pct(ours: float, ref: float, digits: int = 1) -> str:
+    """``rel`` as a signed percentage, '-' where it is undefined."""
+    r = rel(ours, ref)
+    return "-" if math.isnan(r) else f"{100 * r:+.{digits}f}%"
