@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -13,7 +14,7 @@ import numpy as np
 
 from rods import io
 
-__all__ = ["dump", "load", "pct", "rel", "write_json"]
+__all__ = ["Run", "dump", "load", "parse_run", "pct", "read_run", "rel", "write_json"]
 
 
 def _plain(x: Any) -> Any:
@@ -59,3 +60,25 @@ def pct(ours: float, ref: float, digits: int = 1) -> str:
     """``rel`` as a signed percentage, '-' where it is undefined."""
     r = rel(ours, ref)
     return "-" if math.isnan(r) else f"{100 * r:+.{digits}f}%"
+
+
+@dataclass(frozen=True)
+class Run:
+    """A model run as a later stage reads it: its label, history.csv columns and summary.json."""
+
+    label: str
+    history: dict[str, np.ndarray]
+    summary: dict[str, Any]
+
+
+def read_run(folder: str | Path, label: str = "") -> Run:
+    """The run in ``folder`` (history.csv, summary.json); the label defaults to the summary's model."""
+    folder = Path(folder)
+    summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    return Run(label or summary.get("model", folder.name), io.read_history(folder / "history.csv"), summary)
+
+
+def parse_run(spec: str) -> tuple[str, Path]:
+    """``LABEL=FOLDER`` (or a bare folder) from the command line; the label may itself contain '='."""
+    label, _, folder = spec.rpartition("=")
+    return label, Path(folder)

@@ -1,0 +1,141 @@
+"""Fig. 4 with both models: Rod-2 midpoint speed, strain and contact force, FE runs over the analytical model.
+
+:func:`compute` measures each FE run against the analytical run (``fig4.json``): peak force, contact
+duration, average peak speed and the strain RMS difference over :func:`rods.metrics.strain_window`, all
+defined in :mod:`rods.metrics`. :func:`render_table`/:func:`render_md` and :func:`plot` render it.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from rods import io, metrics
+from rods.paper.data import Run, rel, write_json
+from rods.scene import scene_from_summary
+
+__all__ = ["compute", "plot", "render_md", "render_table", "write"]
+
+FORCE_PANEL_END = 400e-6  # [s] the force panel shows the first contact and the first returns
+CONTACT_SETTINGS = ("penalty", "tip_grading")  # fe.* keys that tune the contact, not the mesh
+
+
+def _contact_overrides(run: Run, reference: dict[str, Any]) -> dict[str, Any]:
+    """The run's fe contact settings that differ from the analytical scene's (empty: a run at the scene's
+    own contact settings, i.e. a validation run rather than a tuned one)."""
+    fe = run.summary.get("scene_values", {}).get("fe", {})
+    return {k: fe[k] for k in CONTACT_SETTINGS if k in fe and fe[k] != reference.get(k)}
+
+
+def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_fe: dict) -> dict[str, Any]:
+    s, sa, h, ha = run.summary, analytical.summary, run.history, analytical.history
+    return {
+        "label": run.label,
+        "model": s.get("model", ""),
+        "peak_contact_force": s["peak_contact_force"],
+        "force_vs_analytical": rel(s["peak_contact_force"], sa["peak_contact_force"]),
+        "contact_duration": s["contact_duration"],
+        "duration_vs_analytical": s["contact_duration"] - sa["contact_duration"],
+        "midpoint_peak_speed": s["midpoint_peak_speed"],
+        "strain_rms_difference": metrics.rms_difference(
+            h["time"], h["rod2_mid_strain"], ha["time"], ha["rod2_mid_strain"], window
+        ),
+        "energy_error": float(s.get("energy_error", math.nan)),
+        "wall_time": float(s.get("wall_time", math.nan)),
+        "contact_overrides": _contact_overrides(run, reference_fe),
+    }
+
+
+def compute(analytical: Run, fe: list[Run]) -> dict[str, Any]:
+    """Fig. 4's agreement measures as data (SI units); the scene is the analytical run's own."""
+    if "scene_values" not in analytical.summary:
+        raise ValueError("the analytical run's summary.json has no scene_values (rerun workflows/paper.py)")
+    scene = scene_from_summary(analytical.summary["scene_values"])
+    window = metrics.strain_window(scene.rod2)
+    sa = analytical.summary
+    reference_fe = analytical.summary["scene_values"].get("fe", {})
+    return {
+        "impact_speed": sa["impact_speed"],
+        "strain_window": list(window),
+        "force_panel_end": FORCE_PANEL_END,
+        "analytical": {k: sa[k] for k in ("peak_contact_force", "contact_duration", "midpoint_peak_speed")},
+        "runs": [_measures(r, analytical, window, reference_fe) for r in fe],
+    }
+
+
+def validation_runs(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """The runs at the scene's own contact settings (the tuned submodel driver is not one)."""
+    return [r for r in data["runs"] if not r["contact_overrides"]]
+
+
+def render_table(data: dict[str, Any]) -> list[str]:
+    rows = [
+        f"| {r['label']} | {r['peak_contact_force']:.1f} | {100 * r['force_vs_analytical']:+.2f}% "
+        f"| {r['contact_duration'] * 1e6:.2f} | {r['duration_vs_analytical'] * 1e6:+.2f} "
+        f"| {r['midpoint_peak_speed']:.4f} | {r['strain_rms_difference'] * 1e6:.2f} | {r['energy_error']:.1e} "
+        f"| {r['wall_time']:.1f} |"
+        for r in data["runs"]
+    ]
+    return [
+        "| model | peak force [N] | vs analytical | duration [µs] | Δ duration [µs] | avg. peak speed [m/s] "
+        "| strain RMS Δ [µε] | energy error | wall time [s] |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        *rows,
+    ]
+
+
+def render_md(data: dict[str, Any], png: str = "fig4.png") -> str:
+    a = data["analytical"]
+    md = [
+        "# Fig. 4: FE global model against the analytical model",
+        "",
+        f"![Fig. 4]({png})",
+        "",
+        f"Analytical: peak force {a['peak_contact_force']:.1f} N, contact duration "
+        f"{a['contact_duration'] * 1e6:.2f} µs, average peak speed {a['midpoint_peak_speed']:.4f} m/s. "
+        f"Strain RMS difference over the first {metrics.STRAIN_PERIODS} periods 2 L2/c2 "
+        f"({data['strain_window'][1] * 1e6:.0f} µs). The force panel shows the first "
+        f"{data['force_panel_end'] * 1e6:.0f} µs.",
+        "",
+        *render_table(data),
+    ]
+    return "\n".join(md) + "\n"
+
+
+def plot(analytical: Run, fe: list[Run], data: dict[str, Any], path: Path) -> None:
+    """Three panels (midpoint speed, midpoint strain, contact force), every run over the analytical curves."""
+    fig, ax = plt.subplots(3, 1, figsize=(9, 9))
+    columns = [("rod2_mid_velocity", 1.0), ("rod2_mid_strain", 1e6), ("contact_force", 1.0)]
+    for run, style in [(analytical, {"color": "k", "lw": 1.4}), *((r, {"lw": 0.9}) for r in fe)]:
+        label = "analytical" if run is analytical else run.label
+        for a, (col, scale) in zip(ax, columns, strict=True):
+            a.plot(run.history["time"] * 1e6, run.history[col] * scale, label=label, **style)
+    ax[0].set(ylabel="speed [m/s]", title="a) Rod-2 midpoint speed (surface)")
+    ax[1].set(
+        ylabel="strain [µε]", xlabel="time since first contact [µs]", title="b) Rod-2 midpoint axial strain (surface)"
+    )
+    ax[2].set(ylabel="force [N]", xlabel="time since first contact [µs]", title="c) contact force")
+    ax[2].set_xlim(0, data["force_panel_end"] * 1e6)
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8, loc="upper right")
+    fig.suptitle(f"Fig. 4: FE global model over the analytical model ({data['impact_speed']} m/s)")
+    fig.tight_layout()
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write(analytical: Run, fe: list[Run], png: Path, md: Path) -> dict[str, Any]:
+    """The stage: fig4.json next to ``md``, the markdown and the figure."""
+    data = compute(analytical, fe)
+    write_json(Path(md).with_suffix(".json"), data)
+    plot(analytical, fe, data, png)
+    io.atomic_write_text(md, render_md(data, Path(png).name))
+    return data
