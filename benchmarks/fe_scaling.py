@@ -10,7 +10,7 @@ For each rank count p in 1, 2, 4, ..., N (and N itself) the script runs itself u
 * ``coarse``: the coarse scene (paper-3d-coarse.toml: 1 mm mean edge across, 4 mm along), full rods;
 * ``paper-section``: the paper's resolution (0.25 mm across, 1.0 mm along), rods 30 + 40 mm.
 
-Each worker times ``--steps`` steps of :meth:`rods.fe.model.GlobalModel.run` (best of 2; loop wall
+Each worker times ``--steps`` steps of :meth:`rods.fe.model.ExplicitModel.run` (best of 2; loop wall
 time, max over ranks) and reports DOFs, DOF-steps/s, the stable step, the setup time and the peak
 resident memory per rank (``ru_maxrss``). Parallel efficiency E_p = r_p / (p r_1), r the DOF-steps/s.
 
@@ -53,13 +53,13 @@ def worker(mesh: str, steps: int) -> None:
     # isort: split
     from mpi4py import MPI
 
-    from rods.fe.model import GlobalModel
+    from rods.fe.model import ExplicitModel
     from rods.scene import load_scene
 
     comm = MPI.COMM_WORLD
     over = ["fe.kind='3d'", *MESHES[mesh], "simulation.output_interval=1e-3"]
     t0 = time.perf_counter()
-    model = GlobalModel(load_scene(PAPER, over), comm)
+    model = ExplicitModel(load_scene(PAPER, over), comm)
     setup = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
     end = steps * model.dt
     model.scene = load_scene(PAPER, [*over[:-1], f"simulation.end_time={end}", f"simulation.output_interval={end}"])

@@ -3,7 +3,7 @@
     python benchmarks/fe_throughput.py [--steps 400] [--no-paper] [--out results/fe-throughput.md]
 
 For meshes from the paper's (~52k DOFs) up to ~400k DOFs, runs ``--steps`` steps of
-:meth:`rods.fe.model.GlobalModel.run` and reports DOF-steps/s and the memory traffic of one step
+:meth:`rods.fe.model.ExplicitModel.run` and reports DOF-steps/s and the memory traffic of one step
 (block matrix values + block column indices + row pointers, and the vectors: the multiply-add
 reads u, v and writes v, the update reads u, v and writes u: 48 B/DOF) divided by the step time,
 as a fraction of a STREAM-like bandwidth measured in the same run with numpy (the 'Add' kernel
@@ -27,7 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from rods.fe.model import GlobalModel  # noqa: E402
+from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
@@ -50,7 +50,7 @@ def stream_add(n: int = 20_000_000, reps: int = 5) -> float:
     return 24.0 * n / best
 
 
-def step_bytes(model: GlobalModel) -> float:
+def step_bytes(model: ExplicitModel) -> float:
     """Memory traffic of one time step [B] (see module docstring)."""
     nz = model.K.getInfo()["nz_used"]
     bs = model.bs
@@ -70,11 +70,11 @@ def main() -> int:
     rows = []
     for h_z, h_r in MESHES:
         sc = load_scene(PAPER, [f"fe.axial_size={h_z}", f"fe.radial_size={h_r}", "simulation.output_interval=1e-3"])
-        model = GlobalModel(sc)
+        model = ExplicitModel(sc)
         end = args.steps * model.dt
         sc = load_scene(PAPER, [f"fe.axial_size={h_z}", f"fe.radial_size={h_r}", f"simulation.end_time={end}",
                                 f"simulation.output_interval={end / 4}"])  # fmt: skip
-        model = GlobalModel(sc)
+        model = ExplicitModel(sc)
         best = np.inf
         for _ in range(3):
             r = model.run()
@@ -86,7 +86,7 @@ def main() -> int:
         print(msg, flush=True)
     paper = None
     if not args.no_paper:
-        model = GlobalModel(load_scene(PAPER))
+        model = ExplicitModel(load_scene(PAPER))
         r = model.run()
         paper = (model.n_global, r.summary["steps"], r.summary["wall_time"], model.setup_time)
         print(f"paper run: {paper[0]} DOFs, {paper[1]} steps, loop {paper[2]:.1f} s, setup {paper[3]:.1f} s")

@@ -36,14 +36,14 @@ def scene_with(paper_dict):
 def recorded_global(overrides: list[str], tmp_path_factory, name: str = "global"):
     """Run the paper scene with ``overrides`` as a global model recording its cut band (submodel tests):
     returns (scene, model, result, path of cut.h5)."""
-    from rods.fe.model import GlobalModel
+    from rods.fe.model import ExplicitModel
     from rods.fe.submodel import CutRecorder
     from rods.scene import load_scene
 
     sc = load_scene(PAPER, overrides)
-    g = GlobalModel(sc)
+    g = ExplicitModel(sc)
     rec = CutRecorder(g)
-    res = g.run(step_hook=rec)
+    res = g.run(observers=(rec,))
     path = tmp_path_factory.mktemp(name) / "cut.h5"
     rec.write(path)
     return sc, g, res, path

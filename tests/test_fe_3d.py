@@ -21,7 +21,7 @@ import ufl
 
 from rods import io, metrics
 from rods.fe.mesh3d import TAGS_3D, section_counts
-from rods.fe.model import GlobalModel
+from rods.fe.model import ExplicitModel
 from rods.scene import SceneError, load_scene
 
 from .conftest import MPIRUN, PAPER, PY, ROOT, SCENES, run_workflow, set_args
@@ -42,8 +42,8 @@ def tiny(*extra: str):
 
 
 @pytest.fixture(scope="module")
-def model() -> GlobalModel:
-    return GlobalModel(tiny())
+def model() -> ExplicitModel:
+    return ExplicitModel(tiny())
 
 
 @pytest.fixture(scope="module")
@@ -51,13 +51,13 @@ def result(model):
     return model.run()
 
 
-def _volume(model: GlobalModel, rod: int) -> float:
+def _volume(model: ExplicitModel, rod: int) -> float:
     dx = ufl.Measure("dx", domain=model.rm.mesh, subdomain_data=model.rm.cell_tags)
     v = dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(TAGS_3D[f"rod{rod}"])))
     return model.comm.allreduce(v)
 
 
-def _rod_entries(model: GlobalModel, rod: int, comp: int) -> np.ndarray:
+def _rod_entries(model: ExplicitModel, rod: int, comp: int) -> np.ndarray:
     V, rm = model.V, model.rm
     nodes = dolfinx.fem.locate_dofs_topological(V, 3, rm.cell_tags.find(TAGS_3D[f"rod{rod}"]))
     nodes = nodes[nodes < V.dofmap.index_map.size_local]
@@ -133,8 +133,8 @@ def test_conservation_and_contract(result):
 def _axisymmetric_vs_3d(extra: list[str], symmetry: str = "quarter") -> tuple[dict, dict, float]:
     """(summary 3D, summary axisymmetric, RMS of the midpoint-strain difference over the run). The 3D
     model is a quarter model by default (it reproduces the full model: test_symmetry_models_reproduce_full)."""
-    r3 = GlobalModel(load_scene(PAPER, ["fe.kind='3d'", f"fe.symmetry='{symmetry}'", *extra])).run()
-    ra = GlobalModel(load_scene(PAPER, extra)).run()
+    r3 = ExplicitModel(load_scene(PAPER, ["fe.kind='3d'", f"fe.symmetry='{symmetry}'", *extra])).run()
+    ra = ExplicitModel(load_scene(PAPER, extra)).run()
     t = r3.history["time"]
     rms = metrics.rms_difference(
         t, r3.history["rod2_mid_strain"], ra.history["time"], ra.history["rod2_mid_strain"], (0.0, t[-1])
@@ -165,12 +165,12 @@ def test_centric_3d_matches_axisymmetric_paper_rods():
 
 @pytest.fixture(scope="module")
 def full_short():
-    return GlobalModel(tiny("simulation.end_time=6e-5", "fe.dt=9e-8")).run()  # one step for all models
+    return ExplicitModel(tiny("simulation.end_time=6e-5", "fe.dt=9e-8")).run()  # one step for all models
 
 
 @pytest.mark.parametrize("symmetry", ["half", "quarter"])
 def test_symmetry_models_reproduce_full(full_short, symmetry):
-    r = GlobalModel(tiny("simulation.end_time=6e-5", "fe.dt=9e-8", f"fe.symmetry='{symmetry}'")).run()
+    r = ExplicitModel(tiny("simulation.end_time=6e-5", "fe.dt=9e-8", f"fe.symmetry='{symmetry}'")).run()
     s, f = r.summary, full_short.summary
     assert s["symmetry"] == symmetry
     assert s["dofs"] < f["dofs"] / (1.7 if symmetry == "half" else 3.0)
@@ -183,7 +183,7 @@ def test_symmetry_models_reproduce_full(full_short, symmetry):
 
 def test_symmetry_contradictions_refused(tmp_path):
     with pytest.raises(SceneError, match="quarter symmetry needs"):
-        GlobalModel(tiny("fe.symmetry='quarter'", "impact.offset=1e-3"))
+        ExplicitModel(tiny("fe.symmetry='quarter'", "impact.offset=1e-3"))
     p = subprocess.run(
         [
             str(PY),
@@ -202,7 +202,7 @@ def test_symmetry_contradictions_refused(tmp_path):
 def test_offset_impact(result):
     """Eccentric impact (e = 2 mm, half model): momentum exact, patch follows the offset, Rod 2 bends."""
     e = 2e-3
-    r = GlobalModel(tiny(f"impact.offset={e}", "fe.symmetry='half'")).run()
+    r = ExplicitModel(tiny(f"impact.offset={e}", "fe.symmetry='half'")).run()
     s, h = r.summary, r.history
     p = h["momentum"]
     assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
@@ -220,7 +220,7 @@ def test_offset_impact(result):
 def test_tilt_impact():
     """Tilted Rod 1 (θ = 0.02 rad about y): the sphere touches at x ≈ -r1 sin θ; bending appears."""
     θ = 0.02
-    r = GlobalModel(tiny(f"impact.tilt={θ}", "fe.symmetry='half'")).run()
+    r = ExplicitModel(tiny(f"impact.tilt={θ}", "fe.symmetry='half'")).run()
     s = r.summary
     x_touch = -r.summary["scene_values"]["rod1"]["tip_radius"] * math.sin(θ)
     assert s["contact_centroid_x"] == pytest.approx(x_touch, abs=0.35e-3)

@@ -17,7 +17,7 @@ import pytest
 
 from rods import io, metrics
 from rods.fe.mesh import TAGS
-from rods.fe.model import GlobalModel
+from rods.fe.model import ExplicitModel
 from rods.scene import SceneError, load_scene
 
 from .conftest import MPIRUN, PAPER, PY, ROOT, run_workflow, set_args
@@ -30,8 +30,8 @@ def coarse(*extra: str):
 
 
 @pytest.fixture(scope="module")
-def model() -> GlobalModel:
-    return GlobalModel(coarse())
+def model() -> ExplicitModel:
+    return ExplicitModel(coarse())
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,7 @@ def result(model):
     return model.run()
 
 
-def _rod_entries(model: GlobalModel, rod: int, comp: int) -> np.ndarray:
+def _rod_entries(model: ExplicitModel, rod: int, comp: int) -> np.ndarray:
     V, rm = model.V, model.rm
     nodes = dolfinx.fem.locate_dofs_topological(V, 2, rm.cell_tags.find(TAGS[f"rod{rod}"]))
     nodes = nodes[nodes < V.dofmap.index_map.size_local]
@@ -80,7 +80,7 @@ def test_stable_step(model):
 
 def test_requested_dt_above_limit_refused():
     with pytest.raises(SceneError, match="stable limit"):
-        GlobalModel(coarse("fe.dt=1e-6"))
+        ExplicitModel(coarse("fe.dt=1e-6"))
 
 
 def test_cli_exit_2_on_unstable_dt(tmp_path):
@@ -116,7 +116,7 @@ def test_energy_balance(result):
 
 
 def test_bulk_viscosity_dissipates_and_balances():
-    r = GlobalModel(coarse("fe.bulk_viscosity=0.06", "simulation.end_time=1.5e-4")).run()
+    r = ExplicitModel(coarse("fe.bulk_viscosity=0.06", "simulation.end_time=1.5e-4")).run()
     assert r.summary["energy_error"] < 1e-2
     assert r.history["dissipated_energy"][-1] > 0
 
@@ -174,7 +174,7 @@ def test_paper_scene_validation():
     from rods import hertz
 
     sc = load_scene(PAPER)
-    fe = GlobalModel(sc).run()
+    fe = ExplicitModel(sc).run()
     an = analytical.simulate(sc)
     s, a = fe.summary, an.summary
     assert s["peak_contact_force"] == pytest.approx(a["peak_contact_force"], rel=0.02)
@@ -201,7 +201,7 @@ def test_paper_scene_validation():
 
 def test_omega_max_matches_dense_eigenvalue():
     """SLEPc's ω_max² equals the largest eigenvalue of the dense M^-½ (K + K_c) M^-½ (small mesh)."""
-    m = GlobalModel(
+    m = ExplicitModel(
         load_scene(PAPER, ["rod1.length=0.03", "rod2.length=0.03", "fe.axial_size=3e-3", "fe.radial_size=1.6e-3"])
     )
     K = m.K.convert("dense").getDenseArray().copy()

@@ -13,7 +13,7 @@ import pytest
 
 import rods.fe  # noqa: F401
 from rods.fe.guards import SimulationError
-from rods.fe.model import GlobalModel
+from rods.fe.model import ExplicitModel
 from rods.io import read_history
 
 from .conftest import ROOT
@@ -22,7 +22,7 @@ COARSE = ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=2e
 
 
 def test_unstable_step_is_stopped_with_step_time_and_cause(scene_with):
-    m = GlobalModel(scene_with(*COARSE))
+    m = ExplicitModel(scene_with(*COARSE))
     m.dt = 1.2 * m.dt_critical  # bypass the refusal of an unstable fe.dt, as a broken scheme would
     with pytest.raises(SimulationError) as e:
         m.run()
@@ -38,14 +38,14 @@ def test_cli_writes_partial_histories_and_exits_1(tmp_path, monkeypatch):
     import importlib
 
     glob = importlib.import_module("global")
-    orig = GlobalModel._stable_step
+    orig = ExplicitModel._stable_step
 
     def unstable(self):
         orig(self)
         self.dt = 1.2 * self.dt_critical
         self.steps = int(self.scene.end_time / self.dt)
 
-    monkeypatch.setattr(GlobalModel, "_stable_step", unstable)
+    monkeypatch.setattr(ExplicitModel, "_stable_step", unstable)
     args = [a for o in COARSE for a in ("--set", o)]
     assert glob.main([*args, "--out", str(tmp_path)]) == 1
     s = json.loads((tmp_path / "summary.json").read_text())
@@ -93,7 +93,7 @@ def test_killed_run_resumes_from_its_checkpoint_with_the_same_histories(tmp_path
 @pytest.mark.parametrize("kind", ["axisymmetric", "3d"])
 def test_inverted_cells_are_found_and_rigid_motion_is_not(scene_with, kind):
     extra = ("fe.kind=3d", "fe.symmetry=quarter", "rod1.length=0.05", "rod2.length=0.05") if kind == "3d" else ()
-    m = GlobalModel(scene_with("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5", *extra))
+    m = ExplicitModel(scene_with("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5", *extra))
     u = np.zeros(m.n_local)
     u[m.rod1_z] = 1.0  # 1 m of rigid translation: nothing is distorted
     assert m.inverted_cells(u) == 0

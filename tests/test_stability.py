@@ -14,7 +14,7 @@ import pytest
 
 import rods.fe  # noqa: F401
 from rods.analytical import simulate
-from rods.fe.model import GlobalModel
+from rods.fe.model import ExplicitModel
 from rods.hertz import YieldWarning
 from rods.metrics import smoothed_peak
 from rods.scene import SCHEMA, SceneError
@@ -46,7 +46,7 @@ CASES = {
 def run_case(scene):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", YieldWarning)
-        fe = GlobalModel(scene)
+        fe = ExplicitModel(scene)
         return fe, fe.run(), simulate(scene)
 
 
@@ -74,7 +74,7 @@ def test_stability_matrix(scene_with, name):
 
 def test_stiffer_penalty_shrinks_the_step(scene_with):
     """The linear limit falls once the penalty controls the spectrum; the switching limit as 1/sqrt(penalty)."""
-    models = [GlobalModel(scene_with(*COARSE, f"fe.penalty={p * P0}")) for p in (1, 100)]
+    models = [ExplicitModel(scene_with(*COARSE, f"fe.penalty={p * P0}")) for p in (1, 100)]
     assert models[1].dt_critical < 0.8 * models[0].dt_critical
     assert models[1].dt_switching == pytest.approx(models[0].dt_switching / 10, rel=1e-9)
     assert models[1].dt == pytest.approx(models[1].dt_switching)  # the switching limit controls at 100x
@@ -87,11 +87,11 @@ def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
     from rods.fe.guards import SimulationError
 
     scene = scene_with(*COARSE, f"fe.penalty={100 * P0}")
-    fe = GlobalModel(scene)
+    fe = ExplicitModel(scene)
     dt = 0.8 * fe.dt_critical
     assert dt > 1.1 * fe.dt_switching
     with pytest.raises(SceneError, match="switching"):
-        GlobalModel(scene_with(*COARSE, f"fe.penalty={100 * P0}", f"fe.dt={dt}"))
+        ExplicitModel(scene_with(*COARSE, f"fe.penalty={100 * P0}", f"fe.dt={dt}"))
     fe.dt, fe.steps = dt, int(scene.end_time / dt)  # bypass the refusal to show the instability
     with pytest.raises(SimulationError, match="energy grew"):
         fe.run()
@@ -116,7 +116,7 @@ def test_low_speed_needs_a_refined_tip(scene_with):
 def test_200k_steps_bounded_energy_drift(scene_with):
     """200,000 central-difference steps (13 ms, many wave round trips and the whole contact): drift < 1e-4."""
     scene = scene_with(*COARSE, "simulation.end_time=1.32e-2", "simulation.output_interval=1e-6")
-    fe = GlobalModel(scene)
+    fe = ExplicitModel(scene)
     assert fe.steps >= 200_000
     r = fe.run()
     assert r.summary["energy_error"] < 1e-4

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from rods import io
-from rods.fe.model import GlobalModel
+from rods.fe.model import ExplicitModel
 from rods.fe.submodel import CutDriver, run_submodel, submodel_scene
 from rods.scene import load_scene
 
@@ -87,7 +87,7 @@ def test_cut_displacement_matches_recorded_at_coincident_nodes(tiny):
     import h5py
 
     sc, g, _, path = tiny
-    m = GlobalModel(submodel_scene(sc, 1e-3, 2e-3, end_time=5e-5))
+    m = ExplicitModel(submodel_scene(sc, 1e-3, 2e-3, end_time=5e-5))
     d = CutDriver(m, path)
     with h5py.File(path) as f:
         X, U, T = f["nodes"][()], f["u"][()], f["times"][()]

@@ -16,7 +16,7 @@ import pytest
 
 from rods import io
 from rods.fe.mesh3d import section_counts
-from rods.fe.model import GlobalModel
+from rods.fe.model import ExplicitModel
 from rods.fe.submodel import MAX_EXTRAPOLATION, CutDriver, run_submodel, submodel_scene
 from rods.scene import load_scene
 
@@ -68,7 +68,7 @@ def test_cut_file_contents_3d(tiny):
 
 def test_submodel_scene_keeps_kind_and_symmetry(tiny):
     sc, _, _, _ = tiny
-    m = GlobalModel(submodel_scene(sc, 1e-3, 4e-3, end_time=1e-6))
+    m = ExplicitModel(submodel_scene(sc, 1e-3, 4e-3, end_time=1e-6))
     assert m.kind == "3d" and m.rm.symmetry == "quarter" and m.multiplicity == 4
     # the cut planes are the rods' flat far ends at z = ∓L_s (the cap blend vanishes there)
     x = m.V.tabulate_dof_coordinates()
@@ -95,7 +95,7 @@ def test_driving_reproduces_global_3d(tiny):
 @pytest.fixture(scope="module")
 def non_nested_driver(tiny):
     sc, _, _, path = tiny
-    return CutDriver(GlobalModel(submodel_scene(sc, H_NN, end_time=5e-5)), path)
+    return CutDriver(ExplicitModel(submodel_scene(sc, H_NN, end_time=5e-5)), path)
 
 
 def test_non_nested_cut_interpolation_3d(tiny, non_nested_driver):
@@ -150,7 +150,7 @@ def test_surface_gauss_stress_linear_field(kind):
     from rods.fe.submodel import surface_gauss_stress
 
     extra = TINY if kind == "3d" else [s for s in TINY if "kind" not in s and "symmetry" not in s]
-    m = GlobalModel(submodel_scene(load_scene(PAPER, extra), 1e-3, 4e-3, end_time=1e-6))
+    m = ExplicitModel(submodel_scene(load_scene(PAPER, extra), 1e-3, 4e-3, end_time=1e-6))
     a, b = 1e-4, -3e-4  # [-]
     x = m.V.tabulate_dof_coordinates()[: m.n_local // m.bs]
     u = np.zeros((x.shape[0], m.bs))

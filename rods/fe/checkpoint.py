@@ -9,6 +9,9 @@ Layout in the run's output folder:
   kill at any moment leaves one complete checkpoint.
 
 A restart needs the same scene and the same rank count (the owned arrays follow the partition).
+:class:`Checkpoints` writes them as an observer of the loop (:mod:`rods.fe.observers`) from the
+``state(step)`` of its parts (the stepper, the recorder); :func:`load` returns the merged dict that
+each part's ``restore`` reads back.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 
-__all__ = ["load", "save"]
+__all__ = ["Checkpoints", "load", "save"]
 
 MANIFEST = "checkpoint.json"
 
@@ -66,3 +69,18 @@ def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | N
         raise ValueError(f"checkpoint in {out} belongs to another scene or settings; remove it or use another --out")
     with np.load(Path(out) / _name(meta["step"], comm.rank)) as z:
         return {k: z[k] for k in z.files}
+
+
+class Checkpoints:
+    """Observer: saves the parts' state every ``every`` steps after ``first`` and before ``last`` into ``out``."""
+
+    def __init__(self, out: Path, every: int, parts, comm: MPI.Comm, key: str, first: int, last: int):
+        self.out, self.every, self.parts, self.comm, self.key = Path(out), every, parts, comm, key
+        self.first, self.last = first, last
+
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
+        if step % self.every == 0 and self.first < step < self.last:
+            merged: dict[str, Any] = {}
+            for p in self.parts:
+                merged.update(p.state(step))
+            save(self.out, step, t, merged, self.comm, self.key)

@@ -281,15 +281,6 @@ class PenaltyContact:
         y[ls] += fs
         y[lm] += fm
 
-    def add_internal(self, u: np.ndarray, f: np.ndarray) -> None:
-        """Evaluate at ``u`` and subtract the contact force from ``f`` (internal forces K u - f_c)."""
-        self.evaluate(u)
-        self._sub(f)
-
-    def _sub(self, f: np.ndarray) -> None:
-        f[self.slave.local] += self._Fs[self.slave.pos]
-        f[self.master.local] -= self._Fm[self.master.pos]
-
     def apply_stiffness(self, x: np.ndarray, y: np.ndarray) -> None:
         """y += K_c x with every potential contact pair active (full engagement): K_c = Σ k_s b_s b_sᵀ."""
         xs, xm = self.gather(x)

@@ -28,6 +28,10 @@ Safe lower bound (Gershgorin): ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i, repo
 Discrete energy: for the linear part the scheme conserves exactly
 H_n = ½ v_{n-½}·M v_{n+½} + ½ u_n·K u_n, so the kinetic energy is reported as ½ v_{n-½}·M v_{n+½}
 (the mid-step product, → ½ v·M v as Δt → 0). The contact adds E_c(u_n) (conserved to O(Δt²)).
+
+The integrator is an object (:class:`CentralDifference`, after dolfiny's ``odeint.ODEInt2``): it holds
+the state and advances it by :meth:`CentralDifference.step`; the caller owns the loop and what it
+records (:mod:`rods.fe.recorder`, :mod:`rods.fe.observers`).
 """
 
 from __future__ import annotations
@@ -39,7 +43,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-__all__ = ["SWITCHING", "largest_eigenvalue", "power_iteration", "stable_step", "switching_step"]
+__all__ = ["SWITCHING", "CentralDifference", "largest_eigenvalue", "power_iteration", "stable_step", "switching_step"]
 
 SWITCHING = 1.0  # largest ω_c Δt of an isolated contact pair [-] (see the module docstring)
 
@@ -108,3 +112,117 @@ def stable_step(ω_max: float, ξ: float = 0.0) -> float:
 def switching_step(ω_contact: float) -> float:
     """Δt_switch = SWITCHING / ω_c [s]: the contact-switching limit (module docstring); inf without contact."""
     return SWITCHING / ω_contact if ω_contact > 0 else math.inf
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    """a·b without BLAS (a threaded BLAS dot stalls the time loop when the cores are shared)."""
+    return float(np.einsum("i,i->", a, b))
+
+
+class CentralDifference:
+    """The scheme of the module docstring as an object: state (u_n, v_{n+½}), :meth:`step` advances it.
+
+    ``A`` is a freshly assembled K (PETSc, any layout; it is scaled in place to -Δt M^-1 K, so the
+    constrained rows with zero inverse mass vanish), ``mass``/``inv_mass`` the owned lumped mass [kg] and
+    its inverse [1/kg] (0 on constrained entries), ``v0`` the initial velocity [m/s], ``β`` the damping
+    C = β K [s], ``contact`` an object with ``evaluate(u)`` and ``add_force(y, scale)``
+    (:class:`rods.fe.contact.PenaltyContact`) or None.
+
+    Per step: one matrix multiply-add v += A (u [+ β v]), the contact impulse Δt M^-1 f_c on the tip
+    entries and the drift u += Δt v: Mat/Vec operations and vectorised numpy only. The drift is deferred
+    to the start of the next step, so that after :meth:`step` the state is (u_n, v_{n+½}): observers see
+    u_n and may prescribe entries of v_{n+½} (a driven cut) before u_{n+1} = u_n + Δt v_{n+½} is formed.
+
+    With ``keep=True`` a step also keeps what an energy record needs: ``v_prev`` = v_{n-½} and
+    ``increment`` = -Δt M^-1 K u_n, recovered from the scheme's own velocity increment (no second
+    multiply), so that ½ u_n·K u_n = -½ (M/Δt) u_n·increment. ``damping_power`` = v_{n-½}·C v_{n-½}
+    [W] at every damped step (the dissipation's trapezoid rule needs it before v is overwritten).
+    """
+
+    def __init__(
+        self,
+        A: PETSc.Mat,
+        mass: np.ndarray,
+        inv_mass: np.ndarray,
+        dt: float,
+        v0: np.ndarray,
+        β: float = 0.0,
+        contact=None,
+    ):
+        comm = A.getComm().tompi4py()
+        n, n_global, bs = mass.size, A.getSize()[0], A.getBlockSize()
+        self.dt, self.β, self.contact, self.damped = dt, β, contact, β > 0
+        self.mass = mass  # [kg]
+        self.dt_inv_mass = dt * inv_mass  # Δt M^-1 [s/kg]
+        self.mass_dt = mass / dt  # M/Δt [kg/s]
+        self.u, self.v, self._z, self.y = (np.zeros(n) for _ in range(4))
+
+        def vec(a: np.ndarray) -> PETSc.Vec:  # a Vec that shares the owned numpy array's memory
+            return PETSc.Vec().createWithArray(a, size=(n, n_global), bsize=bs, comm=comm)
+
+        self._uv, self._vv, self._zv, self._yv = (vec(a) for a in (self.u, self.v, self._z, self.y))
+        self.v[:] = v0
+        A.diagonalScale(L=vec(-self.dt_inv_mass))
+        self.A = A
+        self.n = 0  # index of the state's u_n
+        self.pending = False  # the drift u_{n+1} = u_n + Δt v_{n+½} is due at the next step
+        self.v_prev: np.ndarray | None = None
+        self.increment: np.ndarray | None = None
+        self.damping_power = 0.0  # v_{n-½}·C v_{n-½} [W]
+
+    def step(self, keep: bool = False) -> None:
+        """Advance (u_{n-1}, v_{n-½}) to (u_n, v_{n+½}): drift, contact at u_n, velocity update."""
+        u, v, y, dt_inv_mass, β = self.u, self.v, self.y, self.dt_inv_mass, self.β
+        if self.pending:
+            self._uv.axpy(self.dt, self._vv)  # u_n = u_{n-1} + Δt v_{n-½}
+            self.n += 1
+        c = self.contact
+        if c is not None:
+            c.evaluate(u)  # contact at u_n
+        if keep:
+            self.v_prev = v.copy()
+        if self.damped:  # f_d,n = C v_{n-½}; y = A v = -Δt M^-1 K v
+            self.A.mult(self._vv, self._yv)
+            self.damping_power = -β * _dot(self.mass_dt * v, y)
+        if self.n == 0:  # half step: v_{½} = v_0 + ½ Δt a_0
+            z = self._z
+            self.A.mult(self._uv, self._zv)
+            if self.damped:
+                z += β * y
+            z *= 0.5
+            if c is not None:
+                c.add_force(z, 0.5 * dt_inv_mass)
+            v += z
+        else:  # v_{n+½} = v_{n-½} + Δt M^-1 (f_c - K u_n - C v_{n-½})
+            self.A.multAdd(self._uv, self._vv, self._vv)
+            if self.damped:
+                self._vv.axpy(β, self._yv)
+            if c is not None:
+                c.add_force(v, dt_inv_mass)
+        if keep:
+            self.increment = self._stiffness_increment()
+        self.pending = True
+
+    def _stiffness_increment(self) -> np.ndarray:
+        """-Δt M^-1 K u_n: the velocity increment less its contact and damping parts (x2 on the half step)."""
+        h = 0.5 if self.n == 0 else 1.0
+        dv = self.v - self.v_prev
+        if self.contact is not None:
+            self.contact.add_force(dv, -h * self.dt_inv_mass)
+        if self.damped:
+            dv -= h * self.β * self.y
+        if self.n == 0:
+            dv *= 2.0
+        return dv
+
+    def state(self, step: int | None = None) -> dict[str, np.ndarray | int]:  # noqa: ARG002
+        """What a restart needs (this rank's owned arrays): u_n, v_{n+½}, n."""
+        return {"u": self.u, "v": self.v, "step": self.n}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        """Resume from :meth:`state` (after a step: the drift is due)."""
+        self.u[:], self.v[:] = state["u"], state["v"]
+        self.n, self.pending = int(state["step"]), True
+
+    def destroy(self) -> None:
+        self.A.destroy()

@@ -12,6 +12,9 @@ The likely cause is named from the state: a step near or above the stable limit 
 or a contact energy that dominates ("penalty too stiff"). Every ``INVERSION_EVERY`` steps the corner
 Jacobians of the deformed cells are checked too ("mesh inverted"): displacements themselves are not
 bounded, since they include the rods' rigid-body motion, which the small-strain model carries exactly.
+
+:class:`RunGuard` applies these checks as an observer of the loop (:mod:`rods.fe.observers`), after
+the recorder; :class:`CornerJacobians` counts the inverted cells.
 """
 
 from __future__ import annotations
@@ -20,7 +23,10 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["FINITE_EVERY", "INVERSION_EVERY", "Guard", "SimulationError"]
+import numpy as np
+from mpi4py import MPI
+
+__all__ = ["FINITE_EVERY", "INVERSION_EVERY", "CornerJacobians", "Guard", "RunGuard", "SimulationError"]
 
 FINITE_EVERY = 100  # steps between non-finite checks of the velocity [-]
 INVERSION_EVERY = 2000  # steps between inverted-cell checks (a few ms each at 50k DOFs: < 1% of the loop) [-]
@@ -84,3 +90,56 @@ class Guard:
             raise SimulationError(
                 f"non-finite velocity at step {step} (t = {t:.6g} s); likely cause: {cause}", step, t, cause
             )
+
+
+class RunGuard:
+    """Observer: :class:`Guard` on the recorder's energies at its output steps, a non-finite velocity
+    every ``FINITE_EVERY`` steps and inverted cells (``inverted(u)``, collective count on this rank)
+    every ``INVERSION_EVERY`` steps; raises :class:`SimulationError`."""
+
+    def __init__(self, guard: Guard, recorder, inverted, comm: MPI.Comm):
+        self.guard, self.recorder, self.inverted, self.comm = guard, recorder, inverted, comm
+
+    def after_step(self, step: int, t: float, state) -> None:
+        if self.recorder.last is not None:
+            self.guard.check(step, t, self.recorder.last, self.recorder.E0)
+        if step % FINITE_EVERY == 0:
+            # NaN/Inf anywhere poisons the dot product; inverted cells are counted every INVERSION_EVERY
+            n_inv = self.inverted(state.u) if step % INVERSION_EVERY == 0 else 0
+            health = np.array([float(np.isfinite(np.einsum("i,i->", state.v, state.v))), -float(n_inv)])
+            if self.comm.size > 1:
+                self.comm.Allreduce(MPI.IN_PLACE, health, op=MPI.MIN)
+            self.guard.check_finite(step, t, bool(health[0]))
+            self.guard.check_inverted(step, t, int(-health[1]))
+
+
+class CornerJacobians:
+    """Counts this rank's cells with a corner whose deformed Jacobian changed sign (an inverted element;
+    P1 cells, corner Jacobians from the edges to the corner's tensor-product neighbours)."""
+
+    def __init__(self, V, n_local: int, n_owned_cells: int):
+        import dolfinx
+
+        self.cells = V.dofmap.list  # (n_cells, corners) node indices, tensor-product vertex order
+        nc = self.cells.shape[1]
+        self.dim = int(round(np.log2(nc)))
+        self.nbr = np.array([[k ^ (1 << d) for d in range(self.dim)] for k in range(nc)])  # (corners, dim)
+        self.X = V.tabulate_dof_coordinates()[:, : self.dim]
+        self.uf = dolfinx.fem.Function(V)
+        self.n_local, self.n_owned_cells, self.bs = n_local, n_owned_cells, V.dofmap.index_map_bs
+        self.sign = np.sign(self._dets(self.X))
+
+    def _dets(self, x: np.ndarray) -> np.ndarray:
+        e = x[self.cells[:, self.nbr]] - x[self.cells][:, :, None, :]  # (cells, corners, dim, dim) edge vectors
+        if self.dim == 2:
+            return e[..., 0, 0] * e[..., 1, 1] - e[..., 0, 1] * e[..., 1, 0]
+        return np.einsum("...i,...i->...", e[..., 0, :], np.cross(e[..., 1, :], e[..., 2, :]))
+
+    def count(self, u_owned: np.ndarray) -> int:
+        """Inverted owned cells at the displacement ``u_owned`` (owned array; collective scatter)."""
+        uf = self.uf
+        uf.x.array[: self.n_local] = u_owned
+        uf.x.scatter_forward()
+        x = self.X + uf.x.array.reshape(-1, self.bs)[:, : self.dim]
+        bad = self._dets(x) * self.sign <= 0
+        return int(np.count_nonzero(bad.any(axis=1)[: self.n_owned_cells]))

@@ -14,7 +14,6 @@ import dolfinx
 import dolfinx.geometry
 import numpy as np
 import scipy.sparse
-from mpi4py import MPI
 
 __all__ = ["PointProbes"]
 
@@ -44,7 +43,8 @@ def _cell_rows(V: dolfinx.fem.FunctionSpace, cell: int, point: np.ndarray, axial
 
 
 class PointProbes:
-    """Axial velocity/displacement and axial strain at points; ``rows(x)`` -> (values, strains)."""
+    """Axial velocity/displacement and axial strain at points as one sparse map ``P`` (owned entries):
+    (P x)[2i] is the axial value of x at point i, (P x)[2i + 1] its ∂/∂z; callers sum P x over the ranks."""
 
     def __init__(self, V: dolfinx.fem.FunctionSpace, points: np.ndarray, axial: int):
         msh = V.mesh
@@ -87,10 +87,3 @@ class PointProbes:
         )
         self.comm = comm
         self.n = len(pts)
-
-    def apply(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(value, ∂/∂z) of the axial field ``x`` (owned array) at every probe point."""
-        y = self.P @ x
-        if self.comm.size > 1:
-            self.comm.Allreduce(MPI.IN_PLACE, y, op=MPI.SUM)
-        return y[0::2], y[1::2]

@@ -1,12 +1,12 @@
 """Submodel of the contact region driven at its cut by the global solution (paper Sec. 2.2).
 
-The submodel is the same :class:`rods.fe.model.GlobalModel` machinery on a shorter region: the first
+The submodel is the same :class:`rods.fe.model.ExplicitModel` machinery on a shorter region: the first
 L_s = ``fe.submodel_length`` of each rod (cut planes z = -L_s for Rod 1 and z = +L_s for Rod 2,
 measured from the apexes), meshed with a uniform size h across and along (aspect 1:1, as the paper).
 It is built by :func:`submodel_scene`: a copy of the scene with both rod lengths set to L_s, so the
 "far ends" (facet tags ``rod1_end``/``rod2_end``) *are* the cut planes and no mesher change is needed.
 
-Storage (global side, :class:`CutRecorder`): during the global run a step hook copies the owned
+Storage (global side, :class:`CutRecorder`): during the global run an observer copies the owned
 entries of u_n and v_{n+1/2} of a *band* of nodes — every global cell whose nodes all lie within
 ±2 global axial elements of a cut plane (both rods) — at every global step up to ``record_until``
 (the band is small: ~270 nodes on the paper mesh). Rank 0 gathers and writes ``cut.h5`` (h5py):
@@ -61,13 +61,14 @@ from mpi4py import MPI
 
 from rods import hertz
 from rods.fe import forms
-from rods.fe.model import FEResult, GlobalModel
+from rods.fe.model import ExplicitModel, FEResult
 from rods.scene import Scene, SceneError, Station, scene_from_dict
 
 __all__ = [
     "LEVEL_SIZES",
     "CutDriver",
     "CutRecorder",
+    "PeakField",
     "SubmodelResult",
     "run_submodel",
     "submodel_scene",
@@ -160,10 +161,10 @@ def _dof_to_geometry(V: dolfinx.fem.FunctionSpace) -> np.ndarray:
 # storage (global run)
 # ----------------------------------------------------------------------------------------------
 class CutRecorder:
-    """Step hook of the global run: records u_n, v_{n+1/2} of the cut band every ``every`` steps
-    up to ``record_until`` [s]; :meth:`write` gathers to rank 0 and writes ``cut.h5``."""
+    """Observer of the global run (:mod:`rods.fe.observers`): records u_n, v_{n+1/2} of the cut band every
+    ``every`` steps up to ``record_until`` [s]; :meth:`write` gathers to rank 0 and writes ``cut.h5``."""
 
-    def __init__(self, model: GlobalModel, record_until: float | None = None, every: int = 1):
+    def __init__(self, model: ExplicitModel, record_until: float | None = None, every: int = 1):
         sc, V = model.scene, model.V
         msh = V.mesh
         self.model, self.every = model, max(1, int(every))
@@ -204,11 +205,11 @@ class CutRecorder:
         self.Vv = np.zeros((n_rec, self.idx.size))
         self.n = 0
 
-    def __call__(self, step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:  # noqa: ARG002
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         if step > self.last or step % self.every:
             return
-        self.U[self.n] = u[self.idx]
-        self.Vv[self.n] = v[self.idx]
+        self.U[self.n] = state.u[self.idx]  # u_n
+        self.Vv[self.n] = state.v[self.idx]  # v_{n+1/2}
         self.n += 1
 
     def write(self, path: str | Path) -> None:
@@ -272,9 +273,10 @@ def _read_cut(path: Path) -> dict[str, Any]:
 
 
 class CutDriver:
-    """Step hook of the submodel run: prescribes u at the cut nodes from a global ``cut.h5``."""
+    """Observer of the submodel run: prescribes u at the cut nodes from a global ``cut.h5``; its work on
+    the submodel (``external_work()``) enters the energy balance."""
 
-    def __init__(self, model: GlobalModel, cut_file: str | Path, tol: float = 1e-6):
+    def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6):
         comm = model.comm
         d = _read_cut(Path(cut_file))  # every rank reads (small, read-only)
         gdim = int(d["gdim"])
@@ -367,8 +369,13 @@ class CutDriver:
             ub = (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
         return self.W @ ub
 
-    def __call__(self, step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:
+    def external_work(self) -> float:
+        """Work done by the cut on the submodel so far (this rank's cut entries) [J]."""
+        return self.work
+
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         """Overwrite v_{n+1/2} at the cut so that u_{n+1} = u_cut(t_{n+1})."""
+        u, v = state.u, state.v
         target = self.displacement(t + self.dt)
         v_new = (target - u[self.idx]) / self.dt
         R = self.m_cut * (v_new - v[self.idx])  # impulse of the cut reaction [N s]
@@ -380,7 +387,7 @@ class CutDriver:
 # ----------------------------------------------------------------------------------------------
 # stresses at the integration points nearest the surface (paper Fig. 6)
 # ----------------------------------------------------------------------------------------------
-def _rod1_frame(model: GlobalModel, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _rod1_frame(model: ExplicitModel, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(r, z) [m] of points ``x`` (..., gdim) in Rod 1's own frame: r from its axis, z along it (apex at 0).
 
     Axisymmetric: (x[0], x[1]). 3D: x_1 = R_y(θ)^T (x - (e, 0, δz)) undoes Rod 1's placement
@@ -393,7 +400,7 @@ def _rod1_frame(model: GlobalModel, x: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return np.hypot(c * dx - s * dz, x[..., 1]), s * dx + c * dz  # R_y(θ)^T (x - (e, 0, δz))
 
 
-def surface_gauss_stress(model: GlobalModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
+def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
     """σ_rr [Pa] at the Gauss points of the Rod-1 tip cells nearest the tip surface.
 
     For each cell on the Rod-1 tip face, σ_rr of the displacement ``u_owned`` is evaluated at the
@@ -446,19 +453,19 @@ def surface_gauss_stress(model: GlobalModel, u_owned: np.ndarray) -> dict[str, n
     return {"r": allrows[:, 0], "depth": allrows[:, 1], "sigma_r": allrows[:, 2]}
 
 
-class _PeakField:
-    """Step hook: keeps u_n at the (latest) largest contact force, copying at most every ``every`` steps."""
+class PeakField:
+    """Observer: keeps u_n at the (latest) largest contact force, copying at most every ``every`` steps."""
 
-    def __init__(self, model: GlobalModel, every: int):
+    def __init__(self, model: ExplicitModel, every: int):
         self.model, self.every = model, max(1, every)
         self.F, self.step, self.last = -1.0, -1, -(10**9)
         self.u = np.zeros(model.n_local)
 
-    def __call__(self, step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:  # noqa: ARG002
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         F = self.model.contact.force  # at u_n (evaluated at the start of the step)
         if F > self.F and step - self.last >= self.every:
             self.F, self.step, self.last = F, step, step
-            self.u[:] = u
+            self.u[:] = state.u
 
 
 # ----------------------------------------------------------------------------------------------
@@ -484,23 +491,15 @@ def run_submodel(
 ) -> SubmodelResult:
     """Set up and run the submodel of ``scene`` (the *global* scene) at size h [m], driven by ``cut_file``."""
     sub = submodel_scene(scene, h, h_axial, end_time, dt)
-    model = GlobalModel(sub, comm)
-    driver = CutDriver(model, cut_file)
-    peak = _PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
-
-    def hook(step: int, t: float, u: np.ndarray, v: np.ndarray) -> None:
-        driver(step, t, u, v)
-        peak(step, t, u, v)
-
-    hook.external_work = lambda: driver.work  # the cut's work enters the energy balance (GlobalModel.run)
-    res = model.run(None, progress, step_hook=hook)
+    model = ExplicitModel(sub, comm)
+    driver = CutDriver(model, cut_file)  # first: it prescribes v_{n+1/2} before anything records it
+    peak = PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
+    res = model.run(None, progress, observers=(driver, peak))
     sig = surface_gauss_stress(model, peak.u)
     s = res.summary
     s["model"] = f"fe-submodel-{level}" if level else "fe-submodel"
-    E_star, F = model.E_star, s["peak_contact_force"]
-    flat = math.isinf(scene.rod1.tip_radius) and math.isinf(scene.rod2.tip_radius)  # no Hertz contact
-    R_star = math.inf if flat else hertz.effective_radius(scene.rod1.tip_radius, scene.rod2.tip_radius)
-    a_H = math.nan if flat else float(hertz.contact_radius(F, E_star, R_star))
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)  # R* = inf: two flat tips, no Hertz
+    H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
     s.update(
         {
             "level": level,
@@ -513,9 +512,7 @@ def run_submodel(
             "stress_field_force": peak.F,
             "cut_work": float(res.history["external_work"][-1]),  # [J]
             "hertz_at_own_force": {
-                "contact_radius": a_H,
-                "contact_area": math.pi * a_H**2,
-                "peak_pressure": math.nan if flat else float(hertz.peak_pressure(F, a_H)),
+                **{k: H[k] for k in ("contact_radius", "contact_area", "peak_pressure")},
                 "E_star": E_star,
                 "R_star": R_star,
             },

@@ -1,0 +1,58 @@
+"""The explicit loop and its observers: the caller owns the loop (cf. dolfiny's ``odeint.ODEInt2``).
+
+:func:`march` advances a :class:`rods.fe.explicit.CentralDifference` step by step and hands the state
+(u_n, v_{n+½}) to each :class:`Observer` in turn. An observer may read the state, prescribe entries of
+v_{n+½} (a driven cut: it then runs before the recorder), record, check or write. Its protocol:
+
+* ``after_step(step, t, state)`` — every step, t = step Δt [s];
+* ``external_work()`` (optional) — this rank's accumulated work on the model [J] (energy balance);
+* ``finish()`` (optional) — once after the loop, also when a guard stopped it (close files).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from typing import Protocol
+
+import numpy as np
+
+from rods.fe.explicit import CentralDifference
+from rods.fe.guards import SimulationError
+
+__all__ = ["Observer", "Progress", "march"]
+
+
+class Observer(Protocol):
+    def after_step(self, step: int, t: float, state: CentralDifference) -> None: ...
+
+
+def march(
+    stepper: CentralDifference, steps: range, observers: Sequence[Observer], keep: np.ndarray
+) -> SimulationError | None:
+    """Run ``steps`` (keeping the energy increments where ``keep[step]``); the guard's error, if one stopped it."""
+    try:
+        for step in steps:
+            stepper.step(keep[step])
+            t = step * stepper.dt
+            for o in observers:
+                o.after_step(step, t, stepper)
+    except SimulationError as e:
+        return e
+    finally:
+        for o in observers:
+            if hasattr(o, "finish"):
+                o.finish()
+    return None
+
+
+class Progress:
+    """Observer: ``progress(step, total, elapsed)`` every ``every`` steps and at the last one."""
+
+    def __init__(self, progress: Callable[[int, int, float], None], total: int, every: int = 500):
+        self.progress, self.total, self.every = progress, total, every
+        self.t_start = time.perf_counter()
+
+    def after_step(self, step: int, t: float, state: CentralDifference) -> None:  # noqa: ARG002
+        if step % self.every == 0 or step == self.total:
+            self.progress(step, self.total, time.perf_counter() - self.t_start)
