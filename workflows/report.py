@@ -1,177 +1,34 @@
-"""results/REPORT.md: every table and figure of the paper job, with what agrees and what does not.
+"""REPORT.md: every table and figure of the paper job, with what agrees and what does not (rods.paper.report).
 
-    python workflows/report.py [--results results] [--out results/REPORT.md]
+    python workflows/report.py [--results DIR] [--out output/paper/REPORT.md] \
+        [--penalty-study results/penalty-study.json]
 
-The paragraphs quote numbers read from the tables this job wrote (table2.csv, table3.csv and the
-markdown tables of fig4 and accuracy-cost), so the report cannot drift from the results.
+Reads table2.json, table3.json, fig4.json and accuracy-cost.json from --results (default: the folder of
+--out) and the penalty study's record; the main job passes --out results/REPORT.md.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
 import sys
 from pathlib import Path
 
 from rods import io
+from rods.paper import report
 
-
-def rows(path: Path) -> list[dict[str, str]]:
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
-def md_table(path: Path) -> str:
-    """The first markdown table of a file, verbatim."""
-    lines = path.read_text().splitlines()
-    tab = [ln for ln in lines if ln.startswith("|")]
-    first = next(i for i, ln in enumerate(lines) if ln.startswith("|"))
-    end = first
-    while end < len(lines) and lines[end].startswith("|"):
-        end += 1
-    return "\n".join(lines[first:end]) if tab else ""
-
-
-def md_rows(path: Path, first_cell: str) -> list[list[str]]:
-    """Cells of the markdown table rows of ``path`` whose first cell starts with ``first_cell``."""
-    out = []
-    for ln in path.read_text().splitlines():
-        cells = [c.strip() for c in ln.strip().strip("|").split("|")]
-        if ln.startswith("|") and cells[0].startswith(first_cell):
-            out.append(cells)
-    return out
-
-
-def f(x: str) -> float:
-    return float(x.rstrip("%").replace("+", "")) if x not in ("", "-", "nan") else float("nan")
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", default="results")
-    ap.add_argument("--out", default="results/REPORT.md")
+    ap.add_argument("--results", default=None, help="folder of the stage JSON files (default: the folder of --out)")
+    ap.add_argument("--out", default="output/paper/REPORT.md")
+    ap.add_argument("--penalty-study", default=str(ROOT / "results" / "penalty-study.json"))
     args = ap.parse_args(argv)
-    R = Path(args.results)
-
-    t2 = rows(R / "table2.csv")
-    d_pap = [abs(f(r["ours vs paper"])) for r in t2]
-    d_exp = [f(r["ours vs exp."]) for r in t2]
-    v_pap = [f(r["ours vs paper "]) for r in t2 if r["ours vs paper "] != "-"]
-    t3 = {r["model"]: r for r in rows(R / "table3.csv")}
-    # penalty study (benchmarks/penalty_study.py): factor, peak, duration, RMS, ...
-    penalty = md_rows(R / "penalty-study.md", "") if (R / "penalty-study.md").exists() else []
-    penalty = [c for c in penalty if c[0].replace(".", "", 1).isdigit()]
-    glob = next(r for k, r in t3.items() if k.startswith("Global (uniform"))
-    subs = [r for k, r in t3.items() if k.startswith("Submodel")]
-    finest = subs[-1] if subs else None
-    fig4 = md_rows(R / "fig4.md", "global")  # model, F, vs anal., duration, Δ duration, speed, RMS, energy, wall
-    dur = {r[0]: f(r[4]) for r in fig4}
-    rms = max(f(r[6]) for r in fig4 if r[0].startswith("global"))  # the validation runs, not the submodel driver
-    rich = md_rows(R / "table3.md", "contact radius")
-    plateau = md_rows(R / "table3.md", "radius vs Hertz at the same force")
-    if plateau and plateau[0][-1] not in ("–%", "-%"):
-        rich_txt = (
-            "Richardson extrapolation over the three finest levels of the contact-radius error against Hertz at "
-            f"the same force (averaged over the force plateau) gives {plateau[0][-1]}, with observed order "
-            f"{plateau[0][4]} and GCI {plateau[0][6]} (table3.md): the error estimate the paper did not report. "
-        )
-    elif rich and rich[0][-1] not in ("–%", "-%"):
-        rich_txt = (
-            f"Richardson extrapolation over the three finest levels gives a contact radius {rich[0][-1]} from Hertz "
-            f"at the extrapolated force, with observed order {rich[0][4]} and GCI {rich[0][6]} (table3.md): the "
-            "error estimate the paper did not report. "
-        )
-    elif rich:
-        rich_txt = (
-            f"Richardson extrapolation of the contact radius over the three finest levels does not apply (observed "
-            f"order {rich[0][4]}): the edge of the patch falls between nodes differently at each level, which "
-            "scatters the radius by about one element; see table3.md and submodel-notes.md. "
-        )
-    else:
-        rich_txt = ""
-
-    out = [
-        "# Report: the paper reproduced",
-        "",
-        "Generated by the main job (`make paper`, i.e. `snakemake -s workflows/Snakefile --cores 2 paper`) from",
-        "the embedded scenes (`workflows/scenes/paper.toml`, `trial-*.toml`). Every number below is read from",
-        "the tables next to this file. Models: the analytical model (1D waves + Hertz as delay differential",
-        "equations, `rods/analytical.py`), the axisymmetric explicit FE global model (`rods/fe/`), its submodel",
-        "of the first 14 mm of both rods, and closed-form Hertz (`rods/hertz.py`).",
-        "",
-        "## Table 2: analytical model against the paper and experiment — [table2.md](table2.md), "
-        "[table2.png](table2.png)",
-        "",
-        f"**Agrees:** our contact radii match the paper's analytical column within {max(d_pap):.1f}% for all six "
-        f"trials; against experiment they are {min(d_exp):+.1f}% to {max(d_exp):+.1f}% (the paper: -1.7% to -4.9%), "
-        "inside the measured patch circularity. The peak force at 2.197 m/s matches Table 3's 5,543 N within "
-        "0.5% (table2.md). **Differs:** our average peak speeds sit "
-        f"{min(v_pap):+.1f}% to {max(v_pap):+.1f}% from the paper's analytical values: the plateau threshold "
-        "(0.9 x the largest speed) replaces the paper's fixed 1.0 m/s, and the paper's plateau shape cannot be "
-        "recovered from the text. The RMS strain differences need the experimental records, which are not "
-        "available; they are quoted, not recomputed. The figure carries first-order uncertainty bands "
-        "(±0.02 m/s speed scatter, material properties).",
-        "",
-        "![Table 2](table2.png)",
-        "",
-        "## Fig. 4: wave response, FE over analytical — [fig4.md](fig4.md), [fig4.png](fig4.png)",
-        "",
-        md_table(R / "fig4.md"),
-        "",
-        "**Agrees:** the axisymmetric global model overlies the analytical curves, as the paper found: peak "
-        f"force, plateau speed and midpoint strain (RMS difference at most {rms:.1f} µε over five periods) match, "
-        "and the energy balance holds to round-off. Contact duration against the analytical model: "
-        + ", ".join(f"{k}: {v:+.2f} µs" for k, v in dur.items())
-        + " (target: within 2 µs). It depends on the penalty: a soft contact layer stretches the low-force tail "
-        "of the release ([penalty-study.md](penalty-study.md): "
-        + ", ".join(f"{c[2]} at {c[0]} x E*/h" for c in penalty)
-        + "). The analytical-only curves are in [fig4-analytical.png](fig4-analytical.png).",
-        "",
-        "![Fig. 4](fig4.png)",
-        "",
-        "## Table 3, Fig. 5c, Fig. 6: contact patch and subsurface stress — [table3.md](table3.md)",
-        "",
-        f"**Agrees:** the global model's peak force is within {abs(f(glob['d_force_vs_analytical_pct'])):.2f}% of "
-        "the analytical model (paper: +0.1%). Each submodel level is compared with Hertz at its *own* force: "
-        + (
-            f"at the finest level ({finest['model']}) the area is {f(finest['d_area_vs_hertz_pct']):+.1f}% and the "
-            f"peak pressure {f(finest['d_p0_vs_hertz_pct']):+.1f}% from Hertz, σ_r within "
-            f"{f(finest['sigma_r_err_depth_pct']):.1f}% of the closed form at the Gauss-point depth away from the "
-            "contact edge. " + rich_txt
-            if finest
-            else ""
-        )
-        + f"**Differs:** the global mesh cannot resolve a 1.1 mm patch: its area is "
-        f"{f(glob['d_area_vs_hertz_pct']):+.0f}% above Hertz (the paper's global model: +24%). The driven "
-        "submodel's force against the analytical model, level by level: "
-        + ", ".join(f"{r['model']}: {f(r['d_force_vs_analytical_pct']):+.2f}%" for r in subs)
-        + " (paper's Table 3: 5219 -> 5368 -> 5492 N, -5.8% to -0.9%). A displacement-driven submodel inherits the "
-        "driving global's contact compliance: the main job drives from a graded global with a stiff contact "
-        "layer (8 x E*/h) so that the cut moves as in a converged contact ([submodel-notes.md](submodel-notes.md)).",
-        "",
-        "![Fig. 5c](fig5c-pressure.png) ![p(r)](fig5c-profile.png)",
-        "",
-        "![Fig. 6](fig6-sigma-r.png)",
-        "",
-        "## What accuracy costs — [accuracy-cost.md](accuracy-cost.md)",
-        "",
-        md_table(R / "accuracy-cost.md"),
-        "",
-        "The analytical model answers the wave-response questions to 1e-7 in milliseconds; the FE models are "
-        "needed for the contact patch and subsurface stress, where only the submodel levels reach a few "
-        "percent. The Pareto fronts and a guide to which model answers which question are in "
-        "accuracy-cost.md.",
-        "",
-        "![accuracy against cost](accuracy-cost.png)",
-        "",
-        "## Performance",
-        "",
-        "Solver benchmarks (not part of this job; `make bench`): [analytical-vs-ddeint.md](analytical-vs-ddeint.md) "
-        "(the DDE solver against the `ddeint` package) and [fe-throughput.md](fe-throughput.md) (DOF-steps/s "
-        "and memory bandwidth of the explicit time step).",
-    ]
-    io.atomic_write_text(args.out, "\n".join(out) + "\n")
-    print(f"wrote {args.out}")
+    out = Path(args.out)
+    data = report.read(Path(args.results) if args.results else out.parent, Path(args.penalty_study))
+    io.atomic_write_text(out, report.render(data))
+    print(f"wrote {out}")
     return 0
 
 
