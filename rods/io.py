@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SUMMARY_KEYS", "atomic_write_text", "read_history", "write_history", "write_summary"]
+__all__ = ["SUMMARY_KEYS", "atomic_write_text", "read_history", "write_data", "write_history", "write_summary"]
 
 # The summary.json contract (foundation issue): every model writes these keys, SI units.
 SUMMARY_KEYS = (
@@ -50,17 +50,18 @@ def atomic_write_text(path: str | Path, text: str) -> None:
         raise
 
 
-def _jsonable(x: Any) -> Any:
+def _jsonable(x: Any, null: bool = False) -> Any:
+    """Plain JSON types; a non-finite float becomes null (``null``) or its string ("nan", "inf")."""
     if isinstance(x, Mapping):
-        return {str(k): _jsonable(v) for k, v in x.items()}
+        return {str(k): _jsonable(v, null) for k, v in x.items()}
     if isinstance(x, list | tuple):
-        return [_jsonable(v) for v in x]
+        return [_jsonable(v, null) for v in x]
     if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
+        return _jsonable(x.tolist(), null)
     if isinstance(x, np.generic):
-        return _jsonable(x.item())
+        return _jsonable(x.item(), null)
     if isinstance(x, float) and not math.isfinite(x):
-        return str(x)  # JSON has no inf/nan
+        return None if null else str(x)  # JSON has no inf/nan
     return x
 
 
@@ -70,6 +71,12 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> None:
     if missing:
         raise KeyError(f"summary lacks contract keys {missing}")
     atomic_write_text(path, json.dumps(_jsonable(summary), indent=2) + "\n")
+
+
+def write_data(path: str | Path, data: Mapping[str, Any]) -> None:
+    """Write a stage's data file (e.g. ``table3.json``) atomically: strict JSON, NaN and inf written as null
+    (readers see "no value", never a string where a number belongs)."""
+    atomic_write_text(path, json.dumps(_jsonable(data, null=True), indent=1, allow_nan=False) + "\n")
 
 
 def write_history(

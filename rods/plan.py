@@ -1,29 +1,84 @@
-"""What a scene asks for, and therefore what runs: effects -> models (the plan).
+"""What a scene asks for, and therefore what runs: effects -> models (the plan), and the study's recipe.
 
 A scene names the effects it needs (``effects = [...]``) and the workflow simulates only that:
 
 * ``wave_response`` — Rod-2 midpoint speed and strain over the whole ``end_time``: the analytical model
   and the global FE model; no submodel.
 * ``contact_patch`` — contact area, radius and pressure: the global model only through the contact phase
-  (it stops after the analytical contact end plus a margin), then the submodel levels.
+  (it stops after the analytical contact end plus a margin), then the submodel levels, driven by the
+  library's driving global (:func:`submodel_driver`), then the comparison (Table 3).
 * ``subsurface_stress`` — σ_r near the surface (Fig. 6): as contact_patch; the submodel also samples stresses.
 * ``fields`` — displacement, velocity and stress fields for ParaView from the global model (nothing else
   writes field files).
 * ``misalignment`` — offset/tilted impact: needs the 3D model (``fe.kind = "3d"``, checked by the scene).
 
 The analytical model always runs: it costs milliseconds and is every model's reference.
+
+The recipe, defined once here and used by every door (``workflows/run.py``, ``global.py --driver``,
+``submodel.py``, the Snakefile):
+
+* the **contact phase** = :data:`CONTACT_MARGIN` x the end of the analytical model's *first* contact episode
+  (:func:`contact_phase`): the end of a contact-only global run, the driver's record window and the
+  submodels' end time;
+* the **submodel driver** (:func:`submodel_driver`): the scene's global with :data:`DRIVER_OVERRIDES`;
+* the **most refined model wins** (:func:`most_refined`): each contract key of a run's summary comes from
+  the most refined stage that computed it.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from rods.scene import Scene
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
 
-__all__ = ["CONTACT_MARGIN", "Plan", "make_plan"]
+__all__ = [
+    "CONTACT_KEYS",
+    "CONTACT_MARGIN",
+    "DRIVER_OVERRIDES",
+    "WAVE_KEYS",
+    "Plan",
+    "contact_phase",
+    "first_contact_end",
+    "make_plan",
+    "most_refined",
+    "submodel_driver",
+]
 
-CONTACT_MARGIN = 1.2  # global run length for contact-only effects: 1.2 x the analytical contact end [-]
+CONTACT_MARGIN = 1.2  # contact phase: this x the analytical first contact episode's end [-]
+# The driving global of the submodels: tips graded to 0.25 x fe.axial_size and a stiff contact layer
+# (ε = 8 x E*/h), so that its penetration (p0/ε ≈ 0.6 µm on the paper scene) is small against the Hertz
+# approach and the cut moves as in the converged contact (with 2 x E*/h the driven submodels' force rose with
+# refinement to +5% above the analytical model; results/submodel-notes.md).
+DRIVER_OVERRIDES = ("fe.tip_grading=0.25", "fe.penalty=8")
+
+CONTACT_KEYS = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure", "contact_duration")
+WAVE_KEYS = ("midpoint_peak_speed", "midpoint_peak_strain")
+
+
+def first_contact_end(analytical_summary: Mapping[str, Any]) -> float | None:
+    """End [s] of the analytical model's first contact episode (None: no contact)."""
+    episodes = analytical_summary["contact_episodes"]
+    return float(episodes[0][1]) if episodes else None
+
+
+def contact_phase(analytical_summary: Mapping[str, Any], end_time: float) -> float:
+    """The contact phase [s]: CONTACT_MARGIN x the first contact episode's end, capped by ``end_time`` [s]
+    (the whole run when there is no contact). Later episodes (re-contact after the waves return) are not
+    part of it: the submodel resolves the first impact, which sets the patch and the peak force."""
+    return _phase(first_contact_end(analytical_summary), end_time)
+
+
+def _phase(contact_end: float | None, end_time: float) -> float:
+    return end_time if contact_end is None else min(end_time, CONTACT_MARGIN * contact_end)
+
+
+def submodel_driver(scene: Scene, end_time: float | None = None) -> Scene:
+    """The global run that drives the submodels: ``scene`` with :data:`DRIVER_OVERRIDES`, run to
+    ``end_time`` [s] (the contact phase; default the scene's end time)."""
+    extra = () if end_time is None else (f"simulation.end_time={end_time!r}",)
+    return scene.with_overrides(*DRIVER_OVERRIDES, *extra)
 
 
 @dataclass(frozen=True)
@@ -35,6 +90,8 @@ class Plan:
     global_end_time: float  # [s]
     submodel_levels: tuple[str, ...]
     fields: bool
+    contact_phase: float  # [s] the driver's record window and the submodels' end time
+    driver_overrides: tuple[str, ...] = ()  # the driving global's settings (empty: no submodel)
     reasons: tuple[str, ...] = field(default=())
 
     def describe(self) -> str:
@@ -44,6 +101,11 @@ class Plan:
             lines.append(f"  global FE model ({self.global_kind}): until t = {self.global_end_time * 1e6:.1f} µs")
         else:
             lines.append("  global FE model: no")
+        if self.submodel_levels:
+            lines.append(
+                f"  submodel driver: global with {', '.join(self.driver_overrides)}, recording the cut until "
+                f"t = {self.contact_phase * 1e6:.1f} µs"
+            )
         lines.append(f"  submodel levels: {', '.join(self.submodel_levels) or 'none'}")
         lines.append(f"  field files: {'yes' if self.fields else 'none'}")
         lines += [f"  - {r}" for r in self.reasons]
@@ -54,17 +116,18 @@ class Plan:
 
 
 def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
-    """The plan for ``scene``; ``contact_end`` [s] (the analytical model's last separation) bounds
-    the global run when only contact effects are asked for."""
+    """The plan for ``scene``; ``contact_end`` [s] (the end of the analytical model's first contact
+    episode, :func:`first_contact_end`) bounds the global run when only contact effects are asked for."""
     fx = set(scene.effects)
     reasons = []
     wave = "wave_response" in fx
     contact = bool(fx & {"contact_patch", "subsurface_stress"})
     fields = "fields" in fx or scene["fe.field_interval"] > 0
     global_model = wave or contact or fields or "misalignment" in fx
+    phase = _phase(contact_end, scene.end_time)
     end = scene.end_time
     if global_model and not (wave or fields) and contact_end is not None:
-        end = min(scene.end_time, CONTACT_MARGIN * contact_end)
+        end = phase
         reasons.append(f"contact effects only: the global run stops at {CONTACT_MARGIN} x the analytical contact end")
     levels = tuple(scene["submodel.levels"]) if contact else ()
     if contact:
@@ -79,5 +142,34 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
         global_end_time=end,
         submodel_levels=levels,
         fields=fields,
+        contact_phase=phase,
+        driver_overrides=DRIVER_OVERRIDES if levels else (),
         reasons=tuple(reasons),
     )
+
+
+def _refinement(stage: str) -> float:
+    """Rank of a stage name, larger = more refined: analytical < global < submodel levels by element size."""
+    if stage.startswith("submodel/"):
+        return 2.0 + 1.0 / SUBMODEL_LEVEL_SIZES.get(stage.split("/", 1)[1], 1.0)
+    return {"analytical": 0.0, "global": 1.0}.get(stage, -1.0)
+
+
+def most_refined(plan: Plan, summaries: Mapping[str, Mapping[str, Any]]) -> tuple[dict[str, Any], dict[str, str]]:
+    """Each contract key of a run's summary from the most refined stage that computed it: (values, sources).
+
+    ``summaries`` maps stage names (``analytical``, ``global``, ``submodel/<level>``; others, such as the
+    driver, offer nothing) to their summaries. Offers: the analytical model every key; the global model the
+    contact keys, and the wave keys only when the wave response was asked for (a contact-only global stops
+    after the contact phase); a submodel the contact keys but the duration (its run ends at the contact
+    phase, cut by the driver's record). Refinement: analytical < global < submodel, finer level wins."""
+    offers = {"analytical": CONTACT_KEYS + WAVE_KEYS, "global": CONTACT_KEYS}
+    if "wave_response" in plan.effects:
+        offers["global"] = CONTACT_KEYS + WAVE_KEYS
+    values: dict[str, Any] = {}
+    sources: dict[str, str] = {}
+    for stage in sorted((s for s in summaries if _refinement(s) >= 0), key=_refinement):
+        keys = CONTACT_KEYS[:-1] if stage.startswith("submodel/") else offers[stage]
+        for k in keys:
+            values[k], sources[k] = summaries[stage][k], stage
+    return values, sources

@@ -23,6 +23,8 @@ __all__ = [
     "Material",
     "Rod",
     "Scene",
+    "SUBMODEL_LEVELS",
+    "SUBMODEL_LEVEL_SIZES",
     "SceneError",
     "Station",
     "load_scene",
@@ -34,8 +36,17 @@ __all__ = [
 EFFECTS = ("wave_response", "contact_patch", "subsurface_stress", "fields", "misalignment")
 FE_KINDS = ("axisymmetric", "3d")
 SYMMETRIES = ("full", "half", "quarter")
-# submodel mesh levels: element size across [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625 mm)
-SUBMODEL_LEVELS = ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
+# submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
+# mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The one
+# definition: rods.fe.submodel.LEVEL_SIZES is this table (kept here so that scenes validate without DOLFINx).
+SUBMODEL_LEVEL_SIZES = {
+    "coarse": 0.25e-3,  # [m]
+    "mid": 0.125e-3,  # [m]
+    "fine": 0.0625e-3,  # [m]
+    "extra-fine": 0.03125e-3,  # [m]
+    "ultra-fine": 0.015625e-3,  # [m]
+}
+SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
 
 
 class SceneError(ValueError):

@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from rods.scene import Scene, SceneError, load_scene
 
@@ -30,7 +30,7 @@ def parser(description: str, default_scene: str = "paper.toml") -> argparse.Argu
         metavar="KEY=VALUE",
         help="override a scene value, e.g. --set impact.speed=1.848 (repeatable)",
     )
-    p.add_argument("--out", default=None, help="output folder (default: output/<model>/<scene name>)")
+    p.add_argument("--out", default=None, help="output folder (default: output/<stage>/<scene name>)")
     return p
 
 
@@ -74,6 +74,13 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
             raise
 
     return run
+
+
+def rank0(comm: Any) -> tuple[Callable[..., None], Callable[[int, int, float], None] | None]:
+    """(log, progress) for a collective run: rank 0 prints and draws the bar, the other ranks stay silent."""
+    if comm.rank != 0:
+        return (lambda *a, **k: None), None
+    return (lambda text, file=sys.stdout: print(text, file=file, flush=True)), progress_bar
 
 
 def progress_bar(step: int, total: int, elapsed: float) -> None:

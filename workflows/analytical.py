@@ -2,26 +2,23 @@
 
     python workflows/analytical.py --scene workflows/scenes/paper.toml --set impact.speed=1.848 --out DIR
 
-Writes DIR/history.csv (contact force, compression, contact radius, peak pressure, velocity and
-strain at every station) and DIR/summary.json; prints the plan first and the summary last.
+Writes DIR/history.csv and DIR/summary.json (rods.study.stages.analytical); prints the plan first and the
+summary last. Default DIR: output/analytical/<scene>.
 """
 
 from __future__ import annotations
 
 import json
 import sys
-import warnings
 from collections.abc import Sequence
 
 import _cli
 from rods import io
-from rods.analytical import simulate
-from rods.hertz import YieldWarning
+from rods.study import stages
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _cli.parser(__doc__.splitlines()[0]).parse_args(argv)
-    # parameters
     scene = _cli.load(args)
     out = _cli.out_dir(args, "analytical", scene)
     print(
@@ -29,19 +26,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         f"t_end = {scene.end_time:g} s every {scene.output_interval:g} s, rtol = {scene['analytical.rtol']:g}; "
         f"stations: {', '.join(s.name for s in scene.stations)} -> {out}"
     )
-    # solve
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", YieldWarning)
-        result = simulate(scene)
-    for w in caught:
-        print(f"warning: {w.message}", file=sys.stderr)
-    result.summary["yield_warnings"] = [str(w.message) for w in caught]
-    result.summary["scene_values"] = scene.as_dict()
-    # output
-    io.write_history(out / "history.csv", result.history, result.units)
-    io.write_summary(out / "summary.json", result.summary)
-    keys = [*io.SUMMARY_KEYS[2:], "rigid_velocity_rod1", "rigid_velocity_rod2"]
-    print(json.dumps({k: result.summary[k] for k in keys}, indent=1))
+    s = stages.analytical(scene, out).summary
+    for w in s["yield_warnings"]:
+        print(f"warning: {w}", file=sys.stderr)
+    print(json.dumps({k: s[k] for k in [*io.SUMMARY_KEYS[2:], "rigid_velocity_rod1", "rigid_velocity_rod2"]}, indent=1))
     return 0
 
 

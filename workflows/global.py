@@ -3,13 +3,14 @@
     python workflows/global.py --scene workflows/scenes/paper.toml --set fe.axial_size=2e-3 --out DIR
     mpirun -n 2 python workflows/global.py ...          # same histories to round-off
     mpirun -n 2 python workflows/global.py --scene workflows/scenes/paper-3d-coarse.toml   # 3D (fe.kind = "3d")
+    mpirun -n 2 python workflows/global.py --driver --out DIR   # the submodels' driver (rods.plan)
 
-Writes DIR/history.csv (contact force, radius, area, peak pressure, velocity and strain at every
-station, energies), DIR/summary.json, DIR/pressure_profile.csv (p(r) at peak force) and, only when
-the scene asks ("fields" in effects or fe.field_interval > 0), DIR/fields.xdmf; with --record-cut,
-DIR/cut.h5 (the band of displacements that drives workflows/submodel.py, every global step by
-default). Prints the plan
-first, a progress bar while stepping, and the summary last (rank 0).
+Writes DIR/history.csv, DIR/summary.json, DIR/pressure_profile.csv (p(r) at peak force) and, only when the
+scene asks ("fields" in effects or fe.field_interval > 0), DIR/fields.xdmf; with --record-cut, DIR/cut.h5
+(the band of displacements that drives workflows/submodel.py). --driver runs the library's driving global
+instead (rods.plan.submodel_driver: the scene with its driver settings, run and recorded over the contact
+phase only). Default DIR: output/global/<scene> (output/driver/<scene> with --driver). Prints the plan first,
+a progress bar while stepping, and the summary last (rank 0); exit code 1 when a guard stops the run.
 """
 
 from __future__ import annotations
@@ -26,73 +27,36 @@ from mpi4py import MPI
 import _cli
 from rods import io
 from rods.fe.guards import SimulationError
-from rods.fe.model import GlobalModel
+from rods.study import stages
+
+SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_error", "ranks", "penalty")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    root = comm.rank == 0
     ap = _cli.parser(__doc__.splitlines()[0])
-    ap.add_argument(
-        "--record-cut",
-        action="store_true",
-        help="write DIR/cut.h5: the displacement band around the submodel cut planes (rods.fe.submodel)",
-    )
+    ap.add_argument("--driver", action="store_true", help="the submodels' driving global, recorded (rods.plan)")
+    ap.add_argument("--record-cut", action="store_true", help="write DIR/cut.h5, the band around the submodel cut")
     ap.add_argument("--record-until", type=float, default=None, help="last recorded time [s] (default end time)")
-    ap.add_argument(
-        "--restart",
-        action="store_true",
-        help="resume from the last checkpoint in --out (written when fe.checkpoint_interval > 0)",
-    )
     ap.add_argument("--record-every", type=int, default=1, help="record every k-th global step (default 1)")
+    ap.add_argument("--restart", action="store_true", help="resume from the last checkpoint in --out")
     args = ap.parse_args(argv)
-    # parameters
     scene = _cli.load(args)
-    out = _cli.out_dir(args, "global", scene)
-    # set up: mesh, K, M, contact, probes, stable step (a requested fe.dt too large exits 2)
-    model = GlobalModel(scene, comm)
-    if root:
-        plan = model.plan()
-        print(
-            "plan: " + "\n      ".join(f"{k}: {v}" for k, v in plan.items()) + f"\n      outputs -> {out}", flush=True
-        )
-    # solve
-    recorder = None
-    if args.record_cut:
-        from rods.fe.submodel import CutRecorder
-
-        recorder = CutRecorder(model, args.record_until, args.record_every)
-    if args.restart and recorder is not None:
-        _cli.fail("--restart cannot be combined with --record-cut (the cut record is not checkpointed)")
+    out = _cli.out_dir(args, "driver" if args.driver else "global", scene)
+    if args.restart and (args.record_cut or args.driver):
+        _cli.fail("--restart cannot be combined with --record-cut/--driver (the cut record is not checkpointed)")
+    log, progress = _cli.rank0(comm)
     try:
-        result = model.run(out, _cli.progress_bar if root else None, step_hook=recorder, restart=args.restart)
-    except SimulationError as e:  # a guard stopped the run: keep what was recorded, readable, then exit 1
-        if root:
-            if e.partial is not None:
-                io.write_history(out / "history.csv", e.partial.history, e.partial.units)
-                io.write_summary(out / "summary.json", e.partial.summary)
-            print(f"error: run stopped: {e}\n       histories up to the failure are in {out}", file=sys.stderr)
+        if args.driver:
+            s = stages.driver(scene, out, comm, progress=progress, log=log).summary
+        else:
+            kw = {"record_until": args.record_until, "record_every": args.record_every, "restart": args.restart}
+            s = stages.global_model(scene, out, comm, record_cut=args.record_cut, progress=progress, log=log, **kw)
+            s = s.summary
+    except SimulationError as e:  # a guard stopped the run: what was recorded is written, readable
+        log(f"error: run stopped: {e}\n       histories up to the failure are in {out}", sys.stderr)
         return 1
-    if recorder is not None:
-        recorder.write(out / "cut.h5")
-    # output (scalars on rank 0; fields were written collectively during the run)
-    if root:
-        io.write_history(out / "history.csv", result.history, result.units)
-        io.write_history(out / "pressure_profile.csv", result.pressure_profile, {"r": "m", "p": "Pa"})
-        io.write_summary(out / "summary.json", result.summary)
-        keys = [
-            *io.SUMMARY_KEYS[2:],
-            "dofs",
-            "steps",
-            "dt",
-            "dt_critical",
-            "dt_element_estimate",
-            "energy_error",
-            "ranks",
-            "penalty",
-            "dof_steps_per_second",
-        ]
-        print(json.dumps({k: result.summary[k] for k in keys}, indent=1))
+    log(json.dumps({k: s[k] for k in (*io.SUMMARY_KEYS[2:], *SHOWN, "dof_steps_per_second")}, indent=1))
     return 0
 
 

@@ -1,0 +1,13 @@
+"""Studies: a scene's plan run end to end, each stage one library function with typed results.
+
+* :mod:`rods.study.stages` — the stages: analytical, global FE, the submodels' driver, one submodel level,
+  the comparison; each writes ``summary.json`` + ``history.csv`` under its folder and returns a ``Stage``.
+* :mod:`rods.study.pipeline` — :func:`rods.study.pipeline.run_study`: the plan (rods.plan) run in order.
+* :mod:`rods.study.table3` — the comparison data (``table3.json``) and its markdown/CSV renderings.
+* :mod:`rods.study.figures` — Fig. 5c and Fig. 6 from the submodels' summaries.
+* :mod:`rods.study.sweep` — one CSV row per run of a parameter sweep.
+
+The recipe itself (contact phase, the driver's settings, the most-refined rule) is :mod:`rods.plan`; the
+comparison math (Richardson level choice, σ_r error band) is :mod:`rods.compare`. Importing this package
+loads nothing heavy: the FE stages import DOLFINx when they run.
+"""

@@ -1,0 +1,123 @@
+"""The comparison stage's figures: Fig. 6 (σ_r at the integration points nearest the surface against Hertz)
+and Fig. 5c (contact pressure at peak force), from the submodels' summaries (σ_r and p(r) profiles)."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rods import compare, hertz
+
+__all__ = ["fig5c", "fig6"]
+
+
+def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
+    """σ_r against r at the Gauss points nearest the surface: FE levels and the closed form."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for s in subs:
+        prof = s.get("sigma_r_profile")
+        if not prof:
+            continue
+        r, σ = np.asarray(prof["r"]), np.asarray(prof["sigma_r"])
+        ax.plot(r * 1e3, σ / 1e6, ".", ms=3, label=f"FE {s['level']} (h = {s['element_size'] * 1e3:g} mm)")
+    if subs:
+        s = subs[-1]
+        H = s["hertz_at_own_force"]
+        prof = s["sigma_r_profile"]
+        r = np.asarray(prof["r"])
+        z = np.asarray(prof["depth"])
+        rr = np.linspace(1e-6, r.max(), 600)
+        ax.plot(
+            rr * 1e3,
+            hertz.surface_radial_stress(rr, H["contact_radius"], H["peak_pressure"], nu) / 1e6,
+            "k-",
+            label=f"Hertz, surface (F = {s['peak_contact_force']:.0f} N)",
+        )
+        ax.plot(
+            r * 1e3,
+            compare.hertz_stresses(r, z, H["contact_radius"], H["peak_pressure"], nu)[0] / 1e6,
+            "k--",
+            lw=0.8,
+            label=f"Hertz at the Gauss depth ({np.median(z) * 1e6:.1f} µm)",
+        )
+    ax.set_xlim(0, 3.0)
+    ax.set_xlabel("r [mm]")
+    ax.set_ylabel("σ_r [MPa]")
+    ax.set_title("Fig. 6: σ_r at the integration points nearest the surface, peak force", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "fig6-sigma-r.png", dpi=150)
+    plt.close(fig)
+
+
+def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None:
+    """Contact pressure on the Rod-1 tip at peak force: the axisymmetric p(r) revolved into a disc (pyvista,
+    off-screen), and p(r) against Hertz at the same force (matplotlib)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    r, p = np.asarray(s["pressure_profile"]["r"]), np.asarray(s["pressure_profile"]["p"])
+    H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(r * 1e3, p / 1e9, "o-", ms=2, label=f"FE {s.get('level', 'global')}")
+    rr = np.linspace(0, r.max(), 500)
+    ax.plot(
+        rr * 1e3, hertz.pressure(rr, H["contact_radius"], H["peak_pressure"]) / 1e9, "k--", label="Hertz, same force"
+    )
+    ax.set_xlim(0, 2.5)
+    ax.set_xlabel("r [mm]")
+    ax.set_ylabel("p [GPa]")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "fig5c-profile.png", dpi=150)
+    plt.close(fig)
+    R_disc = 2.5e-3  # [m] shown radius (Fig. 5b scale: patch ~2.2 mm across)
+    th = np.linspace(0, 2 * np.pi, 181)
+    keep = r <= R_disc
+    rk, pk = r[keep], p[keep]
+    try:
+        import pyvista as pv
+
+        pv.OFF_SCREEN = True
+        X = np.outer(rk, np.cos(th)) * 1e3
+        Y = np.outer(rk, np.sin(th)) * 1e3
+        grid = pv.StructuredGrid(X, Y, np.zeros_like(X))
+        grid.point_data["p [GPa]"] = np.tile(pk / 1e9, th.size)  # points in Fortran order: r fastest
+        pl = pv.Plotter(off_screen=True, window_size=(800, 700))
+        pl.add_mesh(grid, scalars="p [GPa]", cmap="jet", show_edges=False)
+        pl.view_xy()
+        pl.add_text("Contact pressure on the Rod-1 tip at peak force (mm)", font_size=10)
+        pl.show_bounds(xtitle="x [mm]", ytitle="y [mm]", font_size=8)
+        pl.screenshot(str(out / "fig5c-pressure.png"))
+        pl.close()
+    except Exception as e:  # no GL here: matplotlib fallback
+        print(f"fig5c: pyvista rendering failed ({type(e).__name__}: {e}); matplotlib fallback", file=sys.stderr)
+        T, Rg = np.meshgrid(th, rk)
+        fig, ax = plt.subplots(figsize=(6, 5.5))
+        pc = ax.pcolormesh(
+            Rg * np.cos(T) * 1e3,
+            Rg * np.sin(T) * 1e3,
+            np.repeat(pk[:, None] / 1e9, th.size, 1),
+            cmap="jet",
+            shading="gouraud",
+        )
+        fig.colorbar(pc, label="p [GPa]")
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_title("Contact pressure on the Rod-1 tip at peak force (matplotlib fallback)")
+        fig.savefig(out / "fig5c-pressure.png", dpi=150)
+        plt.close(fig)

@@ -1,0 +1,196 @@
+"""The stages of a study, each a function: run one model on a scene, write its files, return typed results.
+
+Every stage writes ``summary.json`` and ``history.csv`` (plus its own extras) under its folder, on rank 0,
+atomically; FE stages are collective on ``comm``. ``log`` (rank 0's printer, or None) receives the plan of
+each FE model before it runs; ``progress(step, total, elapsed)`` is passed to the FE time loop.
+
+* :func:`analytical` — the paper's analytical model (every rank computes it: milliseconds).
+* :func:`global_model` — the global FE model; optionally records the submodel cut (cut.h5).
+* :func:`driver` — the submodels' driving global (:func:`rods.plan.submodel_driver`), run and recorded over
+  the contact phase (:func:`rods.plan.contact_phase`) only.
+* :func:`submodel` — one submodel level driven by a recorded cut, to the contact phase.
+* :func:`comparison` — Table 3 (table3.json, .md, .csv), Fig. 5c and Fig. 6 (rank 0, serial).
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rods import io, plan
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
+
+__all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "global_model", "submodel"]
+
+Log = Callable[[str], None] | None
+Progress = Callable[[int, int, float], None] | None
+
+
+@dataclass(frozen=True)
+class Stage:
+    """A finished stage: its name, folder, scene, summary (every rank) and history (rank 0 for FE stages)."""
+
+    name: str
+    folder: Path
+    scene: Scene
+    summary: dict[str, Any]
+    history: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    cut_file: Path | None = None  # the recorded cut band (globals with record_cut)
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """The comparison stage: its folder and the table3.json data (:func:`rods.study.table3.table3`)."""
+
+    folder: Path
+    data: dict[str, Any]
+
+
+def _root(comm: Any) -> bool:
+    return comm is None or comm.rank == 0
+
+
+def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
+    """The analytical model (paper Sec. 2.1); Hertz yield warnings are kept in the summary."""
+    from rods.analytical import simulate
+    from rods.hertz import YieldWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", YieldWarning)
+        result = simulate(scene)
+    result.summary["yield_warnings"] = [str(w.message) for w in caught]
+    result.summary["scene_values"] = scene.as_dict()
+    if _root(comm):
+        io.write_history(out / "history.csv", result.history, result.units)
+        io.write_summary(out / "summary.json", result.summary)
+    return Stage("analytical", out, scene, result.summary, result.history)
+
+
+def _write_fe(out: Path, res: Any, comm: Any, extra: Mapping[str, Any] | None = None) -> None:
+    if comm.rank == 0:
+        io.write_history(out / "history.csv", res.history, res.units)
+        if res.pressure_profile:
+            io.write_history(out / "pressure_profile.csv", res.pressure_profile, {"r": "m", "p": "Pa"})
+        io.write_summary(out / "summary.json", {**res.summary, **(extra or {})})
+
+
+def global_model(
+    scene: Scene,
+    out: Path,
+    comm: Any,
+    *,
+    record_cut: bool = False,
+    record_until: float | None = None,
+    record_every: int = 1,
+    restart: bool = False,
+    progress: Progress = None,
+    log: Log = None,
+    name: str = "global",
+    extra: Mapping[str, Any] | None = None,
+) -> Stage:
+    """The global FE model of ``scene`` to its end time. ``record_cut``: record the cut band up to
+    ``record_until`` [s] every ``record_every`` steps into out/cut.h5. A guard's stop writes the partial
+    histories (summary status "failed") and re-raises :class:`rods.fe.guards.SimulationError`. ``extra``:
+    keys added to the summary."""
+    from rods.fe.guards import SimulationError
+    from rods.fe.model import ExplicitModel
+    from rods.fe.submodel import CutRecorder
+
+    if restart and record_cut:
+        raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
+    model = ExplicitModel(scene, comm)
+    if log is not None:
+        log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
+    recorder = CutRecorder(model, record_until, record_every) if record_cut else None
+    try:
+        res = model.run(out, progress, observers=(recorder,) if recorder else (), restart=restart)
+    except SimulationError as e:
+        if e.partial is not None:
+            _write_fe(out, e.partial, comm)
+        raise
+    cut = None
+    if recorder is not None:
+        cut = out / "cut.h5"
+        recorder.write(cut)
+    _write_fe(out, res, comm, extra)
+    return Stage(name, out, scene, {**res.summary, **(extra or {})}, res.history, cut)
+
+
+def driver(
+    scene: Scene, out: Path, comm: Any, contact_phase: float | None = None, progress: Progress = None, log: Log = None
+) -> Stage:
+    """The submodels' driving global: ``scene`` with the library's driver settings (rods.plan.submodel_driver),
+    run and recorded over the contact phase [s] only (default: from the analytical model of ``scene``). Its
+    summary carries ``contact_phase``, the end time of the submodels it drives."""
+    if contact_phase is None:
+        from rods.analytical import simulate
+
+        contact_phase = plan.contact_phase(simulate(scene).summary, scene.end_time)
+    sc = plan.submodel_driver(scene, contact_phase)
+    extra = {"contact_phase": contact_phase, "driver_overrides": list(plan.DRIVER_OVERRIDES)}
+    return global_model(sc, out, comm, record_cut=True, progress=progress, log=log, name="driver", extra=extra)
+
+
+def submodel(
+    scene: Scene,
+    cut_file: Path,
+    out: Path,
+    comm: Any,
+    level: str = "fine",
+    *,
+    size: float | None = None,
+    axial_size: float | None = None,
+    end_time: float | None = None,
+    dt: float | str = "auto",
+    progress: Progress = None,
+) -> Stage:
+    """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
+    ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the contact phase of the
+    analytical model, rods.plan.contact_phase; capped by the scene's end). Writes history, pressure_profile,
+    sigma_r (r, depth, σ_r at peak force) and the summary."""
+    from rods.fe.submodel import run_submodel
+
+    h = size or SUBMODEL_LEVEL_SIZES[level]
+    name = level if size is None else f"h={h:g}"
+    if end_time is None:
+        from rods.analytical import simulate
+
+        end_time = plan.contact_phase(simulate(scene).summary, scene.end_time)
+    end = min(end_time, scene.end_time)
+    sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name)
+    sr.summary["cut_file"] = str(cut_file)
+    if comm.rank == 0:
+        io.write_history(out / "history.csv", sr.result.history, sr.result.units)
+        io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, {"r": "m", "p": "Pa"})
+        io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
+        io.write_summary(out / "summary.json", sr.summary)
+    return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)
+
+
+def comparison(
+    scene: Scene,
+    analytical_summary: Mapping[str, Any],
+    runs: Sequence[Any],
+    out: Path,
+) -> Comparison:
+    """Table 3 and Figs. 5c/6 of ``runs`` (rods.study.table3.ModelRun) into ``out``: table3.json (the data),
+    table3.md and table3.csv rendered from it, fig6-sigma-r.png, fig5c-profile.png, fig5c-pressure.png.
+    Serial: call on one rank."""
+    from rods import hertz
+    from rods.study import figures, table3
+
+    data = table3.table3(scene, analytical_summary, runs)
+    io.write_data(out / "table3.json", data)
+    io.atomic_write_text(out / "table3.md", table3.render_markdown(data))
+    io.atomic_write_text(out / "table3.csv", table3.render_csv(data))
+    subs = sorted((r.summary for r in runs if r.role == "submodel"), key=lambda s: -s["element_size"])
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    figures.fig6(out, subs, scene.rod1.material.poisson_ratio)
+    finest = subs[-1] if subs else next(r.summary for r in runs if r.role == "global-driver")
+    figures.fig5c(out, finest, E_star, R_star)
+    return Comparison(out, data)

@@ -1,0 +1,312 @@
+"""The comparison stage's data (paper Table 3): every model against Hertz at its own force, the analytical
+model, experiment and the paper, with a Richardson/GCI estimate over the three finest submodel levels.
+
+:func:`table3` builds the data (the ``table3.json`` contract: SI units in ``analytical``, ``experiment``,
+``paper`` and ``richardson``; each row carries the table's columns in its own units, named ``_mm``, ``_GPa``,
+``_pct``); :func:`render_csv` and :func:`render_markdown` render that data and nothing else. The paper's
+values and the experiment come from :func:`rods.paper_data.load` by named keys.
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rods import compare, hertz, paper_data
+from rods.scene import Scene
+
+__all__ = ["COLUMNS", "ModelRun", "model_name", "render_csv", "render_markdown", "table3"]
+
+# the columns of results/table3.csv, in order (the rows of table3.json carry exactly these, plus role/level/label)
+COLUMNS = (
+    "model",
+    "h_mm",
+    "dofs",
+    "wall_s",
+    "force_N",
+    "radius_mm",
+    "area_mm2",
+    "p0_GPa",
+    "hertz_radius_mm",
+    "hertz_area_mm2",
+    "hertz_p0_GPa",
+    "d_area_vs_hertz_pct",
+    "d_p0_vs_hertz_pct",
+    "d_force_vs_analytical_pct",
+    "d_area_vs_analytical_pct",
+    "d_area_vs_exp_pct",
+    "d_radius_vs_exp_pct",
+    "sigma_r_err_surface_pct",
+    "sigma_r_err_depth_pct",
+    "paper_force_N",
+    "paper_area_mm2",
+)
+ROLES = ("global-uniform", "global-driver", "submodel")
+# Richardson quantities: summary key -> (label, unit shown, factor SI -> unit shown)
+QUANTITIES = {
+    "peak_contact_force": ("peak force", "N", 1.0),
+    "contact_radius": ("contact radius", "mm", 1e3),
+    "contact_area": ("contact area", "mm²", 1e6),
+    "peak_contact_pressure": ("peak pressure", "GPa", 1e-9),
+}
+HERTZ_KEY = {
+    "contact_radius": "contact_radius",
+    "contact_area": "contact_area",
+    "peak_contact_pressure": "peak_pressure",
+}
+
+
+@dataclass(frozen=True)
+class ModelRun:
+    """One model of the table: its role, its summary and (submodels) its history, whose force and radius
+    columns give the plateau radius error."""
+
+    role: str  # one of ROLES
+    summary: Mapping[str, Any]
+    history: Mapping[str, np.ndarray] | None = None
+
+    @property
+    def level(self) -> str | None:
+        return self.summary.get("level") if self.role == "submodel" else None
+
+
+def model_name(run: ModelRun) -> str:
+    """The table's model name, from the run's own settings (e.g. "Global (uniform 1 mm)")."""
+    s = run.summary
+    if run.role == "submodel":
+        return f"Submodel {s['level']} (h = {s['element_size'] * 1e3:g} mm)"
+    fe = s["scene_values"]["fe"]
+    h, g = fe["axial_size"], fe.get("tip_grading", 1.0)
+    mesh = f"uniform {h * 1e3:g} mm" if g == 1.0 else f"tips graded to {g * h * 1e3:g} mm"
+    return f"Global ({mesh}; drives the submodels)" if run.role == "global-driver" else f"Global ({mesh})"
+
+
+def _paper(data: paper_data.PaperData) -> dict[str, dict[str, float]]:
+    out = {"global-uniform": data.table3["global"], "analytical": data.table3["analytical"]}
+    out |= {k.removeprefix("submodel_"): v for k, v in data.table3.items() if k.startswith("submodel_")}
+    rows = {k: {"force": v.force, "area": v.area} for k, v in out.items()}
+    return rows | {"experiment": {"force": math.nan, "area": data.experimental_area}}
+
+
+def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu: float) -> dict[str, Any]:
+    s = run.summary
+    F, a, A, p = (s[k] for k in ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure"))
+    H = hertz.at_force(F, E_star, R_star)
+    an, exp = ref["analytical"], ref["experiment"]
+    err = compare.sigma_r_error(s["sigma_r_profile"], s["hertz_at_own_force"], nu) if "sigma_r_profile" in s else {}
+    key = run.level if run.role == "submodel" else run.role
+    pp = ref["paper"].get(key, {"force": math.nan, "area": math.nan})
+    h = s["element_size"] if run.role == "submodel" else s["mesh"]["radial_size"]
+    row = {
+        "model": model_name(run),
+        "h_mm": h * 1e3,
+        "dofs": s["dofs"],
+        "wall_s": s["wall_time"],
+        "force_N": F,
+        "radius_mm": a * 1e3,
+        "area_mm2": A * 1e6,
+        "p0_GPa": p / 1e9,
+        "hertz_radius_mm": H["contact_radius"] * 1e3,
+        "hertz_area_mm2": H["contact_area"] * 1e6,
+        "hertz_p0_GPa": H["peak_pressure"] / 1e9,
+        "d_area_vs_hertz_pct": compare.percent(A, H["contact_area"]),
+        "d_p0_vs_hertz_pct": compare.percent(p, H["peak_pressure"]),
+        "d_force_vs_analytical_pct": compare.percent(F, an["peak_contact_force"]),
+        "d_area_vs_analytical_pct": compare.percent(A, an["contact_area"]),
+        "d_area_vs_exp_pct": compare.percent(A, exp["contact_area"]),
+        "d_radius_vs_exp_pct": compare.percent(a, exp["contact_radius"]),
+        "sigma_r_err_surface_pct": 100 * err.get("surface", math.nan),
+        "sigma_r_err_depth_pct": 100 * err.get("depth", math.nan),
+        "paper_force_N": pp["force"],
+        "paper_area_mm2": pp["area"] * 1e6,
+    }
+    label = {"global-uniform": "global", "global-driver": "driver"}.get(run.role, run.level)
+    return {"role": run.role, "level": run.level, "label": label, **row}
+
+
+def _richardson_entry(rr: compare.Richardson, href: float | None) -> dict[str, Any]:
+    vs = compare.percent(rr.extrapolated, href) if (href is not None and rr.asymptotic) else math.nan
+    return {
+        "f1": rr.f1,
+        "f2": rr.f2,
+        "f3": rr.f3,
+        "order": rr.order,
+        "extrapolated": rr.extrapolated,
+        "gci_fine": rr.gci_fine,
+        "error_band": rr.error_band,
+        "asymptotic": rr.asymptotic,
+        "monotone": rr.monotone,
+        "hertz_at_extrapolated": math.nan if href is None else href,
+        "vs_hertz_pct": vs,
+    }
+
+
+def _richardson(subs: Sequence[ModelRun], E_star: float, R_star: float) -> dict[str, Any] | None:
+    """Richardson/GCI over the three finest levels (rods.compare.richardson_levels); SI units, and the radius
+    error against Hertz at the same force averaged over the force plateau [%], whose extrapolation is the
+    converged radius error itself (steadier than the peak instant, whose radius jumps as the edge passes a node)."""
+    by_level = {r.level: r for r in subs}
+    choice = compare.richardson_levels({lv: r.summary["element_size"] for lv, r in by_level.items()})
+    if choice is None:
+        return None
+    levels, ratio = choice
+    f3, f2, f1 = (by_level[lv].summary for lv in levels)
+    rF = compare.richardson(f1["peak_contact_force"], f2["peak_contact_force"], f3["peak_contact_force"], ratio)
+    H_ext = hertz.at_force(rF.extrapolated if rF.asymptotic else f1["peak_contact_force"], E_star, R_star)
+    q = {}
+    for key in QUANTITIES:
+        rr = compare.richardson(f1[key], f2[key], f3[key], ratio)
+        q[key] = _richardson_entry(rr, H_ext[HERTZ_KEY[key]] if key in HERTZ_KEY else None)
+    e = []
+    for lv in reversed(levels):  # fine, mid, coarse
+        h = by_level[lv].history
+        e.append(100 * compare.plateau_radius_error(h["contact_force"], h["contact_radius"], E_star, R_star)[0])
+    rp = compare.richardson(*e, ratio)
+    q["plateau_radius_error_pct"] = _richardson_entry(rp, 0.0) | {"vs_hertz_pct": rp.extrapolated}
+    return {"levels": list(levels), "ratio": ratio, "plateau_fraction": compare.PLATEAU, "quantities": q}
+
+
+def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]) -> dict[str, Any]:
+    """The comparison data of ``runs`` (globals in the order given, then submodels coarse to fine) on
+    ``scene``, against the analytical model's summary ``analytical`` (table3.json contract, NaN for none)."""
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    nu = scene.rod1.material.poisson_ratio
+    pd = paper_data.load()
+    trial = pd.fe_experiment
+    a_exp = trial.experimental_radius
+    ref = {
+        "scene": scene.name,
+        "impact_speed": scene.speed,
+        "analytical": {
+            k: analytical[k] for k in ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
+        },
+        "experiment": {
+            "contact_radius": a_exp,
+            "contact_area": math.pi * a_exp**2,
+            "source": f"Table 2, Spec. {trial.specimen} Trial {trial.trial}",
+        },
+        "paper": _paper(pd),
+    }
+    subs = sorted((r for r in runs if r.role == "submodel"), key=lambda r: -r.summary["element_size"])
+    ordered = [r for r in runs if r.role != "submodel"] + subs
+    rows = [_row(r, ref, E_star, R_star, nu) for r in ordered]
+    return ref | {"rows": rows, "richardson": _richardson(subs, E_star, R_star)}
+
+
+def _num(v: Any) -> float:
+    return math.nan if v is None else v
+
+
+def render_csv(data: Mapping[str, Any]) -> str:
+    """results/table3.csv: COLUMNS, floats to 6 significant digits, NaN as nan."""
+    buf = _io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(COLUMNS), lineterminator="\r\n")
+    w.writeheader()
+    for r in data["rows"]:
+        w.writerow({k: (f"{_num(r[k]):.6g}" if isinstance(_num(r[k]), float) else r[k]) for k in COLUMNS})
+    return buf.getvalue()
+
+
+def _f(v: Any, d: int = 3) -> str:
+    v = _num(v)
+    return "–" if isinstance(v, float) and math.isnan(v) else (f"{v:.{d}f}" if isinstance(v, float) else str(v))
+
+
+def _model_rows(data: Mapping[str, Any]) -> list[str]:
+    L = [
+        "| model | F [N] | area [mm²] | a [mm] | p0 [GPa] | Hertz a [mm] | Hertz area [mm²] | Hertz p0 [GPa] "
+        "| Δarea vs Hertz | Δp0 vs Hertz | ΔF vs anal. | Δarea vs anal. | Δarea vs exp. | σ_r err (surf / depth) "
+        "| paper F [N] | paper area [mm²] | DOFs | wall [s] |",
+        "|" + "---|" * 18,
+    ]
+    for r in data["rows"]:
+        L.append(
+            f"| {r['model']} | {r['force_N']:.0f} | {r['area_mm2']:.3f} | {r['radius_mm']:.4f} | {r['p0_GPa']:.3f} "
+            f"| {r['hertz_radius_mm']:.4f} | {r['hertz_area_mm2']:.3f} | {r['hertz_p0_GPa']:.3f} "
+            f"| {r['d_area_vs_hertz_pct']:+.2f}% | {r['d_p0_vs_hertz_pct']:+.2f}% "
+            f"| {r['d_force_vs_analytical_pct']:+.2f}% "
+            f"| {r['d_area_vs_analytical_pct']:+.1f}% | {r['d_area_vs_exp_pct']:+.1f}% "
+            f"| {_f(r['sigma_r_err_surface_pct'], 1)}% / {_f(r['sigma_r_err_depth_pct'], 1)}% "
+            f"| {_f(r['paper_force_N'], 0)} | {_f(r['paper_area_mm2'], 2)} | {r['dofs']} | {r['wall_s']:.1f} |"
+        )
+    an, exp, pa = data["analytical"], data["experiment"], data["paper"]
+    L.append(
+        f"| Analytical / Experimental | {an['peak_contact_force']:.0f} | {an['contact_area'] * 1e6:.3f} / "
+        f"{exp['contact_area'] * 1e6:.3f} | {an['contact_radius'] * 1e3:.4f} / {exp['contact_radius'] * 1e3:.3f} | "
+        f"{an['peak_contact_pressure'] / 1e9:.3f} | | | | | | | | | | {pa['analytical']['force']:.0f} | "
+        f"{pa['analytical']['area'] * 1e6:.2f} / {pa['experiment']['area'] * 1e6:.2f} | | |"
+    )
+    return L
+
+
+def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
+    c, m, f = rich["levels"]
+    L = [
+        "",
+        f"## Richardson extrapolation and GCI (levels {c} / {m} / {f}, ratio {rich['ratio']:g})",
+        "",
+        f"| quantity | {c} (f3) | {m} (f2) | {f} (f1) | observed order p | extrapolated | GCI_fine "
+        "| Hertz at extrapolated force | extrapolated vs Hertz |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for key, (label, unit, k) in QUANTITIES.items():
+        q = rich["quantities"][key]
+        href = _num(q["hertz_at_extrapolated"]) * k
+        ext = _num(q["extrapolated"]) * k
+        L.append(
+            f"| {label} [{unit}] | {q['f3'] * k:.5g} | {q['f2'] * k:.5g} | {q['f1'] * k:.5g} | {_f(q['order'], 2)} "
+            f"| {_f(ext, 4)} | {_f(100 * _num(q['gci_fine']), 2)}% | {_f(href, 4)} | {_f(q['vs_hertz_pct'], 2)}% |"
+        )
+    q = rich["quantities"]["plateau_radius_error_pct"]
+    L.append(
+        f"| radius vs Hertz at the same force, plateau mean [%] | {q['f3']:+.3f} | {q['f2']:+.3f} | {q['f1']:+.3f} "
+        f"| {_f(q['order'], 2)} | {_f(q['extrapolated'], 3)} | ±{_f(q['error_band'], 2)} points | 0 "
+        f"| {_f(q['vs_hertz_pct'], 2)}% |"
+    )
+    return [
+        *L,
+        "",
+        f"Plateau mean: a(t)/a_H(F(t)) − 1 averaged over the samples with F ≥ {rich['plateau_fraction']:g} F_max; its "
+        "extrapolation is the converged radius error itself.",
+        "",
+        "p = ln((f3 − f2)/(f2 − f1))/ln r, f_ext = f1 + (f1 − f2)/(r^p − 1), GCI_fine = 1.25 |(f1 − f2)/f1|/(r^p − 1) "
+        "(Roache; ASME V&V 20). '–': no extrapolation: non-monotone (no order), or p <= 0 (the differences grow "
+        "under refinement: the levels are not in the asymptotic range).",
+    ]
+
+
+def render_markdown(data: Mapping[str, Any]) -> str:
+    """results/table3.md from the data of :func:`table3` (or its JSON)."""
+    an, exp, pa = data["analytical"], data["experiment"], data["paper"]
+    named = [(k, v) for k, v in pa.items() if k not in ("analytical", "experiment")]
+    paper = ", ".join(
+        f"{'global' if k == 'global-uniform' else k} {v['force']:.0f}{' N' if i == 0 else ''} / "
+        f"{v['area'] * 1e6:.2f}{' mm²' if i == 0 else ''}"
+        for i, (k, v) in enumerate(named)
+    )
+    L = ["# Table 3 reproduced: contact force and area, global model and submodel levels", ""]
+    L.append(
+        f"Scene `{data['scene']}` (s1 = {data['impact_speed']} m/s). Analytical model: "
+        f"F = {an['peak_contact_force']:.1f} N, a = {an['contact_radius'] * 1e3:.4f} mm, "
+        f"area = {an['contact_area'] * 1e6:.3f} mm², p0 = {an['peak_contact_pressure'] / 1e9:.3f} GPa. "
+        f"Experiment ({exp['source']}): a = {exp['contact_radius'] * 1e3:.3f} mm, area π a² = "
+        f"{exp['contact_area'] * 1e6:.3f} mm² (Table 3 prints {pa['experiment']['area'] * 1e6:.2f} mm²). "
+        "Hertz columns: closed form at the model's own peak force."
+    )
+    L += ["", *_model_rows(data)]
+    L += [
+        "",
+        "σ_r err: max |σ_r,FE − σ_r,Hertz| / |σ_r,Hertz(0)| over the Gauss points nearest the surface with "
+        f"|r − a| > {compare.SIGMA_EDGE_BAND:g} a (away from the contact edge); closed form at the surface (Johnson "
+        "Eq. 3.41) and at the Gauss-point depth (Johnson Eq. 3.44). Δ: relative differences. Paper Table 3: "
+        f"{paper}.",
+    ]
+    if data.get("richardson"):
+        L += _richardson_rows(data["richardson"])
+    return "\n".join(L) + "\n"

@@ -1,0 +1,127 @@
+"""The study's recipe, defined once in the library (rods.plan, rods.compare): mesh-free unit tests."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rods import compare, hertz
+from rods.analytical import simulate
+from rods.plan import (
+    CONTACT_MARGIN,
+    DRIVER_OVERRIDES,
+    contact_phase,
+    first_contact_end,
+    make_plan,
+    most_refined,
+    submodel_driver,
+)
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
+
+SHORT_STRIKER = (  # a short steel striker on a long aluminium rod: several contact episodes
+    "rod1.length=0.092",
+    "rod1.tip_radius=100.0",
+    "rod2.length=0.83",
+    "rod2.material.youngs_modulus=70e9",
+    "rod2.material.density=2700.0",
+    "simulation.end_time=1.2e-3",
+)
+
+
+def test_contact_phase_is_the_first_episode_with_margin(scene_with):
+    """Repeated impacts: the contact phase ends CONTACT_MARGIN x the *first* episode's end, not the last's."""
+    sc = scene_with(*SHORT_STRIKER)
+    s = simulate(sc).summary
+    episodes = s["contact_episodes"]
+    assert len(episodes) >= 3
+    assert first_contact_end(s) == episodes[0][1]
+    assert contact_phase(s, sc.end_time) == pytest.approx(CONTACT_MARGIN * episodes[0][1], rel=1e-15)
+    assert contact_phase(s, sc.end_time) < CONTACT_MARGIN * episodes[-1][1]  # not the last episode's
+    p = make_plan(sc.with_overrides("effects=['contact_patch']"), first_contact_end(s))
+    assert p.contact_phase == p.global_end_time == contact_phase(s, sc.end_time)
+    # no contact: the whole run; a contact ending near the end: capped by the end time
+    assert contact_phase({"contact_episodes": []}, 1e-3) == 1e-3
+    assert contact_phase({"contact_episodes": [[0.0, 0.9e-3]]}, 1e-3) == 1e-3
+
+
+def test_submodel_driver_is_the_scene_with_the_library_settings(scene_with):
+    sc = scene_with("impact.speed=1.848", "fe.axial_size=2e-3")
+    d = submodel_driver(sc, 2.5e-4)
+    assert d["fe.tip_grading"] == 0.25 and d["fe.penalty"] == 8.0 and d.end_time == 2.5e-4
+    assert DRIVER_OVERRIDES == ("fe.tip_grading=0.25", "fe.penalty=8")
+    for k in ("impact.speed", "fe.axial_size", "fe.radial_size", "submodel.penalty", "rod1.tip_radius"):
+        assert d[k] == sc[k], k
+    assert submodel_driver(sc).end_time == sc.end_time
+    p = make_plan(sc.with_overrides("effects=['contact_patch']"), 2e-4)
+    assert p.driver_overrides == DRIVER_OVERRIDES and "fe.penalty=8" in p.describe()
+    assert make_plan(sc, 2e-4).driver_overrides == ()  # wave response only: no submodel, no driver
+
+
+def _summary(F: float, a: float = 1e-3, speed: float = 1.1) -> dict:
+    return {
+        "peak_contact_force": F,
+        "contact_radius": a,
+        "contact_area": math.pi * a * a,
+        "peak_contact_pressure": 2e9,
+        "contact_duration": 2e-4 + F * 1e-12,
+        "midpoint_peak_speed": speed,
+        "midpoint_peak_strain": -1e-4,
+    }
+
+
+def test_most_refined_model_wins(scene_with):
+    stages = {
+        "submodel/fine": _summary(3.0),
+        "analytical": _summary(0.0, speed=1.0),
+        "driver": _summary(9.0),  # drives the submodels: offers nothing
+        "submodel/coarse": _summary(2.0),
+        "global": _summary(1.0, speed=1.2),
+    }
+    contact = make_plan(scene_with("effects=['contact_patch']"), 2e-4)
+    values, sources = most_refined(contact, stages)
+    assert values["peak_contact_force"] == 3.0 and sources["contact_radius"] == "submodel/fine"
+    assert sources["contact_duration"] == "global"  # a submodel's run is cut at the contact phase
+    assert sources["midpoint_peak_speed"] == "analytical" and values["midpoint_peak_speed"] == 1.0
+    wave = make_plan(scene_with("effects=['wave_response']"), 2e-4)
+    values, sources = most_refined(wave, {k: stages[k] for k in ("analytical", "global")})
+    assert sources["midpoint_peak_speed"] == "global" and values["peak_contact_force"] == 1.0
+    values, sources = most_refined(wave, {"analytical": stages["analytical"]})
+    assert set(sources.values()) == {"analytical"}
+
+
+def test_level_sizes_are_one_table_halving_per_level():
+    assert SUBMODEL_LEVELS == tuple(SUBMODEL_LEVEL_SIZES) == ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
+    h = list(SUBMODEL_LEVEL_SIZES.values())
+    assert h[0] == 0.25e-3 and all(a / b == 2.0 for a, b in zip(h, h[1:], strict=False))
+
+
+def test_richardson_takes_the_three_finest_levels_with_constant_ratio():
+    sizes = {lv: SUBMODEL_LEVEL_SIZES[lv] for lv in ("fine", "coarse", "extra-fine", "mid")}
+    assert compare.richardson_levels(sizes) == (("mid", "fine", "extra-fine"), 2.0)
+    assert compare.richardson_levels({k: sizes[k] for k in ("coarse", "mid")}) is None
+    assert compare.richardson_levels({"a": 4e-4, "b": 2e-4, "c": 0.5e-4}) is None  # ratios 2 and 4
+
+
+def test_sigma_r_error_band_and_normalisation():
+    """Hertz itself has zero error; an error within ±0.2 a of the edge is ignored; elsewhere it counts
+    relative to |σ_r,H(0)| = (1 + 2ν)/2 p0."""
+    F, E_star, R_star, nu = 5.5e3, 112e9, 0.035, 0.3  # [N], [Pa], [m], [-]
+    H = hertz.at_force(F, E_star, R_star)
+    a, p0 = H["contact_radius"], H["peak_pressure"]
+    r = np.linspace(0.01, 2.5, 250) * a
+    z = np.full_like(r, 1e-6)  # [m] sample depth
+    σ = compare.hertz_stresses(r, z, a, p0, nu)[0]
+    prof = {"r": r, "depth": z, "sigma_r": σ}
+    e = compare.sigma_r_error(prof, H, nu)
+    assert e["depth"] < 1e-12 and e["gauss_depth"] == pytest.approx(1e-6)
+    assert 0 < e["surface"] < 0.05  # 1 µm below the surface: close to the surface closed form
+    ref = (1 + 2 * nu) / 2 * p0
+    near_edge = np.abs(r - a) < compare.SIGMA_EDGE_BAND * a
+    bumped = σ + np.where(near_edge, 0.5 * ref, 0.0)
+    assert compare.sigma_r_error({**prof, "sigma_r": bumped}, H, nu)["depth"] < 1e-12
+    k = int(np.argmin(np.abs(r - 0.5 * a)))
+    bumped = σ.copy()
+    bumped[k] += 0.03 * ref
+    assert compare.sigma_r_error({**prof, "sigma_r": bumped}, H, nu)["depth"] == pytest.approx(0.03, rel=1e-9)
