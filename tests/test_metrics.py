@@ -43,3 +43,21 @@ def test_chatter_shorter_than_min_gap_is_one_episode():
     ep = metrics.contact_episodes(t, F)
     assert len(ep) == 1
     assert ep[0][1] - ep[0][0] == pytest.approx(200e-6, rel=1e-3)
+
+
+def test_absolute_plateau_threshold():
+    """The paper's rule (samples >= a fixed speed) against the relative default, on plateaus of two heights."""
+    t = np.linspace(0, 1, 100001)
+    v = np.where((np.floor(t * 10) % 2) == 1, np.where(t < 0.5, 1.2, 0.95), 0.0)  # 1.2 twice, then 0.95
+    assert metrics.midpoint_peak_speed(t, v, threshold=1.0) == pytest.approx(1.2, rel=1e-12)  # 0.95 never counts
+    assert len(metrics.plateaus(t, v, threshold=1.0)) == 2 and len(metrics.plateaus(t, v, threshold=0.9)) == 5
+    assert np.isnan(metrics.midpoint_peak_speed(t, v, threshold=1.5))  # nothing reaches it
+
+
+def test_strain_window_is_five_round_trips_of_rod2(scene_with):
+    rod2 = scene_with("rod2.length=0.5", "rod2.material.youngs_modulus=100e9").rod2
+    c2 = np.sqrt(100e9 / rod2.material.density)
+    assert metrics.strain_window(rod2) == pytest.approx((0.0, 5 * 2 * 0.5 / c2), rel=1e-12)
+    assert metrics.strain_window(rod2, periods=1)[1] == pytest.approx(2 * 0.5 / c2, rel=1e-12)
+    paper = scene_with().rod2
+    assert metrics.strain_window(paper)[1] == pytest.approx(1370e-6, abs=0.5e-6)  # fig4.md's "1370 µs"

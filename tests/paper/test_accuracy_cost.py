@@ -1,0 +1,41 @@
+"""Accuracy against cost: the Pareto rule, the errors of a synthetic run, the table from its data."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rods import hertz
+from rods.analytical import simulate
+from rods.paper import accuracy_cost
+from rods.paper.data import Run
+from tests.conftest import ROOT
+
+
+def test_pareto_front():
+    cost = [1.0, 2.0, 3.0, 4.0, 5.0]
+    err = [0.5, 0.6, 0.1, math.nan, 0.1]
+    # 2 is beaten by 1 (cheaper, better); 5 ties 3 on error but costs more; NaN is never on the front
+    assert accuracy_cost.pareto(cost, err) == [True, False, True, False, False]
+
+
+def test_errors_of_a_run_with_a_known_patch(scene_with, tmp_path):
+    sc = scene_with("simulation.end_time=3e-4")  # the first contact; shorter than the strain window
+    r = simulate(sc)
+    F = 1.02 * r.summary["peak_contact_force"]
+    a_hertz = hertz.at_force(F, *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"]
+    summary = r.summary | {"model": "fe-axisymmetric", "peak_contact_force": F, "contact_radius": 1.05 * a_hertz}
+    d = accuracy_cost.write(sc, [Run("fake", r.history, summary | {"dofs": 10, "wall_time": 5.0})], tmp_path / "ac")
+    row = d["rows"][-1]
+    assert row["peak_force_error"] == pytest.approx(0.02, rel=1e-5)
+    assert row["contact_radius_error"] == pytest.approx(0.05, rel=1e-9)
+    assert math.isnan(row["strain_rms"]) and not row["on_front"]["strain_rms"]
+    assert [r["label"] for r in d["rows"][:4]] == ["rtol 1e-03", "rtol 1e-05", "rtol 1e-07", "rtol 1e-10"]
+    assert {p.suffix for p in tmp_path.iterdir()} == {".json", ".md", ".png"}
+
+
+def test_table_renders_the_committed_rows(stages):
+    committed = (ROOT / "results" / "accuracy-cost.md").read_text()
+    lines = accuracy_cost.render_table(stages["accuracy-cost.json"])
+    assert len(lines) == 16 and all(line in committed for line in lines)

@@ -1,0 +1,58 @@
+"""Fig. 4: measures of synthetic FE runs (the analytical histories, perturbed by known amounts)."""
+
+from __future__ import annotations
+
+import copy
+
+import pytest
+
+from rods.analytical import simulate
+from rods.paper import fig4
+from rods.paper.data import Run, load
+from tests.conftest import ROOT
+
+
+@pytest.fixture(scope="module")
+def analytical(request):
+    from rods.scene import load_scene
+    from tests.conftest import PAPER
+
+    sc = load_scene(PAPER, ["analytical.rtol=1e-7"])
+    r = simulate(sc)
+    return sc, Run("analytical", r.history, r.summary | {"scene_values": sc.as_dict()})
+
+
+def perturbed(run: Run, label: str, force: float = 1.0, strain: float = 0.0, **fe) -> Run:
+    """``run`` with the force scaled, a constant strain offset and fe settings changed in its scene."""
+    h = dict(run.history) | {"contact_force": run.history["contact_force"] * force}
+    h["rod2_mid_strain"] = run.history["rod2_mid_strain"] + strain
+    s = copy.deepcopy(run.summary)
+    s["peak_contact_force"] *= force
+    s["scene_values"]["fe"] |= fe
+    return Run(label, h, s | {"model": "fe-axisymmetric", "energy_error": 1e-7})
+
+
+def test_measures_of_known_perturbations(analytical, tmp_path):
+    _, a = analytical
+    runs = [perturbed(a, "global", force=1.01, strain=2e-6), perturbed(a, "driver", penalty=8.0, tip_grading=0.25)]
+    d = fig4.write(a, runs, tmp_path / "fig4.png", tmp_path / "fig4.md")
+    g, drv = d["runs"]
+    assert g["force_vs_analytical"] == pytest.approx(0.01, rel=1e-9)
+    assert g["strain_rms_difference"] == pytest.approx(2e-6, rel=1e-9)
+    assert drv["strain_rms_difference"] == 0.0 and drv["contact_overrides"] == {"penalty": 8.0, "tip_grading": 0.25}
+    assert fig4.validation_runs(d) == [g]
+    assert load(tmp_path / "fig4.json")["runs"][0]["label"] == "global" and (tmp_path / "fig4.png").stat().st_size
+    assert "| global | 5610.7 | +1.00% |" in (tmp_path / "fig4.md").read_text()
+
+
+def test_window_follows_the_runs_scene(analytical):
+    """The window is the analytical run's own Rod 2 (no paper constants): a longer rod, a longer window."""
+    _, a = analytical
+    b = Run(a.label, a.history, copy.deepcopy(a.summary))
+    b.summary["scene_values"]["rod2"]["length"] *= 0.5
+    assert fig4.compute(b, [])["strain_window"][1] == pytest.approx(0.5 * fig4.compute(a, [])["strain_window"][1])
+
+
+def test_table_renders_the_committed_rows(stages):
+    committed = (ROOT / "results" / "fig4.md").read_text()
+    assert all(line in committed for line in fig4.render_table(stages["fig4.json"]))

@@ -1,0 +1,87 @@
+"""REPORT.md from the stage JSON only: tables as the stages render them, prose that follows the data."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+from rods.paper import accuracy_cost, fig4, report
+from rods.paper.data import write_json
+from tests.conftest import ROOT
+
+
+def render(stages: dict) -> str:
+    return report.render(
+        report.ReportData(
+            stages["table2.json"], stages["table3.json"], stages["fig4.json"], stages["accuracy-cost.json"],
+            stages["penalty-study.json"],
+        )
+    )  # fmt: skip
+
+
+def test_cli_reads_only_json_and_defaults_to_the_folder_of_out(results):
+    """The folder holds no markdown and no CSV: the report needs none."""
+    out = results / "REPORT.md"
+    p = subprocess.run(
+        [
+            sys.executable,
+            "workflows/report.py",
+            "--out",
+            str(out),
+            "--penalty-study",
+            str(results / "penalty-study.json"),
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 0, p.stderr
+    text = out.read_text()
+    assert "\n".join(fig4.render_table(report.read(results).fig4)) in text
+    assert "\n".join(accuracy_cost.render_table(report.read(results).accuracy_cost)) in text
+    assert "+8.43 µs at 0.5 x E*/h" in text  # the penalty study's record
+
+
+def test_paper_numbers_in_the_prose_follow_the_data(stages):
+    before = render(stages)
+    before_phrases = (
+        "5219 -> 5368 -> 5492 N, -5.8% to -0.9%", "(paper: +0.1%)", "(the paper's global model: +24%",
+        "Table 3's analytical 5,543 N", "(the paper: -4.9% to -1.7%)", "-1.25% from the paper's 1.105",
+    )  # fmt: skip
+    assert all(p in before for p in before_phrases)
+    paper = stages["table3.json"]["paper"]
+    paper["fine"]["force"] = 5543.0  # as the analytical force: 0.0%
+    paper["global-uniform"]["area"] = paper["analytical"]["area"] * 1.5
+    paper["global-uniform"]["force"] = paper["analytical"]["force"] * 1.01
+    t2 = stages["table2.json"]
+    t2["paper_analytical_force"] = 5000.0
+    next(r for r in t2["trials"] if r["name"] == "trial-2-4")["paper_radius"] = 1.143e-3  # = experiment
+    next(r for r in t2["trials"] if r["name"] == t2["fe_trial"])["paper_peak_speed"] = 1.2
+    after = render(stages)
+    after_phrases = (
+        "5219 -> 5368 -> 5543 N, -5.8% to +0.0%", "(paper: +1.0%)", "(the paper's global model: +50%",
+        "Table 3's analytical 5,000 N", "(the paper: -3.2% to +0.0%)", "-9.06% from the paper's 1.200",
+    )  # fmt: skip
+    assert [p for p in after_phrases if p not in after] == []
+    assert not any(p in after for p in before_phrases)
+
+
+def test_measured_numbers_follow_the_data(stages):
+    stages["fig4.json"]["runs"][0]["duration_vs_analytical"] = 3.5e-6
+    stages["penalty-study.json"]["targets"]["contact_duration"] = 1e-6
+    sub = [r for r in stages["table3.json"]["rows"] if r["role"] == "submodel"][-1]
+    sub["d_area_vs_hertz_pct"] = 0.42
+    stages["table3.json"]["richardson"]["quantities"]["plateau_radius_error_pct"]["vs_hertz_pct"] = 0.33
+    text = render(stages)
+    assert "global, paper mesh: +3.50 µs" in text and "(target: within 1 µs)" in text
+    assert "the area is +0.4%" in text and "gives 0.33%" in text
+
+
+def test_richardson_sentence_when_nothing_extrapolates(stages, tmp_path):
+    q = stages["table3.json"]["richardson"]["quantities"]
+    q["plateau_radius_error_pct"]["extrapolated"] = float("nan")
+    q["contact_radius"]["order"] = float("nan")
+    text = render(stages)
+    assert "does not apply (observed order none: non-monotone)" in text
+    write_json(tmp_path / "t3.json", stages["table3.json"])  # NaN survives as null and back
+    assert "does not apply" in report._richardson_text(report.load(tmp_path / "t3.json")["richardson"])
