@@ -1,5 +1,5 @@
-"""Stage results as JSON: NaN/inf written as null (JSON has neither) and read back as NaN; relative
-differences defined once for the tables and the report."""
+"""Stage results as JSON: NaN/inf written as null (JSON has neither) and read back as NaN; the runs later
+stages read; percentage cells."""
 
 from __future__ import annotations
 
@@ -13,8 +13,9 @@ from typing import Any
 import numpy as np
 
 from rods import io
+from rods.compare import percent
 
-__all__ = ["Run", "dump", "load", "parse_run", "pct", "read_run", "rel", "write_json"]
+__all__ = ["Run", "dump", "load", "parse_run", "pct", "read_run", "write_json"]
 
 
 def _plain(x: Any) -> Any:
@@ -51,15 +52,11 @@ def load(path: str | Path) -> dict[str, Any]:
     return _nan(json.loads(Path(path).read_text(encoding="utf-8")))
 
 
-def rel(ours: float, ref: float) -> float:
-    """Relative difference (ours - ref)/ref [-]; NaN where either is missing."""
-    return (ours - ref) / ref if math.isfinite(ours) and math.isfinite(ref) and ref != 0 else math.nan
-
-
 def pct(ours: float, ref: float, digits: int = 1) -> str:
-    """``rel`` as a signed percentage, '-' where it is undefined."""
-    r = rel(ours, ref)
-    return "-" if math.isnan(r) else f"{100 * r:+.{digits}f}%"
+    """:func:`rods.compare.percent` as a signed percentage cell, '-' where a value is missing."""
+    if not (math.isfinite(ours) and math.isfinite(ref)) or ref == 0:
+        return "-"
+    return f"{percent(ours, ref):+.{digits}f}%"
 
 
 @dataclass(frozen=True)

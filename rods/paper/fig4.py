@@ -17,7 +17,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from rods import io, metrics
-from rods.paper.data import Run, rel, write_json
+from rods.compare import percent
+from rods.paper.data import Run, write_json
 from rods.scene import scene_from_summary
 
 __all__ = ["compute", "plot", "render_md", "render_table", "write"]
@@ -39,7 +40,7 @@ def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_
         "label": run.label,
         "model": s.get("model", ""),
         "peak_contact_force": s["peak_contact_force"],
-        "force_vs_analytical": rel(s["peak_contact_force"], sa["peak_contact_force"]),
+        "force_vs_analytical": percent(s["peak_contact_force"], sa["peak_contact_force"]) / 100,
         "contact_duration": s["contact_duration"],
         "duration_vs_analytical": s["contact_duration"] - sa["contact_duration"],
         "midpoint_peak_speed": s["midpoint_peak_speed"],

@@ -15,8 +15,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from rods.compare import percent
 from rods.paper import accuracy_cost, fig4, table2
-from rods.paper.data import load, rel
+from rods.paper.data import load
 
 __all__ = ["ReportData", "read", "render"]
 
@@ -56,9 +57,9 @@ HEADER = [
 
 def table2_section(t2: dict[str, Any]) -> list[str]:
     trials, fe = t2["trials"], table2.fe_row(t2)
-    d_pap = [100 * abs(rel(r["radius"], r["paper_radius"])) for r in trials]
-    d_exp = [100 * rel(r["radius"], r["experimental_radius"]) for r in trials]
-    paper_exp = [100 * rel(r["paper_radius"], r["experimental_radius"]) for r in trials]
+    d_pap = [abs(percent(r["radius"], r["paper_radius"])) for r in trials]
+    d_exp = [percent(r["radius"], r["experimental_radius"]) for r in trials]
+    paper_exp = [percent(r["paper_radius"], r["experimental_radius"]) for r in trials]
     inside = all(abs(r["radius"] - r["experimental_radius"]) <= r["circularity"] for r in trials)
     F, F_pap = fe["peak_contact_force"], t2["paper_analytical_force"]
     speed = t2["uncertainty_inputs"]["impact.speed"]["amount"]
@@ -69,7 +70,7 @@ def table2_section(t2: dict[str, Any]) -> list[str]:
         f"**Agrees:** our contact radii match the paper's analytical column within {max(d_pap):.1f}% for all "
         f"{len(trials)} trials; against experiment they are {_signed_range(d_exp)} (the paper: "
         f"{_signed_range(paper_exp)}), " + ("inside" if inside else "not all inside") + " the measured patch "
-        f"circularity. The peak force at {fe['impact_speed']} m/s is {100 * rel(F, F_pap):+.1f}% from Table 3's "
+        f"circularity. The peak force at {fe['impact_speed']} m/s is {percent(F, F_pap):+.1f}% from Table 3's "
         f"analytical {F_pap:,.0f} N (table2.md). **Differs:** {table2.peak_speed_offset(t2)} The RMS strain "
         "differences need the experimental records, which are not available; they are quoted, not recomputed. "
         f"The figure carries first-order uncertainty bands (±{speed:g} m/s speed scatter, material properties).",
@@ -155,7 +156,7 @@ def _paper_submodels(t3: dict[str, Any]) -> str:
     forces = [paper[lv]["force"] for lv in levels if lv in paper]
     if not forces:
         return ""
-    d = [100 * rel(F, paper["analytical"]["force"]) for F in forces]
+    d = [percent(F, paper["analytical"]["force"]) for F in forces]
     return f" (paper's Table 3: {' -> '.join(f'{F:.0f}' for F in forces)} N, {_signed_range(d)})"
 
 
@@ -163,8 +164,8 @@ def table3_section(t3: dict[str, Any], f4: dict[str, Any]) -> list[str]:
     glob = next(r for r in t3["rows"] if r["role"] == "global-uniform")
     subs = [r for r in t3["rows"] if r["role"] == "submodel"]
     paper = t3["paper"]
-    paper_force = 100 * rel(paper["global-uniform"]["force"], paper["analytical"]["force"])
-    paper_area = 100 * rel(paper["global-uniform"]["area"], paper["analytical"]["area"])
+    paper_force = percent(paper["global-uniform"]["force"], paper["analytical"]["force"])
+    paper_area = percent(paper["global-uniform"]["area"], paper["analytical"]["area"])
     driver = [r["contact_overrides"] for r in f4["runs"] if r["contact_overrides"].get("penalty")]
     stiff = f" ({driver[0]['penalty']:g} x E*/h)" if driver else ""
     return [

@@ -22,8 +22,9 @@ import matplotlib.pyplot as plt
 
 from rods import io, metrics, paper_data
 from rods.analytical import AnalyticalResult, simulate
+from rods.compare import percent
 from rods.hertz import YieldWarning
-from rods.paper.data import pct, rel, write_json
+from rods.paper.data import pct, write_json
 from rods.scene import Scene, load_scene
 from rods.uncertainty import PAPER_UNCERTAINTY, propagate
 
@@ -164,7 +165,7 @@ def peak_speed_offset(data: dict[str, Any]) -> str:
     """The average-peak-speed offset against the paper, with the paper's own threshold: one sentence."""
     fe, thr = fe_row(data), data["definitions"]["paper_plateau_threshold"]
     quoted = [r for r in data["trials"] if r["paper_peak_speed"] > 0]
-    offsets = [100 * rel(r["peak_speed"], r["paper_peak_speed"]) for r in quoted]
+    offsets = [percent(r["peak_speed"], r["paper_peak_speed"]) for r in quoted]
     return (
         f"Our average peak speeds sit {min(offsets):+.1f}% to {max(offsets):+.1f}% from the paper's analytical "
         f"values. The plateau threshold does not explain it: with the paper's fixed {thr:.1f} m/s, the average peak "

@@ -19,9 +19,8 @@ def test_nan_is_written_as_null_and_read_back(tmp_path):
     assert math.isnan(back["a"]) and math.isnan(back["b"][1]) and back["c"]["d"] == 3
 
 
-def test_relative_difference_and_its_format():
-    assert data.rel(1.1, 1.0) == (1.1 - 1.0) / 1.0
-    assert math.isnan(data.rel(1.0, math.nan)) and math.isnan(data.rel(1.0, 0.0))
+def test_percentage_cells():
+    assert data.pct(1.0, 0.0) == "-" and data.pct(math.nan, 1.0) == "-"
     assert data.pct(1.0929, 1.093) == "-0.0%" and data.pct(1.0, math.nan) == "-"
     assert data.pct(1.0125, 1.0, 2) == "+1.25%"
 
