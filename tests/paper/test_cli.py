@@ -1,0 +1,43 @@
+"""The four thin CLIs, called in-process as the Snakefile calls them (the bands are skipped: seconds)."""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+
+from rods.paper import table2
+from rods.paper.data import load
+
+
+@pytest.fixture(scope="module")
+def job(tmp_path_factory):
+    """workflows/paper.py --out DIR (its tables default to DIR, never to results/)."""
+    out = tmp_path_factory.mktemp("paper")
+    mp = pytest.MonkeyPatch()
+    mp.setattr(
+        table2, "_bands", lambda scene: {q: {"nominal": 1.0, "uncertainty": 0.0} for q in ("radius", "peak_speed")}
+    )
+    assert importlib.import_module("paper").main(["--out", str(out)]) == 0
+    mp.undo()
+    return out
+
+
+def test_paper_writes_its_stage_under_out(job):
+    names = {p.name for p in job.iterdir()}
+    assert {"table2.json", "table2.csv", "table2.md", "table2.png", "fig4-analytical.png", "analytical"} <= names
+    s = load(job / "analytical" / "trial-1-3" / "summary.json")
+    assert s["scene_values"]["rod2"]["length"] == 0.70099  # later stages rebuild the scene from the run
+
+
+def test_fig4_and_accuracy_cost_clis(job, tmp_path, capsys):
+    a = job / "analytical"
+    fig4 = importlib.import_module("fig4")
+    args = ["--analytical", str(a / "trial-1-3"), "--fe", f"other trial={a / 'trial-2-4'}"]
+    assert fig4.main([*args, "--png", str(tmp_path / "f.png"), "--md", str(tmp_path / "f.md")]) == 0
+    assert load(tmp_path / "f.json")["runs"][0]["label"] == "other trial"
+    ac = importlib.import_module("accuracy_cost")
+    runs = ["--run", f"trial={a / 'trial-1-3'}", "--run", f"missing={tmp_path / 'none'}"]
+    assert ac.main([*runs, "--set", "simulation.end_time=3e-4", "--out", str(tmp_path / "ac")]) == 0
+    assert [r["label"] for r in load(tmp_path / "ac.json")["rows"]][-1] == "trial"
+    assert "skipping missing" in capsys.readouterr().err
