@@ -18,9 +18,11 @@ def test_contact_patch_adds_submodel_and_stops_global_after_contact(scene_with):
     p = make_plan(scene_with("effects=['contact_patch']"), contact_end=2e-4)
     assert p.submodel_levels == ("coarse", "mid", "fine")
     assert p.global_end_time == pytest.approx(CONTACT_MARGIN * 2e-4)
+    assert p.contact_phase == p.global_end_time  # the driver records, and the submodels run, that long
     assert not p.fields
     both = make_plan(scene_with("effects=['contact_patch', 'wave_response']"), contact_end=2e-4)
     assert both.global_end_time == pytest.approx(1.5e-3) and both.submodel_levels
+    assert both.contact_phase == pytest.approx(CONTACT_MARGIN * 2e-4)  # the driver still stops after contact
 
 
 def test_fields_only_when_asked(scene_with):

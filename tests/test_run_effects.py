@@ -46,14 +46,27 @@ def test_wave_response_runs_analytical_and_global_only(tmp_path):
     assert s["sources"]["midpoint_peak_speed"] == "global" and s["plan"]["effects"] == ["wave_response"]
 
 
-def test_contact_patch_adds_submodel_and_stops_global_early(tmp_path):
+def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_early(tmp_path):
     _, s = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
-    assert set(s["stages"]) == {"analytical", "global", "submodel/coarse"}
-    t_end = read_history(tmp_path / "run" / "global" / "history.csv")["time"][-1]
-    assert t_end == pytest.approx(s["plan"]["global_end_time"], rel=1e-3) and t_end < 3e-4
+    run_dir = tmp_path / "run"
+    assert set(s["stages"]) == {"analytical", "global", "driver", "submodel/coarse", "compare"}
+    phase = s["plan"]["contact_phase"]
+    episodes = json.loads((run_dir / "analytical" / "summary.json").read_text())["contact_episodes"]
+    assert phase == pytest.approx(1.2 * episodes[0][1], rel=1e-12) and phase < 3e-4
+    for stage in ("global", "driver", "submodel/coarse"):  # all stop after the contact phase
+        t_end = read_history(run_dir / stage / "history.csv")["time"][-1]
+        assert t_end == pytest.approx(phase, abs=0.25e-6), stage  # to one output interval
+    driver = json.loads((run_dir / "driver" / "summary.json").read_text())
+    fe = driver["scene_values"]["fe"]
+    assert (fe["tip_grading"], fe["penalty"]) == (0.25, 8.0) and (run_dir / "driver" / "cut.h5").exists()
     assert s["sources"]["contact_radius"] == "submodel/coarse"
     assert s["sources"]["midpoint_peak_speed"] == "analytical"  # no wave response was asked for
-    assert not list((tmp_path / "run").rglob("*.xdmf"))
+    table = json.loads((run_dir / "compare" / "table3.json").read_text())
+    assert [r["role"] for r in table["rows"]] == ["global-uniform", "global-driver", "submodel"]
+    sub = table["rows"][-1]
+    assert sub["force_N"] == pytest.approx(s["peak_contact_force"], rel=1e-12)
+    assert abs(sub["d_force_vs_analytical_pct"]) < 10  # 0.25 mm submodel driven by a 4 mm global
+    assert not list(run_dir.rglob("*.xdmf"))
 
 
 def test_fields_only_when_asked(tmp_path):

@@ -1,16 +1,17 @@
-"""Workflow scripts as users call them: exit codes, plans, and files (tiny resolution)."""
+"""Workflow scripts as users call them: exit codes, plans, default folders and files (tiny resolution)."""
 
 from __future__ import annotations
 
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from rods.io import SUMMARY_KEYS, read_history
 
-from .conftest import ROOT, SCENES
+from .conftest import MPIRUN, PY, ROOT, SCENES
 
 
 def run(script: str, *args: str) -> subprocess.CompletedProcess:
@@ -64,3 +65,54 @@ def test_malformed_scene_file(tmp_path):
     bad.write_text("[impact\nspeed = 2")
     p = run("analytical.py", "--scene", str(bad), "--out", str(tmp_path / "o"))
     assert p.returncode == 2 and "malformed TOML" in p.stderr
+
+
+# ---------------------------------------------------------------------------------------------
+# Every entry point runs as a test, serially and under MPI (after DOLFINx's python/demo/test.py), on a tiny
+# scene, from a fresh folder without --out: each writes its default folder under output/ and never results/.
+# ---------------------------------------------------------------------------------------------
+TINY = ["--set", "fe.axial_size=4e-3", "--set", "fe.radial_size=1e-3", "--set", "simulation.end_time=3e-4"]
+
+
+@pytest.fixture(scope="module")
+def tiny_driver(tmp_path_factory) -> Path:
+    """The library's driving global on the tiny scene, run by `global.py --driver` into its default folder."""
+    cwd = tmp_path_factory.mktemp("driver")
+    p = subprocess.run([str(PY), str(ROOT / "workflows" / "global.py"), *TINY, "--driver"], **_in(cwd))
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert not (cwd / "results").exists()
+    return cwd / "output" / "driver" / "paper"
+
+
+def _in(cwd: Path) -> dict:
+    return {"cwd": cwd, "capture_output": True, "text": True, "timeout": 300}
+
+
+ENTRY_POINTS = {  # name -> (script, arguments, default output folder)
+    "analytical": ("analytical.py", ["--set", "simulation.end_time=3e-4"], "output/analytical/paper"),
+    "global": ("global.py", TINY, "output/global/paper"),
+    "submodel": ("submodel.py", ["--global", "{driver}", "--size", "1e-3"], "output/submodel/h=0.001/paper"),
+    "run": ("run.py", [*TINY, "--set", "effects=['wave_response']"], "output/run/paper"),
+}
+
+
+def _entry_point(name: str, ranks: int, driver: Path, cwd: Path) -> None:
+    script, args, folder = ENTRY_POINTS[name]
+    cmd = [str(PY), str(ROOT / "workflows" / script), *(a.format(driver=driver) for a in args)]
+    p = subprocess.run([str(MPIRUN), "-n", str(ranks), *cmd] if ranks > 1 else cmd, **_in(cwd))
+    assert p.returncode == 0, p.stderr[-2000:]
+    s = json.loads((cwd / folder / "summary.json").read_text())
+    assert set(SUMMARY_KEYS) <= set(s) and s["peak_contact_force"] > 0
+    assert s.get("ranks", ranks) == ranks and any((cwd / folder).rglob("history.csv"))
+    assert not (cwd / "results").exists()
+
+
+@pytest.mark.parametrize("name", list(ENTRY_POINTS))
+def test_entry_point_serial(name, tiny_driver, tmp_path):
+    _entry_point(name, 1, tiny_driver, tmp_path)
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("name", [n for n in ENTRY_POINTS if n != "analytical"])
+def test_entry_point_mpi(name, tiny_driver, tmp_path):
+    _entry_point(name, 2, tiny_driver, tmp_path)

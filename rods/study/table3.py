@@ -168,7 +168,11 @@ def _richardson(subs: Sequence[ModelRun], E_star: float, R_star: float) -> dict[
         h = by_level[lv].history
         e.append(100 * compare.plateau_radius_error(h["contact_force"], h["contact_radius"], E_star, R_star)[0])
     rp = compare.richardson(*e, ratio)
-    q["plateau_radius_error_pct"] = _richardson_entry(rp, 0.0) | {"vs_hertz_pct": rp.extrapolated}
+    # its Hertz value is 0 by definition, so its extrapolation is the difference from Hertz itself
+    q["plateau_radius_error_pct"] = _richardson_entry(rp, None) | {
+        "hertz_at_extrapolated": 0.0,
+        "vs_hertz_pct": rp.extrapolated,
+    }
     return {"levels": list(levels), "ratio": ratio, "plateau_fraction": compare.PLATEAU, "quantities": q}
 
 

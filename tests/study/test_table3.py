@@ -1,0 +1,147 @@
+"""The comparison stage's data and renderings on synthetic models that follow Hertz (mesh-free)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from rods import compare, hertz, io, paper_data
+from rods.study.table3 import COLUMNS, ModelRun, render_csv, render_markdown, table3
+
+from ..conftest import ROOT
+
+F_EXACT, C, P = 5500.0, 2.5e7, 1.5  # converged force [N], error constant [N/m^p], order [-]
+E0, D = 0.004, 3.0e4  # converged plateau radius error [-] and its constant [1/m]
+
+
+def _hertz_model(scene, F: float, **extra) -> dict:
+    """A summary whose contact patch is Hertz at its own force F, σ_r the closed form at its sample depth."""
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    H = hertz.at_force(F, E_star, R_star)
+    a, p0 = H["contact_radius"], H["peak_pressure"]
+    r = np.linspace(0.02, 2.5, 120) * a
+    z = np.full_like(r, 0.2 * extra.get("element_size", 1e-4))
+    return {
+        "peak_contact_force": F,
+        "contact_radius": a,
+        "contact_area": H["contact_area"],
+        "peak_contact_pressure": p0,
+        "dofs": 1000,
+        "wall_time": 1.0,
+        "hertz_at_own_force": H,
+        "sigma_r_profile": {"r": r, "depth": z, "sigma_r": compare.hertz_stresses(r, z, a, p0, 0.3)[0]},
+        "pressure_profile": {"r": r, "p": hertz.pressure(r, a, p0)},
+        "scene_values": scene.as_dict(),
+        "mesh": {"radial_size": 0.25e-3},
+        **extra,
+    }
+
+
+def _history(scene, e: float) -> dict:
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    F = F_EXACT * np.sin(np.linspace(0.0, np.pi, 301))
+    return {"contact_force": F, "contact_radius": (1.0 + e) * hertz.contact_radius(F, E_star, R_star)}
+
+
+@pytest.fixture
+def runs(scene_with):
+    sc = scene_with()
+    g = {k: v for k, v in _hertz_model(sc, 5560.0).items() if k not in ("sigma_r_profile", "hertz_at_own_force")}
+    out = [ModelRun("global-uniform", g)]
+    driver_scene = sc.with_overrides("fe.tip_grading=0.25", "fe.penalty=8")
+    out.append(ModelRun("global-driver", {**g, "scene_values": driver_scene.as_dict(), "peak_contact_force": 5560.0}))
+    for lv in ("fine", "coarse", "mid"):  # any order: the table sorts by element size
+        h = {"coarse": 0.25e-3, "mid": 0.125e-3, "fine": 0.0625e-3}[lv]
+        s = _hertz_model(sc, F_EXACT + C * h**P, level=lv, element_size=h)
+        out.append(ModelRun("submodel", s, _history(sc, E0 + D * h)))
+    return sc, out
+
+
+def test_models_that_follow_hertz_have_no_hertz_error_and_richardson_finds_the_limit(runs):
+    sc, models = runs
+    an = {
+        "peak_contact_force": 5555.0,
+        "contact_radius": 1.09e-3,
+        "contact_area": 3.74e-6,
+        "peak_contact_pressure": 2.2e9,
+    }
+    d = table3(sc, an, models)
+    assert [r["model"] for r in d["rows"]] == [
+        "Global (uniform 1 mm)",
+        "Global (tips graded to 0.25 mm; drives the submodels)",
+        "Submodel coarse (h = 0.25 mm)",
+        "Submodel mid (h = 0.125 mm)",
+        "Submodel fine (h = 0.0625 mm)",
+    ]
+    for r in d["rows"]:
+        assert set(r) == {"role", "level", "label", *COLUMNS}
+        assert abs(r["d_area_vs_hertz_pct"]) < 1e-9 and abs(r["d_p0_vs_hertz_pct"]) < 1e-9
+        assert r["force_N"] == pytest.approx(r["d_force_vs_analytical_pct"] / 100 * 5555.0 + 5555.0)
+    subs = [r for r in d["rows"] if r["role"] == "submodel"]
+    assert all(r["sigma_r_err_depth_pct"] < 1e-9 for r in subs)  # σ_r is the closed form at its depth
+    assert math.isnan(d["rows"][0]["sigma_r_err_surface_pct"])  # globals sample no σ_r
+    paper = paper_data.load()
+    assert d["rows"][2]["paper_force_N"] == paper.table3["submodel_coarse"].force
+    assert d["experiment"]["contact_radius"] == paper.fe_experiment.experimental_radius
+    rich = d["richardson"]
+    assert rich["levels"] == ["coarse", "mid", "fine"] and rich["ratio"] == 2.0
+    q = rich["quantities"]["peak_contact_force"]
+    assert q["order"] == pytest.approx(P, rel=1e-9) and q["extrapolated"] == pytest.approx(F_EXACT, rel=1e-12)
+    qa = rich["quantities"]["contact_radius"]
+    assert abs(qa["vs_hertz_pct"]) < 1e-3  # Hertz radii extrapolate to Hertz at F_ext (to second order)
+    qp = rich["quantities"]["plateau_radius_error_pct"]
+    assert qp["order"] == pytest.approx(1.0, rel=1e-6) and qp["extrapolated"] == pytest.approx(100 * E0, rel=1e-6)
+
+
+def test_renderings_come_from_the_data_and_its_json(runs, tmp_path):
+    sc, models = runs
+    an = {
+        "peak_contact_force": 5555.0,
+        "contact_radius": 1.09e-3,
+        "contact_area": 3.74e-6,
+        "peak_contact_pressure": 2.2e9,
+    }
+    d = table3(sc, an, models)
+    io.write_data(tmp_path / "t.json", d)
+    text = (tmp_path / "t.json").read_text()
+    back = json.loads(text)  # strict JSON: NaN written as null
+    assert "NaN" not in text and back["rows"][0]["sigma_r_err_surface_pct"] is None
+    assert render_csv(back) == render_csv(d) and render_markdown(back) == render_markdown(d)
+    lines = render_csv(d).splitlines()
+    assert lines[0].split(",") == list(COLUMNS) and len(lines) == 1 + len(models)
+    md = render_markdown(d)
+    assert "| Submodel fine (h = 0.0625 mm) | 5512 |" in md and "levels coarse / mid / fine, ratio 2" in md
+    assert "Paper Table 3: global 5549 N / 4.61 mm², coarse 5219 / 4.80" in md
+
+
+def test_compare_cli_writes_under_output_unless_told(runs, tmp_path):
+    """compare.py without --out writes output/compare/<scene> (relative to where it runs), never results/."""
+    sc, models = runs
+    args = []
+    for m in models:
+        d = tmp_path / "in" / (m.level or m.role)
+        io.write_summary(d / "summary.json", {k: m.summary.get(k, 0.0) for k in io.SUMMARY_KEYS} | dict(m.summary))
+        if m.history is not None:
+            io.write_history(d / "history.csv", m.history, {})
+        flag = {"global-uniform": "--global-uniform", "global-driver": "--global"}.get(m.role, "--submodel")
+        args += [flag, str(d)]
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    p = subprocess.run(
+        [sys.executable, str(ROOT / "workflows" / "compare.py"), *args], cwd=cwd, capture_output=True, text=True
+    )
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert sorted(f.name for f in (cwd / "output" / "compare" / "paper").iterdir()) == [
+        "fig5c-pressure.png",
+        "fig5c-profile.png",
+        "fig6-sigma-r.png",
+        "table3.csv",
+        "table3.json",
+        "table3.md",
+    ]
+    assert not (cwd / "results").exists() and "Richardson" in p.stdout
