@@ -6,9 +6,10 @@ import argparse
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import NoReturn
 
 from rods.scene import Scene, SceneError, load_scene
+from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
 SCENES = Path(__file__).resolve().parent / "scenes"
 
@@ -74,25 +75,3 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
             raise
 
     return run
-
-
-def rank0(comm: Any) -> tuple[Callable[..., None], Callable[[int, int, float], None] | None]:
-    """(log, progress) for a collective run: rank 0 prints and draws the bar, the other ranks stay silent."""
-    if comm.rank != 0:
-        return (lambda *a, **k: None), None
-    return (lambda text, file=sys.stdout: print(text, file=file, flush=True)), progress_bar
-
-
-def progress_bar(step: int, total: int, elapsed: float) -> None:
-    """Rank-0 progress: a redrawn bar on a terminal, a line every 10% otherwise (logs stay short)."""
-    rate = step / elapsed if elapsed > 0 else 0.0
-    eta = (total - step) / rate if rate > 0 else 0.0
-    tty = sys.stderr.isatty()
-    if not tty and step != total and (step * 10) // max(total, 1) == ((step - 500) * 10) // max(total, 1):
-        return
-    done = int(30 * step / max(total, 1))
-    line = f"[{'#' * done}{'.' * (30 - done)}] {step}/{total} steps  {rate:,.0f} steps/s  eta {eta:5.1f} s"
-    sys.stderr.write(("\r" + line + " ") if tty else (line + "\n"))
-    if tty and step == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()

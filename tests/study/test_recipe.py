@@ -125,3 +125,11 @@ def test_sigma_r_error_band_and_normalisation():
     bumped = σ.copy()
     bumped[k] += 0.03 * ref
     assert compare.sigma_r_error({**prof, "sigma_r": bumped}, H, nu)["depth"] == pytest.approx(0.03, rel=1e-9)
+
+
+def test_fe_level_sizes_are_the_scene_table():
+    """rods.fe.submodel.LEVEL_SIZES (the FE side's name) is the one table of rods.scene."""
+    pytest.importorskip("rods.fe")  # loads the wheel's DOLFINx first
+    from rods.fe.submodel import LEVEL_SIZES
+
+    assert LEVEL_SIZES == SUBMODEL_LEVEL_SIZES and tuple(LEVEL_SIZES) == SUBMODEL_LEVELS
