@@ -114,7 +114,7 @@ def fig4_section(f4: dict[str, Any], penalty: dict[str, Any] | None) -> list[str
 
 def _richardson_text(rich: dict[str, Any] | None) -> str:
     """One sentence on the Richardson/GCI estimate of the finest submodel levels (or why there is none)."""
-    if not rich:
+    if not isinstance(rich, dict):  # null in table3.json (fewer than three levels) reads back as NaN
         return ""
     levels, q = " / ".join(rich["levels"]), rich["quantities"]
     plateau, radius = q.get("plateau_radius_error_pct"), q["contact_radius"]

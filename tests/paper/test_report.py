@@ -85,3 +85,10 @@ def test_richardson_sentence_when_nothing_extrapolates(stages, tmp_path):
     assert "does not apply (observed order none: non-monotone)" in text
     write_json(tmp_path / "t3.json", stages["table3.json"])  # NaN survives as null and back
     assert "does not apply" in report._richardson_text(report.load(tmp_path / "t3.json")["richardson"])
+
+
+def test_no_richardson_when_the_comparison_has_none(stages, tmp_path):
+    stages["table3.json"]["richardson"] = None
+    write_json(tmp_path / "t3.json", stages["table3.json"])
+    stages["table3.json"] = report.load(tmp_path / "t3.json")
+    assert "Richardson" not in render(stages)
