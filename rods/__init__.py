@@ -15,6 +15,8 @@ A map of the library (each module's docstring says more):
 * :mod:`rods.io` — atomic writes of summaries (JSON) and histories (CSV).
 * :mod:`rods.fe` — the explicit FE model (DOLFINx): mesh, forms, contact, the central-difference stepper,
   recorder and observers, the submodel and its cut driver.
+* :mod:`rods.paper` — the paper's tables, Fig. 4, the accuracy-against-cost study and REPORT.md, computed
+  as JSON-serialisable data and rendered from it.
 * :mod:`rods.study` — study recipes: a scene's plan run end to end (analytical, global, submodel chain,
   comparison) with typed, JSON-serialisable stage results.
 

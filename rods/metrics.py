@@ -7,7 +7,7 @@
   ``MIN_GAP`` = 1 µs do not end an episode: a stiff penalty makes FE contact nodes chatter on a
   nanosecond scale, and the experiment (sampled every 2.26 µs) cannot see such gaps either.
 * Average peak speed (Table 2): the paper averages the Rod-2 midpoint speed over the first five
-  plateaus, taking samples >= 1.0 m/s (``PAPER_PLATEAU_THRESHOLD``). A fixed 1.0 m/s cannot apply to
+  plateaus, taking samples >= 1.0 m/s (``rods.paper_data``: ``plateau_threshold``). A fixed 1.0 m/s cannot apply to
   the 1.848 m/s trial (its plateaus sit near s1/2 = 0.92 m/s), so the default threshold here is
   relative: ``0.9 x`` the largest midpoint speed, about the paper's 1.0 m/s at 2.2 m/s; an absolute
   ``threshold`` [m/s] reproduces the paper's rule. A plateau is a maximal run of samples at or above
@@ -45,7 +45,6 @@ MIN_GAP = 1e-6  # gaps shorter than this do not separate contact episodes [s]
 SMOOTHING = 2e-6  # sliding-average window of the smoothed peak force [s]
 PLATEAU_FRACTION = 0.9  # fraction of the largest midpoint speed that marks a plateau [-]
 PLATEAU_COUNT = 5  # plateaus averaged for the average peak speed [-]
-PAPER_PLATEAU_THRESHOLD = 1.0  # the paper's fixed plateau threshold (Results, printed "1.0 mm/s") [m/s]
 STRAIN_PERIODS = 5  # periods 2 L2/c2 of the midpoint strain compared by the RMS difference [-]
 
 

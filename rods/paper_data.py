@@ -42,6 +42,7 @@ class PaperData:
     table3: dict[str, Table3Entry]  # global, submodel_coarse/mid/fine, analytical
     experimental_area: float  # [m^2] Table 3's printed experimental area
     fe_trial: str  # the trial the FE models simulate
+    plateau_threshold: float  # the paper's average-peak-speed plateau threshold [m/s]
 
     @property
     def fe_experiment(self) -> Trial:
@@ -64,4 +65,5 @@ def load() -> PaperData:
         table3={k: Table3Entry(**v) for k, v in t3.items()},
         experimental_area=experimental_area,
         fe_trial=raw["fe_trial"],
+        plateau_threshold=float(raw["plateau_threshold"]),
     )
