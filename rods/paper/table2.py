@@ -84,7 +84,9 @@ def _row(trial: paper_data.Trial, r: AnalyticalResult, band: dict) -> dict[str, 
         "experimental_peak_speed": trial.experimental_peak_speed,
         "paper_peak_speed": trial.analytical_peak_speed,
         "peak_speed": s["midpoint_peak_speed"],
-        "peak_speed_at_paper_threshold": metrics.midpoint_peak_speed(t, v, threshold=paper_data.load().plateau_threshold),
+        "peak_speed_at_paper_threshold": metrics.midpoint_peak_speed(
+            t, v, threshold=paper_data.load().plateau_threshold
+        ),
         "midpoint_max_speed": float(v.max()),
         "peak_contact_force": s["peak_contact_force"],
         "contact_duration": s["contact_duration"],
