@@ -122,11 +122,12 @@ def _dot(a: np.ndarray, b: np.ndarray) -> float:
 class CentralDifference:
     """The scheme of the module docstring as an object: state (u_n, v_{n+½}), :meth:`step` advances it.
 
-    ``A`` is a freshly assembled K (PETSc, any layout; it is scaled in place to -Δt M^-1 K, so the
-    constrained rows with zero inverse mass vanish), ``mass``/``inv_mass`` the owned lumped mass [kg] and
-    its inverse [1/kg] (0 on constrained entries), ``v0`` the initial velocity [m/s], ``β`` the damping
-    C = β K [s], ``contact`` an object with ``evaluate(u)`` and ``add_force(y, scale)``
-    (:class:`rods.fe.contact.PenaltyContact`) or None.
+    ``A`` is a freshly assembled K (PETSc, any layout), or a callable that assembles it (called after the
+    state arrays are allocated, the allocation order the loop was measured with); it is scaled in place to
+    -Δt M^-1 K, so the constrained rows with zero inverse mass vanish. ``mass``/``inv_mass``: the owned
+    lumped mass [kg] and its inverse [1/kg] (0 on constrained entries); ``v0`` the initial velocity
+    [m/s]; ``β`` the damping C = β K [s]; ``contact`` an object with ``evaluate(u)`` and
+    ``add_force(y, scale)`` (:class:`rods.fe.contact.PenaltyContact`) or None.
 
     Per step: one matrix multiply-add v += A (u [+ β v]), the contact impulse Δt M^-1 f_c on the tip
     entries and the drift u += Δt v: Mat/Vec operations and vectorised numpy only. The drift is deferred
@@ -141,7 +142,7 @@ class CentralDifference:
 
     def __init__(
         self,
-        A: PETSc.Mat,
+        A: PETSc.Mat | Callable[[], PETSc.Mat],
         mass: np.ndarray,
         inv_mass: np.ndarray,
         dt: float,
@@ -149,13 +150,15 @@ class CentralDifference:
         β: float = 0.0,
         contact=None,
     ):
-        comm = A.getComm().tompi4py()
-        n, n_global, bs = mass.size, A.getSize()[0], A.getBlockSize()
-        self.dt, self.β, self.contact, self.damped = dt, β, contact, β > 0
-        self.mass = mass  # [kg]
+        n = mass.size
+        self.u, self.v, self._z, self.y = (np.zeros(n) for _ in range(4))
         self.dt_inv_mass = dt * inv_mass  # Δt M^-1 [s/kg]
         self.mass_dt = mass / dt  # M/Δt [kg/s]
-        self.u, self.v, self._z, self.y = (np.zeros(n) for _ in range(4))
+        A = A() if callable(A) else A
+        comm = A.getComm().tompi4py()
+        n_global, bs = A.getSize()[0], A.getBlockSize()
+        self.dt, self.β, self.contact, self.damped = dt, β, contact, β > 0
+        self.mass = mass  # [kg]
 
         def vec(a: np.ndarray) -> PETSc.Vec:  # a Vec that shares the owned numpy array's memory
             return PETSc.Vec().createWithArray(a, size=(n, n_global), bsize=bs, comm=comm)

@@ -109,48 +109,62 @@ class ExplicitModel:
         self.stiffness = dolfinx.fem.form(forms.stiffness_form(V, self.mat, kind))
         self.K = self._assemble_stiffness()
 
-        # row-sum lumped mass (owned entries)
-        self.mass = self._assemble_owned(forms.lumped_mass_form(V, self.mat, kind))  # [kg]
-        # constrained entries get zero inverse mass (no acceleration): u_r = 0 on the axis (axisymmetric),
-        # the normal component on a symmetry plane (3D: u_x on x = 0, u_y on y = 0)
+        self.mass = self._assemble_owned(forms.lumped_mass_form(V, self.mat, kind))  # row-sum lumped [kg]
+        self._constraints()
+        self._contact()
+        self._probes()
+
+        # stable step
+        self._stable_step()
+        self.setup_time = time.perf_counter() - t0
+
+    # ------------------------------------------------------------------------------------------
+    def _constraints(self) -> None:
+        """Constrained entries get zero inverse mass (no acceleration): u_r = 0 on the axis (axisymmetric),
+        the normal component on a symmetry plane (3D: u_x on x = 0, u_y on y = 0); Rod 1's axial entries."""
+        V, rm, tags, bs = self.V, self.rm, self.tags, self.bs
+        msh, n_own = rm.mesh, V.dofmap.index_map.size_local
         fdim = msh.topology.dim - 1
 
         def entries(tag: str, comp: int) -> np.ndarray:
             nodes = dolfinx.fem.locate_dofs_topological(V, fdim, rm.facet_tags.find(tags[tag]))
-            return nodes[nodes < imap.size_local] * bs + comp
+            return nodes[nodes < n_own] * bs + comp
 
+        three_d = self.kind == "3d"
         self.axis_r = entries("axis", 0) if not three_d else np.zeros(0, dtype=np.int64)
         self.fixed = np.concatenate([entries("sym_x", 0), entries("sym_y", 1)]) if three_d else self.axis_r
         self.inv_mass = 1.0 / self.mass
         self.inv_mass[self.fixed] = 0.0
-
         # initial velocity: Rod 1 at +s1 along z
         rod1_nodes = dolfinx.fem.locate_dofs_topological(V, msh.topology.dim, rm.cell_tags.find(tags["rod1"]))
-        rod1_nodes = rod1_nodes[rod1_nodes < imap.size_local]
-        self.rod1_z = rod1_nodes * bs + self.axial
+        self.rod1_z = rod1_nodes[rod1_nodes < n_own] * bs + self.axial
 
-        # contact: Rod-1 tip nodes (slaves) against the Rod-2 tip face (master)
-        ds = ufl.Measure("ds", domain=msh, subdomain_data=rm.facet_tags)
+    def _contact(self) -> None:
+        """Rod-1 tip nodes (slaves) against the Rod-2 tip face (master), ε = fe.penalty x E*/h_tip."""
+        V, rm, tags, kind, sc = self.V, self.rm, self.tags, self.kind, self.scene
+        ds = ufl.Measure("ds", domain=rm.mesh, subdomain_data=rm.facet_tags)
         area1 = self._assemble_owned(forms.tributary_area_form(V, ds(tags["rod1_tip"]), kind))
         area2 = self._assemble_owned(forms.tributary_area_form(V, ds(tags["rod2_tip"]), kind))
         slave = tip_nodes(V, rm.facet_tags.find(tags["rod1_tip"]), area1, self.axial)
         master = tip_nodes(V, rm.facet_tags.find(tags["rod2_tip"]), area2, self.axial)
-        self.E_star, self.R_star = hertz.contact_constants(scene.rod1, scene.rod2)  # [Pa], [m]
+        self.E_star, self.R_star = hertz.contact_constants(sc.rod1, sc.rod2)  # [Pa], [m]
         self.h_normal = rm.h_tip  # element size normal to the contact faces [m]
-        self.ε_pen = scene["fe.penalty"] * self.E_star / self.h_normal  # [Pa/m]
+        self.ε_pen = sc["fe.penalty"] * self.E_star / self.h_normal  # [Pa/m]
         pairing, mirrored = None, (False, False)
-        if three_d:  # geometric search over the allgathered face (the same on every rank)
+        if kind == "3d":  # geometric search over the allgathered face (the same on every rank)
             quads = face_quads(V, rm.facet_tags.find(tags["rod2_tip"]), master)
             pairing = bilinear_pairing(slave.xy, master.xy, quads)
             mirrored = (rm.symmetry == "quarter", rm.symmetry != "full")
-        self.contact = PenaltyContact(slave, master, self.ε_pen, comm, pairing, self.multiplicity, mirrored)
+        self.contact = PenaltyContact(slave, master, self.ε_pen, self.comm, pairing, self.multiplicity, mirrored)
 
-        # probes: stations on the rod surface (r = d/2); rod 2 at z = +x, rod 1 at z = -x from the tip
-        # (3D: at x = +d/2, y = 0, Rod 1's placed with the rod), then in 3D Rod 2's midpoint at x = ±R2
+    def _probes(self) -> None:
+        """Stations on the rod surface (r = d/2): Rod 2 at z = +x, Rod 1 at z = -x from the tip (3D: at
+        x = +d/2, y = 0, Rod 1's placed with the rod), then in 3D Rod 2's midpoint at x = ±R2."""
+        sc, rm, three_d = self.scene, self.rm, self.kind == "3d"
         pts = []
-        self.probe_keys = [(f"{s.name}_velocity", f"{s.name}_strain") for s in scene.stations]
-        for s in scene.stations:
-            rod = scene.rods[s.rod - 1]
+        self.probe_keys = [(f"{s.name}_velocity", f"{s.name}_strain") for s in sc.stations]
+        for s in sc.stations:
+            rod = sc.rods[s.rod - 1]
             if not three_d:
                 pts.append([rod.diameter / 2, s.position if s.rod == 2 else -s.position])
             elif s.rod == 2:
@@ -158,16 +172,12 @@ class ExplicitModel:
             else:
                 pts.append(rm.placement.apply(np.array([[rod.diameter / 2, 0.0, -s.position]]))[0])
         if three_d:
-            R2, z_mid = scene.rod2.diameter / 2, scene.rod2.length / 2
+            R2, z_mid = sc.rod2.diameter / 2, sc.rod2.length / 2
             for side, x_side in (("plus_x", R2), ("minus_x", -R2)):
                 # quarter model: the -x side is the mirror image of the +x side
                 pts.append([abs(x_side) if rm.symmetry == "quarter" else x_side, 0.0, z_mid])
                 self.probe_keys.append((f"rod2_mid_velocity_{side}", f"rod2_mid_strain_{side}"))
-        self.probes = PointProbes(V, np.array(pts, dtype=float), self.axial)
-
-        # stable step
-        self._stable_step()
-        self.setup_time = time.perf_counter() - t0
+        self.probes = PointProbes(self.V, np.array(pts, dtype=float), self.axial)
 
     # ------------------------------------------------------------------------------------------
     def _assemble_stiffness(self) -> PETSc.Mat:
@@ -318,7 +328,7 @@ class ExplicitModel:
     def stepper(self) -> CentralDifference:
         """The central-difference integrator at the initial state (a fresh K, scaled in place)."""
         return CentralDifference(
-            self._assemble_stiffness(),
+            self._assemble_stiffness,
             self.mass,
             self.inv_mass,
             self.dt,

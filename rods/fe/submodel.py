@@ -272,6 +272,60 @@ def _read_cut(path: Path) -> dict[str, Any]:
     return d
 
 
+def _band_space(d: dict[str, Any], comm: MPI.Comm) -> tuple[dolfinx.fem.FunctionSpace, np.ndarray]:
+    """The recorded band as a P1 space on ``comm`` (rank 0 holds the input) and the band node of each dof."""
+    gdim = int(d["gdim"])
+    el = basix.ufl.element("Lagrange", str(d["cell_type"]), 1, shape=(gdim,))
+    root = comm.rank == 0
+    cells = d["cells"] if root else np.empty((0, d["cells"].shape[1]), dtype=np.int64)
+    x = d["nodes"] if root else np.empty((0, gdim))
+    band = dolfinx.mesh.create_mesh(comm, cells, ufl.Mesh(el), x)
+    Vb = dolfinx.fem.functionspace(band, ("Lagrange", 1))
+    return Vb, np.asarray(band.geometry.input_global_indices, dtype=np.int64)[_dof_to_geometry(Vb)]
+
+
+def _cut(model: ExplicitModel) -> tuple[dolfinx.fem.FunctionSpace, np.ndarray, np.ndarray, np.ndarray]:
+    """The submodel's cut: scalar P1 space V0, its owned cut dofs, the cells incident to the cut facets,
+    and the model's (parent) node of each owned cut dof."""
+    msh, rm, tags = model.V.mesh, model.rm, model.tags
+    fdim, tdim = msh.topology.dim - 1, msh.topology.dim
+    facets = np.concatenate([rm.facet_tags.find(tags["rod1_end"]), rm.facet_tags.find(tags["rod2_end"])])
+    msh.topology.create_connectivity(fdim, tdim)
+    cut_cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim).astype(np.int32)
+    V0, to_parent = model.V.sub(0).collapse()
+    nodes0 = dolfinx.fem.locate_dofs_topological(V0, fdim, facets)
+    nodes0 = nodes0[nodes0 < V0.dofmap.index_map.size_local]
+    to_parent = np.asarray(to_parent[0] if isinstance(to_parent, list | tuple) else to_parent)
+    return V0, nodes0, cut_cells, to_parent[nodes0] // model.bs  # parent dof of component 0 is node * bs
+
+
+def _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, n_nodes: int, tol: float) -> scipy.sparse.csr_matrix:
+    """W (owned cut dofs x band nodes): each band node's unit scalar field interpolated onto the cut
+    cells (DOLFINx non-matching interpolation; linear, so once per band node)."""
+    data = dolfinx.fem.create_interpolation_data(V0, Vb, cut_cells, padding=1e-10)
+    fb, g = dolfinx.fem.Function(Vb), dolfinx.fem.Function(V0)
+    n_own_b = Vb.dofmap.index_map.size_local
+    dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
+    own = np.arange(n_own_b)
+    dof_of_node[node_of_dof[own]] = own
+    rows, cols, vals = [], [], []
+    for j in range(n_nodes):
+        fb.x.array[:] = 0.0
+        if dof_of_node[j] >= 0:
+            fb.x.array[dof_of_node[j]] = 1.0
+        fb.x.scatter_forward()
+        g.x.array[:] = 0.0
+        g.interpolate_nonmatching(fb, cut_cells, data, tol=tol)
+        w = g.x.array[nodes0]
+        nz = np.flatnonzero(np.abs(w) > 1e-14)
+        rows.append(nz)
+        cols.append(np.full(nz.size, j))
+        vals.append(w[nz])
+    return scipy.sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nodes0.size, n_nodes)
+    )
+
+
 class CutDriver:
     """Observer of the submodel run: prescribes u at the cut nodes from a global ``cut.h5``; its work on
     the submodel (``external_work()``) enters the energy balance."""
@@ -279,7 +333,6 @@ class CutDriver:
     def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6):
         comm = model.comm
         d = _read_cut(Path(cut_file))  # every rank reads (small, read-only)
-        gdim = int(d["gdim"])
         self.times, self.U = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim)
         if model.steps * model.dt > self.times[-1] + (self.times[-1] - self.times[-2] if self.times.size > 1 else 0):
             raise SceneError(
@@ -287,54 +340,12 @@ class CutDriver:
                 model.scene.end_time,
                 f"must be <= the recorded global time {self.times[-1]:g} s (global run's --record-until)",
             )
-        # band mesh on the submodel's communicator (rank 0 holds the input)
-        cell = str(d["cell_type"])
-        el = basix.ufl.element("Lagrange", cell, 1, shape=(gdim,))
-        root = comm.rank == 0
-        cells = d["cells"] if root else np.empty((0, d["cells"].shape[1]), dtype=np.int64)
-        x = d["nodes"] if root else np.empty((0, gdim))
-        band = dolfinx.mesh.create_mesh(comm, cells, ufl.Mesh(el), x)
-        Vb = dolfinx.fem.functionspace(band, ("Lagrange", 1))
-        node_of_dof = np.asarray(band.geometry.input_global_indices, dtype=np.int64)[_dof_to_geometry(Vb)]
-        n_nodes = d["nodes"].shape[0]
-        # submodel cut: cells incident to the cut facets, and their owned nodes
-        msh, rm = model.V.mesh, model.rm
-        fdim, tdim = msh.topology.dim - 1, msh.topology.dim
-        tags = model.tags
-        facets = np.concatenate([rm.facet_tags.find(tags["rod1_end"]), rm.facet_tags.find(tags["rod2_end"])])
-        msh.topology.create_connectivity(fdim, tdim)
-        cut_cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim).astype(np.int32)
-        V0, to_parent = model.V.sub(0).collapse()
-        nodes0 = dolfinx.fem.locate_dofs_topological(V0, fdim, facets)
-        nodes0 = nodes0[nodes0 < V0.dofmap.index_map.size_local]
-        to_parent = np.asarray(to_parent[0] if isinstance(to_parent, list | tuple) else to_parent)
+        Vb, node_of_dof = _band_space(d, comm)
+        V0, nodes0, cut_cells, self.cut_nodes = _cut(model)
         bs = model.bs
-        self.cut_nodes = to_parent[nodes0] // bs  # parent (unrolled) dof of component 0 is node * bs
         self.idx = self.cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries
-        # W: interpolate each band node's unit scalar field onto the cut cells (non-matching)
-        data = dolfinx.fem.create_interpolation_data(V0, Vb, cut_cells, padding=1e-10)
-        fb, g = dolfinx.fem.Function(Vb), dolfinx.fem.Function(V0)
-        n_own_b = Vb.dofmap.index_map.size_local
-        dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
-        own = np.arange(n_own_b)
-        dof_of_node[node_of_dof[own]] = own
-        rows, cols, vals = [], [], []
         t0 = time.perf_counter()
-        for j in range(n_nodes):
-            fb.x.array[:] = 0.0
-            if dof_of_node[j] >= 0:
-                fb.x.array[dof_of_node[j]] = 1.0
-            fb.x.scatter_forward()
-            g.x.array[:] = 0.0
-            g.interpolate_nonmatching(fb, cut_cells, data, tol=tol)
-            w = g.x.array[nodes0]
-            nz = np.flatnonzero(np.abs(w) > 1e-14)
-            rows.append(nz)
-            cols.append(np.full(nz.size, j))
-            vals.append(w[nz])
-        self.W = scipy.sparse.csr_matrix(
-            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nodes0.size, n_nodes)
-        )
+        self.W = _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["nodes"].shape[0], tol)
         self.build_time = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
         # partition of unity: each cut node must be covered by the band (row sums 1). DOLFINx assigns a point
         # outside every cell but inside a candidate's bounding box to the closest cell and extrapolates (row sums

@@ -1,0 +1,115 @@
+"""Penalty contact (rods.fe.contact.PenaltyContact) on plain arrays, one process (MPI.COMM_SELF):
+momentum balance to round-off, the force law p = ε <-g>, the force as the energy's derivative."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from rods.fe.contact import PenaltyContact, TipNodes, bilinear_pairing
+
+ε = 3.0e13  # penalty [Pa/m]
+R_CAP = 35e-3  # Rod 1's tip radius [m]
+
+
+def axisymmetric_pair(n_s: int = 6, n_m: int = 5) -> tuple[PenaltyContact, int]:
+    """A capped slave face (z_s = -(r²/2R), in r order) over a flat master face (z = 0), interleaved in an
+    owned array of axial entries: slaves at 0, 2, 4, ..., masters after them."""
+    r_s, r_m = np.linspace(0.0, 1e-3, n_s), np.linspace(0.0, 1.2e-3, n_m)  # [m]
+    area_s, area_m = np.full(n_s, 2e-8), np.full(n_m, 3e-8)  # tributary areas [m^2]
+    loc_s, loc_m = 2 * np.arange(n_s), 2 * n_s + np.arange(n_m)
+    slave = TipNodes(r_s, -(r_s**2) / (2 * R_CAP), area_s, loc_s, np.arange(n_s))
+    master = TipNodes(r_m, np.zeros(n_m), area_m, loc_m, np.arange(n_m))
+    return PenaltyContact(slave, master, ε, MPI.COMM_SELF), 2 * n_s + n_m
+
+
+def pressed(c: PenaltyContact, n: int, δ: float = 5e-6) -> np.ndarray:
+    """Displacement: Rod 1's face moved δ [m] into the master, the master face slightly tilted."""
+    u = np.zeros(n)
+    u[c.slave.local] = δ
+    u[c.master.local] = 1e-6 * c.master.r / c.master.r.max()
+    return u
+
+
+def test_momentum_balance_to_round_off():
+    c, n = axisymmetric_pair()
+    c.evaluate(pressed(c, n))
+    f = np.zeros(n)
+    c.add_force(f)
+    assert c.force > 0 and np.count_nonzero(c.pressure) > 1
+    assert abs(f.sum()) <= 1e-15 * np.abs(f).sum()
+    assert -f[c.slave.local].sum() == pytest.approx(c.force, rel=1e-14)  # slaves pushed back along -z
+
+
+def test_force_law():
+    """p_s = ε <-g_s>, F_s = p_s a_s, g_s = z_m(r_s) - z_s with z_m linear in r, E_c = ½ Σ ε a_s <-g_s>²."""
+    c, n = axisymmetric_pair()
+    u = pressed(c, n)
+    c.evaluate(u)
+    z_s = c.slave.z + u[c.slave.local]
+    z_m = np.interp(c.slave.r, c.master.r, c.master.z + u[c.master.local])
+    pen = np.maximum(z_s - z_m, 0.0)
+    assert np.allclose(c.gap, z_m - z_s, rtol=0, atol=1e-18)
+    assert np.allclose(c.pressure, ε * pen, rtol=1e-12, atol=0)
+    assert c.force == pytest.approx(float(ε * c.slave.area @ pen), rel=1e-13)
+    assert c.energy == pytest.approx(0.5 * ε * float(c.slave.area @ pen**2), rel=1e-13)
+    assert c.active_area() == pytest.approx(c.slave.area[pen > 0].sum())
+    c.evaluate(np.zeros(n))  # the cap touches at its apex only: no penetration, no force
+    assert c.force == 0.0 and c.energy == 0.0
+
+
+def test_force_is_minus_the_energy_gradient():
+    """f_c = -∂E_c/∂u (a conservative force), by central differences of the energy in every entry."""
+    c, n = axisymmetric_pair()
+    u = pressed(c, n)
+    c.evaluate(u)
+    f = np.zeros(n)
+    c.add_force(f)
+    h = 1e-12  # [m]
+    grad = np.zeros(n)
+    for i in range(n):
+        e = np.zeros(n)
+        e[i] = h
+        c.evaluate(u + e)
+        Ep = c.energy
+        c.evaluate(u - e)
+        grad[i] = (Ep - c.energy) / (2 * h)
+    assert np.allclose(f, -grad, rtol=1e-5, atol=1e-6 * np.abs(f).max())
+
+
+def test_stiffness_is_the_full_engagement_linearisation():
+    """apply_stiffness gives K_c = Σ k_s b_s b_sᵀ: symmetric, K_c δu = -(f(u + δu) - f(u)), every pair active."""
+    c, n = axisymmetric_pair()
+    u = pressed(c, n, δ=5e-5)  # every slave in contact
+    c.evaluate(u)
+    assert np.all(c.pressure > 0)
+    f0 = np.zeros(n)
+    c.add_force(f0)
+    du = 1e-9 * np.sin(np.arange(n))
+    c.evaluate(u + du)
+    f1 = np.zeros(n)
+    c.add_force(f1)
+    Kdu = np.zeros(n)
+    c.apply_stiffness(du, Kdu)
+    assert np.allclose(Kdu, -(f1 - f0), rtol=1e-9, atol=1e-9 * np.abs(Kdu).max())
+    Kc = np.zeros((n, n))
+    for j in range(n):
+        c.apply_stiffness(np.eye(n)[j], Kc[:, j])
+    assert np.allclose(Kc, Kc.T)
+
+
+def test_bilinear_pairing_reproduces_linear_fields():
+    """3D pairing: weights sum to 1 and interpolate linear fields exactly; slaves off the face are not paired."""
+    g = np.linspace(0.0, 1.0, 4)
+    X, Y = np.meshgrid(g, g, indexing="ij")
+    xy_m = np.column_stack([X.ravel(), Y.ravel()])
+    idx = np.arange(16).reshape(4, 4)
+    quads = np.stack([idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]], axis=-1).reshape(-1, 4)
+    xy_s = np.random.default_rng(1).random((20, 2))
+    xy_s[0] = (1.5, 0.5)  # outside the face
+    J, W, inside = bilinear_pairing(xy_s, xy_m, quads)
+    assert not inside[0] and inside[1:].all()
+    assert np.allclose(W[1:].sum(axis=1), 1.0)
+    lin = 0.3 + 2.0 * xy_m[:, 0] - 0.7 * xy_m[:, 1]
+    assert np.allclose((W * lin[J]).sum(axis=1)[1:], (0.3 + 2.0 * xy_s[:, 0] - 0.7 * xy_s[:, 1])[1:], atol=1e-12)
