@@ -1,16 +1,12 @@
 """The paper's global FE model (Section 2.2), axisymmetric or 3D: both rods, penalty contact, explicit dynamics.
 
-    python workflows/global.py --scene workflows/scenes/paper.toml --set fe.axial_size=2e-3 --out DIR
-    mpirun -n 2 python workflows/global.py ...          # same histories to round-off
-    mpirun -n 2 python workflows/global.py --scene workflows/scenes/paper-3d-coarse.toml   # 3D (fe.kind = "3d")
-    mpirun -n 2 python workflows/global.py --driver --out DIR   # the submodels' driver (rods.plan)
+    mpirun -n 2 python workflows/global.py --scene workflows/scenes/paper.toml --set fe.axial_size=2e-3 --out DIR
+    mpirun -n 2 python workflows/global.py --driver --out DIR   # the submodels' driver (rods.plan), with cut.h5
 
-Writes DIR/history.csv, DIR/summary.json, DIR/pressure_profile.csv (p(r) at peak force) and, only when the
-scene asks ("fields" in effects or fe.field_interval > 0), DIR/fields.xdmf; with --record-cut, DIR/cut.h5
-(the band of displacements that drives workflows/submodel.py). --driver runs the library's driving global
-instead (rods.plan.submodel_driver: the scene with its driver settings, run and recorded over the contact
-phase only). Default DIR: output/global/<scene> (output/driver/<scene> with --driver). Prints the plan first,
-a progress bar while stepping, and the summary last (rank 0); exit code 1 when a guard stops the run.
+Writes DIR/history.csv, summary.json, pressure_profile.csv, fields.xdmf when the scene asks ("fields" or
+fe.field_interval > 0) and, with --record-cut or --driver, cut.h5 (drives workflows/submodel.py); --driver runs
+rods.plan.submodel_driver over the contact phase (rods.study.stages.driver). Default DIR: output/global/<scene>
+(output/driver/<scene>). Exit code 1 when a guard stops the run (histories so far are written).
 """
 
 from __future__ import annotations

@@ -3,12 +3,9 @@
     mpirun -n 2 python workflows/global.py --driver --out GDIR          # the library's driving global
     mpirun -n 2 python workflows/submodel.py --global GDIR --level fine --out DIR
 
-The scene is the global run's (GDIR/summary.json scene_values) unless --scene/--set are given. Levels:
-rods.scene.SUBMODEL_LEVEL_SIZES (coarse/mid/fine/extra-fine/ultra-fine = 0.25/0.125/0.0625/0.03125/0.015625 mm
-across and along); --size overrides. The run ends at --end-time [s] (default: the driver's contact phase,
-rods.plan.contact_phase). Writes DIR/summary.json (contact quantities, Hertz at the same force, the σ_r
-profile), DIR/history.csv, DIR/pressure_profile.csv and DIR/sigma_r.csv (rods.study.stages.submodel).
-Default DIR: output/submodel/<level>/<scene>. 3D global runs give 3D submodels (same fe.symmetry).
+Scene: the global run's unless --scene/--set are given. Levels: rods.scene.SUBMODEL_LEVEL_SIZES (--size
+overrides); end: the driver's contact phase unless --end-time. Writes DIR/summary.json, history.csv,
+pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR output/submodel/<level>/<scene>.
 """
 
 from __future__ import annotations
