@@ -154,7 +154,7 @@ class CentralDifference:
         self.u, self.v, self._z, self.y = (np.zeros(n) for _ in range(4))
         self.dt_inv_mass = dt * inv_mass  # Δt M^-1 [s/kg]
         self.mass_dt = mass / dt  # M/Δt [kg/s]
-        A = A() if callable(A) else A
+        A = A if isinstance(A, PETSc.Mat) else A()
         comm = A.getComm().tompi4py()
         n_global, bs = A.getSize()[0], A.getBlockSize()
         self.dt, self.β, self.contact, self.damped = dt, β, contact, β > 0
