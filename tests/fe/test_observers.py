@@ -1,0 +1,104 @@
+"""Observers of the explicit loop on the mesh-free toy impact: checkpoint round trip, guards firing with
+the right likely cause, finish() after a stop, progress."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from rods.fe import checkpoint
+from rods.fe.explicit import stable_step
+from rods.fe.guards import FINITE_EVERY, Guard, RunGuard, SimulationError
+from rods.fe.observers import Progress, march
+
+from .toy import K_CONTACT, bodies, impact, omega_max
+
+COMM = MPI.COMM_SELF
+
+
+def critical_step() -> float:
+    K, mass, _ = bodies()
+    Kc = K.copy()
+    Kc[1:3, 1:3] += K_CONTACT * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    return stable_step(omega_max(Kc, mass))
+
+
+def test_checkpoint_round_trip(tmp_path):
+    """A run resumed from its checkpoint records the same histories, bit for bit, as one that was not stopped."""
+    dt = 0.3 * critical_step()
+    N = 120
+    st, rec, _ = impact(dt, N)
+    ck = checkpoint.Checkpoints(tmp_path, 25, (st, rec), COMM, "toy", 0, N)
+    march(st, range(N + 1), [rec, ck], rec.is_out)
+    saved = checkpoint.load(tmp_path, COMM, "toy")
+    assert int(saved["step"]) == 100 and not list(tmp_path.glob("checkpoint-75-*"))  # the last one only
+    st2, rec2, _ = impact(dt, N)
+    st2.restore(saved)
+    rec2.restore(saved)
+    march(st2, range(st2.n + 1, N + 1), [rec2], rec2.is_out)
+    for name, col in rec.history().items():
+        assert np.array_equal(rec2.history()[name], col), name
+    assert np.array_equal(rec2.force, rec.force) and rec2.peak["F"] == rec.peak["F"]
+    with pytest.raises(ValueError, match="another scene"):
+        checkpoint.load(tmp_path, COMM, "other")
+
+
+def guarded(dt: float, steps: int):
+    st, rec, _ = impact(dt, steps)
+    guard = RunGuard(Guard(dt, critical_step()), rec, lambda u: 0, COMM)
+    return st, rec, guard
+
+
+def test_guard_stops_energy_growth_above_the_stable_step():
+    """Δt = 1.2 Δt_crit: the energy grows, the guard stops the run at a recorded step: 'step too large'."""
+    st, rec, guard = guarded(1.2 * critical_step(), 400)
+
+    class Closed:
+        done = False
+
+        def after_step(self, step, t, state):
+            pass
+
+        def finish(self):
+            self.done = True
+
+    closed = Closed()
+    err = march(st, range(401), [rec, guard, closed], rec.is_out)
+    assert isinstance(err, SimulationError) and closed.done  # finish() runs after a stop too
+    assert "energy grew" in str(err) and err.cause.startswith("step too large")
+    assert 0 < err.step < 400 and err.time == pytest.approx(err.step * st.dt)
+    h = rec.history()
+    E = h["kinetic_energy"] + h["strain_energy"] + h["contact_energy"]
+    assert E[-1] > 1.05 * E[0] and np.all(E[:-1] <= 1.05 * E[0])  # stopped at the first record past the limit
+
+
+def test_guard_stable_run_passes():
+    st, rec, guard = guarded(0.5 * critical_step(), 300)
+    assert march(st, range(301), [rec, guard], rec.is_out) is None
+
+
+def test_guard_likely_causes():
+    """Below the stable step, growth with the contact energy dominating names the penalty; a NaN velocity
+    is caught at the next finite check."""
+    g = Guard(dt=1e-8, dt_critical=2e-8)
+    with pytest.raises(SimulationError, match="penalty too stiff") as e:
+        g.check(7, 7e-8, (0.1, 0.1, 5.0, 0.0), 1.0)
+    assert e.value.step == 7
+    with pytest.raises(SimulationError, match="lower fe.dt_fraction"):
+        g.check(7, 7e-8, (2.0, 0.1, 0.1, 0.0), 1.0)
+    st, rec, guard = guarded(0.5 * critical_step(), 300)
+    march(st, range(FINITE_EVERY), [rec, guard], rec.is_out)
+    st.v[2] = math.nan
+    with pytest.raises(SimulationError, match="non-finite velocity"):
+        guard.after_step(FINITE_EVERY, FINITE_EVERY * st.dt, st)
+
+
+def test_progress_every_and_last():
+    calls = []
+    p = Progress(lambda step, total, elapsed: calls.append((step, total)), total=1001, every=500)
+    for step in range(1002):
+        p.after_step(step, 0.0, None)
+    assert calls == [(0, 1001), (500, 1001), (1000, 1001), (1001, 1001)]
