@@ -16,7 +16,7 @@ from rods.fe.guards import SimulationError
 from rods.fe.model import ExplicitModel
 from rods.io import read_history
 
-from .conftest import ROOT
+from ..conftest import ROOT
 
 COARSE = ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=2e-4")
 
