@@ -116,3 +116,34 @@ def test_entry_point_serial(name, tiny_driver, tmp_path):
 @pytest.mark.parametrize("name", [n for n in ENTRY_POINTS if n != "analytical"])
 def test_entry_point_mpi(name, tiny_driver, tmp_path):
     _entry_point(name, 2, tiny_driver, tmp_path)
+
+
+def test_snakefile_wires_the_library_driver_and_stages():
+    """Dry run of the main job and the sweeps: the submodels are driven by `global.py --driver` (the
+    library's driver over the contact phase), the comparison writes table3.json, no rule runs a recipe."""
+    p = subprocess.run(
+        [
+            str(PY.parent / "snakemake"),
+            "-s",
+            "workflows/Snakefile",
+            "-n",
+            "-p",
+            "--nolock",
+            "--forceall",
+            "--cores",
+            "2",
+        ]
+        + ["paper", "speed_sweep", "mesh_sweep", "dt_sweep"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert p.returncode == 0, p.stderr[-2000:]
+    lines = [ln.strip() for ln in p.stdout.splitlines() if str(PY) in ln]  # the shell commands
+    drivers = [ln for ln in lines if "global.py" in ln and "--driver" in ln]
+    assert len(drivers) == 1 and "--record" not in drivers[0] and "--set" not in drivers[0]
+    subs = [ln for ln in lines if "submodel.py" in ln]
+    assert len(subs) == 4 and all("--global output/paper/driver" in ln for ln in subs)
+    assert any("compare.py" in ln and "--out results" in ln for ln in lines)
+    assert not any("fe.penalty=8" in ln or "record-until" in ln for ln in lines)  # the recipe is the library's
