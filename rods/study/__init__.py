@@ -6,6 +6,7 @@
 * :mod:`rods.study.table3` — the comparison data (``table3.json``) and its markdown/CSV renderings.
 * :mod:`rods.study.figures` — Fig. 5c and Fig. 6 from the submodels' summaries.
 * :mod:`rods.study.sweep` — one CSV row per run of a parameter sweep.
+* :mod:`rods.study.console` — rank 0's log and progress bar for the entry points.
 
 The recipe itself (contact phase, the driver's settings, the most-refined rule) is :mod:`rods.plan`; the
 comparison math (Richardson level choice, σ_r error band) is :mod:`rods.compare`. Importing this package

@@ -178,12 +178,14 @@ def _richardson(subs: Sequence[ModelRun], E_star: float, R_star: float) -> dict[
 
 def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]) -> dict[str, Any]:
     """The comparison data of ``runs`` (globals in the order given, then submodels coarse to fine) on
-    ``scene``, against the analytical model's summary ``analytical`` (table3.json contract, NaN for none)."""
+    ``scene``, against the analytical model's summary ``analytical`` (table3.json contract, NaN for none).
+    The experiment is Table 3's (the paper's FE trial), for a scene at its impact speed (else NaN columns)."""
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
     nu = scene.rod1.material.poisson_ratio
     pd = paper_data.load()
-    trial = pd.fe_experiment
-    a_exp = trial.experimental_radius
+    # Table 3's experiment (Table 2's trial at the paper's FE impact speed), only for a scene at that speed
+    trial = pd.fe_experiment if math.isclose(pd.fe_experiment.impact_speed, scene.speed, rel_tol=1e-9) else None
+    a_exp = trial.experimental_radius if trial else math.nan
     ref = {
         "scene": scene.name,
         "impact_speed": scene.speed,
@@ -193,7 +195,7 @@ def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]
         "experiment": {
             "contact_radius": a_exp,
             "contact_area": math.pi * a_exp**2,
-            "source": f"Table 2, Spec. {trial.specimen} Trial {trial.trial}",
+            "source": f"Table 2, Spec. {trial.specimen} Trial {trial.trial}" if trial else None,
         },
         "paper": _paper(pd),
     }
@@ -217,6 +219,11 @@ def render_csv(data: Mapping[str, Any]) -> str:
     return buf.getvalue()
 
 
+def _pct(v: Any, d: int) -> str:
+    v = _num(v)
+    return "–" if math.isnan(v) else f"{v:+.{d}f}%"
+
+
 def _f(v: Any, d: int = 3) -> str:
     v = _num(v)
     return "–" if isinstance(v, float) and math.isnan(v) else (f"{v:.{d}f}" if isinstance(v, float) else str(v))
@@ -232,17 +239,18 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
     for r in data["rows"]:
         L.append(
             f"| {r['model']} | {r['force_N']:.0f} | {r['area_mm2']:.3f} | {r['radius_mm']:.4f} | {r['p0_GPa']:.3f} "
-            f"| {r['hertz_radius_mm']:.4f} | {r['hertz_area_mm2']:.3f} | {r['hertz_p0_GPa']:.3f} "
-            f"| {r['d_area_vs_hertz_pct']:+.2f}% | {r['d_p0_vs_hertz_pct']:+.2f}% "
-            f"| {r['d_force_vs_analytical_pct']:+.2f}% "
-            f"| {r['d_area_vs_analytical_pct']:+.1f}% | {r['d_area_vs_exp_pct']:+.1f}% "
+            f"| {_f(r['hertz_radius_mm'], 4)} | {_f(r['hertz_area_mm2'])} | {_f(r['hertz_p0_GPa'])} "
+            f"| {_pct(r['d_area_vs_hertz_pct'], 2)} | {_pct(r['d_p0_vs_hertz_pct'], 2)} "
+            f"| {_pct(r['d_force_vs_analytical_pct'], 2)} "
+            f"| {_pct(r['d_area_vs_analytical_pct'], 1)} | {_pct(r['d_area_vs_exp_pct'], 1)} "
             f"| {_f(r['sigma_r_err_surface_pct'], 1)}% / {_f(r['sigma_r_err_depth_pct'], 1)}% "
             f"| {_f(r['paper_force_N'], 0)} | {_f(r['paper_area_mm2'], 2)} | {r['dofs']} | {r['wall_s']:.1f} |"
         )
     an, exp, pa = data["analytical"], data["experiment"], data["paper"]
     L.append(
         f"| Analytical / Experimental | {an['peak_contact_force']:.0f} | {an['contact_area'] * 1e6:.3f} / "
-        f"{exp['contact_area'] * 1e6:.3f} | {an['contact_radius'] * 1e3:.4f} / {exp['contact_radius'] * 1e3:.3f} | "
+        f"{_f(_num(exp['contact_area']) * 1e6)} | {an['contact_radius'] * 1e3:.4f} / "
+        f"{_f(_num(exp['contact_radius']) * 1e3)} | "
         f"{an['peak_contact_pressure'] / 1e9:.3f} | | | | | | | | | | {pa['analytical']['force']:.0f} | "
         f"{pa['analytical']['area'] * 1e6:.2f} / {pa['experiment']['area'] * 1e6:.2f} | | |"
     )
@@ -299,9 +307,13 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         f"Scene `{data['scene']}` (s1 = {data['impact_speed']} m/s). Analytical model: "
         f"F = {an['peak_contact_force']:.1f} N, a = {an['contact_radius'] * 1e3:.4f} mm, "
         f"area = {an['contact_area'] * 1e6:.3f} mm², p0 = {an['peak_contact_pressure'] / 1e9:.3f} GPa. "
-        f"Experiment ({exp['source']}): a = {exp['contact_radius'] * 1e3:.3f} mm, area π a² = "
-        f"{exp['contact_area'] * 1e6:.3f} mm² (Table 3 prints {pa['experiment']['area'] * 1e6:.2f} mm²). "
-        "Hertz columns: closed form at the model's own peak force."
+        + (
+            f"Experiment ({exp['source']}): a = {exp['contact_radius'] * 1e3:.3f} mm, area π a² = "
+            f"{exp['contact_area'] * 1e6:.3f} mm² (Table 3 prints {pa['experiment']['area'] * 1e6:.2f} mm²). "
+            if exp["source"]
+            else "No experiment at this impact speed (Table 2). "
+        )
+        + "Hertz columns: closed form at the model's own peak force."
     )
     L += ["", *_model_rows(data)]
     L += [

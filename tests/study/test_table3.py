@@ -145,3 +145,14 @@ def test_compare_cli_writes_under_output_unless_told(runs, tmp_path):
         "table3.md",
     ]
     assert not (cwd / "results").exists() and "Richardson" in p.stdout
+
+
+def test_no_experiment_at_another_impact_speed(runs):
+    """Table 3's experiment is the trial at the paper's FE speed: a 1.848 m/s study has none to compare with."""
+    sc, models = runs
+    an = {"peak_contact_force": 4e3, "contact_radius": 1e-3, "contact_area": 3.1e-6, "peak_contact_pressure": 2e9}
+    d = table3(sc.with_overrides("impact.speed=1.848"), an, models)
+    assert d["experiment"]["source"] is None and all(math.isnan(r["d_area_vs_exp_pct"]) for r in d["rows"])
+    md = render_markdown(d)
+    assert "No experiment at this impact speed" in md
+    assert render_markdown(json.loads(json.dumps(d).replace("NaN", "null"))) == md
