@@ -1,4 +1,12 @@
-"""Explicit finite-element models of the rod impact (paper Sec. 2.2): the global axisymmetric model.
+"""Explicit finite-element models of the rod impact (paper Sec. 2.2), axisymmetric or 3D, global or submodel.
+
+Rooms: :mod:`~rods.fe.model` (ExplicitModel: mesh, spaces, K, lumped mass, constraints, contact, probes,
+stable step, plan; its ``run`` is the loop), :mod:`~rods.fe.explicit` (the central-difference scheme and
+its stable step), :mod:`~rods.fe.observers` (the loop's observer protocol), :mod:`~rods.fe.recorder`
+(named histories, energy balance, peak), :mod:`~rods.fe.guards`, :mod:`~rods.fe.checkpoint`,
+:mod:`~rods.fe.fields` (observers), :mod:`~rods.fe.contact` (penalty contact), :mod:`~rods.fe.probes`,
+:mod:`~rods.fe.forms`, :mod:`~rods.fe.mesh` / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.submodel` (cut
+recording and driving, σ_r at the Gauss points, levels).
 
 Importing this package loads the PyPI wheel's ``dolfinx_solver`` shim first when it is installed
 (it must precede dolfinx/petsc4py there); any other DOLFINx 0.11 install works without it.

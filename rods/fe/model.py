@@ -318,12 +318,12 @@ class ExplicitModel:
             k = recorder.k
             n_ok = k - 1 if k > 1 else k  # the last record is the one the guard refused
             try:
-                failure.partial = self._result(recorder, n_ok, failure.step, wall_loop)
+                failure.partial = fe_result(self, recorder, n_ok, failure.step, wall_loop)
                 failure.partial.summary.update(status="failed", error=str(failure), failed_step=failure.step)
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
             raise failure
-        return self._result(recorder, recorder.k, self.steps + 1, wall_loop)
+        return fe_result(self, recorder, recorder.k, self.steps + 1, wall_loop)
 
     def stepper(self) -> CentralDifference:
         """The central-difference integrator at the initial state (a fresh K, scaled in place)."""
@@ -396,63 +396,65 @@ class ExplicitModel:
         )
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
-    # ------------------------------------------------------------------------------------------
-    def _result(self, recorder: Recorder, rows: int, steps: int, wall_loop: float) -> FEResult:
-        """Histories (the first ``rows`` records), units, summary (force over the first ``steps`` steps)."""
-        sc = self.scene
-        hist = recorder.history(rows)
-        units = {name: recorder.units[name] for name in hist}
-        derived = recorder.summary(hist, steps, sc.stations[0].name)
-        energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
-        n_steps = min(steps, recorder.force.size) - 1
-        summary: dict[str, Any] = {"model": self.model_name, "scene": sc.name, "impact_speed": sc.speed}
-        summary.update(derived)  # peak, contact, midpoint
-        summary.update(
-            {
-                "wall_time": wall_loop,
-                "setup_time": self.setup_time,
-                "dofs": self.n_global,
-                "cells": self.rm.mesh.topology.index_map(self.rm.mesh.topology.dim).size_global,
-                "steps": int(n_steps),
-                "dt": self.dt,
-                "dt_critical": self.dt_critical,
-                "dt_critical_without_contact": self.dt_critical_no_contact,
-                "dt_element_estimate": self.dt_element,
-                "dt_gershgorin": self.dt_gershgorin,
-                "dt_contact_switching": self.dt_switching,
-                **energy,
-                "ranks": self.comm.size,
-                "penalty": self.ε_pen,
-                "penalty_factor": sc["fe.penalty"],
-                "bulk_viscosity": self.ξ,
-                "dof_steps_per_second": self.n_global * n_steps / wall_loop if wall_loop > 0 else 0.0,
-            }
-        )
-        summary.update(self._mesh_summary(recorder.peak, hist))
-        profile = {"r": self.contact.slave.r.copy(), "p": np.asarray(recorder.peak.get("p", np.zeros(self.contact.ns)))}
-        return FEResult(hist, units, summary, profile)
 
-    def _mesh_summary(self, peak: dict[str, Any], hist: dict[str, np.ndarray]) -> dict[str, Any]:
-        """Mesh, pressure profile and scene; 3D: symmetry, placement, patch at peak force, midpoint bending."""
-        sc, rm = self.scene, self.rm
-        summary: dict[str, Any] = {
-            "mesh": {
-                "radial_size": rm.h_radial,
-                "axial_size": rm.h_axial,
-                "tip_axial_size": rm.h_tip,
-                "n_radial": rm.n_radial,
-                "n_axial": list(rm.n_axial),
-            },
-            "pressure_profile": {"r": self.contact.slave.r.tolist(), "p": np.asarray(peak.get("p", [])).tolist()},
-            "scene_values": sc.as_dict(),
+def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, wall_loop: float) -> FEResult:
+    """The run's FEResult: histories (the first ``rows`` records), units, summary (force over the first
+    ``steps`` steps, the model's set-up, 3D extras), pressure profile at the peak force."""
+    sc = model.scene
+    hist = recorder.history(rows)
+    units = {name: recorder.units[name] for name in hist}
+    derived = recorder.summary(hist, steps, sc.stations[0].name)
+    energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
+    n_steps = min(steps, recorder.force.size) - 1
+    summary: dict[str, Any] = {"model": model.model_name, "scene": sc.name, "impact_speed": sc.speed}
+    summary.update(derived)  # peak, contact, midpoint
+    summary.update(
+        {
+            "wall_time": wall_loop,
+            "setup_time": model.setup_time,
+            "dofs": model.n_global,
+            "cells": model.rm.mesh.topology.index_map(model.rm.mesh.topology.dim).size_global,
+            "steps": int(n_steps),
+            "dt": model.dt,
+            "dt_critical": model.dt_critical,
+            "dt_critical_without_contact": model.dt_critical_no_contact,
+            "dt_element_estimate": model.dt_element,
+            "dt_gershgorin": model.dt_gershgorin,
+            "dt_contact_switching": model.dt_switching,
+            **energy,
+            "ranks": model.comm.size,
+            "penalty": model.ε_pen,
+            "penalty_factor": sc["fe.penalty"],
+            "bulk_viscosity": model.ξ,
+            "dof_steps_per_second": model.n_global * n_steps / wall_loop if wall_loop > 0 else 0.0,
         }
-        if self.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending
-            summary["symmetry"] = rm.symmetry
-            summary["impact_offset"] = sc["impact.offset"]
-            summary["impact_tilt"] = sc["impact.tilt"]
-            summary["rod1_placement_dz"] = rm.placement.dz
-            summary.update(zip(self.contact.patch_keys, peak.get("patch", (0.0, 0.0, 0.0)), strict=True))
-            bend = 0.5 * (hist["rod2_mid_strain_plus_x"] - hist["rod2_mid_strain_minus_x"])
-            summary["midpoint_peak_bending_strain"] = float(np.max(np.abs(bend)))
-            summary["mesh"]["n_core"] = rm.n_core
-        return summary
+    )
+    summary.update(_mesh_summary(model, recorder.peak, hist))
+    profile = {"r": model.contact.slave.r.copy(), "p": np.asarray(recorder.peak.get("p", np.zeros(model.contact.ns)))}
+    return FEResult(hist, units, summary, profile)
+
+
+def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np.ndarray]) -> dict[str, Any]:
+    """Mesh, pressure profile and scene; 3D: symmetry, placement, patch at peak force, midpoint bending."""
+    sc, rm = model.scene, model.rm
+    summary: dict[str, Any] = {
+        "mesh": {
+            "radial_size": rm.h_radial,
+            "axial_size": rm.h_axial,
+            "tip_axial_size": rm.h_tip,
+            "n_radial": rm.n_radial,
+            "n_axial": list(rm.n_axial),
+        },
+        "pressure_profile": {"r": model.contact.slave.r.tolist(), "p": np.asarray(peak.get("p", [])).tolist()},
+        "scene_values": sc.as_dict(),
+    }
+    if model.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending
+        summary["symmetry"] = rm.symmetry
+        summary["impact_offset"] = sc["impact.offset"]
+        summary["impact_tilt"] = sc["impact.tilt"]
+        summary["rod1_placement_dz"] = rm.placement.dz
+        summary.update(zip(model.contact.patch_keys, peak.get("patch", (0.0, 0.0, 0.0)), strict=True))
+        bend = 0.5 * (hist["rod2_mid_strain_plus_x"] - hist["rod2_mid_strain_minus_x"])
+        summary["midpoint_peak_bending_strain"] = float(np.max(np.abs(bend)))
+        summary["mesh"]["n_core"] = rm.n_core
+    return summary
