@@ -305,11 +305,8 @@ class ExplicitModel:
         """
         stepper = self.stepper()
         recorder = self.recorder(observers)
-        own = self._observers(stepper, recorder, out, progress)
         step0 = self._restore(out, stepper, recorder, progress) if restart and out is not None else 0
-        for o in own:
-            if isinstance(o, checkpoint.Checkpoints):
-                o.first = step0
+        own = self._observers(stepper, recorder, out, progress, step0)
         recorder.start()
         failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)
         wall_loop = recorder.wall_before + self.comm.allreduce(time.perf_counter() - recorder.t_start, op=MPI.MAX)
@@ -348,15 +345,15 @@ class ExplicitModel:
             self.contact, probes, mass_axial, steps, self.steps, self.dt, self.comm, self.multiplicity, sources
         )
 
-    def _observers(self, stepper, recorder, out, progress) -> list[Observer]:
-        """The model's own observers after the recorder: guards, checkpoints, fields, progress."""
+    def _observers(self, stepper, recorder, out, progress, step0: int) -> list[Observer]:
+        """The model's own observers after the recorder: guards, checkpoints (after ``step0``), fields, progress."""
         sc, dt = self.scene, self.dt
         guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"])
         own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm)]
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = int(round(sc["fe.checkpoint_interval"] / dt))
             key = self._checkpoint_key()
-            own.append(checkpoint.Checkpoints(out, every, (stepper, recorder), self.comm, key, 0, self.steps))
+            own.append(checkpoint.Checkpoints(out, every, (stepper, recorder), self.comm, key, step0, self.steps))
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
             every = max(1, int(round((sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL) / dt)))
             own.append(FieldOutput(self, out, every))
