@@ -85,5 +85,3 @@ class PointProbes:
         self.P = scipy.sparse.csr_matrix(
             (np.concatenate(data), (np.concatenate(ri), np.concatenate(ci))), shape=(2 * len(pts), n_local)
         )
-        self.comm = comm
-        self.n = len(pts)
