@@ -44,7 +44,7 @@ class SimulationError(RuntimeError):
 class Guard:
     dt: float  # [s]
     dt_critical: float  # [s]
-    growth_limit: float = 0.05  # relative energy growth that stops the run [-]
+    growth_limit: float = 0.01  # relative energy growth that stops the run (scene fe.energy_growth_limit) [-]
 
     def _cause(self, contact_share: float) -> str:
         if self.dt > 0.99 * self.dt_critical:
