@@ -1,7 +1,9 @@
 """Result files: ``summary.json`` and ``history.csv``, written atomically on rank 0.
 
 Atomic means write to a temporary file in the same folder, then ``os.replace``: a killed run leaves
-either the old file or the new one, never half of one.
+either the old file or the new one, never half of one. The file gets the mode an ``open()`` would give
+(0666 less the process umask: 0644 under the usual 022), not ``mkstemp``'s private 0600, so that a group or a
+ParaView server under another account can read the results.
 """
 
 from __future__ import annotations
@@ -16,7 +18,15 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SUMMARY_KEYS", "atomic_write_text", "read_history", "write_data", "write_history", "write_summary"]
+__all__ = [
+    "SUMMARY_KEYS",
+    "atomic_write_text",
+    "file_mode",
+    "read_history",
+    "write_data",
+    "write_history",
+    "write_summary",
+]
 
 # The summary.json contract (foundation issue): every model writes these keys, SI units.
 SUMMARY_KEYS = (
@@ -34,12 +44,27 @@ SUMMARY_KEYS = (
 )
 
 
+def file_mode() -> int:
+    """The mode ``open()`` gives a new file: 0o666 less the process umask (read without changing it where
+    /proc tells it; else set and restored at once)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return 0o666 & ~int(line.split()[1], 8)
+    except OSError:
+        pass
+    umask = os.umask(0o022)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
 def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and an atomic rename."""
+    """Write ``text`` to ``path`` through a temporary file and an atomic rename (mode: :func:`file_mode`)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
+        os.fchmod(fd, file_mode())  # mkstemp creates 0600
         with os.fdopen(fd, "w") as f:
             f.write(text)
             f.flush()
