@@ -2,7 +2,7 @@
 PY := .venv/bin/python
 NPROC ?= 2
 
-.PHONY: venv paper paper-full sweep test test-slow bench lint clean
+.PHONY: venv paper paper-full sweep verify test test-slow bench lint clean
 
 venv:
 	@./.ci/ensure-venv
@@ -20,6 +20,10 @@ paper-full: venv
 ## Parameter sweeps (impact speed, mesh level, time-step fraction): results/sweep-*.csv
 sweep: venv
 	$(SNAKE) speed_sweep mesh_sweep dt_sweep
+
+## Verification matrix (global FE at default settings vs analytical on six scenes): results/verification.{md,json}
+verify: venv
+	.venv/bin/mpirun -n $(NPROC) $(PY) workflows/verify.py --tables results
 
 ## The default test suite (no slow cases); what CI runs.
 test: venv

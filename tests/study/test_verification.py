@@ -1,0 +1,65 @@
+"""The verification matrix: rows computed from the two models' results, targets applied, table from the data."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from rods.scene import load_scene
+from rods.study import verification
+from tests.conftest import PAPER, run_workflow, set_args
+
+
+def _history(t, force, speed, strain):
+    return {"time": t, "contact_force": force, "rod2_mid_velocity": speed, "rod2_mid_strain": strain}
+
+
+def test_row_targets_and_markdown():
+    """A synthetic FE result 0.4% above in force, 2.5 µs longer and with a 1e-6 strain offset: force passes,
+    duration misses, the RMS is the offset, and the table marks exactly the miss."""
+    sc = load_scene(PAPER)
+    t = np.linspace(0.0, 1.5e-3, 6001)
+    strain = 1e-4 * np.sin(2e4 * t)
+    ana = {"summary": {"peak_contact_force": 5000.0, "contact_duration": 1e-4, "midpoint_peak_speed": 1.1},
+           "history": _history(t, 0 * t, 0 * t, strain)}  # fmt: skip
+    fe = {"summary": {"peak_contact_force": 5020.0, "contact_duration": 1.025e-4, "midpoint_peak_speed": 1.1,
+                      "energy_error": 2e-7, "wall_time": 3.0, "setup_time": 1.0, "dofs": 10, "steps": 100},
+          "history": _history(t, 0 * t, 0 * t, strain + 1e-6)}  # fmt: skip
+    row = verification.case_row("paper", ana, fe, sc)
+    assert row["peak_force_pct"] == pytest.approx(0.4)
+    assert row["duration_difference"] == pytest.approx(2.5e-6)
+    assert row["strain_rms"] == pytest.approx(1e-6, rel=1e-9)
+    assert row["passes"] == {"peak_force": True, "duration": False, "energy": True}
+    assert row["wall_time"] == 4.0
+    data = {"base_scene": "paper", "extra_overrides": [], "targets": verification.TARGETS, "ranks": 1, "rows": [row]}
+    md = verification.render_markdown(data)
+    assert "+2.50 ✗" in md and "+0.400%" in md and "0 of 1 cases" in md
+
+
+def test_short_history_has_no_rms():
+    sc = load_scene(PAPER)
+    t = np.linspace(0.0, 2e-4, 101)
+    h = _history(t, 0 * t, 0 * t, 0 * t)
+    s = {"peak_contact_force": 1.0, "contact_duration": 1e-4, "midpoint_peak_speed": 1.0}
+    fe = {**s, "energy_error": 0.0, "wall_time": 0.0, "dofs": 1, "steps": 1}
+    row = verification.case_row("speed-1.0", {"summary": s, "history": h}, {"summary": fe, "history": h}, sc)
+    assert math.isnan(row["strain_rms"])
+
+
+def test_every_case_is_a_valid_scene():
+    for name, (_, overrides) in verification.CASES.items():
+        assert load_scene(PAPER, overrides).name, name
+
+
+def test_cli_runs_one_case_on_a_coarse_mesh(tmp_path):
+    coarse = ["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2.5e-4"]
+    p = run_workflow("verify.py", ["--case", "speed-1.0", *set_args(coarse), "--out", str(tmp_path)])
+    assert p.returncode == 0, p.stderr
+    data = json.loads((tmp_path / "verification.json").read_text())
+    (row,) = data["rows"]
+    assert row["impact_speed"] == 1.0 and abs(row["peak_force_pct"]) < 3.0  # coarse 4 x 1 mm mesh
+    assert (tmp_path / "speed-1.0" / "global" / "history.csv").exists()
+    assert "verification matrix" in (tmp_path / "verification.md").read_text().lower()
