@@ -143,16 +143,27 @@ def test_stable_step(model):
     assert lo < model.dt_critical / model.dt_element < 2.0
 
 
+ENERGY_TOL = {"axisymmetric": 1e-5, "3d": 1e-5}  # energy balance error of the coarse runs [-]
+MASS_TOL = {"axisymmetric": 3e-3, "3d": 2e-2}  # meshed against nominal Rod-1 mass [-]
+
+
 def test_conservation_and_contract(model, result):
     s, h = result.summary, result.history
     assert s["model"] == model.model_name and all(k in s for k in io.SUMMARY_KEYS)
     p = h["momentum"]
     assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
-    assert s["energy_error"] < 1e-2
+    assert s["energy_error"] < ENERGY_TOL[model.kind]
     assert h["contact_force"].max() > 1000  # contact did happen
     E = h["kinetic_energy"] + h["strain_energy"] + h["contact_energy"]
-    assert E[0] == pytest.approx(s["initial_energy"])
-    assert s["scene_values"]["impact"]["speed"] > 0
+    # at t = 0 only Rod 1 moves: E0 = ½ M1 s1² and p0 = M1 s1 with M1 its lumped axial mass (the recorder's
+    # mid-step products against the mass vector), and M1 is the nominal ρ A L1 less the cap (< 0.3%) and, in 3D,
+    # the polygonal section's lost area (measured 1.2% at 1 mm elements on the 6.35 mm radius)
+    sc = model.scene
+    M1 = model.multiplicity * model.mass[_rod_entries(model, 1, model.axial)].sum()
+    assert E[0] == pytest.approx(0.5 * M1 * sc.speed**2, rel=1e-5)
+    assert p[0] == pytest.approx(M1 * sc.speed, rel=1e-12)
+    assert M1 == pytest.approx(sc.rod1.mass, rel=MASS_TOL[model.kind])
+    assert s["scene_values"]["impact"]["speed"] == sc.speed
     if model.kind == "axisymmetric":
         assert h["strain_energy"].max() > 0.1 * E[0]
         return
@@ -245,6 +256,11 @@ def test_no_fields_unless_asked(tmp_path):
     p = _run_cli("axisymmetric", tmp_path / "fields", ["simulation.end_time=2e-5", "fe.field_interval=1e-5"])
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "fields" / "fields.xdmf").exists()
+    # the "fields" effect alone (no fe.field_interval) asks for them too
+    effect = ["simulation.end_time=2e-5", "effects=['wave_response', 'fields']"]
+    p = _run_cli("axisymmetric", tmp_path / "effect", effect)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "effect" / "fields.xdmf").exists()
 
 
 def test_paper_scene_validation():
