@@ -1,58 +1,283 @@
-"""Field output of an explicit run: an XDMF time series of u, v (P1) and σ_zz, σ_rr (σ_xx in 3D),
-von Mises (DG0), written collectively every ``every`` steps (an observer, :mod:`rods.fe.observers`)."""
+"""Field output of an explicit run: every field on one dataset per frame, at exactly the requested times.
+
+Frames: t_k = k x ``fe.field_interval`` for every t_k within the run, plus the final state (t = steps Δt,
+unless it is a requested time already). Frame k is formed at the nearest step n = round(t_k/Δt), with
+τ = t_k - t_n in [-Δt/2, Δt/2], on the scheme's own trajectory (:mod:`rods.fe.explicit`): u is piecewise
+linear between steps with slope v_{n±½}, so u(t_k) = u_n + τ v_{n+½} (τ >= 0) or u_n + τ v_{n-½} (τ < 0),
+exact; v(t_k) is the linear interpolation of v_{n-½} and v_{n+½} at their half-step times (at t = 0: v_0).
+Stresses and the contact pressure are evaluated at u(t_k).
+
+Fields (all P1, point data, one grid per frame): ``displacement``, ``velocity`` (3 components: r, z, 0
+axisymmetric; x, y, z in 3D), ``sigma_zz``, ``sigma_rr``, ``sigma_tt`` (σ_θθ) in each rod's cylindrical
+frame (3D: about the rod's own axis, Rod 1's placed one when tilted or offset), ``von_mises``, and
+``contact_pressure`` on both tip surfaces (Rod 1: p_s = ε <-g_s>; Rod 2: its nodal reaction Wᵀ F over its
+tributary area; 0 elsewhere). Stresses are nodal averages, the lumped L² projection
+σ_i = ∫ N_i σ w dx / ∫ N_i w dx (w: the volume weight; Gauss points are interior, so r > 0 in 3D).
+
+Files in the run folder:
+
+* ``fields.xdmf`` + ``fields/mesh.h5`` + ``fields/frame-<k>.h5``: XDMF 3 with one temporal collection of
+  uniform grids, each grid carrying all attributes (ParaView's Xdmf3 readers, VTK's legacy ``vtkXdmfReader``
+  and meshio read it). Each frame is its own HDF5 file, closed before the XML is replaced atomically, so a
+  killed run leaves every frame written so far readable, and a restart keeps the frames before its
+  restart step and appends after them.
+* ``fields.bp`` (ADIOS2, DOLFINx's VTXWriter, written in parallel; ParaView's ADIOS2VTXReader): the same
+  functions and frames; a restart writes its frames to ``fields-restart-<step>.bp`` (VTXWriter cannot append).
+
+MPI: the XDMF is written by rank 0 from arrays gathered in global node order (one gather per frame).
+"""
 
 from __future__ import annotations
 
+import math
+import shutil
 from pathlib import Path
 
 import dolfinx
+import dolfinx.fem.petsc
 import dolfinx.io
+import numpy as np
 import ufl
+from petsc4py import PETSc
 
+from rods import io
 from rods.fe import forms
 from rods.fe.explicit import CentralDifference
 
-__all__ = ["DEFAULT_FIELD_INTERVAL", "FieldOutput"]
+__all__ = ["DEFAULT_FIELD_INTERVAL", "FIELD_NAMES", "FieldOutput", "XdmfSeries", "frame_schedule"]
 
 DEFAULT_FIELD_INTERVAL = 10e-6  # [s] when "fields" is requested without fe.field_interval
+FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
+
+
+def frame_schedule(interval: float, dt: float, steps: int) -> dict[int, list[tuple[int, float]]]:
+    """Step n -> [(frame index k, time t_k [s])]: t_k = k x ``interval`` <= steps Δt at n = round(t_k/Δt),
+    then the final state (k = last + 1, t = steps Δt) unless it is the last requested time."""
+    end = steps * dt
+    n_req = int(math.floor(end / interval * (1 + 1e-12)))
+    sched: dict[int, list[tuple[int, float]]] = {}
+    for k in range(n_req + 1):
+        t = k * interval
+        sched.setdefault(min(steps, round(t / dt)), []).append((k, t))
+    if abs(n_req * interval - end) > 1e-9 * dt:
+        sched.setdefault(steps, []).append((n_req + 1, end))
+    return sched
+
+
+class _Stresses:
+    """σ_zz, σ_rr, σ_θθ, von Mises of ``u`` as P1 nodal averages (lumped L² projection, module docstring)."""
+
+    def __init__(self, model, u: dolfinx.fem.Function, Q: dolfinx.fem.FunctionSpace):
+        msh, kind = model.rm.mesh, model.kind
+        x = ufl.SpatialCoordinate(msh)
+        σ = forms.stress(forms.strain(u, x, kind), model.mat.λ, model.mat.μ)
+        if kind == "3d":
+            e_z, e_r, e_t = _cylindrical_frame(model, x)
+            comps = [ufl.dot(e, ufl.dot(σ, e)) for e in (e_z, e_r, e_t)]
+        else:  # (r, θ, z) ordering of rods.fe.forms
+            comps = [σ[2, 2], σ[0, 0], σ[1, 1]]
+        s = ufl.dev(σ)
+        comps.append(ufl.sqrt(1.5 * ufl.inner(s, s)))
+        q, w = ufl.TestFunction(Q), forms.measure_weight(x, kind)
+        dx = ufl.dx(metadata={"quadrature_degree": 2})
+        self.forms = [dolfinx.fem.form(c * q * w * dx) for c in comps]
+        self.n = Q.dofmap.index_map.size_local
+        self.inv_weight = 1.0 / self._assemble(dolfinx.fem.form(q * w * dx))
+
+    def _assemble(self, form) -> np.ndarray:
+        b = dolfinx.fem.petsc.assemble_vector(form)
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        out = b.array_r[: self.n].copy()
+        b.destroy()
+        return out
+
+    def evaluate(self) -> list[np.ndarray]:
+        """Owned nodal values [Pa] of σ_zz, σ_rr, σ_θθ, von Mises at the current ``u``."""
+        return [self._assemble(f) * self.inv_weight for f in self.forms]
+
+
+def _cylindrical_frame(model, x):
+    """3D: (e_z, e_r, e_θ) of each rod's cylindrical frame as UFL vectors; the axis a and a point c on it are
+    cellwise (DG0): Rod 2 along z through the origin, Rod 1 placed (R_y(θ) e_z through its apex)."""
+    msh, pl = model.rm.mesh, model.rm.placement
+    Q3 = dolfinx.fem.functionspace(msh, ("DG", 0, (3,)))
+    a, c = dolfinx.fem.Function(Q3), dolfinx.fem.Function(Q3)
+    for rod, axis, centre in (
+        ("rod1", (math.sin(pl.tilt), 0.0, math.cos(pl.tilt)), (pl.offset, 0.0, pl.dz)),
+        ("rod2", (0.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
+    ):
+        cells = model.rm.cell_tags.find(model.tags[rod])
+        for f, val in ((a, axis), (c, centre)):
+            f.x.array.reshape(-1, 3)[cells] = val
+    a.x.scatter_forward()
+    c.x.scatter_forward()
+    d = x - c
+    d_perp = d - ufl.dot(d, a) * a
+    ρ = ufl.sqrt(ufl.dot(d_perp, d_perp) + (1e-9 * model.scene.rod2.diameter) ** 2)  # Gauss points: ρ > 0
+    e_r = d_perp / ρ
+    return a, e_r, ufl.cross(a, e_r)
+
+
+class XdmfSeries:
+    """Rank 0's XDMF time series (module docstring): ``mesh.h5`` once, one HDF5 file per frame, the XML
+    replaced atomically after each frame. ``keep_before``: frames with t below it survive (a restart)."""
+
+    def __init__(self, out: Path, points: np.ndarray, cells: np.ndarray, cell_type: str, keep_before: float):
+        import h5py
+
+        self.h5py, self.xml = h5py, Path(out) / "fields.xdmf"
+        self.dir = Path(out) / "fields"
+        self.cell_type, self.shape = cell_type, (len(points), len(cells), cells.shape[1])
+        self.frames: list[tuple[str, float, dict[str, int]]] = []
+        if self.dir.exists():
+            self.frames = [f for f in self._read_frames() if f[1] < keep_before]
+            for p in self.dir.glob("frame-*.h5"):
+                if p.name not in {f[0] for f in self.frames}:
+                    p.unlink()
+        self.dir.mkdir(parents=True, exist_ok=True)
+        self._write_h5("mesh.h5", {"points": points, "cells": cells})
+        self._write_xml()
+
+    def _read_frames(self) -> list[tuple[str, float, dict[str, int]]]:
+        frames = []
+        for p in sorted(self.dir.glob("frame-*.h5")):
+            try:
+                with self.h5py.File(p, "r") as f:
+                    frames.append((p.name, float(f.attrs["time"]), {k: f[k].shape[1] for k in f}))
+            except (OSError, KeyError):  # a frame cut short by a kill: dropped (it is rewritten)
+                continue
+        return sorted(frames, key=lambda f: f[1])
+
+    def _write_h5(self, name: str, data: dict[str, np.ndarray], time: float | None = None) -> None:
+        tmp = self.dir / f".{name}.tmp"
+        with self.h5py.File(tmp, "w") as f:
+            for k, v in data.items():
+                f.create_dataset(k, data=v)
+            if time is not None:
+                f.attrs["time"] = time
+        tmp.chmod(io.file_mode())
+        tmp.replace(self.dir / name)
+
+    def write(self, k: int, t: float, data: dict[str, np.ndarray]) -> None:
+        """Frame ``k`` at time ``t`` [s]: ``data`` name -> (n_points, n_comp) in global node order."""
+        name = f"frame-{k:06d}.h5"
+        self._write_h5(name, data, t)
+        self.frames = [f for f in self.frames if f[0] != name and f[1] < t] + [
+            (name, t, {n: v.shape[1] for n, v in data.items()})
+        ]
+        self._write_xml()
+
+    def _write_xml(self) -> None:
+        n_pts, n_cells, per_cell = self.shape
+        topo = f'<DataItem Dimensions="{n_cells} {per_cell}" NumberType="Int" Precision="8" Format="HDF">'
+        geo = f'<DataItem Dimensions="{n_pts} 3" NumberType="Float" Precision="8" Format="HDF">'
+        grids = []
+        for name, t, comps in self.frames:
+            attrs = "".join(
+                f'<Attribute Name="{a}" AttributeType="{"Vector" if nc == 3 else "Scalar"}" Center="Node">'
+                f'<DataItem Dimensions="{n_pts} {nc}" NumberType="Float" Precision="8" Format="HDF">'
+                f"fields/{name}:/{a}</DataItem></Attribute>"
+                for a, nc in comps.items()
+            )
+            grids.append(
+                f'<Grid Name="frame" GridType="Uniform"><Time Value="{t!r}"/>'
+                f'<Topology TopologyType="{self.cell_type}" NumberOfElements="{n_cells}">{topo}'
+                f"fields/mesh.h5:/cells</DataItem></Topology>"
+                f'<Geometry GeometryType="XYZ">{geo}fields/mesh.h5:/points</DataItem></Geometry>{attrs}</Grid>\n'
+            )
+        io.atomic_write_text(
+            self.xml,
+            '<?xml version="1.0"?>\n<Xdmf Version="3.0"><Domain>\n'
+            '<Grid Name="fields" GridType="Collection" CollectionType="Temporal">\n'
+            f"{''.join(grids)}</Grid></Domain></Xdmf>\n",
+        )
 
 
 class FieldOutput:
-    """Observer: writes ``out/fields.xdmf`` at t_n with u_n and v_{n+½} every ``every`` steps (P1 only:
-    XDMF needs the fields on the linear geometry)."""
+    """Observer: the frames of :func:`frame_schedule` (module docstring) into ``out``; ``state`` is the
+    stepper before its first step of this run (v_0, or v_{step0-½} after a restart at ``step0``)."""
 
-    def __init__(self, model, out: Path, every: int):
-        V, msh, kind = model.V, model.rm.mesh, model.kind
-        self.every, self.n = max(1, every), model.n_local
+    def __init__(self, model, out: Path, interval: float, state: CentralDifference, step0: int = 0):
+        V, msh = model.V, model.rm.mesh
+        self.comm, self.dt, self.bs, self.contact = model.comm, model.dt, model.bs, model.contact
+        self.sched = frame_schedule(interval, model.dt, model.steps)
+        self.v_prev = state.v.copy()  # v_{n-½} of the next frame step n
         self.uf = dolfinx.fem.Function(V, name="displacement")
         self.vf = dolfinx.fem.Function(V, name="velocity")
-        Q = dolfinx.fem.functionspace(msh, ("DG", 0))
-        x = ufl.SpatialCoordinate(msh)
-        σ = forms.stress(forms.strain(self.uf, x, kind), model.mat.λ, model.mat.μ)
-        s = ufl.dev(σ)
-        exprs = {
-            "sigma_zz": σ[2, 2],
-            "sigma_xx" if kind == "3d" else "sigma_rr": σ[0, 0],
-            "von_mises": ufl.sqrt(1.5 * ufl.inner(s, s)),
-        }
-        self.derived = [
-            (dolfinx.fem.Function(Q, name=name), dolfinx.fem.Expression(e, Q.element.interpolation_points))
-            for name, e in exprs.items()
-        ]
-        self.xdmf = dolfinx.io.XDMFFile(msh.comm, str(Path(out) / "fields.xdmf"), "w")
-        self.xdmf.write_mesh(msh)
+        Q = dolfinx.fem.functionspace(msh, ("Lagrange", 1))
+        if not np.array_equal(Q.dofmap.list, V.dofmap.list):  # node i of V is dof i of Q (DOLFINx's P1 layout)
+            raise RuntimeError("scalar and vector P1 dof layouts differ: fields cannot share nodes")
+        self.scalars = {name: dolfinx.fem.Function(Q, name=name) for name in FIELD_NAMES[2:]}
+        self.stresses = _Stresses(model, self.uf, Q)
+        self.n_nodes = Q.dofmap.index_map.size_local
+        name = "fields.bp" if step0 == 0 else f"fields-restart-{step0}.bp"
+        if step0 == 0 and msh.comm.rank == 0:
+            for old in Path(out).glob("fields*.bp"):  # a fresh run: a fresh series
+                shutil.rmtree(old, ignore_errors=True)
+        msh.comm.barrier()
+        self.vtx = dolfinx.io.VTXWriter(msh.comm, Path(out) / name, [self.uf, self.vf, *self.scalars.values()], "BP4")
+        self.series, self.order = self._xdmf(V, Path(out), (step0 - 0.5) * model.dt if step0 else -math.inf)
 
-    def after_step(self, step: int, t: float, state: CentralDifference) -> None:
-        if step % self.every:
-            return
-        self.uf.x.array[: self.n] = state.u
-        self.vf.x.array[: self.n] = state.v
-        for f in (self.uf, self.vf):
+    def _xdmf(self, V, out: Path, keep_before: float) -> tuple[XdmfSeries | None, np.ndarray | None]:
+        """Rank 0's series and the permutation of the gathered owned nodes into global order."""
+        imap, msh = V.dofmap.index_map, V.mesh
+        gid = imap.local_to_global(np.arange(imap.size_local, dtype=np.int32))
+        pts = V.tabulate_dof_coordinates()[: imap.size_local]
+        n_cells = msh.topology.index_map(msh.topology.dim).size_local
+        ct = msh.topology.cell_type
+        perm = dolfinx.cpp.io.perm_vtk(ct, V.dofmap.list.shape[1])
+        cells = imap.local_to_global(V.dofmap.list[:n_cells].ravel()).reshape(n_cells, -1)[:, perm]
+        parts = self.comm.gather((gid, pts, cells), root=0)
+        if self.comm.rank != 0:
+            return None, None
+        order = np.argsort(np.concatenate([p[0] for p in parts]))
+        points = np.vstack([p[1] for p in parts])[order]
+        cell_type = {"quadrilateral": "Quadrilateral", "hexahedron": "Hexahedron"}[ct.name]
+        series = XdmfSeries(out, points, np.vstack([p[2] for p in parts]), cell_type, keep_before)
+        return series, order
+
+    def after_step(self, step: int, t: float, state: CentralDifference) -> None:  # noqa: ARG002
+        for k, t_k in self.sched.get(step, ()):
+            self._frame(k, t_k, step, state)
+        if step + 1 in self.sched:
+            self.v_prev[:] = state.v  # v_{n-½} of the frame step n = step + 1
+
+    def _frame(self, k: int, t_k: float, n: int, state: CentralDifference) -> None:
+        """u, v at t_k on the scheme's trajectory (module docstring), then everything derived from u."""
+        τ = t_k - n * self.dt  # [s], |τ| <= Δt/2
+        u = state.u + τ * (state.v if τ >= 0 else self.v_prev)
+        v = self.v_prev + (τ / self.dt + 0.5 if n else 2 * τ / self.dt) * (state.v - self.v_prev)
+        n_own = u.size
+        for f, a in ((self.uf, u), (self.vf, v)):
+            f.x.array[:n_own] = a
             f.x.scatter_forward()
-            self.xdmf.write_function(f, t)
-        for fq, e in self.derived:
-            fq.interpolate(e)
-            self.xdmf.write_function(fq, t)
+        values = [*self.stresses.evaluate(), self._contact_pressure(u)]
+        for f, a in zip(self.scalars.values(), values, strict=True):
+            f.x.array[: self.n_nodes] = a
+            f.x.scatter_forward()
+        self.vtx.write(t_k)
+        pad = np.zeros((self.n_nodes, 3 - self.bs))
+        data = {
+            "displacement": np.hstack([u.reshape(-1, self.bs), pad]),
+            "velocity": np.hstack([v.reshape(-1, self.bs), pad]),
+        }
+        data.update({name: a[:, None] for name, a in zip(self.scalars, values, strict=True)})
+        parts = self.comm.gather(data, root=0)
+        if self.series is not None:
+            self.series.write(k, t_k, {name: np.vstack([p[name] for p in parts])[self.order] for name in data})
+
+    def _contact_pressure(self, u: np.ndarray) -> np.ndarray:
+        """Owned nodal contact pressure [Pa] at ``u`` (collective): the penalty law of :mod:`rods.fe.contact`
+        on Rod 1's tip, its reaction Wᵀ F per tributary area on Rod 2's."""
+        c = self.contact
+        us, um = c.gather(u)
+        pen = np.maximum(-(c.g0 + (c.W * um[c.J]).sum(axis=1) - us), 0.0) * c.inside  # penetration [m]
+        F_m = np.bincount(c.J.ravel(), (c.W * (c.k * pen)[:, None]).ravel(), c.nm)  # [N]
+        area = c.master.area[c.master.pos]
+        p = np.zeros(self.n_nodes)
+        p[c.slave.local // self.bs] = c.ε * pen[c.slave.pos]
+        p[c.master.local // self.bs] = np.where(area > 0, F_m[c.master.pos] / np.where(area > 0, area, 1.0), 0.0)
+        return p
 
     def finish(self) -> None:
-        self.xdmf.close()
+        self.vtx.close()

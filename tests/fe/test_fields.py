@@ -1,0 +1,125 @@
+"""Field output (rods.fe.fields): every field on one grid at exactly the requested times plus the final state,
+read back by meshio and VTK's legacy XDMF reader; serial and 2-rank files equal; a killed run leaves its frames
+readable and a restart keeps them and appends the rest, equal to an uninterrupted run's."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import signal
+import subprocess
+import time
+
+import h5py
+import meshio
+import numpy as np
+import pytest
+
+from rods.fe.fields import FIELD_NAMES, frame_schedule
+
+from ..conftest import MPIRUN, ROOT, run_workflow, set_args
+
+SPEED = 2.197  # [m/s] the paper scene's impact speed
+# coarse axisymmetric paper rods (4 mm x 1 mm); Rod 1's far end is reached by the first wave at L/c ~ 49 µs
+COARSE = ["fe.axial_size=4e-3", "fe.radial_size=1e-3"]
+
+
+def _frames(out) -> list[tuple[float, dict[str, np.ndarray]]]:
+    with meshio.xdmf.TimeSeriesReader(str(out / "fields.xdmf")) as r:
+        points, _ = r.read_points_cells()
+        return points, [r.read_data(k)[:2] for k in range(r.num_steps)]
+
+
+def _run(out, extra, ranks=1):
+    p = run_workflow("global.py", [*set_args([*COARSE, *extra]), "--out", str(out)], ranks, timeout=300)
+    assert p.returncode == 0, p.stderr[-2000:]
+    return json.loads((out / "summary.json").read_text())
+
+
+def test_schedule_requested_times_at_the_nearest_step_and_the_final_state():
+    dt = 0.3e-6  # [s]
+    sched = frame_schedule(1e-6, dt, 10)  # end 3.0 µs: requested 0, 1, 2, 3 µs; 3 µs is the final state
+    assert [(n, k) for n, fr in sorted(sched.items()) for k, _ in fr] == [(0, 0), (3, 1), (7, 2), (10, 3)]
+    sched = frame_schedule(1e-6, dt, 11)  # end 3.3 µs: the final state is a frame of its own
+    assert sched[11] == [(4, pytest.approx(3.3e-6))]
+
+
+def test_every_field_on_one_grid_at_the_requested_times(tmp_path):
+    """Before the first wave reaches Rod 1's far end it moves rigidly: u_z = s1 t and v_z = s1 at the frame
+    times to 1e-6 and 1e-4 (the scheme's dispersive precursor: 4e-8, 1e-6). u is interpolated on the scheme's
+    own trajectory: at the nearest step only, u_z would be off by up to Δt/2t ~ 1e-3. The tip pressure peaks
+    near the summary's peak pressure; von Mises peaks near the contact."""
+    s = _run(tmp_path, ["simulation.end_time=3.3e-5", "fe.field_interval=1e-5"])
+    points, frames = _frames(tmp_path)
+    times = [t for t, _ in frames]
+    assert times == pytest.approx([0.0, 1e-5, 2e-5, 3e-5, s["steps"] * s["dt"]], rel=1e-12, abs=1e-18)
+    far = np.argmin(points[:, 1])  # Rod 1's far end (z = -L1)
+    for t, d in frames:
+        assert sorted(d) == sorted(FIELD_NAMES)
+        assert d["displacement"].shape == d["velocity"].shape == (len(points), 3)
+        assert d["displacement"][far, 1] == pytest.approx(SPEED * t, rel=1e-6, abs=1e-18)
+        assert d["velocity"][far, 1] == pytest.approx(SPEED, rel=1e-4)
+        assert np.all(d["von_mises"] >= 0) and np.all(d["contact_pressure"] >= 0)
+    p_max = max(d["contact_pressure"].max() for _, d in frames)
+    assert p_max == pytest.approx(s["peak_contact_pressure"], rel=0.05)
+    vm = frames[-1][1]["von_mises"][:, 0]
+    assert np.argmax(vm) in np.flatnonzero(np.hypot(points[:, 0], points[:, 1]) < 2e-3)  # near the contact
+
+
+def test_legacy_xdmf_reader_sees_all_fields(tmp_path):
+    vtk = pytest.importorskip("vtk")
+    s = _run(tmp_path, ["simulation.end_time=1e-5", "fe.field_interval=5e-6"])
+    r = vtk.vtkXdmfReader()  # VTK's (and ParaView's) legacy XDMF reader, which crashed on DOLFINx's XDMF
+    r.SetFileName(str(tmp_path / "fields.xdmf"))
+    r.UpdateInformation()
+    times = r.GetOutputInformation(0).Get(vtk.vtkStreamingDemandDrivenPipeline.TIME_STEPS())
+    assert times == pytest.approx([0.0, 5e-6, 1e-5, s["steps"] * s["dt"]], abs=1e-18)  # + the final state
+    r.Update()
+    pd = r.GetOutputDataObject(0).GetPointData()
+    assert sorted(pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())) == sorted(FIELD_NAMES)
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
+@pytest.mark.parametrize("kind", ["axisymmetric", "3d"])
+def test_fields_do_not_depend_on_the_rank_count(tmp_path, kind):
+    extra = ["simulation.end_time=1e-5", "fe.field_interval=5e-6"]
+    if kind == "3d":  # short rods, tilted: σ_rr in each rod's own cylindrical frame
+        extra += ["fe.kind='3d'", "rod1.length=0.05", "rod2.length=0.1", "impact.tilt=0.02"]
+    _run(tmp_path / "1", extra)
+    _run(tmp_path / "2", extra, ranks=2)
+    (p1, f1), (p2, f2) = _frames(tmp_path / "1"), _frames(tmp_path / "2")
+    o1, o2 = (np.lexsort(np.round(p, 9).T[::-1]) for p in (p1, p2))  # global numbering depends on the partition
+    np.testing.assert_allclose(p1[o1], p2[o2], rtol=0, atol=1e-15)  # [m]
+    assert [t for t, _ in f1] == pytest.approx([t for t, _ in f2], rel=1e-9)  # Δt: SLEPc to round-off
+    for (_, a), (_, b) in zip(f1, f2, strict=True):
+        for name in FIELD_NAMES:
+            scale = max(np.abs(a[name]).max(), 1e-300)
+            np.testing.assert_allclose(b[name][o2], a[name][o1], rtol=0, atol=1e-9 * scale, err_msg=name)
+
+
+def test_killed_run_keeps_its_frames_and_a_restart_appends(tmp_path):
+    extra = ["simulation.end_time=3e-4", "fe.field_interval=1e-5", "fe.checkpoint_interval=5e-5"]
+    ref, cut = tmp_path / "ref", tmp_path / "cut"
+    _run(ref, extra)
+    cmd = [str(MPIRUN.parent / "python"), "workflows/global.py", *set_args([*COARSE, *extra])]
+    p = subprocess.Popen([*cmd, "--out", str(cut)], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    t0, ck = time.time(), cut / "checkpoint.json"
+    while not ck.exists() or json.loads(ck.read_text())["time"] < 1e-4:
+        assert p.poll() is None, "run ended before it could be killed"
+        assert time.time() - t0 < 120
+        time.sleep(0.02)
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    _, before = _frames(cut)  # readable after kill -9: every frame the XML lists
+    assert len(before) >= 10 and not (cut / "summary.json").exists()
+    for f in (cut / "fields").glob("frame-*.h5"):
+        with h5py.File(f, "r") as h:
+            assert sorted(h) == sorted(FIELD_NAMES)
+    r = subprocess.run([*cmd, "--out", str(cut), "--restart"], cwd=ROOT, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    (_, a), (_, b) = _frames(ref), _frames(cut)
+    assert [t for t, _ in b] == [t for t, _ in a]  # the frames before the restart are kept, none doubled
+    for (_, da), (_, db) in zip(a, b, strict=True):
+        for name in FIELD_NAMES:
+            np.testing.assert_allclose(db[name], da[name], rtol=0, atol=1e-10 * max(np.abs(da[name]).max(), 1e-300))
