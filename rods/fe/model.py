@@ -355,8 +355,7 @@ class ExplicitModel:
             key = self._checkpoint_key()
             own.append(checkpoint.Checkpoints(out, every, (stepper, recorder), self.comm, key, step0, self.steps))
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
-            every = max(1, int(round((sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL) / dt)))
-            own.append(FieldOutput(self, out, every))
+            own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, stepper, step0))
         if progress is not None:
             own.append(Progress(progress, self.steps))
         return own
