@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from rods.preflight import short
+
 __all__ = [
     "EFFECTS",
     "Material",
@@ -54,7 +56,7 @@ class SceneError(ValueError):
 
     def __init__(self, key: str, value: Any, allowed: str, hint: str = ""):
         self.key, self.value, self.allowed, self.hint = key, value, allowed, hint
-        msg = f"scene key '{key}' = {value!r}: {allowed}"
+        msg = f"scene key '{key}' = {short(value)}: {allowed}"  # a 200k-entry list stays one short line
         if hint:
             msg += f" ({hint})"
         super().__init__(msg)
@@ -374,7 +376,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
             if k not in s:
                 raise SceneError(f"{key}.{k}", None, "missing required key")
         rod = s["rod"]
-        if rod not in (1, 2) or isinstance(rod, bool):
+        if isinstance(rod, bool) or not isinstance(rod, int) or rod not in (1, 2):  # 1.0 is no rod index
             raise SceneError(f"{key}.rod", rod, "must be 1 or 2")
         pos = _type_check(f"{key}.position", "float", s["position"])
         L = rods[rod - 1].length

@@ -1,23 +1,53 @@
-"""Shared command-line plumbing of the workflow scripts: --scene, --set, --out; exit code 2 on bad input."""
+"""Shared command-line plumbing of the workflow scripts: --scene, --set, --out, and the one error path.
+
+Every entry point runs its ``main`` through :func:`guarded`: bad input (rods.scene.SceneError,
+rods.preflight.InputError, an argparse error, a missing input file) exits 2, a run that failed (a guard's
+stop, any other error) exits 1, an interrupt (Ctrl-C, SIGTERM) exits 130; each with one line on stderr
+(rank 0's, or the failing rank's under MPI), never a traceback (``RODS_TRACEBACK=1`` shows it). The
+README's "When something goes wrong" lists the classes and their messages.
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import NoReturn
 
+from rods import interrupt
+from rods.preflight import InputError, one_line, output_dir, safe_name
 from rods.scene import Scene, SceneError, load_scene
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
 SCENES = Path(__file__).resolve().parent / "scenes"
+EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED = 2, 1, 130
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> NoReturn:  # argparse exits 2 already; keep one message style
-        self.print_usage(sys.stderr)
-        self.exit(2, f"error: {message}\n")
+    def error(self, message: str) -> NoReturn:  # argparse exits 2 already; keep one line, one style
+        self.exit(EXIT_BAD_INPUT, f"error: {one_line(message)} (see {self.prog} --help)\n")
+
+
+def _number(kind: type, lo: float, closed: bool, unit: str) -> Callable[[str], float]:
+    """An argparse type: a finite ``kind`` above ``lo`` (or at it when ``closed``), else an error naming the range."""
+
+    def parse(text: str) -> float:
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if kind is int else 'a number'}") from None
+        if v != v or v in (float("inf"), float("-inf")) or not (v >= lo if closed else v > lo):
+            raise argparse.ArgumentTypeError(f"{text!r} must be {'>=' if closed else '>'} {lo:g}{unit}")
+        return v
+
+    return parse
+
+
+positive = _number(float, 0.0, False, "")  # e.g. an element size [m], a time [s]
+non_negative = _number(float, 0.0, True, "")
+count = _number(int, 1, True, "")  # a step stride
 
 
 def parser(description: str, default_scene: str = "paper.toml") -> argparse.ArgumentParser:
@@ -36,8 +66,8 @@ def parser(description: str, default_scene: str = "paper.toml") -> argparse.Argu
 
 
 def fail(message: str) -> NoReturn:
-    print(f"error: {message}", file=sys.stderr)
-    raise SystemExit(2)
+    print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
+    raise SystemExit(EXIT_BAD_INPUT)
 
 
 def load(args: argparse.Namespace) -> Scene:
@@ -49,29 +79,67 @@ def load(args: argparse.Namespace) -> Scene:
 
 
 def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
-    return Path(args.out) if args.out else Path("output") / model / scene.name
+    """--out, or output/<model>/<scene name made a safe folder name>; checked usable (rods.preflight)."""
+    return output_dir(Path(args.out) if args.out else Path("output") / model / safe_name(scene.name))
+
+
+def _mpi():
+    mpi = sys.modules.get("mpi4py.MPI")
+    return mpi if mpi is not None and mpi.Is_initialized() and not mpi.Is_finalized() else None
+
+
+def _stopped(e: BaseException) -> int | None:
+    """Exit code of a guard's collective stop (every rank raised it): 130 interrupted, 1 failed."""
+    guards = sys.modules.get("rods.fe.guards")
+    if guards is None or not isinstance(e, guards.SimulationError):
+        return None
+    mpi = _mpi()
+    if mpi is None or mpi.COMM_WORLD.rank == 0:
+        what = "interrupted" if isinstance(e, guards.Interrupted) else "run stopped"
+        print(f"error: {what}: {one_line(str(e))}; the histories up to the stop are written", file=sys.stderr)
+    return EXIT_INTERRUPTED if isinstance(e, guards.Interrupted) else EXIT_FAILED
+
+
+def _abort(message: str, code: int) -> int:
+    """One line naming the rank; under MPI with several ranks, abort them all (none hangs in a collective)."""
+    mpi = _mpi()
+    if os.environ.get("RODS_TRACEBACK"):
+        import traceback
+
+        traceback.print_exc()
+    if mpi is None or mpi.COMM_WORLD.size == 1:
+        print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
+        return code
+    rank = mpi.COMM_WORLD.rank
+    print(f"error on rank {rank}: {one_line(message)}; aborting all ranks", file=sys.stderr, flush=True)
+    mpi.COMM_WORLD.Abort(code)
+    return code
 
 
 def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[str] | None], int]:
-    """Turn SceneError anywhere in ``main`` into exit code 2 with one clean line. Under MPI, any other
-    failure on one rank prints its message with the rank and aborts all ranks (never a hang in a
-    collective the failed rank will not reach)."""
+    """``main`` with the one error path (module docstring): exit 2 bad input, 1 failed run, 130 interrupt."""
 
     def run(argv: Sequence[str] | None = None) -> int:
+        previous = interrupt.install()
         try:
             return main(argv)
-        except SceneError as e:
+        except (SceneError, InputError) as e:
             fail(str(e))
+        except FileNotFoundError as e:
+            fail(f"{e.filename or e}: no such file or folder (check the path)")
+        except KeyboardInterrupt:
+            return _abort("interrupted (before or after the time loop: nothing partial to write)", EXIT_INTERRUPTED)
         except Exception as e:
-            mpi = sys.modules.get("mpi4py.MPI")
-            if mpi is None or mpi.COMM_WORLD.size == 1:
-                raise
-            import traceback
-
-            rank = mpi.COMM_WORLD.rank
-            traceback.print_exc()
-            print(f"error on rank {rank}: {type(e).__name__}: {e}; aborting all ranks", file=sys.stderr, flush=True)
-            mpi.COMM_WORLD.Abort(1)
-            raise
+            code = _stopped(e)
+            if code is not None:
+                return code
+            return _abort(f"{type(e).__name__}: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
+        finally:
+            interrupt.uninstall(previous)
 
     return run
+
+
+def bare_parser(description: str) -> argparse.ArgumentParser:
+    """A parser without the scene options (the paper's rendering scripts), with the one-line errors."""
+    return _Parser(description=description)

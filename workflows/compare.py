@@ -15,19 +15,25 @@ from __future__ import annotations
 import json
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 import _cli
 from rods import io
 from rods.analytical import simulate
+from rods.preflight import InputError, input_dir
 from rods.study import stages, table3
 from rods.study.table3 import ModelRun
 
 
 def _run(role: str, folder: str) -> ModelRun:
-    d = Path(folder)
-    history = io.read_history(d / "history.csv") if role == "submodel" else None
-    return ModelRun(role, json.loads((d / "summary.json").read_text()), history)
+    """A run's summary (and a submodel's history); a missing or unreadable one is bad input (exit 2)."""
+    files = ("summary.json", "history.csv") if role == "submodel" else ("summary.json",)
+    flag = {"global-driver": "--global", "global-uniform": "--global-uniform"}.get(role, "--submodel")
+    d = input_dir(folder, files, flag, "give the folder of a finished run")
+    try:
+        history = io.read_history(d / "history.csv") if role == "submodel" else None
+        return ModelRun(role, json.loads((d / "summary.json").read_text()), history)
+    except (ValueError, OSError) as e:
+        raise InputError(flag, d, f"unreadable summary.json/history.csv ({e})", "rerun that stage") from None
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -37,9 +43,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--submodel", action="append", default=[], help="submodel level folder (repeatable)")
     args = ap.parse_args(argv)
     scene = _cli.load(args)
-    out = _cli.out_dir(args, "compare", scene)
     runs = [_run("global-uniform", args.global_uniform)] if args.global_uniform else []
     runs += [_run("global-driver", args.global_dir), *(_run("submodel", d) for d in args.submodel)]
+    out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     comparison = stages.comparison(scene, simulate(scene).summary, runs, out)
     print(table3.render_markdown(comparison.data))
     return 0

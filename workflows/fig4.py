@@ -9,15 +9,15 @@ its data (fig4.json next to --md). The main job passes --png results/fig4.png --
 
 from __future__ import annotations
 
-import argparse
 import sys
 
+import _cli
 from rods.paper import fig4
 from rods.paper.data import parse_run, read_run
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--analytical", required=True, help="the analytical run's folder")
     ap.add_argument("--fe", action="append", required=True, help="FE run folder, or LABEL=FOLDER (repeatable)")
     ap.add_argument("--png", default="output/paper/fig4.png")
@@ -30,4 +30,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(_cli.guarded(main)())

@@ -6,7 +6,8 @@
 Writes DIR/history.csv, summary.json, pressure_profile.csv, fields.xdmf when the scene asks ("fields" or
 fe.field_interval > 0) and, with --record-cut or --driver, cut.h5 (drives workflows/submodel.py); --driver runs
 rods.plan.submodel_driver over the contact phase (rods.study.stages.driver). Default DIR: output/global/<scene>
-(output/driver/<scene>). Exit code 1 when a guard stops the run (histories so far are written).
+(output/driver/<scene>). Exit codes (workflows/_cli.py): 2 bad input, 1 when a guard stops the run, 130 on
+Ctrl-C/SIGTERM (both write the histories so far). --restart needs the checkpoint of the same scene and rank count.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from mpi4py import MPI
 
 import _cli
 from rods import io
-from rods.fe.guards import SimulationError
+from rods.fe import checkpoint
 from rods.study import stages
 
 SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_error", "ranks", "penalty")
@@ -33,25 +34,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = _cli.parser(__doc__.splitlines()[0])
     ap.add_argument("--driver", action="store_true", help="the submodels' driving global, recorded (rods.plan)")
     ap.add_argument("--record-cut", action="store_true", help="write DIR/cut.h5, the band around the submodel cut")
-    ap.add_argument("--record-until", type=float, default=None, help="last recorded time [s] (default end time)")
-    ap.add_argument("--record-every", type=int, default=1, help="record every k-th global step (default 1)")
+    ap.add_argument("--record-until", type=_cli.non_negative, help="last recorded time [s] (default end time)")
+    ap.add_argument("--record-every", type=_cli.count, default=1, help="record every k-th global step (default 1)")
     ap.add_argument("--restart", action="store_true", help="resume from the last checkpoint in --out")
     args = ap.parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "driver" if args.driver else "global", scene)
     if args.restart and (args.record_cut or args.driver):
         _cli.fail("--restart cannot be combined with --record-cut/--driver (the cut record is not checkpointed)")
+    if args.restart:
+        checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
-    try:
-        if args.driver:
-            s = stages.driver(scene, out, comm, progress=progress, log=log).summary
-        else:
-            kw = {"record_until": args.record_until, "record_every": args.record_every, "restart": args.restart}
-            s = stages.global_model(scene, out, comm, record_cut=args.record_cut, progress=progress, log=log, **kw)
-            s = s.summary
-    except SimulationError as e:  # a guard stopped the run: what was recorded is written, readable
-        log(f"error: run stopped: {e}\n       histories up to the failure are in {out}", sys.stderr)
-        return 1
+    if args.driver:
+        s = stages.driver(scene, out, comm, progress=progress, log=log).summary
+    else:
+        kw = {"record_until": args.record_until, "record_every": args.record_every, "restart": args.restart}
+        s = stages.global_model(scene, out, comm, record_cut=args.record_cut, progress=progress, log=log, **kw)
+        s = s.summary
     log(json.dumps({k: s[k] for k in (*io.SUMMARY_KEYS[2:], *SHOWN, "dof_steps_per_second")}, indent=1))
     return 0
 

@@ -9,17 +9,17 @@ fig4-analytical.png go to --results (the main job passes --results results).
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
+import _cli
 from rods.paper import table2
 
 SCENES = Path(__file__).resolve().parent / "scenes"
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--out", default="output/paper", help="folder for per-run histories and summaries")
     ap.add_argument("--results", default=None, help="folder for tables and figures (default: --out)")
     args = ap.parse_args(argv)
@@ -37,4 +37,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(_cli.guarded(main)())

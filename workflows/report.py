@@ -9,10 +9,10 @@ Reads table2.json, table3.json, fig4.json and accuracy-cost.json from --results 
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
+import _cli
 from rods import io
 from rods.paper import report
 
@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--results", default=None, help="folder of the stage JSON files (default: the folder of --out)")
     ap.add_argument("--out", default="output/paper/REPORT.md")
     ap.add_argument("--penalty-study", default=str(ROOT / "results" / "penalty-study.json"))
@@ -33,4 +33,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(_cli.guarded(main)())

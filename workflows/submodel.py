@@ -13,7 +13,6 @@ from __future__ import annotations
 import json
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
 
@@ -21,10 +20,16 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
+from rods.preflight import InputError, input_dir
 from rods.scene import SUBMODEL_LEVELS, scene_from_summary
 from rods.study import stages
 
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
+
+
+def _step(text: str) -> float | str:
+    """--dt: 'auto', 'global' or a time step > 0 [s]."""
+    return text if text in ("auto", "global") else _cli.positive(text)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -32,18 +37,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = _cli.parser(__doc__.splitlines()[0])
     ap.add_argument("--global", dest="global_dir", required=True, help="output folder of a global run with cut.h5")
     ap.add_argument("--level", default="fine", choices=SUBMODEL_LEVELS, help="mesh level (default %(default)s)")
-    ap.add_argument("--size", type=float, default=None, help="element size [m] (overrides --level)")
-    ap.add_argument("--axial-size", type=float, default=None, help="axial element size [m] (default = size)")
-    ap.add_argument("--end-time", type=float, default=None, help="end time [s] (default: the contact phase)")
-    ap.add_argument("--dt", default="auto", help="time step [s], 'auto' (stable) or 'global' (the global run's)")
+    ap.add_argument("--size", type=_cli.positive, default=None, help="element size [m] (overrides --level)")
+    ap.add_argument("--axial-size", type=_cli.positive, default=None, help="axial element size [m] (default = size)")
+    ap.add_argument("--end-time", type=_cli.positive, default=None, help="end time [s] (default: the contact phase)")
+    ap.add_argument(
+        "--dt", type=_step, default="auto", help="time step [s], 'auto' (stable) or 'global' (the global's)"
+    )
     args = ap.parse_args(argv)
-    gdir = Path(args.global_dir)
-    if not (gdir / "cut.h5").exists():
-        _cli.fail(f"{gdir / 'cut.h5'} not found: run workflows/global.py --driver --out {gdir} first")
-    gsum = json.loads((gdir / "summary.json").read_text())
+    remedy = f"run workflows/global.py --driver --out {args.global_dir} first"
+    gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
+    try:
+        gsum = json.loads((gdir / "summary.json").read_text())
+        gsum["scene_values"], gsum["dt"]
+    except (ValueError, KeyError, TypeError) as e:
+        raise InputError("--global", gdir, f"summary.json unreadable or not a global run's ({e})", remedy) from None
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
-    dt = gsum["dt"] if args.dt == "global" else (args.dt if args.dt == "auto" else float(args.dt))
+    dt = gsum["dt"] if args.dt == "global" else args.dt
     level = args.level if args.size is None else f"h={args.size:g}"
     out = _cli.out_dir(args, f"submodel/{level}", scene)
     log, progress = _cli.rank0(comm)

@@ -8,7 +8,10 @@ Layout in the run's output folder:
   previous checkpoint's files are removed only after the new ``checkpoint.json`` is in place, so a
   kill at any moment leaves one complete checkpoint.
 
-A restart needs the same scene and the same rank count (the owned arrays follow the partition).
+A restart needs the same scene and the same rank count (the owned arrays follow the partition; the
+state is stored in each rank's own numbering, not a global one). :func:`precheck` tells both from
+``checkpoint.json`` before the model is set up (the manifest carries the rank count and
+:func:`scene_hash`); :func:`load` names a damaged file and the remedy (:class:`CheckpointError`, exit 2).
 :class:`Checkpoints` writes them as an observer of the loop (:mod:`rods.fe.observers`) from the
 ``state(step)`` of its parts (the stepper, the recorder); :func:`load` returns the merged dict that
 each part's ``restore`` reads back.
@@ -16,8 +19,11 @@ each part's ``restore`` reads back.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
+import zipfile
+import zlib
 from pathlib import Path
 from typing import Any
 
@@ -25,8 +31,9 @@ import numpy as np
 from mpi4py import MPI
 
 from rods.io import atomic_write_text
+from rods.preflight import InputError, one_line
 
-__all__ = ["Checkpoints", "load", "save"]
+__all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash"]
 
 MANIFEST = "checkpoint.json"
 
@@ -35,7 +42,58 @@ def _name(step: int, rank: int) -> str:
     return f"checkpoint-{step}-r{rank}.npz"
 
 
-def save(out: Path, step: int, t: float, state: dict[str, Any], comm: MPI.Comm, scene_key: str) -> None:
+class CheckpointError(InputError):
+    """A checkpoint that cannot be resumed: damaged, from another rank count or another scene, or absent."""
+
+
+def _remedy(out: Path) -> str:
+    return f"remove {Path(out) / 'checkpoint*'} to start afresh, or give another --out"
+
+
+def scene_hash(scene: Any) -> str:
+    """The scene's validated values, hashed: tells a checkpoint's scene before any set-up."""
+    return hashlib.sha256(json.dumps(scene.as_dict(), sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _manifest(out: Path) -> dict[str, Any] | None:
+    """``checkpoint.json`` of ``out`` (None: there is none); a damaged one raises CheckpointError."""
+    m = Path(out) / MANIFEST
+    if not m.exists():
+        return None
+    try:
+        meta = json.loads(m.read_text())
+        int(meta["step"]), int(meta["ranks"]), str(meta["scene"])
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise CheckpointError("checkpoint file", str(m), f"damaged ({one_line(str(e))})", _remedy(out)) from None
+    return meta
+
+
+def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
+    """Before the set-up: ``out`` holds a checkpoint written by ``ranks`` ranks for ``scene`` (by
+    :func:`scene_hash`, where the manifest has it); its manifest, else CheckpointError naming the remedy."""
+    meta = _manifest(out)
+    if meta is None:
+        raise CheckpointError(
+            "--restart",
+            str(out),
+            f"no {MANIFEST} in this folder",
+            "run without --restart, with fe.checkpoint_interval > 0",
+        )
+    if int(meta["ranks"]) != ranks:
+        raise CheckpointError(
+            "--restart", str(out), f"the checkpoint was written by {meta['ranks']} ranks, this run has {ranks}",
+            f"restart with mpirun -n {meta['ranks']}",
+        )  # fmt: skip
+    if meta.get("scene_hash", scene_hash(scene)) != scene_hash(scene):
+        raise CheckpointError(
+            "--restart", str(out), "the checkpoint belongs to another scene or settings", _remedy(out)
+        )
+    return meta
+
+
+def save(
+    out: Path, step: int, t: float, state: dict[str, Any], comm: MPI.Comm, scene_key: str, scene_hash: str = ""
+) -> None:
     """Write this rank's ``state`` (numpy arrays and scalars) for ``step``; collective."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -47,8 +105,12 @@ def save(out: Path, step: int, t: float, state: dict[str, Any], comm: MPI.Comm, 
     os.replace(tmp, out / _name(step, comm.rank))
     comm.Barrier()
     if comm.rank == 0:
-        old = json.loads((out / MANIFEST).read_text()) if (out / MANIFEST).exists() else None
-        atomic_write_text(out / MANIFEST, json.dumps({"step": step, "time": t, "ranks": comm.size, "scene": scene_key}))
+        try:
+            old = _manifest(out)
+        except CheckpointError:
+            old = None  # a damaged manifest is replaced by this complete checkpoint
+        meta = {"step": step, "time": t, "ranks": comm.size, "scene": scene_key, "scene_hash": scene_hash}
+        atomic_write_text(out / MANIFEST, json.dumps(meta))
         if old and old["step"] != step:
             for r in range(old["ranks"]):
                 (out / _name(old["step"], r)).unlink(missing_ok=True)
@@ -56,31 +118,38 @@ def save(out: Path, step: int, t: float, state: dict[str, Any], comm: MPI.Comm, 
 
 
 def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | None:
-    """This rank's state of the last complete checkpoint in ``out``; None if there is none."""
-    m = Path(out) / MANIFEST
-    if not m.exists():
+    """This rank's state of the last complete checkpoint in ``out``; None if there is none. A checkpoint of
+    another rank count or scene, or a damaged file, raises :class:`CheckpointError` naming it."""
+    meta = _manifest(out)
+    if meta is None:
         return None
-    meta = json.loads(m.read_text())
-    if meta["ranks"] != comm.size:
-        raise ValueError(
-            f"checkpoint in {out} was written by {meta['ranks']} ranks; restart with mpirun -n {meta['ranks']}"
-        )
+    if int(meta["ranks"]) != comm.size:
+        raise CheckpointError(
+            "checkpoint file", str(Path(out) / MANIFEST), f"written by {meta['ranks']} ranks, this run has {comm.size}",
+            f"restart with mpirun -n {meta['ranks']}",
+        )  # fmt: skip
     if meta["scene"] != scene_key:
-        raise ValueError(f"checkpoint in {out} belongs to another scene or settings; remove it or use another --out")
-    with np.load(Path(out) / _name(meta["step"], comm.rank)) as z:
-        return {k: z[k] for k in z.files}
+        raise CheckpointError("checkpoint file", str(Path(out) / MANIFEST), "another scene or settings", _remedy(out))
+    f = Path(out) / _name(meta["step"], comm.rank)
+    try:
+        with np.load(f, allow_pickle=False) as z:
+            return {k: np.array(z[k]) for k in z.files}  # read every array now: a bad CRC shows here
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error) as e:
+        raise CheckpointError("checkpoint file", str(f), f"damaged ({one_line(str(e))})", _remedy(out)) from None
 
 
 class Checkpoints:
     """Observer: saves the parts' state every ``every`` steps after ``first`` and before ``last`` into ``out``."""
 
-    def __init__(self, out: Path, every: int, parts, comm: MPI.Comm, key: str, first: int, last: int):
+    def __init__(
+        self, out: Path, every: int, parts, comm: MPI.Comm, key: str, first: int, last: int, scene_hash: str = ""
+    ):
         self.out, self.every, self.parts, self.comm, self.key = Path(out), every, parts, comm, key
-        self.first, self.last = first, last
+        self.first, self.last, self.scene_hash = first, last, scene_hash
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         if step % self.every == 0 and self.first < step < self.last:
             merged: dict[str, Any] = {}
             for p in self.parts:
                 merged.update(p.state(step))
-            save(self.out, step, t, merged, self.comm, self.key)
+            save(self.out, step, t, merged, self.comm, self.key, self.scene_hash)

@@ -26,18 +26,37 @@ from typing import Any
 import numpy as np
 from mpi4py import MPI
 
-__all__ = ["FINITE_EVERY", "INVERSION_EVERY", "CornerJacobians", "Guard", "RunGuard", "SimulationError"]
+__all__ = [
+    "FINITE_EVERY",
+    "INTERRUPT_EVERY",
+    "INVERSION_EVERY",
+    "CornerJacobians",
+    "Guard",
+    "InterruptCheck",
+    "Interrupted",
+    "RunGuard",
+    "SimulationError",
+]
 
 FINITE_EVERY = 100  # steps between non-finite checks of the velocity [-]
+INTERRUPT_EVERY = 10  # steps between collective checks of a stop request (one integer Allreduce) [-]
 INVERSION_EVERY = 2000  # steps between inverted-cell checks (a few ms each at 50k DOFs: < 1% of the loop) [-]
 
 
 class SimulationError(RuntimeError):
     """The run was stopped by a guard; ``partial`` holds the histories recorded so far (an FEResult)."""
 
+    status = "failed"  # the partial summary's status
+
     def __init__(self, message: str, step: int, time: float, cause: str, partial: Any = None):
         super().__init__(message)
         self.step, self.time, self.cause, self.partial = step, time, cause, partial
+
+
+class Interrupted(SimulationError):
+    """The run was stopped on request (Ctrl-C, SIGTERM) by every rank at the same step."""
+
+    status = "interrupted"
 
 
 @dataclass
@@ -111,6 +130,33 @@ class RunGuard:
                 self.comm.Allreduce(MPI.IN_PLACE, health, op=MPI.MIN)
             self.guard.check_finite(step, t, bool(health[0]))
             self.guard.check_inverted(step, t, int(-health[1]))
+
+
+class InterruptCheck:
+    """Observer: every ``every`` steps, the stop request of any rank (:mod:`rods.interrupt`, MAX over the
+    ranks) stops all ranks together with :class:`Interrupted`. Signals are requests only while the loop
+    runs (armed at the first step, disarmed by ``finish``)."""
+
+    def __init__(self, comm: MPI.Comm, every: int = INTERRUPT_EVERY):
+        self.comm, self.every, self._ctx = comm, every, None
+
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
+        from rods import interrupt
+
+        if self._ctx is None:
+            self._ctx = interrupt.armed()
+            self._ctx.__enter__()
+        if step % self.every == 0:
+            signum = self.comm.allreduce(interrupt.requested(), op=MPI.MAX)
+            if signum:
+                interrupt.reset()
+                cause = f"interrupted by signal {signum}"
+                raise Interrupted(f"run interrupted at step {step} (t = {t:.6g} s)", step, t, cause)
+
+    def finish(self) -> None:
+        if self._ctx is not None:
+            self._ctx.__exit__(None, None, None)
+            self._ctx = None
 
 
 class CornerJacobians:

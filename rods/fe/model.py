@@ -48,7 +48,7 @@ from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import CentralDifference, largest_eigenvalue, stable_step, switching_step
 from rods.fe.fields import DEFAULT_FIELD_INTERVAL, FieldOutput
-from rods.fe.guards import CornerJacobians, Guard, RunGuard
+from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, RunGuard
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
 from rods.fe.observers import Observer, Progress, march
@@ -316,7 +316,7 @@ class ExplicitModel:
             n_ok = k - 1 if k > 1 else k  # the last record is the one the guard refused
             try:
                 failure.partial = fe_result(self, recorder, n_ok, failure.step, wall_loop)
-                failure.partial.summary.update(status="failed", error=str(failure), failed_step=failure.step)
+                failure.partial.summary.update(status=failure.status, error=str(failure), failed_step=failure.step)
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
             raise failure
@@ -349,11 +349,12 @@ class ExplicitModel:
         """The model's own observers after the recorder: guards, checkpoints (after ``step0``), fields, progress."""
         sc, dt = self.scene, self.dt
         guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"])
-        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm)]
+        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm), InterruptCheck(self.comm)]
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = int(round(sc["fe.checkpoint_interval"] / dt))
             key = self._checkpoint_key()
-            own.append(checkpoint.Checkpoints(out, every, (stepper, recorder), self.comm, key, step0, self.steps))
+            parts, h = (stepper, recorder), checkpoint.scene_hash(sc)  # h: the restart's pre-set-up check
+            own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
             own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, stepper, step0))
         if progress is not None:

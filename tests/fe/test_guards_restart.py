@@ -37,6 +37,8 @@ def test_unstable_step_is_stopped_with_step_time_and_cause(scene_with):
 def test_cli_writes_partial_histories_and_exits_1(tmp_path, monkeypatch):
     import importlib
 
+    import _cli
+
     glob = importlib.import_module("global")
     orig = ExplicitModel._stable_step
 
@@ -47,7 +49,7 @@ def test_cli_writes_partial_histories_and_exits_1(tmp_path, monkeypatch):
 
     monkeypatch.setattr(ExplicitModel, "_stable_step", unstable)
     args = [a for o in COARSE for a in ("--set", o)]
-    assert glob.main([*args, "--out", str(tmp_path)]) == 1
+    assert _cli.guarded(glob.main)([*args, "--out", str(tmp_path)]) == 1  # the entry point's error path
     s = json.loads((tmp_path / "summary.json").read_text())
     assert s["status"] == "failed" and "likely cause" in s["error"]
     assert read_history(tmp_path / "history.csv")["time"].size > 0

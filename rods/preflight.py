@@ -1,0 +1,95 @@
+"""Bad input found before anything runs: one-line messages, output folders checked, names made safe.
+
+Every entry point (``workflows/_cli.py``) turns an :class:`InputError` (or a :class:`rods.scene.SceneError`)
+into exit code 2 and one line on stderr that names the argument or file, the value and the remedy.
+
+* :func:`short` — a value as it appears in a message, cut to :data:`MAX_VALUE` characters (a 200k-entry
+  list must not echo megabytes);
+* :func:`output_dir` — an output folder is usable: not a file, its nearest existing ancestor a writable
+  folder (nothing is created here: a refused run leaves no folder);
+* :func:`input_dir` — a folder a stage reads: it exists and holds the files named;
+* :func:`safe_name` — a scene name as a folder name: no separators, no leading dots (``../../x`` stays
+  under ``output/``).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+from pathlib import Path
+from typing import Any
+
+__all__ = ["MAX_VALUE", "InputError", "input_dir", "one_line", "output_dir", "safe_name", "short"]
+
+MAX_VALUE = 120  # characters of a value shown in a message [-]
+MAX_MESSAGE = 1000  # characters of a whole message line [-]
+
+
+def short(value: Any, limit: int = MAX_VALUE) -> str:
+    """``repr(value)`` cut to ``limit`` characters, the cut marked with its full length."""
+    text = repr(value)
+    if len(text) <= limit:
+        return text
+    return f"{text[: limit - 30]}... ({len(text)} characters)"
+
+
+def one_line(message: str, limit: int = MAX_MESSAGE) -> str:
+    """``message`` on one line (whitespace runs collapsed), cut to ``limit`` characters."""
+    text = " ".join(message.split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+class InputError(ValueError):
+    """A command-line argument or an input file that cannot be used: ``what`` (the argument or file), its
+    ``value``, the ``problem`` and the ``remedy``."""
+
+    def __init__(self, what: str, value: Any, problem: str, remedy: str = ""):
+        self.what, self.value, self.problem, self.remedy = what, value, problem, remedy
+        msg = f"{what} = {short(str(value) if isinstance(value, Path) else value)}: {problem}"
+        super().__init__(msg + (f"; {remedy}" if remedy else ""))
+
+
+def output_dir(path: str | Path, what: str = "--out") -> Path:
+    """``path`` as an output folder, checked without creating anything: not an existing file, and the
+    folder itself (if it exists) or its nearest existing ancestor a writable, searchable folder."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputError(what, p, "is an existing file, not a folder", "give a folder path")
+    probe = p
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir():
+        raise InputError(what, p, f"{probe} is a file, so the folder cannot be created", "give another path")
+    if not (os.access(probe, os.W_OK | os.X_OK) and _can_create(probe)):
+        raise InputError(what, p, f"folder {probe} is not writable", "give a folder you can write to")
+    return p
+
+
+def _can_create(folder: Path) -> bool:
+    """A file can be created in ``folder`` (also for root on a read-only file system); removed at once."""
+    try:
+        fd, name = tempfile.mkstemp(dir=folder, prefix=".rods-preflight-")
+    except OSError:
+        return False
+    os.close(fd)
+    os.unlink(name)
+    return True
+
+
+def input_dir(path: str | Path, files: tuple[str, ...], what: str, remedy: str) -> Path:
+    """``path`` as a folder a stage reads: exists and holds ``files``."""
+    p = Path(path)
+    if not p.is_dir():
+        raise InputError(what, p, "no such folder", remedy)
+    for f in files:
+        if not (p / f).is_file():
+            raise InputError(what, p, f"has no {f}", remedy)
+    return p
+
+
+def safe_name(name: str) -> str:
+    """A scene name usable as one folder name: characters outside [A-Za-z0-9._=-] become '_', leading
+    dots are dropped (no '..', no hidden folder); empty -> 'scene'."""
+    text = re.sub(r"[^A-Za-z0-9._=-]", "_", name).lstrip(".")
+    return text or "scene"

@@ -1,0 +1,177 @@
+"""The one error path of the entry points (workflows/_cli.py): bad input exits 2 with one short line naming
+the argument or key, the value and the remedy, before anything is written; a damaged or foreign checkpoint
+is named with its file; an interrupt under MPI stops every rank within seconds, exit 130, partial histories."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from .conftest import MPIRUN, PY, ROOT, SCENES
+
+W = ROOT / "workflows"
+TINY = ["--set", "fe.axial_size=4e-3", "--set", "fe.radial_size=1e-3"]
+
+
+def run(script: str, *args: str, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run([str(PY), str(W / script), *args], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def refused(p: subprocess.CompletedProcess, *words: str) -> str:
+    """Exit 2, one line on stderr, no traceback; the line names ``words``."""
+    assert p.returncode == 2, p.stderr[-2000:]
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and len(lines[0]) < 1000, p.stderr[:2000]
+    for w in words:
+        assert w in lines[0]
+    return lines[0]
+
+
+@pytest.fixture
+def here(tmp_path) -> Path:
+    (tmp_path / "afile").write_text("x")
+    (tmp_path / "nosummary").mkdir()
+    (tmp_path / "nosummary" / "cut.h5").write_text("")
+    (tmp_path / "station.toml").write_text(
+        f'base = "{SCENES / "paper.toml"}"\n[[station]]\nrod = 1.0\nposition = 0.1\n'
+    )
+    many = ",".join(['"wave_response"'] * 200_000)
+    (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
+    return tmp_path
+
+
+CASES = {  # name -> (script, arguments, words the line must name)
+    "out is a file": ("analytical.py", ["--out", "afile"], ["--out", "afile", "file"]),
+    "out under a file": ("global.py", ["--out", "afile/sub"], ["--out", "afile"]),
+    "station rod 1.0": ("analytical.py", ["--scene", "station.toml", "--out", "o"], ["station[0].rod", "1.0"]),
+    "record-until -1": ("global.py", ["--record-cut", "--record-until", "-1", "--out", "o"], ["--record-until", "-1"]),
+    "record-every 0": ("global.py", ["--record-cut", "--record-every", "0", "--out", "o"], ["--record-every", "0"]),
+    "submodel dt abc": ("submodel.py", ["--global", "nosummary", "--dt", "abc", "--out", "o"], ["--dt", "abc"]),
+    "submodel size 0": ("submodel.py", ["--global", "nosummary", "--size=0", "--out", "o"], ["--size", "0"]),
+    "global without summary": ("submodel.py", ["--global", "nosummary", "--out", "o"], ["summary.json", "--driver"]),
+    "compare missing": ("compare.py", ["--global", "missing", "--out", "o"], ["--global", "missing"]),
+    "restart without checkpoint": ("global.py", ["--restart", "--out", "o"], ["--restart", "checkpoint.json"]),
+    "200k effects": ("analytical.py", ["--scene", "many.toml", "--out", "o"], ["effects", "characters"]),
+    "fig4 missing run": ("fig4.py", ["--analytical", "missing", "--fe", "missing2", "--png", "o/f.png"], ["missing"]),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_bad_input_is_one_line_and_leaves_no_folder(here, case):
+    script, args, words = CASES[case]
+    refused(run(script, *args, cwd=here), *words)
+    assert not (here / "o").exists() and not (here / "output").exists()
+
+
+def test_scene_name_is_a_safe_folder_under_output(tmp_path):
+    p = run("analytical.py", "--set", "name='../../x'", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "output" / "analytical" / "_.._x" / "summary.json").is_file()
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["output"]
+
+
+def _checkpoint(folder: Path) -> Path:
+    from mpi4py import MPI
+
+    from rods.fe import checkpoint
+
+    checkpoint.save(folder, 10, 1e-6, {"u": np.arange(1000.0), "v": np.ones(1000)}, MPI.COMM_SELF, "k", "h")
+    return folder / "checkpoint-10-r0.npz"
+
+
+def _flip(f: Path) -> None:
+    b = bytearray(f.read_bytes())
+    b[len(b) // 2] ^= 0xFF
+    f.write_bytes(bytes(b))
+
+
+DAMAGE = {
+    "truncated": lambda f: f.write_bytes(f.read_bytes()[:100]),
+    "garbage": lambda f: f.write_bytes(b"\x80\x04pickled data" * 10),
+    "flipped byte": _flip,
+    "empty": lambda f: f.write_bytes(b""),
+    "missing": lambda f: f.unlink(),
+    "manifest": lambda f: (f.parent / "checkpoint.json").write_text("{not json"),
+    "manifest keys": lambda f: (f.parent / "checkpoint.json").write_text("{}"),
+}
+
+
+@pytest.mark.parametrize("damage", list(DAMAGE))
+def test_damaged_checkpoint_names_the_file_and_the_remedy(tmp_path, damage):
+    from mpi4py import MPI
+
+    from rods.fe import checkpoint
+
+    f = _checkpoint(tmp_path)
+    DAMAGE[damage](f)
+    with pytest.raises(checkpoint.CheckpointError) as e:
+        checkpoint.load(tmp_path, MPI.COMM_SELF, "k")
+    msg = str(e.value)
+    assert "checkpoint" in msg and str(tmp_path) in msg and "remove" in msg and "\n" not in msg
+
+
+def test_restart_compatibility_is_checked_before_the_set_up(tmp_path, scene_with):
+    from mpi4py import MPI
+
+    from rods.fe import checkpoint
+
+    sc = scene_with()
+    checkpoint.save(tmp_path, 10, 1e-6, {"u": np.zeros(2)}, MPI.COMM_SELF, "k", checkpoint.scene_hash(sc))
+    assert checkpoint.precheck(tmp_path, 1, sc)["step"] == 10
+    with pytest.raises(checkpoint.CheckpointError, match="mpirun -n 1"):
+        checkpoint.precheck(tmp_path, 2, sc)
+    with pytest.raises(checkpoint.CheckpointError, match="another scene"):
+        checkpoint.precheck(tmp_path, 1, scene_with("impact.speed=2.5"))
+    # the entry point: refused before any mesh is built (well under the set-up's seconds)
+    t0 = time.perf_counter()
+    p = run("global.py", "--restart", "--set", "impact.speed=2.5", "--out", str(tmp_path), cwd=tmp_path)
+    refused(p, "another scene", "remove")
+    assert time.perf_counter() - t0 < 15
+
+
+def _wait_for(path: Path, text: str, timeout: float) -> None:
+    t0 = time.monotonic()
+    while text not in (path.read_text() if path.exists() else ""):
+        assert time.monotonic() - t0 < timeout, f"no {text!r} in {path} after {timeout} s"
+        time.sleep(0.2)
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize(
+    "signum, group, ranks", [(signal.SIGINT, False, 2), (signal.SIGINT, True, 2), (signal.SIGTERM, False, 1)]
+)
+def test_interrupt_stops_every_rank_with_partial_histories(tmp_path, signum, group, ranks):
+    """Ctrl-C at mpirun (hydra forwards SIGINT to the ranks), Ctrl-C at a terminal (the whole process group)
+    and SIGTERM to a serial run: every rank stops within 5 s, exit 130, the partial histories written.
+    (SIGTERM to hydra's mpirun itself ends the job by hydra's own cleanup: exit 15, nothing partial.)"""
+    out, err = tmp_path / "out", tmp_path / "stderr"
+    cmd = [str(PY), str(W / "global.py"), *TINY, "--set", "simulation.end_time=0.1"]
+    cmd = [str(MPIRUN), "-n", str(ranks), *cmd] if ranks > 1 else cmd
+    with open(err, "w") as ef:
+        proc = subprocess.Popen(
+            [*cmd, "--out", str(out)], cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=ef, start_new_session=True
+        )
+        try:
+            _wait_for(err, "steps", 120)  # the time loop's first progress line
+            time.sleep(1.0)
+            t0 = time.monotonic()
+            os.killpg(proc.pid, signum) if group else proc.send_signal(signum)
+            rc = proc.wait(timeout=30)
+            stopped = time.monotonic() - t0
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+    assert rc == 130, err.read_text()[-2000:]
+    assert stopped < 5.0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "interrupted" and 0 < s["failed_step"] < s["dt"] ** -1
+    assert "Traceback" not in err.read_text() and "interrupted" in err.read_text()
+    assert (out / "history.csv").stat().st_size > 0
+    assert not os.path.exists(out / "cut.h5")
