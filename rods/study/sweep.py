@@ -1,18 +1,26 @@
-"""Parameter sweeps: one CSV row per run, read from each run's summary.json by named keys."""
+"""Parameter sweeps: one CSV row per run, read from each run's summary.json by named keys.
+
+Every row carries a ``key``: a hash of the code (``rods/``, ``workflows/``), the resolved scene and the
+point's own parameters. ``workflows/Snakefile`` reads the committed record (``results/sweep-*.csv``) at
+parse time and schedules only the points whose key is not in it; the table is then assembled from the
+record's rows and the new runs (:func:`write_sweep_table`), into ``output/`` first and published to
+``results/``. :func:`sync_text` keeps a sweep's key file, the rule's trigger, untouched while the keys are.
+"""
 
 from __future__ import annotations
 
 import csv
+import hashlib
 import io as _io
 import json
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from rods import io
 
-__all__ = ["FIELDS", "write_sweep_table"]
+__all__ = ["FIELDS", "code_key", "point_key", "read_record", "scene_key", "sync_text", "write_sweep_table"]
 
-# the columns of results/sweep-*.csv (after "path"): summary keys, SI units
+# the columns of results/sweep-*.csv (after "path", before "key"): summary keys, SI units
 FIELDS = (
     "model",
     "impact_speed",
@@ -28,12 +36,62 @@ FIELDS = (
 )
 
 
-def write_sweep_table(path: str | Path, summaries: Sequence[str | Path], fields: Sequence[str] = FIELDS) -> None:
-    """Write ``path``: a ``path`` column (the summary file) and ``fields`` from each summary (empty if absent)."""
+def _sha(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def code_key(paths: Iterable[str | Path]) -> str:
+    """Hash of the contents of ``paths`` (sorted by name): any change to the code reruns every point."""
+    h = hashlib.sha256()
+    for p in sorted(str(p) for p in paths):
+        h.update(p.encode() + b"\0" + Path(p).read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
+def scene_key(path: str | Path) -> str:
+    """Hash of the resolved scene (bases merged, defaults filled): an edit that changes no value reruns nothing."""
+    from rods.scene import load_scene
+
+    return _sha(json.dumps(load_scene(path).as_dict(), sort_keys=True))
+
+
+def point_key(code: str, scene: str, **params) -> str:
+    """The key of one sweep point: code and scene hashes and the point's parameters (values as text)."""
+    return _sha(json.dumps([code, scene, {k: str(v) for k, v in sorted(params.items())}]))
+
+
+def read_record(path: str | Path) -> dict[str, dict[str, str]]:
+    """Rows of a published table by key ({} for a missing file or a table from before keys)."""
+    p = Path(path)
+    if not p.exists():
+        return {}
+    with p.open(newline="") as f:
+        return {row["key"]: row for row in csv.DictReader(f) if row.get("key")}
+
+
+def sync_text(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` only if it differs (its mtime then marks a change for Snakemake)."""
+    p = Path(path)
+    if not p.exists() or p.read_text() != text:
+        io.atomic_write_text(p, text)
+
+
+def write_sweep_table(
+    path: str | Path,
+    points: Sequence[tuple[str | Path, str]],
+    record: Mapping[str, Mapping[str, str]] | None = None,
+    fields: Sequence[str] = FIELDS,
+) -> None:
+    """Write ``path``: one row per (summary path, key) of ``points``, in order: the ``record``'s row of that
+    key where it has one, else ``fields`` read from the summary (empty if absent)."""
+    record = record or {}
     buf = _io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=["path", *fields], lineterminator="\r\n")
+    w = csv.DictWriter(buf, fieldnames=["path", *fields, "key"], lineterminator="\r\n", extrasaction="ignore")
     w.writeheader()
-    for p in summaries:
+    for p, key in points:
+        if key in record:
+            w.writerow(record[key])
+            continue
         s = json.loads(Path(p).read_text())
-        w.writerow({"path": str(p), **{k: s.get(k) for k in fields}})
+        w.writerow({"path": str(p), **{k: s.get(k) for k in fields}, "key": key})
     io.atomic_write_text(path, buf.getvalue())
