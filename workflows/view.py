@@ -1,0 +1,100 @@
+"""Open a run's fields in ParaView (pvpython): warp by displacement, colour by von Mises around the contact.
+
+    pvpython workflows/view.py output/g                       # list frames and fields (both XDMF readers)
+    xvfb-run -a pvpython workflows/view.py output/g --png contact.png [--time 3e-5] [--scale 50]
+
+RUN is a run folder with ``fields.xdmf`` (written by the FE models when the scene asks for fields, see
+``rods.fe.fields``) or the file itself. Without ``--time`` the frame with the largest contact pressure is
+shown (the peak-force frame of the field series). ``--reader legacy`` uses ParaView's XDMF (2) reader
+instead of the Xdmf3 one; both read the file. ``--check`` exits 1 unless every frame has every field.
+Runs under ParaView's own Python (Debian: ``apt-get install paraview python3-paraview``), not the venv.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+FIELDS = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
+WINDOW = 3e-3  # [m] half-width of the view around the contact point (the tips touch at the origin)
+
+
+def open_fields(path: Path, legacy: bool):
+    from paraview import simple as pv
+
+    xdmf = path / "fields.xdmf" if path.is_dir() else path
+    if legacy:
+        return pv.XDMFReader(FileNames=[str(xdmf)])
+    return pv.Xdmf3ReaderS(FileName=[str(xdmf)])
+
+
+def frames(reader) -> list[tuple[float, list[str], float]]:
+    """(time [s], point fields, largest contact pressure [Pa]) of every frame."""
+    out = []
+    for t in reader.TimestepValues:
+        reader.UpdatePipeline(t)
+        names = sorted(reader.PointData.keys())
+        p = reader.PointData["contact_pressure"].GetRange()[1] if "contact_pressure" in names else 0.0
+        out.append((float(t), names, p))
+    return out
+
+
+def render(reader, t: float, scale: float, png: str) -> None:
+    """Warp by ``scale`` x displacement, colour by von Mises at time ``t``, camera on the contact (3D: the
+    section y = 0, seen from -y; axisymmetric: the (r, z) plane)."""
+    from paraview import simple as pv
+
+    bounds = reader.GetDataInformation().GetBounds()
+    three_d = bounds[5] - bounds[4] > 0
+    source = pv.Slice(Input=reader, SliceType="Plane") if three_d else reader
+    if three_d:
+        source.SliceType.Origin, source.SliceType.Normal = [0, 0, 0], [0, 1, 0]
+    warp = pv.WarpByVector(Input=source, Vectors=["POINTS", "displacement"], ScaleFactor=scale)
+    view = pv.CreateRenderView()
+    view.ViewSize = [1200, 800]
+    view.ViewTime = t
+    view.OrientationAxesVisibility = 0
+    shown = pv.Show(warp, view)
+    pv.ColorBy(shown, ("POINTS", "von_mises"))
+    shown.RescaleTransferFunctionToDataRange(False, True)
+    shown.SetScalarBarVisibility(view, True)
+    pv.GetScalarBar(pv.GetColorTransferFunction("von_mises"), view).Title = "von Mises [Pa]"
+    view.CameraPosition = [0, -1, 0] if three_d else [0, 0, 1]
+    view.CameraFocalPoint, view.CameraViewUp = [0, 0, 0], [0, 0, 1] if three_d else [0, 1, 0]
+    view.CameraParallelProjection = 1
+    view.CameraParallelScale = WINDOW
+    pv.SaveScreenshot(png, view, ImageResolution=[1200, 800])
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("run", type=Path, help="run folder (with fields.xdmf) or the .xdmf file")
+    ap.add_argument("--reader", choices=("xdmf3", "legacy"), default="xdmf3")
+    ap.add_argument("--time", type=float, help="frame time [s] (default: the largest contact pressure)")
+    ap.add_argument("--scale", type=float, default=1.0, help="displacement warp factor [-]")
+    ap.add_argument("--png", help="save a screenshot (needs a display: xvfb-run -a pvpython ...)")
+    ap.add_argument("--check", action="store_true", help="exit 1 unless every frame has every field")
+    a = ap.parse_args(argv)
+    reader = open_fields(a.run, a.reader == "legacy")
+    series = frames(reader)
+    for t, names, p in series:
+        print(f"t = {t:.6g} s  p_max = {p:.4g} Pa  {' '.join(names)}")
+    if a.check and any(sorted(FIELDS) != names for _, names, _ in series):
+        print("fields missing", file=sys.stderr)
+        return 1
+    if a.png:
+        t = a.time if a.time is not None else max(series, key=lambda f: f[2])[0]
+        render(reader, t, a.scale, a.png)
+        print(f"wrote {a.png} (t = {t:.6g} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    code = main()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # skip the interpreter's teardown: with Mesa GLX on a virtual display (xvfb-run) the render window's
+    # destructor fails (GLXBadContext) after the screenshot is written, which would turn the exit code to 1
+    os._exit(code)
