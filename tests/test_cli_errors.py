@@ -175,3 +175,29 @@ def test_interrupt_stops_every_rank_with_partial_histories(tmp_path, signum, gro
     assert "Traceback" not in err.read_text() and "interrupted" in err.read_text()
     assert (out / "history.csv").stat().st_size > 0
     assert not os.path.exists(out / "cut.h5")
+
+
+@pytest.mark.mpi
+def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(tmp_path):
+    """Ctrl-C under mpirun -n 2 with checkpoints on: a checkpoint at the stop; --restart completes the run
+    with the histories of an uninterrupted one."""
+    from rods.io import read_history
+
+    args = [*TINY, "--set", "simulation.end_time=3e-3", "--set", "fe.checkpoint_interval=5e-4"]
+    cmd = [str(MPIRUN), "-n", "2", str(PY), str(W / "global.py"), *args]
+    ref, cut, err = tmp_path / "ref", tmp_path / "cut", tmp_path / "stderr"
+    subprocess.run([*cmd, "--out", str(ref)], cwd=tmp_path, check=True, capture_output=True, timeout=300)
+    with open(err, "w") as ef:
+        proc = subprocess.Popen([*cmd, "--out", str(cut)], cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=ef)
+        _wait_for(err, "steps", 120)
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=30) == 130, err.read_text()[-2000:]
+    stop = json.loads((cut / "summary.json").read_text())["failed_step"]
+    assert json.loads((cut / "checkpoint.json").read_text())["step"] == stop  # saved at the stop itself
+    r = subprocess.run([*cmd, "--restart", "--out", str(cut)], cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr[-2000:]
+    a, b = read_history(ref / "history.csv"), read_history(cut / "history.csv")
+    for key in a:
+        np.testing.assert_allclose(b[key], a[key], rtol=1e-12, atol=1e-14 * np.abs(a[key]).max(), err_msg=key)
+    assert "status" not in json.loads((cut / "summary.json").read_text())  # the partial summary is replaced

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from rods import interrupt
-from rods.preflight import InputError, one_line, output_dir, safe_name
+from rods.preflight import InputError, one_line, output_dir, safe_name  # noqa: F401  (output_dir: scripts)
 from rods.scene import Scene, SceneError, load_scene
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
@@ -66,7 +66,10 @@ def parser(description: str, default_scene: str = "paper.toml") -> argparse.Argu
 
 
 def fail(message: str) -> NoReturn:
-    print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
+    """Exit 2 with one line (rank 0's under MPI: input checks run on every rank alike)."""
+    mpi = _mpi()
+    if mpi is None or mpi.COMM_WORLD.rank == 0:
+        print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
     raise SystemExit(EXIT_BAD_INPUT)
 
 

@@ -25,6 +25,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default="output/paper/REPORT.md")
     ap.add_argument("--penalty-study", default=str(ROOT / "results" / "penalty-study.json"))
     args = ap.parse_args(argv)
+    _cli.output_dir(Path(args.out).parent, "--out")
     out = Path(args.out)
     data = report.read(Path(args.results) if args.results else out.parent, Path(args.penalty_study))
     io.atomic_write_text(out, report.render(data))

@@ -131,11 +131,17 @@ def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | N
     if meta["scene"] != scene_key:
         raise CheckpointError("checkpoint file", str(Path(out) / MANIFEST), "another scene or settings", _remedy(out))
     f = Path(out) / _name(meta["step"], comm.rank)
+    state, problem = None, ""
     try:
         with np.load(f, allow_pickle=False) as z:
-            return {k: np.array(z[k]) for k in z.files}  # read every array now: a bad CRC shows here
+            state = {k: np.array(z[k]) for k in z.files}  # read every array now: a bad CRC shows here
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error) as e:
-        raise CheckpointError("checkpoint file", str(f), f"damaged ({one_line(str(e))})", _remedy(out)) from None
+        problem = f"{f}\0damaged ({one_line(str(e))})"
+    problems = [p for p in comm.allgather(problem) if p]  # every rank refuses together: none waits alone
+    if problems:
+        name, why = problems[0].split("\0")
+        raise CheckpointError("checkpoint file", name, why, _remedy(out))
+    return state
 
 
 class Checkpoints:
@@ -149,7 +155,11 @@ class Checkpoints:
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         if step % self.every == 0 and self.first < step < self.last:
-            merged: dict[str, Any] = {}
-            for p in self.parts:
-                merged.update(p.state(step))
-            save(self.out, step, t, merged, self.comm, self.key, self.scene_hash)
+            self.save_now(step, t)
+
+    def save_now(self, step: int, t: float) -> None:
+        """Save the parts' state at ``step`` (collective): every ``every`` steps, and when a run is interrupted."""
+        merged: dict[str, Any] = {}
+        for p in self.parts:
+            merged.update(p.state(step))
+        save(self.out, step, t, merged, self.comm, self.key, self.scene_hash)

@@ -134,11 +134,12 @@ class RunGuard:
 
 class InterruptCheck:
     """Observer: every ``every`` steps, the stop request of any rank (:mod:`rods.interrupt`, MAX over the
-    ranks) stops all ranks together with :class:`Interrupted`. Signals are requests only while the loop
-    runs (armed at the first step, disarmed by ``finish``)."""
+    ranks) stops all ranks together with :class:`Interrupted`, after ``on_stop(step, t)`` (a checkpoint).
+    Signals are requests only while the loop runs (armed at the first step, disarmed by ``finish``)."""
 
-    def __init__(self, comm: MPI.Comm, every: int = INTERRUPT_EVERY):
+    def __init__(self, comm: MPI.Comm, every: int = INTERRUPT_EVERY, on_stop: Any = None):
         self.comm, self.every, self._ctx = comm, every, None
+        self.on_stop = on_stop  # on_stop(step, t), collective, before the stop (a restartable checkpoint)
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         from rods import interrupt
@@ -150,6 +151,8 @@ class InterruptCheck:
             signum = self.comm.allreduce(interrupt.requested(), op=MPI.MAX)
             if signum:
                 interrupt.reset()
+                if self.on_stop is not None:
+                    self.on_stop(step, t)
                 cause = f"interrupted by signal {signum}"
                 raise Interrupted(f"run interrupted at step {step} (t = {t:.6g} s)", step, t, cause)
 

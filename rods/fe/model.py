@@ -349,12 +349,14 @@ class ExplicitModel:
         """The model's own observers after the recorder: guards, checkpoints (after ``step0``), fields, progress."""
         sc, dt = self.scene, self.dt
         guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"])
-        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm), InterruptCheck(self.comm)]
+        stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
+        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm), stop]
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = int(round(sc["fe.checkpoint_interval"] / dt))
             key = self._checkpoint_key()
             parts, h = (stepper, recorder), checkpoint.scene_hash(sc)  # h: the restart's pre-set-up check
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
+            stop.on_stop = own[-1].save_now
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
             own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, stepper, step0))
         if progress is not None:
