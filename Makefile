@@ -7,7 +7,7 @@ NPROC ?= 2
 venv:
 	@./.ci/ensure-venv
 
-SNAKE := .venv/bin/snakemake -s workflows/Snakefile --cores $(NPROC)
+SNAKE := .venv/bin/snakemake -s workflows/Snakefile --workflow-profile workflows/profiles/local --cores $(NPROC)
 
 ## The main job: the whole paper into results/ (REPORT.md links every table and figure); reruns only what changed.
 paper: venv
@@ -32,6 +32,12 @@ test: venv
 ## The long cases (stability matrix, paper-resolution FE validation).
 test-slow: venv
 	$(PY) -m pytest -m "slow" -q
+
+## The SLURM path (not in the default suite; root): a one-node SLURM here (scripts/slurm-localhost.sh), a small
+## sweep through Snakemake's SLURM executor with 2-rank MPI jobs, checked against the local run (~3 min measured).
+test-cluster: venv
+	$(PY) -m pip install --quiet --disable-pip-version-check -e '.[cluster]'
+	scripts/test-cluster.sh
 
 ## Benchmarks (not tests): write their tables and figures to results/.
 bench: venv

@@ -25,6 +25,7 @@ def clone(tmp_path_factory):
     for name in filter(None, files.decode().split("\0")):
         src = ROOT / name
         if src.is_file():
+            (d / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, d / name)
     return d
 
