@@ -281,3 +281,52 @@ class FieldOutput:
 
     def finish(self) -> None:
         self.vtx.close()
+
+
+def read_fields(xdmf: str | Path) -> tuple[np.ndarray, np.ndarray, list[tuple[float, dict[str, np.ndarray]]]]:
+    """Points, cells and the frames [(t [s], field name -> point values)] of a ``fields.xdmf`` (meshio)."""
+    import meshio
+
+    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
+        points, cells = r.read_points_cells()
+        frames = [r.read_data(k)[:2] for k in range(r.num_steps)]
+    return points, cells[0].data, frames
+
+
+def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) -> float:
+    """Off-screen picture (pyvista on EGL: no X server) of the contact region at the frame of the largest
+    contact pressure: von Mises on the deformed mesh (left), the contact pressure on the tip nodes (right),
+    in the (r, z) plane (3D: the section y = 0). Displacements relative to the contact centre are scaled so
+    that the largest within ``window`` [m] of it is 5% of the window (said in the title). The frame's time [s]."""
+    import os
+
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")  # no X probe, no X warning
+    import pyvista as pv
+
+    points, cells, frames = read_fields(xdmf)
+    t, d = max(frames, key=lambda f: f[1]["contact_pressure"].max())
+    p = d["contact_pressure"][:, 0]
+    u_c = d["displacement"][p > 0].mean(axis=0) if (p > 0).any() else np.zeros(3)
+    du = d["displacement"] - u_c
+    near = np.linalg.norm(points, axis=1) < window
+    factor = 0.05 * window / max(np.linalg.norm(du[near], axis=1).max(initial=0.0), 1e-300)
+    kind = pv.CellType.HEXAHEDRON if cells.shape[1] == 8 else pv.CellType.QUAD
+    grid = pv.UnstructuredGrid({kind: cells}, points)
+    grid.point_data["von Mises [MPa]"] = d["von_mises"][:, 0] / 1e6
+    grid.point_data["p [MPa]"] = p / 1e6
+    grid.points = points + factor * du
+    if kind == pv.CellType.HEXAHEDRON:
+        grid = grid.slice(normal="y", origin=(0.0, 0.0, 0.0))
+        grid.points = grid.points[:, [0, 2, 1]]  # the section y = 0 drawn as the (x, z) plane
+    grid = grid.clip_box((-window, window, -window, window, -1.0, 1.0), invert=False)
+    pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800))
+    for col, (name, title) in enumerate((("von Mises [MPa]", "von Mises"), ("p [MPa]", "contact pressure"))):
+        pl.subplot(0, col)
+        pl.add_mesh(grid, scalars=name, cmap="turbo", show_edges=col == 0, edge_color="gray")
+        pl.add_text(f"{title}, t = {t * 1e6:.2f} µs, deformation x {factor:.3g}", font_size=10)
+        pl.view_xy()
+        pl.camera.parallel_projection = True
+    pl.link_views()
+    pl.screenshot(str(png))
+    pl.close()
+    return float(t)

@@ -123,3 +123,15 @@ def test_killed_run_keeps_its_frames_and_a_restart_appends(tmp_path):
     for (_, da), (_, db) in zip(a, b, strict=True):
         for name in FIELD_NAMES:
             np.testing.assert_allclose(db[name], da[name], rtol=0, atol=1e-10 * max(np.abs(da[name]).max(), 1e-300))
+
+
+def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypatch):
+    from rods.fe.fields import render_contact
+
+    _run(tmp_path, ["simulation.end_time=2e-5", "fe.field_interval=1e-5"])
+    monkeypatch.delenv("DISPLAY", raising=False)
+    t = render_contact(tmp_path / "fields.xdmf", tmp_path / "contact.png")
+    _, frames = _frames(tmp_path)
+    assert t == max(frames, key=lambda f: f[1]["contact_pressure"].max())[0]  # the peak-pressure frame
+    assert (tmp_path / "contact.png").stat().st_size > 20_000
+    assert "X server" not in capfd.readouterr().err
