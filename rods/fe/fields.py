@@ -215,7 +215,9 @@ class FieldOutput:
             for old in Path(out).glob("fields*.bp"):  # a fresh run: a fresh series
                 shutil.rmtree(old, ignore_errors=True)
         msh.comm.barrier()
-        self.vtx = dolfinx.io.VTXWriter(msh.comm, Path(out) / name, [self.uf, self.vf, *self.scalars.values()], "BP4")
+        funcs = [self.uf, self.vf, *self.scalars.values()]
+        reuse = dolfinx.cpp.io.VTXMeshPolicy.reuse  # the mesh once, not with every frame
+        self.vtx = dolfinx.io.VTXWriter(msh.comm, Path(out) / name, funcs, "BP4", mesh_policy=reuse)
         self.series, self.order = self._xdmf(V, Path(out), (step0 - 0.5) * model.dt if step0 else -math.inf)
 
     def _xdmf(self, V, out: Path, keep_before: float) -> tuple[XdmfSeries | None, np.ndarray | None]:

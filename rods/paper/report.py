@@ -31,6 +31,7 @@ class ReportData:
     fig4: dict[str, Any]
     accuracy_cost: dict[str, Any]
     penalty_study: dict[str, Any] | None = None  # the benchmark's record, if it exists
+    contact_fields: dict[str, Any] | None = None  # contact-fields.json (workflows/contact_picture.py), if it exists
 
 
 def read(results: Path, penalty_study: Path | None = None) -> ReportData:
@@ -38,7 +39,8 @@ def read(results: Path, penalty_study: Path | None = None) -> ReportData:
     results = Path(results)
     files = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json")
     penalty = load(penalty_study) if penalty_study is not None and Path(penalty_study).is_file() else None
-    return ReportData(*(load(results / f) for f in files), penalty_study=penalty)
+    fields = load(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
+    return ReportData(*(load(results / f) for f in files), penalty_study=penalty, contact_fields=fields)
 
 
 def _signed_range(values: list[float], digits: int = 1) -> str:
@@ -217,6 +219,22 @@ FOOTER = [
 ]
 
 
+def contact_fields_section(cf: dict[str, Any]) -> list[str]:
+    """The contact region at the field frame of the largest contact pressure (rods.fe.fields.render_contact)."""
+    return [
+        f"## Fields at peak contact pressure — [{cf['png']}]({cf['png']})",
+        "",
+        f"The {cf['model']} model of scene `{cf['scene']}` (mesh {cf['mesh']['radial_size'] * 1e3:.4g} mm radial x "
+        f"{cf['mesh']['tip_axial_size'] * 1e3:.4g} mm axial at the tips), fields every "
+        f"{cf['field_interval'] * 1e6:.3g} µs: the frame of the largest contact pressure is t = "
+        f"{cf['time'] * 1e6:.2f} µs, with {cf['peak_contact_pressure'] / 1e9:.3g} GPa on the tip nodes and "
+        f"von Mises up to {cf['von_mises_max'] / 1e6:.0f} MPa (nodal averages). Left: von Mises on the deformed "
+        "mesh (deformation exaggerated, factor in the title); right: the contact pressure.",
+        "",
+        f"![contact region at peak contact pressure]({cf['png']})",
+    ]
+
+
 def render(data: ReportData) -> str:
     sections = [
         HEADER,
@@ -224,6 +242,7 @@ def render(data: ReportData) -> str:
         fig4_section(data.fig4, data.penalty_study),
         table3_section(data.table3),
         accuracy_cost_section(data.accuracy_cost),
+        *([contact_fields_section(data.contact_fields)] if data.contact_fields else []),
         FOOTER,
     ]
     return "\n\n".join("\n".join(s) for s in sections) + "\n"

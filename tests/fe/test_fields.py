@@ -135,3 +135,13 @@ def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypa
     assert t == max(frames, key=lambda f: f[1]["contact_pressure"].max())[0]  # the peak-pressure frame
     assert (tmp_path / "contact.png").stat().st_size > 20_000
     assert "X server" not in capfd.readouterr().err
+    # the main job's picture and its data (workflows/contact_picture.py), rendered into REPORT.md
+    p = run_workflow("contact_picture.py", ["--fields", str(tmp_path), "--out", str(tmp_path / "cf")])
+    assert p.returncode == 0, p.stderr[-2000:]
+    cf = json.loads((tmp_path / "cf.json").read_text())
+    d = next(f for tf, f in frames if tf == t)
+    assert cf["time"] == t and cf["peak_contact_pressure"] == d["contact_pressure"].max()
+    from rods.paper.report import contact_fields_section
+
+    text = "\n".join(contact_fields_section(cf))
+    assert f"t = {t * 1e6:.2f} µs" in text and "![contact region at peak contact pressure](cf.png)" in text

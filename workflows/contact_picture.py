@@ -1,0 +1,51 @@
+"""The contact region at peak contact pressure from a run's fields (rods.fe.fields.render_contact).
+
+    python workflows/contact_picture.py --fields output/paper/fields --out results/contact-fields
+
+Writes OUT.png (von Mises on the deformed mesh, the contact pressure; pyvista off-screen) and OUT.json (the
+frame: time, peak contact pressure and von Mises, the run's model, scene and mesh), which REPORT.md renders.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import _cli
+from rods import io
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap.add_argument("--fields", required=True, help="a run folder with fields.xdmf and summary.json")
+    ap.add_argument("--out", required=True, help="output path without suffix (.png and .json are written)")
+    args = ap.parse_args(argv)
+    run, out = Path(args.fields), Path(args.out)
+    _cli.output_dir(out.parent, "--out")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    from rods.fe.fields import read_fields, render_contact
+
+    t = render_contact(run / "fields.xdmf", out.with_suffix(".png"))
+    _, _, frames = read_fields(run / "fields.xdmf")
+    d = next(f for tf, f in frames if tf == t)
+    s = json.loads((run / "summary.json").read_text())
+    io.write_data(
+        out.with_suffix(".json"),
+        {
+            "png": out.with_suffix(".png").name,
+            "time": t,
+            "peak_contact_pressure": float(d["contact_pressure"].max()),
+            "von_mises_max": float(d["von_mises"].max()),
+            "model": s["model"],
+            "scene": s["scene"],
+            "mesh": s["mesh"],
+            "field_interval": s["scene_values"]["fe"]["field_interval"],
+        },
+    )
+    print(f"wrote {out.with_suffix('.png')} and {out.with_suffix('.json')} (t = {t:.6g} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_cli.guarded(main)())
