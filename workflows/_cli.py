@@ -14,7 +14,7 @@ import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from rods import interrupt
 from rods.preflight import InputError, one_line, output_dir, safe_name  # noqa: F401  (output_dir: scripts)
@@ -62,7 +62,20 @@ def parser(description: str, default_scene: str = "paper.toml") -> argparse.Argu
         help="override a scene value, e.g. --set impact.speed=1.848 (repeatable)",
     )
     p.add_argument("--out", default=None, help="output folder (default: output/<stage>/<scene name>)")
+    p.add_argument(
+        "--force", action="store_true", help="run above the step/history budgets (never above the free memory)"
+    )
     return p
+
+
+def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print) -> None:
+    """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
+    --force, above the step/history budgets; before anything heavy is allocated."""
+    from rods import cost
+
+    for c in costs:
+        cost.check(c, args.force)
+        log(c.describe())
 
 
 def fail(message: str) -> NoReturn:

@@ -13,7 +13,7 @@ import sys
 from collections.abc import Sequence
 
 import _cli
-from rods import io
+from rods import cost, io
 from rods.study import stages
 
 
@@ -21,6 +21,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _cli.parser(__doc__.splitlines()[0]).parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "analytical", scene)
+    _cli.afford(args, cost.analytical_cost(scene))
     print(
         f"plan: analytical model (1D waves + Hertz), scene '{scene.name}', s1 = {scene.speed} m/s, "
         f"t_end = {scene.end_time:g} s every {scene.output_interval:g} s, rtol = {scene['analytical.rtol']:g}; "

@@ -22,7 +22,7 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
-from rods import io
+from rods import cost, io, plan
 from rods.fe import checkpoint
 from rods.study import stages
 
@@ -45,6 +45,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.restart:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
+    sc = plan.submodel_driver(scene) if args.driver else scene  # the driver: to the scene's end at most
+    _cli.afford(args, cost.fe_cost(sc, comm.size, what="the driving global" if args.driver else "the global"), log=log)
     if args.driver:
         s = stages.driver(scene, out, comm, progress=progress, log=log).summary
     else:

@@ -21,7 +21,25 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
+from rods import cost, plan
+from rods.analytical import simulate
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
 from rods.study.pipeline import run_study
+
+
+def _fe_costs(scene: Scene, ranks: int) -> list[cost.Cost]:
+    """The estimated costs of the FE stages the plan will run (the analytical model, milliseconds, gives the
+    contact phase that ends the contact-only stages)."""
+    summary = simulate(scene).summary
+    p = plan.make_plan(scene, plan.first_contact_end(summary))
+    costs = [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time)] if p.global_model else []
+    if p.submodel_levels:
+        driver = plan.submodel_driver(scene, p.contact_phase)
+        costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
+        for lv in p.submodel_levels:
+            h = SUBMODEL_LEVEL_SIZES[lv]
+            costs.append(cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=h))
+    return costs
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -30,6 +48,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     scene = _cli.load(args)
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
+    _cli.afford(args, cost.analytical_cost(scene), log=log)
+    _cli.afford(args, *_fe_costs(scene, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log).summary  # a guard's stop: exit 1, Ctrl-C: 130 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
     return 0

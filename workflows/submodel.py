@@ -20,8 +20,9 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
+from rods import cost
 from rods.preflight import InputError, input_dir
-from rods.scene import SUBMODEL_LEVELS, scene_from_summary
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, scene_from_summary
 from rods.study import stages
 
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
@@ -58,6 +59,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = _cli.out_dir(args, f"submodel/{level}", scene)
     log, progress = _cli.rank0(comm)
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
+    h = args.size or SUBMODEL_LEVEL_SIZES[args.level]
+    c = cost.fe_cost(scene, comm.size, what=f"the submodel {level}", size=h, axial_size=args.axial_size, end_time=end)
+    _cli.afford(args, c, log=log)
     s = stages.submodel(
         scene, gdir / "cut.h5", out, comm, args.level, size=args.size, axial_size=args.axial_size, end_time=end,
         dt=dt, progress=progress,

@@ -1,0 +1,190 @@
+"""What a run will cost, estimated from the scene before anything heavy is allocated (no mesh is built).
+
+:func:`fe_cost` counts the cells and DOFs the mesher will make from the requested sizes (the mesh modules'
+own counting rules: :func:`rods.fe.mesh.axial_spacing`, :func:`rods.fe.mesh3d.section_counts`), the steps
+from the element step h_min/c_d, the recorded samples, the memory and the wall time;
+:func:`analytical_cost` the samples and memory of the analytical model. :func:`check` refuses
+(:class:`rods.preflight.InputError`, exit 2) a run whose memory exceeds the machine's available memory
+(always) or whose steps, DOF-steps or history values exceed the budgets below (``--force`` overrides those only).
+
+Rates and sizes measured on this machine (2 cores, DOLFINx 0.11, the paper scene; README "When something
+goes wrong"):
+
+* memory of one rank: 170 MB base (Python, DOLFINx, PETSc, gmsh) + 0.85 kB per DOF axisymmetric (3.9k, 51.5k
+  and 198k DOFs: 176, 215, 334 MB peak RSS), 2.2 kB per DOF in 3D (128k DOFs: 448 MB) + 9 bytes per step
+  (the per-step force and the output mask) + the histories (8 bytes per value, about 25 more for the CSV text);
+* time step: Δt ≈ fe.dt_fraction x h_min / c_d (measured Δt / (h_min/c_d) = 0.80 at fe.dt_fraction 0.8),
+  h_min ≈ 0.85 x the smallest requested size (the cap shortens the tip cells); a stiff contact may lower it;
+* speed: 1e7 DOF-steps/s per rank axisymmetric, 5e6 in 3D (runs under output/: 2.0e7 to 9.6e7 axisymmetric
+  and 1.6e7 3D on 2 ranks; 5.1e6 3D serial with the other core busy);
+* cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
+  per cell axisymmetric, 3.35 in 3D (measured on the same meshes; 2.3 tends to 2 on finer ones).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from rods.preflight import InputError
+from rods.scene import Scene
+
+__all__ = [
+    "STEP_BUDGET",
+    "VALUE_BUDGET",
+    "WORK_BUDGET",
+    "Cost",
+    "analytical_cost",
+    "available_memory",
+    "check",
+    "fe_cost",
+]
+
+STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
+WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 28 h on one rank) [-]
+VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
+BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
+BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
+BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
+BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
+DOF_STEPS_PER_SECOND = {"axisymmetric": 1e7, "3d": 5e6}  # per rank [1/s]
+DOFS_PER_CELL = {"axisymmetric": 2.3, "3d": 3.35}  # [-]
+DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
+H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
+
+
+@dataclass(frozen=True)
+class Cost:
+    what: str
+    cells: float
+    dofs: float
+    steps: float
+    samples: float
+    values: float  # history values, samples x columns
+    memory: float  # [B] all ranks together
+    wall_time: float  # [s]
+    ranks: int = 1
+
+    def describe(self) -> str:
+        return (
+            f"cost of {self.what}: {self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps, "
+            f"{self.samples:.3g} samples ({self.values:.3g} history values), memory {self.memory / 1e9:.3g} GB "
+            f"on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}"
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def _duration(s: float) -> str:
+    return f"{s:.3g} s" if s < 120 else (f"{s / 60:.3g} min" if s < 7200 else f"{s / 3600:.3g} h")
+
+
+def _cells_axisymmetric(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> float:
+    from rods.fe.mesh import axial_spacing
+
+    cells = 0.0
+    for rod, L in zip(scene.rods, lengths, strict=True):
+        sp = axial_spacing(_with_length(rod, L), h, g)
+        cells += math.ceil(rod.diameter / 2 / h_r - 1e-9) * (sp.n_graded + sp.n_uniform)
+    return cells
+
+
+def _cells_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> float:
+    from rods.fe.mesh import axial_spacing
+    from rods.fe.mesh3d import section_counts
+
+    share = {"full": 1.0, "half": 0.5, "quarter": 0.25}[scene["fe.symmetry"]]
+    cells = 0.0
+    for rod, L in zip(scene.rods, lengths, strict=True):
+        n_c, n_r, _ = section_counts(rod.diameter / 2, h_r)
+        sp = axial_spacing(_with_length(rod, L), h, g)
+        cells += share * (n_c * n_c + 4 * n_c * n_r) * (sp.n_graded + sp.n_uniform)
+    return cells
+
+
+def _with_length(rod: Any, L: float) -> Any:
+    from dataclasses import replace
+
+    return rod if L == rod.length else replace(rod, length=L)
+
+
+def fe_cost(
+    scene: Scene,
+    ranks: int = 1,
+    *,
+    what: str = "global FE model",
+    size: float | None = None,
+    axial_size: float | None = None,
+    end_time: float | None = None,
+) -> Cost:
+    """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] (uniform
+    across, ``axial_size`` along, no grading, rods cut to fe.submodel_length) to ``end_time`` [s]."""
+    kind = scene["fe.kind"]
+    if size is None:
+        h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene["fe.tip_grading"]
+        lengths = (scene.rod1.length, scene.rod2.length)
+    else:
+        h_r, h, g = size, axial_size or size, 1.0
+        lengths = (scene["fe.submodel_length"],) * 2
+    cells = (_cells_3d if kind == "3d" else _cells_axisymmetric)(scene, h_r, h, g, lengths)
+    dofs = DOFS_PER_CELL[kind] * cells
+    end = scene.end_time if end_time is None else end_time
+    c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
+    h_min = H_MIN_FRACTION * min(h_r, g * h)
+    dt = scene["fe.dt"] if scene["fe.dt"] != "auto" else DT_PER_ELEMENT_STEP * scene["fe.dt_fraction"] * h_min / c_d
+    steps = math.ceil(end / dt)
+    samples = math.floor(end / min(scene.output_interval, end)) + 1
+    values = samples * (12 + 2 * len(scene.stations) + (4 if kind == "3d" else 0))
+    memory = (
+        ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
+    )
+    wall = dofs * steps / (DOF_STEPS_PER_SECOND[kind] * ranks)
+    return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks)
+
+
+def analytical_cost(scene: Scene) -> Cost:
+    """The analytical model's recorded samples and memory (its integration itself costs milliseconds)."""
+    samples = math.floor(scene.end_time / scene.output_interval) + 1
+    values = samples * (5 + 2 * len(scene.stations))
+    return Cost("analytical model", 0, 0, 0, samples, values, 60e6 + 3 * BYTES_PER_VALUE * values, 1e-6 * values)
+
+
+def available_memory() -> float:
+    """MemAvailable of /proc/meminfo [B] (inf where unknown)."""
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return math.inf
+
+
+def check(cost: Cost, force: bool = False) -> Cost:
+    """Refuse ``cost`` above the available memory (always) or the step and value budgets (unless ``force``)."""
+    free = available_memory()
+    if cost.memory > free:
+        raise InputError(
+            cost.what, f"{cost.memory / 1e9:.3g} GB", f"needs more memory than available ({free / 1e9:.3g} GB): "
+            f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
+            "coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time",
+        )  # fmt: skip
+    if not force and cost.steps > STEP_BUDGET:
+        raise InputError(
+            cost.what, f"{cost.steps:.3g} steps", f"above the step budget {STEP_BUDGET:g} (about "
+            f"{_duration(cost.wall_time)})", "a larger fe.dt, coarser sizes, a shorter end_time, or --force",
+        )  # fmt: skip
+    if not force and cost.dofs * cost.steps > WORK_BUDGET:
+        raise InputError(
+            cost.what, f"{cost.dofs * cost.steps:.3g} DOF-steps", f"above the budget {WORK_BUDGET:g} (about "
+            f"{_duration(cost.wall_time)} on {cost.ranks} rank(s))", "coarser sizes, a shorter end_time, or --force",
+        )  # fmt: skip
+    if not force and cost.values > VALUE_BUDGET:
+        raise InputError(
+            cost.what, f"{cost.values:.3g} history values", f"above the budget {VALUE_BUDGET:g} "
+            f"({cost.samples:.3g} samples)", "a larger simulation.output_interval, fewer stations, or --force",
+        )  # fmt: skip
+    return cost

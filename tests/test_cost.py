@@ -1,0 +1,90 @@
+"""The cost estimate (rods.cost): counts that match the built mesh, steps near the model's, and the
+entry points refusing, exit 2 with one line and no folder, what would run into the ground (issue class A)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+
+import pytest
+
+from rods import cost
+from rods.preflight import InputError
+
+from .conftest import PY, ROOT, SCENES
+
+TINY = ("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=1e-4")
+
+
+def test_estimate_matches_the_built_axisymmetric_model(scene_with):
+    """Cells exactly (the mesh module's own counting), DOFs and steps within 20% of the set-up's."""
+    from rods.fe.model import ExplicitModel
+
+    sc = scene_with(*TINY)
+    c, m = cost.fe_cost(sc), ExplicitModel(sc)
+    assert c.cells == m.plan()["cells"]
+    assert c.dofs == pytest.approx(m.n_global, rel=0.2) and c.steps == pytest.approx(m.steps, rel=0.2)
+    assert c.samples == pytest.approx(1e-4 / sc.output_interval + 1)
+    assert cost.check(c) is c  # a tiny run passes
+
+
+def test_budgets_and_force(scene_with):
+    """--force lifts the step budget, never the memory check."""
+    long = cost.fe_cost(scene_with("fe.dt=1e-12"))
+    assert long.steps == pytest.approx(1.5e9)
+    with pytest.raises(InputError, match="step budget"):
+        cost.check(long)
+    assert cost.check(long, force=True) is long
+    huge = cost.fe_cost(scene_with("fe.axial_size=1e-7"))
+    for force in (False, True):
+        with pytest.raises(InputError, match="more memory than available"):
+            cost.check(huge, force=force)
+
+
+@pytest.fixture
+def fake_driver(tmp_path, scene_with):
+    """A folder that passes submodel.py's input checks (summary.json of a driver, an empty cut.h5)."""
+    d = tmp_path / "driver"
+    d.mkdir()
+    s = {"scene_values": scene_with().as_dict(), "dt": 3e-8, "contact_phase": 1.2e-4}
+    (d / "summary.json").write_text(json.dumps(s))
+    (d / "cut.h5").write_text("")
+    return d
+
+
+def _stations(tmp_path, n: int):
+    lines = [f'base = "{SCENES / "paper.toml"}"']
+    for i in range(1, n + 1):
+        lines += ["[[station]]", "rod = 2", f"position = {i * 1e-4!r}", f'name = "s{i}"']
+    (tmp_path / "stations.toml").write_text("\n".join(lines) + "\n")
+    return str(tmp_path / "stations.toml")
+
+
+CASES = {  # (script, arguments) that would exhaust memory or run for days
+    "output_interval 1e-13": ("analytical.py", ["--set", "simulation.output_interval=1e-13"]),
+    "dt 1e-15": ("global.py", ["--set", "fe.dt=1e-15"]),
+    "dt 1e-12": ("global.py", ["--set", "fe.dt=1e-12"]),
+    "axial_size 1e-7": ("global.py", ["--set", "fe.axial_size=1e-7"]),
+    "run axial_size 1e-7": ("run.py", ["--set", "fe.axial_size=1e-7"]),
+    "driver radial 1e-6": ("global.py", ["--driver", "--set", "fe.radial_size=1e-6"]),
+    "submodel size 1e-9": ("submodel.py", ["--global", "{driver}", "--size=1e-9"]),
+    "5000 stations": ("analytical.py", ["--scene", "{stations}"]),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_entry_points_refuse_what_would_run_into_the_ground(tmp_path, fake_driver, case):
+    script, args = CASES[case]
+    args = [a.format(driver=fake_driver, stations=_stations(tmp_path, 5000) if "{stations}" in a else "") for a in args]
+    out = tmp_path / "out"
+    p = subprocess.run(
+        [str(PY), str(ROOT / "workflows" / script), *args, "--out", str(out)],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and len(lines[0]) < 1000, p.stderr[-2000:]
+    assert "budget" in lines[0] or "memory" in lines[0]
+    assert not out.exists()
