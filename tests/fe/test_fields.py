@@ -60,6 +60,10 @@ def test_every_field_on_one_grid_at_the_requested_times(tmp_path):
         assert d["displacement"][far, 1] == pytest.approx(SPEED * t, rel=1e-6, abs=1e-18)
         assert d["velocity"][far, 1] == pytest.approx(SPEED, rel=1e-4)
         assert np.all(d["von_mises"] >= 0) and np.all(d["contact_pressure"] >= 0)
+    from rods.io import file_mode
+
+    for f in [tmp_path / "fields.xdmf", *(tmp_path / "fields").iterdir()]:  # readable by a group (ParaView server)
+        assert f.stat().st_mode & 0o777 == file_mode(), f
     p_max = max(d["contact_pressure"].max() for _, d in frames)
     assert p_max == pytest.approx(s["peak_contact_pressure"], rel=0.05)
     vm = frames[-1][1]["von_mises"][:, 0]
