@@ -64,13 +64,24 @@ class Guard:
     dt: float  # [s]
     dt_critical: float  # [s]
     growth_limit: float = 0.01  # relative energy growth that stops the run (scene fe.energy_growth_limit) [-]
+    dt_switching: float = math.inf  # [s] the contact-switching limit of the step (rods.fe.explicit.switching_step)
 
     def _cause(self, contact_share: float) -> str:
+        """Step (at the stable limit), penalty (contact energy dominates, or the step sits at the contact's
+        switching limit: a stiff layer rattles), else an instability below both limits."""
         if self.dt > 0.99 * self.dt_critical:
             return f"step too large: dt = {self.dt:.4g} s is at the stable limit {self.dt_critical:.4g} s"
         if contact_share > 0.5:
             return "penalty too stiff: the contact energy dominates; lower fe.penalty or fe.dt_fraction"
-        return "step too large for the current state (lower fe.dt_fraction)"
+        if self.dt > 0.99 * self.dt_switching:
+            return (
+                f"penalty too stiff: dt = {self.dt:.4g} s is at the contact-switching limit {self.dt_switching:.4g} s "
+                "(a rattling contact pumps energy); lower fe.penalty"
+            )
+        return (
+            "instability below the stable and switching limits (energy grows without a dominant contact energy: "
+            "mesh quality, bulk viscosity or an estimate of the limit too high); lower fe.dt_fraction"
+        )
 
     def check(self, step: int, t: float, energies: tuple[float, ...], E0: float) -> None:
         """Raise SimulationError if the recorded state at ``step`` is not physical.

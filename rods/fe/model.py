@@ -348,7 +348,7 @@ class ExplicitModel:
     def _observers(self, stepper, recorder, out, progress, step0: int) -> list[Observer]:
         """The model's own observers after the recorder: guards, checkpoints (after ``step0``), fields, progress."""
         sc, dt = self.scene, self.dt
-        guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"])
+        guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"], self.dt_switching)
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
         own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm), stop]
         if sc["fe.checkpoint_interval"] > 0 and out is not None:

@@ -74,6 +74,7 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
         "impact_speed": scene.speed,
         **values,
         "wall_time": comm.allreduce(time.perf_counter() - t0, op=_max()),
+        **_status(done),
         "sources": sources,
         "plan": p.as_dict(),
         "stages": folders,
@@ -82,6 +83,12 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     if root:
         io.write_summary(out / "summary.json", summary)
     return Study(p, done, comparison, summary)
+
+
+def _status(done: dict[str, stages.Stage]) -> dict[str, Any]:
+    """The study's status: "ok" when every stage's checks passed; the stages' warnings, each named."""
+    found = [f"{k}: {w}" for k, st in done.items() for w in st.summary.get("warnings", [])]
+    return {"status": "warnings" if found else "ok", "warnings": found}
 
 
 def _max() -> Any:

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from rods import io, plan
+from rods import checks, io, plan
 from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
 
 __all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "global_model", "submodel"]
@@ -65,6 +65,7 @@ def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
         result = simulate(scene)
     result.summary["yield_warnings"] = [str(w.message) for w in caught]
     result.summary["scene_values"] = scene.as_dict()
+    checks.apply(result.summary, result.history, scene, scene.end_time)
     if _root(comm):
         io.write_history(out / "history.csv", result.history, result.units)
         io.write_summary(out / "summary.json", result.summary)
@@ -117,6 +118,7 @@ def global_model(
     if recorder is not None:
         cut = out / "cut.h5"
         recorder.write(cut)
+    checks.apply(res.summary, res.history, scene, scene.end_time)  # status, warnings (yield at the FE force)
     _write_fe(out, res, comm, extra)
     return Stage(name, out, scene, {**res.summary, **(extra or {})}, res.history, cut)
 
@@ -164,6 +166,7 @@ def submodel(
     end = min(end_time, scene.end_time)
     sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name)
     sr.summary["cut_file"] = str(cut_file)
+    checks.apply(sr.summary, {}, scene, end)  # its midpoint is no Rod-2 midpoint: no plateau check
     if comm.rank == 0:
         io.write_history(out / "history.csv", sr.result.history, sr.result.units)
         io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, {"r": "m", "p": "Pa"})

@@ -1,0 +1,87 @@
+"""A run's own checks, turned into its summary's ``status`` and ``warnings`` (every model, every stage).
+
+``status`` is "ok" only when every check passes, "warnings" otherwise (a guard's stop writes "failed", an
+interrupt "interrupted"). The checks, each a warning naming the quantity and the remedy:
+
+* **contact not ended**: the first contact episode still open at the run's end time: ``contact_duration``
+  is unknown and written as null (not the end time);
+* **plateaus**: ``midpoint_peak_speed`` (rods.metrics) assumes :data:`rods.metrics.PLATEAU_COUNT` flat
+  plateaus above the threshold; fewer, or runs shorter than :data:`MIN_PLATEAU_SAMPLES` (overshoot spikes
+  above the plateau level, at high speed: the relative threshold then picks the spikes) make it unreliable:
+  null + warning when none is found, a warning otherwise;
+* **yield**: the paper's elastic criterion P < 1.1 S_y (rods.hertz.check_yield) at the model's own peak
+  force (Hertz pressure of that force, rods.hertz.at_force), for the FE models as for the analytical one.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from rods import hertz, metrics
+
+__all__ = ["MIN_PLATEAU_SAMPLES", "apply", "contact_warning", "plateau_warning", "yield_warnings"]
+
+MIN_PLATEAU_SAMPLES = 3  # a run above the threshold shorter than this is a spike, not a plateau [-]
+
+
+def contact_warning(summary: Mapping[str, Any], end_time: float) -> str | None:
+    """A warning when the first contact episode has not ended by ``end_time`` [s]."""
+    episodes = summary.get("contact_episodes") or []
+    if episodes and episodes[0][1] >= end_time * (1 - 1e-9):
+        return (
+            f"contact_duration: the first contact has not ended by end_time = {end_time:g} s (duration unknown, "
+            "written as null); lengthen simulation.end_time"
+        )
+    return None
+
+
+def plateau_warning(t: np.ndarray, v: np.ndarray) -> str | None:
+    """A warning when the plateaus behind ``midpoint_peak_speed`` are missing, too few or not flat."""
+    runs = metrics.plateaus(t, v)
+    if not runs:
+        return "midpoint_peak_speed: no plateau above the threshold (null)"
+    problems = []
+    if len(runs) < metrics.PLATEAU_COUNT:
+        problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time")
+    shortest = min(r.stop - r.start for r in runs)
+    if shortest < MIN_PLATEAU_SAMPLES:
+        problems.append(f"a plateau of {shortest} sample(s): spikes above the plateau level, not plateaus")
+    return f"midpoint_peak_speed: {'; '.join(problems)}; the average is unreliable" if problems else None
+
+
+def yield_warnings(scene: Any, force: float) -> list[str]:
+    """The elastic criterion at the Hertz pressure of ``force`` [N] for both rods (rods.hertz.check_yield)."""
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    p0 = hertz.at_force(force, E_star, R_star)["peak_pressure"]
+    if not math.isfinite(p0):
+        return []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", hertz.YieldWarning)
+        for n, rod in ((1, scene.rod1), (2, scene.rod2)):
+            hertz.check_yield(p0, rod.material.yield_strength, where=f"rod {n}")
+    return [str(w.message) for w in caught]
+
+
+def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any, end_time: float) -> dict[str, Any]:
+    """Run the checks on a finished run's ``summary`` (in place) and set ``status`` and ``warnings``;
+    ``history`` holds time and the Rod-2 midpoint velocity (the plateaus)."""
+    found: list[str] = []
+    if (w := contact_warning(summary, end_time)) is not None:
+        summary["contact_duration"] = None
+        found.append(w)
+    mid = f"{scene.stations[0].name}_velocity"
+    if mid in history and "midpoint_peak_speed" in summary and (w := plateau_warning(history["time"], history[mid])):
+        found.append(w)
+        if not metrics.plateaus(history["time"], history[mid]):
+            summary["midpoint_peak_speed"] = None
+    if "yield_warnings" not in summary:
+        summary["yield_warnings"] = yield_warnings(scene, summary["peak_contact_force"])
+    found += summary["yield_warnings"]
+    summary["warnings"] = found
+    summary["status"] = "warnings" if found else "ok"
+    return summary

@@ -1,0 +1,65 @@
+"""A run's own checks (rods.checks): status "ok" only when they pass; an open contact, plateaus that are
+not there or not flat, and yield at the model's own force are warnings, never silently wrong numbers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rods import checks
+from rods.analytical import simulate
+from rods.fe.guards import Guard, SimulationError
+
+
+def test_paper_scene_is_ok(scene_with):
+    sc = scene_with()
+    r = simulate(sc)
+    s = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    assert s["status"] == "ok" and s["warnings"] == [] and s["contact_duration"] > 0
+
+
+def test_contact_open_at_end_time_is_null_with_a_warning(scene_with):
+    """A soft Rod 2 (E = 1e9 Pa): the first contact outlasts end_time; the duration is unknown, not end_time."""
+    sc = scene_with("rod2.material.youngs_modulus=1e9", "rod2.material.yield_strength=1e8")
+    r = simulate(sc)
+    assert r.summary["contact_duration"] == pytest.approx(sc.end_time, rel=1e-2)  # what the metric alone reports
+    s = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    assert s["contact_duration"] is None and s["status"] == "warnings"
+    assert any(w.startswith("contact_duration") and "end_time" in w for w in s["warnings"])
+
+
+def test_plateau_assumptions():
+    t = np.linspace(0, 1, 2001)
+    square = (np.sin(2 * np.pi * 6 * t) > 0).astype(float)  # six flat plateaus at 1.0
+    assert checks.plateau_warning(t, square) is None
+    assert "only 2 of 5" in checks.plateau_warning(t, square * (t < 0.3))
+    spiky = square * (1 + 0.3 * (np.arange(t.size) % 3 == 0))  # overshoot spikes above the plateaus
+    assert "spikes" in checks.plateau_warning(t, spiky)
+    rippled = square * (1 + 0.05 * np.sin(2 * np.pi * 50 * t))  # ripple on plateaus: still plateaus
+    assert checks.plateau_warning(t, rippled) is None
+    assert "no plateau" in checks.plateau_warning(t, -np.ones_like(t))
+
+
+def test_yield_is_checked_at_the_models_own_force(scene_with):
+    """Hertz pressure of an FE peak force: the same criterion as the analytical model's, per rod."""
+    sc = scene_with()
+    assert checks.yield_warnings(sc, 1e3) == []
+    found = checks.yield_warnings(sc, 1e6)
+    assert len(found) == 2 and "rod 1" in found[0] and "1.1 S_y" in found[0]
+    s = checks.apply({"peak_contact_force": 1e6, "contact_episodes": []}, {}, sc, sc.end_time)
+    assert s["status"] == "warnings" and s["yield_warnings"] == found
+
+
+def test_guard_names_step_penalty_or_instability():
+    """Three causes: at the stable limit the step; contact energy dominating, or the step at the contact's
+    switching limit, the penalty; growth below both limits an instability."""
+    E = (2.0, 0.1, 0.1, 0.0)  # kinetic-dominated growth of 120%
+    causes = {
+        "step too large": Guard(dt=2e-8, dt_critical=2e-8),
+        "penalty too stiff": Guard(dt=1e-8, dt_critical=2e-8, dt_switching=1e-8),
+        "instability": Guard(dt=1e-8, dt_critical=2e-8, dt_switching=3e-8),
+    }
+    for cause, g in causes.items():
+        with pytest.raises(SimulationError) as e:
+            g.check(7, 7e-8, E, 1.0)
+        assert e.value.cause.startswith(cause), e.value.cause
