@@ -38,6 +38,8 @@ __all__ = [
 EFFECTS = ("wave_response", "contact_patch", "subsurface_stress", "fields", "misalignment")
 FE_KINDS = ("axisymmetric", "3d")
 SYMMETRIES = ("full", "half", "quarter")
+# array backends of the explicit loop (rods.fe.backend): petsc = the MPI path; numpy, cupy serial; auto = cupy on a GPU
+FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The one
 # definition: rods.fe.submodel.LEVEL_SIZES is this table (kept here so that scenes validate without DOLFINx).
@@ -168,6 +170,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.submodel_length": ("float", 14e-3, _positive("m", hi=1.0)),
     "fe.checkpoint_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no checkpoints)", closed_lo=True)),
     "fe.energy_growth_limit": ("float", 0.01, _interval(0.0, 10.0, "(relative energy growth that stops a run)")),
+    "fe.backend": ("str", "petsc", _choice(FE_BACKENDS)),
     "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer (fe.penalty is the global's: a driving global wants a stiffer one)
     "submodel.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),

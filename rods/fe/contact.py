@@ -23,6 +23,11 @@ area ∫ N_s 2πr ds over the Rod-1 tip; the reaction W_sj F_s goes to the maste
 pair forces cancel exactly (momentum is conserved to round-off). The force derives from the penalty
 energy E_c = ½ Σ ε_pen a_s <-g_s>², so it is conservative.
 
+Array backends (:mod:`rods.fe.backend`): the per-step law (gather, gaps, forces, scatter) is written
+once against the backend's array namespace; a device backend holds the pairing and the tip entries on
+the device and copies back the total force and energy (two scalars) per step and the tip arrays
+(gap, pressure, forces) only when they are read.
+
 MPI: the tip arrays are small (tens of nodes); every rank holds all of them, in r order, and the owned
 axial displacements are summed into them with one Allreduce per step; every rank then evaluates the
 identical contact law and adds the forces of the nodes it owns.
@@ -45,10 +50,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import dolfinx
 import numpy as np
 from mpi4py import MPI
+
+from rods.fe.backend import PETSC, Backend
 
 __all__ = ["PATCH_KEYS", "PenaltyContact", "TipNodes", "bilinear_pairing", "face_quads", "tip_nodes"]
 
@@ -183,6 +191,39 @@ def bilinear_pairing(
     return J, W, inside
 
 
+def _interp(J, W, zm):
+    """Σ_j W_sj zm_j at every slave (columns summed in order: the 2-node case is w0 z0 + w1 z1)."""
+    out = W[:, 0] * zm[J[:, 0]]
+    for c in range(1, J.shape[1]):
+        out = out + W[:, c] * zm[J[:, c]]
+    return out
+
+
+def _transpose(xp, J, W, t, n_master: int):
+    """Wᵀ t: the slave values ``t`` distributed to the ``n_master`` master nodes (``xp``: numpy or cupy)."""
+    out = xp.bincount(J[:, 0], weights=W[:, 0] * t, minlength=n_master)
+    for c in range(1, J.shape[1]):
+        out = out + xp.bincount(J[:, c], weights=W[:, c] * t, minlength=n_master)
+    return out
+
+
+@dataclass
+class _Arrays:
+    """What a step reads, in one array namespace: pairing (J, W, inside), initial gap g0 [m], nodal
+    penalty stiffness k [N/m], the owned tip entries (local) and their sorted positions (pos), a buffer."""
+
+    J: Any
+    W: Any
+    inside: Any
+    g0: Any
+    k: Any
+    slave_local: Any
+    slave_pos: Any
+    master_local: Any
+    master_pos: Any
+    buf: Any
+
+
 class PenaltyContact:
     """Node-to-surface penalty contact (see module docstring); all arrays in SI units.
 
@@ -190,6 +231,11 @@ class PenaltyContact:
     :func:`bilinear_pairing`); default: linear in r between neighbouring master nodes (axisymmetric).
     ``multiplicity`` (1, 2, 4) scales the reported force, energy and area to the full rods;
     ``mirrored`` = (about x = 0, about y = 0) says which symmetry planes bound the model (patch centroid).
+
+    The set-up methods (:meth:`apply_stiffness`, :meth:`pair_frequency`, :meth:`add_abs_row_sums`) work
+    on host arrays; the per-step ones (:meth:`evaluate`, :meth:`add_force`) on the arrays of the backend
+    chosen by :meth:`use` (:mod:`rods.fe.backend`; the host by default). The evaluated state (``gap``,
+    ``pressure``, the slave forces) is read on the host, copied once per evaluation when first asked for.
     """
 
     def __init__(
@@ -214,68 +260,86 @@ class PenaltyContact:
         self.J, self.W, self.inside = pairing  # (n_s, n_w) master positions, weights; (n_s,) bool
         self.three_d = slave.xy is not None
         self.patch_keys = PATCH_KEYS if self.three_d else ()
-        self.g0 = self._interp(master.z) - slave.z  # initial gap [m]
+        self.g0 = _interp(self.J, self.W, master.z) - slave.z  # initial gap [m]
         self.k = np.where(self.inside, ε_pen * slave.area, 0.0)  # nodal penalty stiffness [N/m]
         self.ns, self.nm = len(slave.r), len(master.r)
-        self._buf = np.zeros(self.ns + self.nm)
         self.serial = comm.size == 1
-        # state of the last evaluation
-        self.gap = self.g0.copy()
-        self.pressure = np.zeros(self.ns)  # [Pa]
+        self._host_arrays = self._arrays(PETSC)
+        self.use(PETSC)
         self.force = 0.0  # total compressive contact force [N]
         self.energy = 0.0  # penalty energy [J]
-        self._Fs, self._Fm = np.zeros(self.ns), np.zeros(self.nm)
 
-    def gather(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Axial entries of the owned array ``x`` at all slave and master nodes (every rank)."""
-        b = self._buf
+    def _arrays(self, backend: Backend) -> _Arrays:
+        s, m, put = self.slave, self.master, backend.asarray
+        return _Arrays(
+            *(put(a) for a in (self.J, self.W, self.inside, self.g0, self.k, s.local, s.pos, m.local, m.pos)),
+            backend.xp.zeros(self.ns + self.nm),
+        )
+
+    def use(self, backend: Backend) -> None:
+        """Evaluate on ``backend``'s arrays from now on (copied there once; the state starts at rest)."""
+        self.backend = backend
+        self._d = self._host_arrays if backend.xp is np else self._arrays(backend)
+        xp = backend.xp
+        self._g, self._p = self._d.g0.copy(), xp.zeros(self.ns)  # gap [m], pressure [Pa]
+        self._Fs, self._Fm = xp.zeros(self.ns), xp.zeros(self.nm)  # slave, master nodal forces [N]
+        self._host: tuple[np.ndarray, ...] | None = None
+
+    def _on_host(self) -> tuple[np.ndarray, ...]:
+        """(gap, pressure, slave forces) of the last evaluation as host arrays."""
+        if self._host is None:
+            self._host = tuple(self.backend.to_host(a) for a in (self._g, self._p, self._Fs))
+        return self._host
+
+    @property
+    def gap(self) -> np.ndarray:
+        """Gap g_s at every slave [m] (last evaluation)."""
+        return self._on_host()[0]
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """Penalty pressure p_s = ε <-g_s> at every slave [Pa] (last evaluation)."""
+        return self._on_host()[1]
+
+    def gather(self, x):
+        """Axial entries of the owned array ``x`` (host or the evaluation backend's) at all slave and master
+        nodes (every rank)."""
+        d = self._host_arrays if isinstance(x, np.ndarray) else self._d
+        b = d.buf
         if self.serial:
-            b[self.slave.pos] = x[self.slave.local]
-            b[self.ns + self.master.pos] = x[self.master.local]
-        else:
+            b[d.slave_pos] = x[d.slave_local]
+            b[self.ns + d.master_pos] = x[d.master_local]
+        else:  # the PETSc path (host arrays)
             b[:] = 0.0
-            b[self.slave.pos] = x[self.slave.local]
-            b[self.ns + self.master.pos] = x[self.master.local]
+            b[d.slave_pos] = x[d.slave_local]
+            b[self.ns + d.master_pos] = x[d.master_local]
             self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
         return b[: self.ns], b[self.ns :]
 
-    def _interp(self, zm: np.ndarray) -> np.ndarray:
-        """Σ_j W_sj zm_j at every slave (columns summed in order: the 2-node case is w0 z0 + w1 z1)."""
-        out = self.W[:, 0] * zm[self.J[:, 0]]
-        for c in range(1, self.J.shape[1]):
-            out = out + self.W[:, c] * zm[self.J[:, c]]
-        return out
-
-    def _transpose(self, t: np.ndarray) -> np.ndarray:
-        """Wᵀ t: the slave values ``t`` distributed to the master nodes."""
-        out = np.bincount(self.J[:, 0], self.W[:, 0] * t, self.nm)
-        for c in range(1, self.J.shape[1]):
-            out = out + np.bincount(self.J[:, c], self.W[:, c] * t, self.nm)
-        return out
-
     def _scatter(self, f: np.ndarray, fs: np.ndarray, fm: np.ndarray) -> None:  # fs, fm: all tip nodes
-        """f[owned slave/master axial entries] += fs, fm (forces as arrays over all tip nodes)."""
+        """f[owned slave/master axial entries] += fs, fm (host arrays of forces over all tip nodes)."""
         f[self.slave.local] += fs[self.slave.pos]
         f[self.master.local] += fm[self.master.pos]
 
-    def evaluate(self, u: np.ndarray) -> None:
+    def evaluate(self, u) -> None:
         """Contact state at displacement ``u`` (owned array): gaps, pressures, nodal forces, energy."""
+        d, xp = self._d, self.backend.xp
         us, um = self.gather(u)
-        g = self.g0 + self._interp(um) - us
-        pen = np.maximum(-g, 0.0) * self.inside  # penetration [m]
-        F = self.k * pen  # compressive nodal forces on the slaves [N]
+        g = d.g0 + _interp(d.J, d.W, um) - us
+        pen = xp.maximum(-g, 0.0) * d.inside  # penetration [m]
+        F = d.k * pen  # compressive nodal forces on the slaves [N]
         self._Fs = F
-        self._Fm = self._transpose(F)
-        self.gap = g
-        self.pressure = self.ε * pen
+        self._Fm = _transpose(xp, d.J, d.W, F, self.nm)
+        self._g, self._p, self._host = g, self.ε * pen, None
         self.force = self.multiplicity * float(F.sum())  # full rods [N]
-        self.energy = 0.5 * self.multiplicity * float(np.dot(self.k, pen * pen))  # [J]
+        self.energy = 0.5 * self.multiplicity * float(xp.dot(d.k, pen * pen))  # [J]
 
-    def add_force(self, y: np.ndarray, scale: np.ndarray | None = None) -> None:
+    def add_force(self, y, scale=None) -> None:
         """y += scale ⊙ f_c for the owned tip entries: f_c = -F on the slaves (pushed along -z),
         +Wᵀ F on the master nodes (the reaction). ``scale`` (e.g. Δt M^-1) defaults to 1."""
-        ls, lm = self.slave.local, self.master.local
-        fs, fm = -self._Fs[self.slave.pos], self._Fm[self.master.pos]
+        d = self._d
+        ls, lm = d.slave_local, d.master_local
+        fs, fm = -self._Fs[d.slave_pos], self._Fm[d.master_pos]
         if scale is not None:
             fs, fm = fs * scale[ls], fm * scale[lm]
         y[ls] += fs
@@ -284,8 +348,8 @@ class PenaltyContact:
     def apply_stiffness(self, x: np.ndarray, y: np.ndarray) -> None:
         """y += K_c x with every potential contact pair active (full engagement): K_c = Σ k_s b_s b_sᵀ."""
         xs, xm = self.gather(x)
-        t = self.k * (self._interp(xm) - xs)
-        self._scatter(y, -t, self._transpose(t))
+        t = self.k * (_interp(self.J, self.W, xm) - xs)
+        self._scatter(y, -t, _transpose(np, self.J, self.W, t, self.nm))
 
     def pair_frequency(self, inv_mass: np.ndarray) -> float:
         """Largest angular frequency [rad/s] of an isolated contact pair: a slave and its master nodes
@@ -302,7 +366,7 @@ class PenaltyContact:
         b_s = W_s (master) - e_s (slave), so row i is bounded by Σ_s k_s |b_s,i| ‖b_s‖₁ (Gershgorin)."""
         norm1 = 1.0 + np.abs(self.W).sum(axis=1)
         t = self.k * norm1
-        self._scatter(y, t, self._transpose(t))
+        self._scatter(y, t, _transpose(np, self.J, self.W, t, self.nm))
 
     def radius(self) -> float:
         """Contact radius [m]: the gap's zero crossing beyond the outermost active slave (linear).
@@ -329,7 +393,7 @@ class PenaltyContact:
         coordinate normal to a symmetry plane is 0 by symmetry. () in the axisymmetric case."""
         if not self.three_d:
             return ()
-        F = self._Fs
+        F = self._on_host()[2]
         act = F > 0
         if not act.any():
             return (0.0, 0.0, 0.0)

@@ -31,7 +31,8 @@ H_n = ½ v_{n-½}·M v_{n+½} + ½ u_n·K u_n, so the kinetic energy is reported
 
 The integrator is an object (:class:`CentralDifference`, after dolfiny's ``odeint.ODEInt2``): it holds
 the state and advances it by :meth:`CentralDifference.step`; the caller owns the loop and what it
-records (:mod:`rods.fe.recorder`, :mod:`rods.fe.observers`).
+records (:mod:`rods.fe.recorder`, :mod:`rods.fe.observers`). One class for every array backend
+(:mod:`rods.fe.backend`: PETSc Mat/Vec, NumPy/SciPy CSR, CuPy/cuSPARSE CSR).
 """
 
 from __future__ import annotations
@@ -42,6 +43,8 @@ from collections.abc import Callable
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
+
+from rods.fe.backend import PETSC, Backend
 
 __all__ = ["SWITCHING", "CentralDifference", "largest_eigenvalue", "power_iteration", "stable_step", "switching_step"]
 
@@ -114,23 +117,21 @@ def switching_step(ω_contact: float) -> float:
     return SWITCHING / ω_contact if ω_contact > 0 else math.inf
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> float:
-    """a·b without BLAS (a threaded BLAS dot stalls the time loop when the cores are shared)."""
-    return float(np.einsum("i,i->", a, b))
-
-
 class CentralDifference:
     """The scheme of the module docstring as an object: state (u_n, v_{n+½}), :meth:`step` advances it.
 
-    ``A`` is a freshly assembled K (PETSc, any layout), or a callable that assembles it (called after the
-    state arrays are allocated, the allocation order the loop was measured with); it is scaled in place to
-    -Δt M^-1 K, so the constrained rows with zero inverse mass vanish. ``mass``/``inv_mass``: the owned
-    lumped mass [kg] and its inverse [1/kg] (0 on constrained entries); ``v0`` the initial velocity
-    [m/s]; ``β`` the damping C = β K [s]; ``contact`` an object with ``evaluate(u)`` and
-    ``add_force(y, scale)`` (:class:`rods.fe.contact.PenaltyContact`) or None.
+    ``A`` is a freshly assembled K (a PETSc Mat, any layout; a SciPy matrix for the array backends), or a
+    callable that assembles it (called after the state arrays are allocated, the allocation order the loop
+    was measured with); it is scaled to -Δt M^-1 K, so the constrained rows with zero inverse mass vanish
+    (PETSc: in place). ``mass``/``inv_mass``: the owned lumped mass [kg] and its inverse [1/kg] (0 on
+    constrained entries), host arrays; ``v0`` the initial velocity [m/s]; ``β`` the damping C = β K [s];
+    ``contact`` an object with ``evaluate(u)`` and ``add_force(y, scale)``
+    (:class:`rods.fe.contact.PenaltyContact`, on the same backend) or None; ``backend`` where the state
+    lives and how A acts (:mod:`rods.fe.backend`; default the PETSc path).
 
     Per step: one matrix multiply-add v += A (u [+ β v]), the contact impulse Δt M^-1 f_c on the tip
-    entries and the drift u += Δt v: Mat/Vec operations and vectorised numpy only. The drift is deferred
+    entries and the drift u += Δt v, written once against the backend's array namespace and operator
+    (``mult``, ``mult_add``, ``axpy``). The drift is deferred
     to the start of the next step, so that after :meth:`step` the state is (u_n, v_{n+½}): observers see
     u_n and may prescribe entries of v_{n+½} (a driven cut) before u_{n+1} = u_n + Δt v_{n+½} is formed.
 
@@ -149,35 +150,28 @@ class CentralDifference:
         v0: np.ndarray,
         β: float = 0.0,
         contact=None,
+        backend: Backend = PETSC,
     ):
-        n = mass.size
-        self.u, self.v, self._z, self.y = (np.zeros(n) for _ in range(4))
-        self.dt_inv_mass = dt * inv_mass  # Δt M^-1 [s/kg]
-        self.mass_dt = mass / dt  # M/Δt [kg/s]
-        A = A if isinstance(A, PETSc.Mat) else A()
-        comm = A.getComm().tompi4py()
-        n_global, bs = A.getSize()[0], A.getBlockSize()
+        xp, n = backend.xp, mass.size
+        self.backend = backend
+        self.u, self.v, self._z, self.y = (xp.zeros(n) for _ in range(4))
+        self.dt_inv_mass = backend.asarray(dt * inv_mass)  # Δt M^-1 [s/kg]
+        self.mass_dt = backend.asarray(mass / dt)  # M/Δt [kg/s]
         self.dt, self.β, self.contact, self.damped = dt, β, contact, β > 0
-        self.mass = mass  # [kg]
-
-        def vec(a: np.ndarray) -> PETSc.Vec:  # a Vec that shares the owned numpy array's memory
-            return PETSc.Vec().createWithArray(a, size=(n, n_global), bsize=bs, comm=comm)
-
-        self._uv, self._vv, self._zv, self._yv = (vec(a) for a in (self.u, self.v, self._z, self.y))
-        self.v[:] = v0
-        A.diagonalScale(L=vec(-self.dt_inv_mass))
-        self.A = A
+        self.mass = backend.asarray(mass)  # [kg]
+        self.v[:] = backend.asarray(v0)
+        self.op = backend.operator(A, -self.dt_inv_mass, (self.u, self.v, self._z, self.y))
         self.n = 0  # index of the state's u_n
         self.pending = False  # the drift u_{n+1} = u_n + Δt v_{n+½} is due at the next step
-        self.v_prev: np.ndarray | None = None
-        self.increment: np.ndarray | None = None
+        self.v_prev = None  # v_{n-½} (backend array) when kept
+        self.increment = None  # -Δt M^-1 K u_n (backend array) when kept
         self.damping_power = 0.0  # v_{n-½}·C v_{n-½} [W]
 
     def step(self, keep: bool = False) -> None:
         """Advance (u_{n-1}, v_{n-½}) to (u_n, v_{n+½}): drift, contact at u_n, velocity update."""
-        u, v, y, dt_inv_mass, β = self.u, self.v, self.y, self.dt_inv_mass, self.β
+        u, v, y, dt_inv_mass, β, op = self.u, self.v, self.y, self.dt_inv_mass, self.β, self.op
         if self.pending:
-            self._uv.axpy(self.dt, self._vv)  # u_n = u_{n-1} + Δt v_{n-½}
+            op.axpy(u, self.dt, v)  # u_n = u_{n-1} + Δt v_{n-½}
             self.n += 1
         c = self.contact
         if c is not None:
@@ -185,11 +179,11 @@ class CentralDifference:
         if keep:
             self.v_prev = v.copy()
         if self.damped:  # f_d,n = C v_{n-½}; y = A v = -Δt M^-1 K v
-            self.A.mult(self._vv, self._yv)
-            self.damping_power = -β * _dot(self.mass_dt * v, y)
+            op.mult(v, y)
+            self.damping_power = -β * self.backend.dot(self.mass_dt * v, y)
         if self.n == 0:  # half step: v_{½} = v_0 + ½ Δt a_0
             z = self._z
-            self.A.mult(self._uv, self._zv)
+            op.mult(u, z)
             if self.damped:
                 z += β * y
             z *= 0.5
@@ -197,16 +191,16 @@ class CentralDifference:
                 c.add_force(z, 0.5 * dt_inv_mass)
             v += z
         else:  # v_{n+½} = v_{n-½} + Δt M^-1 (f_c - K u_n - C v_{n-½})
-            self.A.multAdd(self._uv, self._vv, self._vv)
+            op.mult_add(u, v)
             if self.damped:
-                self._vv.axpy(β, self._yv)
+                op.axpy(v, β, y)
             if c is not None:
                 c.add_force(v, dt_inv_mass)
         if keep:
             self.increment = self._stiffness_increment()
         self.pending = True
 
-    def _stiffness_increment(self) -> np.ndarray:
+    def _stiffness_increment(self):
         """-Δt M^-1 K u_n: the velocity increment less its contact and damping parts (x2 on the half step)."""
         h = 0.5 if self.n == 0 else 1.0
         dv = self.v - self.v_prev
@@ -219,13 +213,13 @@ class CentralDifference:
         return dv
 
     def state(self, step: int | None = None) -> dict[str, np.ndarray | int]:  # noqa: ARG002
-        """What a restart needs (this rank's owned arrays): u_n, v_{n+½}, n."""
-        return {"u": self.u, "v": self.v, "step": self.n}
+        """What a restart needs (this rank's owned arrays, on the host): u_n, v_{n+½}, n."""
+        return {"u": self.backend.to_host(self.u), "v": self.backend.to_host(self.v), "step": self.n}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         """Resume from :meth:`state` (after a step: the drift is due)."""
-        self.u[:], self.v[:] = state["u"], state["v"]
+        self.u[:], self.v[:] = self.backend.asarray(state["u"]), self.backend.asarray(state["v"])
         self.n, self.pending = int(state["step"]), True
 
     def destroy(self) -> None:
-        self.A.destroy()
+        self.op.destroy()

@@ -4,7 +4,8 @@
 block size 2 axisymmetric, 3 in 3D), row-sum lumped mass, constraints, contact, probes, stable step,
 plan — for the global model and for the submodel alike (:mod:`rods.fe.submodel` runs the same class on
 a shorter region). :meth:`ExplicitModel.run` is the loop: the central-difference stepper
-(:class:`rods.fe.explicit.CentralDifference`, Mat/Vec operations and vectorised numpy only), then the
+(:class:`rods.fe.explicit.CentralDifference` on the array backend ``fe.backend`` names, :mod:`rods.fe.backend`:
+PETSc Mat/Vec by default and under MPI, NumPy/SciPy or CuPy serial), then the
 observers (:mod:`rods.fe.observers`): the caller's (a submodel cut), the recorder
 (:mod:`rods.fe.recorder`), the guards (:mod:`rods.fe.guards`), checkpoints (:mod:`rods.fe.checkpoint`),
 field output (:mod:`rods.fe.fields`) and progress. Initial state: u = 0, Rod 1 moving at +s1 along z (the impact
@@ -44,6 +45,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from rods import hertz
+from rods.fe import backend as backends
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import CentralDifference, largest_eigenvalue, stable_step, switching_step
@@ -90,6 +92,7 @@ class ExplicitModel:
                 "the explicit model supports 1 (row-sum lumped Q2 masses vanish on the axis; "
                 "3D contact pairs Q1 face quadrilaterals)",
             )
+        self.backend = backends.select(scene["fe.backend"], comm.size)  # refused early, before the mesh
         three_d = kind == "3d"
         self.axial = 2 if three_d else 1  # index of the axial (z) component
         self.tags = tags = TAGS_3D if three_d else TAGS
@@ -323,7 +326,9 @@ class ExplicitModel:
         return fe_result(self, recorder, recorder.k, self.steps + 1, wall_loop)
 
     def stepper(self) -> CentralDifference:
-        """The central-difference integrator at the initial state (a fresh K, scaled in place)."""
+        """The central-difference integrator at the initial state on the scene's backend (a fresh K, scaled
+        in place, or converted to CSR once), the contact moved to that backend."""
+        self.contact.use(self.backend)
         return CentralDifference(
             self._assemble_stiffness,
             self.mass,
@@ -332,6 +337,7 @@ class ExplicitModel:
             self.initial_velocity(),
             self.β_visc,
             self.contact,
+            self.backend,
         )
 
     def recorder(self, sources: Sequence[Observer] = ()) -> Recorder:
@@ -341,9 +347,8 @@ class ExplicitModel:
         mass_axial[self.axial :: self.bs] = self.mass[self.axial :: self.bs]  # [kg]
         steps = output_steps(sc.end_time, sc.output_interval, self.dt, self.steps)
         probes = (self.probes.P, self.probe_keys)
-        return Recorder(
-            self.contact, probes, mass_axial, steps, self.steps, self.dt, self.comm, self.multiplicity, sources
-        )
+        args = (self.contact, probes, mass_axial, steps, self.steps, self.dt, self.comm, self.multiplicity)
+        return Recorder(*args, sources, self.backend)
 
     def _observers(self, stepper, recorder, out, progress, step0: int) -> list[Observer]:
         """The model's own observers after the recorder: guards, checkpoints (after ``step0``), fields, progress."""
@@ -358,7 +363,10 @@ class ExplicitModel:
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
             stop.on_stop = own[-1].save_now
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
-            own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, stepper, step0))
+            view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
+            own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, view, step0))
+        if self.backend.on_device:  # guards, checkpoints, fields read the state on the host
+            own = [backends.OnHost(o, self.backend) for o in own]
         if progress is not None:
             own.append(Progress(progress, self.steps))
         return own
@@ -386,7 +394,7 @@ class ExplicitModel:
         if not hasattr(self, "_corners"):
             msh = self.rm.mesh
             self._corners = CornerJacobians(self.V, self.n_local, msh.topology.index_map(msh.topology.dim).size_local)
-        return self._corners.count(u_owned)
+        return self._corners.count(self.backend.to_host(u_owned))
 
     def _checkpoint_key(self) -> str:
         """Identifies scene + step + partition + format: a checkpoint is only resumed by the same run."""

@@ -30,7 +30,8 @@ import numpy as np
 from mpi4py import MPI
 
 from rods import metrics
-from rods.fe.explicit import CentralDifference, _dot
+from rods.fe.backend import PETSC, Backend
+from rods.fe.explicit import CentralDifference
 
 __all__ = ["BASE_COLUMNS", "ENERGY_COLUMNS", "Recorder", "output_steps"]
 
@@ -59,7 +60,8 @@ class Recorder:
     (2 n_p, n_owned) probe map (rows 2i: value, 2i + 1: ∂/∂z at point i) and names the (velocity,
     strain) column pairs; ``mass_axial``: the lumped mass of the axial entries (0 elsewhere) [kg], whose
     product with v is the axial momentum; ``sources``: observers whose ``external_work()`` (this rank's
-    accumulated work on the model [J]) enters the balance."""
+    accumulated work on the model [J]) enters the balance; ``backend``: where the stepper's state lives
+    (:mod:`rods.fe.backend`; P and ``mass_axial`` are copied there once, the sums come back as scalars)."""
 
     def __init__(
         self,
@@ -72,10 +74,12 @@ class Recorder:
         comm: MPI.Comm,
         multiplicity: float = 1.0,
         sources: Sequence[Any] = (),
+        backend: Backend = PETSC,
     ):
         self.contact, self.comm, self.dt, self.multiplicity = contact, comm, dt, float(multiplicity)
-        self.P, self.probe_keys = probes
-        self.mass_axial = mass_axial
+        P, self.probe_keys = probes
+        self.backend, self.dot = backend, backend.dot
+        self.P, self.mass_axial = backend.csr(P), backend.asarray(mass_axial)
         self.sources = [s for s in sources if hasattr(s, "external_work")]
         self.is_out = np.zeros(steps + 1, dtype=bool)
         self.is_out[record_steps] = True
@@ -112,18 +116,23 @@ class Recorder:
         if st.damped:
             if step > 0:
                 self.W_local += 0.5 * self.dt * (self.s_prev + st.damping_power)
-            self.s_prev = -st.β * _dot(st.mass_dt * st.v, st.y)  # v_{n+½}·f_d,n
+            self.s_prev = -st.β * self.dot(st.mass_dt * st.v, st.y)  # v_{n+½}·f_d,n
         self.last = None
         if self.is_out[step]:
             self._record(t, st)
 
     def _record(self, t: float, st: CentralDifference) -> None:
-        c, dot, n_p = self.contact, _dot, self.P.shape[0]
+        c, dot, n_p, host = self.contact, self.dot, self.P.shape[0], self.backend.to_host
         E_s = -0.5 * dot(st.mass_dt * st.u, st.increment)  # ½ u_n·K u_n
         E_k = 0.5 * dot(st.mass * st.v_prev, st.v)  # ½ v_{n-½}·M v_{n+½}
         W_ext = sum(s.external_work() for s in self.sources) if self.sources else 0.0
         loc = np.concatenate(
-            ([E_k, E_s, self.W_local, W_ext], self.P @ (st.v_prev + st.v), self.P @ st.u, [dot(self.mass_axial, st.v)])
+            (
+                [E_k, E_s, self.W_local, W_ext],
+                host(self.P @ (st.v_prev + st.v)),
+                host(self.P @ st.u),
+                [dot(self.mass_axial, st.v)],
+            )
         )
         if self.comm.size > 1:
             self.comm.Allreduce(MPI.IN_PLACE, loc, op=MPI.SUM)

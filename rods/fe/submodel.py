@@ -202,14 +202,16 @@ class CutRecorder:
         self.last = (n_rec - 1) * self.every  # last recorded step
         self.times = np.arange(n_rec) * self.every * model.dt
         self.U = np.zeros((n_rec, self.idx.size))
+        self.idx_step = model.backend.asarray(self.idx)  # the band's entries where the state lives
         self.Vv = np.zeros((n_rec, self.idx.size))
         self.n = 0
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         if step > self.last or step % self.every:
             return
-        self.U[self.n] = state.u[self.idx]  # u_n
-        self.Vv[self.n] = state.v[self.idx]  # v_{n+1/2}
+        host, idx = self.model.backend.to_host, self.idx_step  # the band's entries only leave the device
+        self.U[self.n] = host(state.u[idx])  # u_n
+        self.Vv[self.n] = host(state.v[idx])  # v_{n+1/2}
         self.n += 1
 
     def write(self, path: str | Path) -> None:
@@ -362,10 +364,13 @@ class CutDriver:
             )
         self.n_cut = comm.allreduce(nodes0.size)
         self.dt = model.dt
+        # on the model's array backend (copied to a device once): the band history, W, the cut entries
+        be = model.backend
+        self.xp, self.U, self.W_step, self.idx_step = be.xp, be.asarray(self.U), be.csr(self.W), be.asarray(self.idx)
         # work done by the cut on the submodel (this rank's cut entries) [J]: the prescription adds the impulse
         # R = M (v_prescribed - v_free) [N s] per step, which moves through (v_{n-1/2} + v_{n+1/2})/2 Δt
-        self.m_cut = model.mass[self.idx]  # [kg]
-        self.v_prev = model.initial_velocity()[self.idx]  # v_{n-1/2} at the cut [m/s], v_0 before the first step
+        self.m_cut = be.asarray(model.mass[self.idx])  # [kg]
+        self.v_prev = be.asarray(model.initial_velocity()[self.idx])  # v_{n-1/2} at the cut [m/s], v_0 at first
         self.work = 0.0
         self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
 
@@ -378,7 +383,7 @@ class CutDriver:
         else:
             θ = (t - T[k]) / (T[k + 1] - T[k])
             ub = (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
-        return self.W @ ub
+        return self.W_step @ ub
 
     def external_work(self) -> float:
         """Work done by the cut on the submodel so far (this rank's cut entries) [J]."""
@@ -386,13 +391,13 @@ class CutDriver:
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         """Overwrite v_{n+1/2} at the cut so that u_{n+1} = u_cut(t_{n+1})."""
-        u, v = state.u, state.v
+        u, v, idx = state.u, state.v, self.idx_step
         target = self.displacement(t + self.dt)
-        v_new = (target - u[self.idx]) / self.dt
-        R = self.m_cut * (v_new - v[self.idx])  # impulse of the cut reaction [N s]
-        self.work += float(np.sum(R * 0.5 * (self.v_prev + v_new)))
+        v_new = (target - u[idx]) / self.dt
+        R = self.m_cut * (v_new - v[idx])  # impulse of the cut reaction [N s]
+        self.work += float(self.xp.sum(R * 0.5 * (self.v_prev + v_new)))
         self.v_prev = v_new
-        v[self.idx] = v_new
+        v[idx] = v_new
 
 
 # ----------------------------------------------------------------------------------------------
@@ -476,7 +481,7 @@ class PeakField:
         F = self.model.contact.force  # at u_n (evaluated at the start of the step)
         if F > self.F and step - self.last >= self.every:
             self.F, self.step, self.last = F, step, step
-            self.u[:] = state.u
+            self.u[:] = self.model.backend.to_host(state.u)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -1,0 +1,208 @@
+"""Throughput of the explicit time loop on an array backend (issue 16): full step and SpMV against the copy rate.
+
+    python benchmarks/gpu_throughput.py                      # CuPy on a GPU: coarse, medium, paper meshes
+    python benchmarks/gpu_throughput.py --backend numpy --meshes tiny --steps 20 --run tiny --compare tiny \\
+        --end-time 2e-5 --out /tmp/gpu.md --run-out /tmp/gpu-run        # the same script on the CPU (a check)
+
+For each 3D mesh (``--meshes``: ``coarse`` = paper-3d-coarse.toml, ``medium`` = 2 x 0.5 mm, ``paper`` =
+paper-3d.toml, ``tiny`` = a quarter model of 30 mm rods at 4 x 1 mm, for checks) the model is set up on
+``--backend`` and ``--steps`` steps are timed twice after a warm-up:
+
+* the full step, :meth:`rods.fe.explicit.CentralDifference.step` (drift, contact, multiply-add, impulse);
+* the SpMV alone, the operator's ``mult_add`` (v += A u, A = -Δt M^-1 K in CSR).
+
+Rates are DOF-steps/s; the SpMV's memory traffic (CSR values 8 B and column indices 4 B per nonzero, row
+pointers 4 B per row, x read, y read and written: 24 B per DOF) is set against the copy rate of the same
+memory measured in the same run (``y[:] = x`` on 2 x ``--copy-mib`` arrays, 16 B per element, best of 5), so
+figures from different machines are compared through their own ceiling.
+
+End to end (``--run MESH``): the scene run to its end time (``--end-time`` overrides) through the library's
+global stage (set-up, stepping, history/summary output into ``--run-out``), its summary against the
+analytical model (peak force, energy error). ``--compare MESH``: the same on ``--backend`` and on the PETSc
+path (CPU, serial) in this process: wall times and the largest history difference. Writes ``--out``
+(markdown; default results/gpu-throughput.md). Nothing here is measured until it is run on a GPU.
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import sys
+import time
+from pathlib import Path
+
+import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+
+# isort: split
+import numpy as np
+from mpi4py import MPI
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from rods.fe import backend as backends  # noqa: E402
+from rods.fe.model import ExplicitModel  # noqa: E402
+from rods.scene import Scene, load_scene  # noqa: E402
+
+SCENES = ROOT / "workflows" / "scenes"
+MESHES = {  # name: (scene file, overrides)
+    "tiny": (SCENES / "paper.toml", ["fe.kind='3d'", "fe.symmetry='quarter'", "fe.axial_size=4e-3",
+                                     "fe.radial_size=1e-3", "rod1.length=0.03", "rod2.length=0.03",
+                                     "simulation.end_time=1e-4"]),
+    "coarse": (SCENES / "paper-3d-coarse.toml", []),
+    "medium": (SCENES / "paper-3d.toml", ["fe.axial_size=2e-3", "fe.radial_size=0.5e-3"]),
+    "paper": (SCENES / "paper-3d.toml", []),
+}  # fmt: skip
+
+
+def scene(mesh: str, backend: str, *extra: str) -> Scene:
+    path, over = MESHES[mesh]
+    return load_scene(path, [*over, f"fe.backend='{backend}'", *extra])
+
+
+def copy_rate(be: backends.Backend, mib: int = 256, reps: int = 5) -> float:
+    """Best-of-``reps`` rate [B/s] of y[:] = x on 2 x ``mib`` MiB arrays of ``be`` (16 B per element)."""
+    n = mib * (1 << 20) // 8
+    x, y = be.xp.ones(n), be.xp.zeros(n)
+    best = np.inf
+    for _ in range(reps):
+        be.synchronize()
+        t = time.perf_counter()
+        y[:] = x
+        be.synchronize()
+        best = min(best, time.perf_counter() - t)
+    del x, y
+    return 16.0 * n / best
+
+
+def timed(be: backends.Backend, f, steps: int, warm: int = 5) -> float:
+    """Seconds per call of ``f()``, averaged over ``steps`` calls after ``warm`` calls (synchronised)."""
+    for _ in range(warm):
+        f()
+    be.synchronize()
+    t = time.perf_counter()
+    for _ in range(steps):
+        f()
+    be.synchronize()
+    return (time.perf_counter() - t) / steps
+
+
+def throughput(mesh: str, be: backends.Backend, steps: int, copy: float) -> dict:
+    """Full step and SpMV of ``mesh`` on ``be``: seconds per step, DOF-steps/s, SpMV traffic and its share
+    of the copy rate ``copy`` [B/s]."""
+    model = ExplicitModel(scene(mesh, be.name), MPI.COMM_SELF)  # the stepper alone: no recorder
+    st = model.stepper()
+    n = model.n_global
+    t_step = timed(be, st.step, steps)
+    t_spmv = timed(be, lambda: st.op.mult_add(st.u, st.v), steps)
+    A = st.op.A
+    nnz = A.nnz if hasattr(A, "nnz") else A.getInfo()["nz_used"]
+    traffic = 12.0 * nnz + 4.0 * (n + 1) + 24.0 * n  # [B] per SpMV
+    st.destroy()
+    row = {"mesh": mesh, "dofs": n, "nnz": int(nnz), "setup": model.setup_time, "step": t_step, "spmv": t_spmv}
+    row.update(step_rate=n / t_step, spmv_rate=n / t_spmv, spmv_bw=traffic / t_spmv, spmv_share=traffic / t_spmv / copy)
+    msg = f"{mesh}: {n} DOFs, step {t_step * 1e3:.3f} ms ({n / t_step / 1e6:.1f} M DOF-steps/s), SpMV "
+    msg += f"{t_spmv * 1e3:.3f} ms = {traffic / t_spmv / 1e9:.1f} GB/s = {row['spmv_share']:.0%} of copy"
+    print(msg, flush=True)
+    return row
+
+
+def end_to_end(mesh: str, name: str, end_time: float | None, out: Path) -> dict:
+    """The scene of ``mesh`` on backend ``name`` through the library's global stage (set-up, stepping, output)."""
+    from rods.study import stages
+
+    extra = [f"simulation.end_time={end_time}"] if end_time else []
+    sc = scene(mesh, name, *extra)
+    t = time.perf_counter()
+    st = stages.global_model(sc, out / f"{mesh}-{name}", MPI.COMM_SELF)
+    wall = time.perf_counter() - t
+    s = st.summary
+    print(f"{mesh} on {name}: {wall:.1f} s end to end (set-up {s['setup_time']:.1f} s, loop {s['wall_time']:.1f} s)")
+    return {"mesh": mesh, "backend": name, "wall": wall, "summary": s, "history": st.history, "scene": sc}
+
+
+def analytical_peak(sc: Scene) -> float:
+    from rods import analytical
+
+    return float(analytical.simulate(sc).summary["peak_contact_force"])
+
+
+def report(args, be_name: str, copy: float, rows: list[dict], run: dict | None, cmp: list[dict]) -> str:
+    """The markdown of ``--out``."""
+    dev = "CPU (host memory)" if be_name != "cupy" else "GPU"
+    lines = [
+        "# Explicit time loop on an array backend (issue 16)",
+        "",
+        f"`benchmarks/gpu_throughput.py --backend {be_name}`, {platform.node() or 'this machine'}, {dev}; "
+        f"{args.steps} steps per mesh after 5 warm-up steps. Copy rate y[:] = x (2 x {args.copy_mib} MiB, "
+        f"16 B/element) measured in the same run: **{copy / 1e9:.1f} GB/s**.",
+        "",
+        "| mesh | DOFs | nonzeros | set-up [s] | step [ms] | M DOF-steps/s | SpMV [ms] | SpMV M DOF-steps/s "
+        "| SpMV GB/s | of copy |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        cells = [r["mesh"], str(r["dofs"]), str(r["nnz"]), f"{r['setup']:.1f}", f"{r['step'] * 1e3:.3f}",
+                 f"{r['step_rate'] / 1e6:.1f}", f"{r['spmv'] * 1e3:.3f}", f"{r['spmv_rate'] / 1e6:.1f}",
+                 f"{r['spmv_bw'] / 1e9:.1f}", f"{r['spmv_share']:.0%}"]  # fmt: skip
+        lines.append("| " + " | ".join(cells) + " |")
+    if run is not None:
+        s = run["summary"]
+        lines += [
+            "",
+            f"End to end, `{run['mesh']}` to {run['scene'].end_time:g} s on {be_name}: **{run['wall']:.1f} s** "
+            f"(set-up {s['setup_time']:.1f} s, loop {s['wall_time']:.1f} s, {s['dofs']} DOFs, {s['steps']} steps, "
+            f"{s['dof_steps_per_second'] / 1e6:.1f} M DOF-steps/s); peak force {s['peak_contact_force']:.1f} N "
+            f"({s['peak_contact_force'] / run['analytical_peak'] - 1:+.2%} against the analytical model), "
+            f"energy error {s['energy_error']:.2e}.",
+        ]
+    if cmp:
+        a, b = cmp
+        diff = max(
+            float(np.abs(b["history"][k] - h).max() / max(np.abs(h).max(), 1e-300))
+            for k, h in a["history"].items()
+            if not k.startswith("contact_centroid")
+        )
+        lines += [
+            "",
+            f"Same scene, same process, `{a['mesh']}` to {a['scene'].end_time:g} s: {a['backend']} "
+            f"{a['wall']:.1f} s end to end (loop {a['summary']['wall_time']:.1f} s), {b['backend']} "
+            f"{b['wall']:.1f} s (loop {b['summary']['wall_time']:.1f} s); largest history difference "
+            f"{diff:.1e} of each column's largest magnitude.",
+        ]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--backend", default="cupy", choices=["cupy", "numpy", "petsc"])
+    ap.add_argument("--meshes", nargs="*", default=["coarse", "medium", "paper"], choices=list(MESHES))
+    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--run", default="paper", choices=[*MESHES, "none"], help="mesh run end to end")
+    ap.add_argument("--compare", default="coarse", choices=[*MESHES, "none"], help="mesh run here and on PETSc")
+    ap.add_argument("--end-time", type=float, default=None, help="end time of the end-to-end runs [s]")
+    ap.add_argument("--copy-mib", type=int, default=256, help="size of each array of the copy-rate test [MiB]")
+    ap.add_argument("--out", default=str(ROOT / "results" / "gpu-throughput.md"))
+    ap.add_argument("--run-out", default=str(ROOT / "output" / "gpu-throughput"), help="folder of the runs' outputs")
+    args = ap.parse_args(argv)
+    be = backends.select(args.backend, 1)
+    copy = copy_rate(be, args.copy_mib)
+    print(f"copy rate ({be.name}): {copy / 1e9:.1f} GB/s", flush=True)
+    rows = [throughput(m, be, args.steps, copy) for m in args.meshes]
+    run_out = Path(args.run_out)
+    run = None
+    if args.run != "none":
+        run = end_to_end(args.run, be.name, args.end_time, run_out)
+        run["analytical_peak"] = analytical_peak(run["scene"])
+    cmp = []
+    if args.compare != "none":
+        cmp = [end_to_end(args.compare, name, args.end_time, run_out) for name in (be.name, "petsc")]
+    text = report(args, be.name, copy, rows, run, cmp)
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(args.out).write_text(text)
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,267 @@
+"""Array backends of the explicit time loop (scene key ``fe.backend``): where the state lives and how
+the scaled stiffness A = -Δt M^-1 K is applied.
+
+* ``petsc`` (default, any rank count): the state is numpy, A is the assembled PETSc block matrix and
+  acts through Vecs sharing the state's memory (MatMultAdd, VecAXPY): the MPI path.
+* ``numpy`` (serial): A as a SciPy CSR matrix, converted once from the assembled PETSc matrix; every
+  step is numpy/SciPy. It runs the same scheme as ``petsc`` (histories equal to round-off,
+  ``tests/fe/test_backend.py``) and is the CPU twin of ``cupy``.
+* ``cupy`` (serial, NVIDIA GPU, ``pip install rods[gpu]``): the same code with CuPy arrays and a
+  cuSPARSE CSR matrix. DOLFINx assembles K, the lumped mass and the contact data on the host once;
+  they are copied to the device once. What is written is copied back: the recorder's scalars and
+  probe values at the output steps, the contact force every step (one scalar), field frames,
+  checkpoints and the submodel's cut band (:class:`HostView`).
+* ``auto``: ``cupy`` when CuPy imports and sees a device, else ``petsc``.
+
+The stepper (:class:`rods.fe.explicit.CentralDifference`), the contact, the recorder and the cut
+driver are written once against :class:`Backend` (``xp``: the array namespace) and an operator
+(:class:`PetscOperator` or :class:`CSROperator`: ``mult``, ``mult_add``, ``axpy``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+import scipy.sparse
+
+from rods.scene import FE_BACKENDS, SceneError
+
+__all__ = ["FE_BACKENDS", "PETSC", "Backend", "CSROperator", "HostView", "PetscOperator", "csr_of", "select"]
+
+GPU_REMEDY = "install the GPU extra: pip install rods[gpu] (CuPy for CUDA 13)"
+
+
+def _host_dot(a: np.ndarray, b: np.ndarray) -> float:
+    """a·b without BLAS (a threaded BLAS dot stalls the time loop when the cores are shared)."""
+    return float(np.einsum("i,i->", a, b))
+
+
+@dataclass(frozen=True)
+class Backend:
+    """An array namespace (``xp``: numpy or cupy) and its sparse module; ``name`` is the scene value."""
+
+    name: str
+    xp: ModuleType
+    sparse: ModuleType
+
+    @property
+    def on_device(self) -> bool:
+        """True when the arrays live off the host (copies are needed to write them)."""
+        return self.xp is not np
+
+    def asarray(self, a: Any) -> Any:
+        """``a`` in this namespace (no copy when it is there already)."""
+        return self.xp.asarray(a)
+
+    def to_host(self, a: Any) -> np.ndarray:
+        """``a`` as a numpy array (the array itself on the host, a device-to-host copy otherwise)."""
+        return a if isinstance(a, np.ndarray) else a.get()
+
+    def synchronize(self) -> None:
+        """Wait for the work queued on the device (timings); nothing to wait for on the host."""
+        if self.on_device:
+            self.xp.cuda.get_current_stream().synchronize()
+
+    def dot(self, a: Any, b: Any) -> float:
+        """a·b as a Python float (host: without BLAS, see :func:`_host_dot`)."""
+        return _host_dot(a, b) if self.xp is np else float(self.xp.dot(a, b))
+
+    def csr(self, S: scipy.sparse.spmatrix) -> Any:
+        """A host SciPy sparse matrix as this namespace's CSR matrix (probe maps, cut weights)."""
+        return S if self.xp is np else self.sparse.csr_matrix(scipy.sparse.csr_matrix(S))
+
+    def operator(self, A: Any, scale: Any, arrays: tuple[Any, ...]) -> PetscOperator | CSROperator:
+        """The operator A_scaled = diag(scale) A (a PETSc Mat, a SciPy matrix or a callable returning one)
+        acting on the state ``arrays`` (allocated by the caller before A is assembled)."""
+        A = A() if callable(A) and not hasattr(A, "getSize") else A
+        if self.name == "petsc":
+            return PetscOperator(A, scale, arrays)
+        return CSROperator(self, csr_of(A), scale)
+
+
+def _numpy() -> Backend:
+    return Backend("numpy", np, scipy.sparse)
+
+
+def _cupy() -> Backend:
+    import cupy
+    import cupyx.scipy.sparse
+
+    return Backend("cupy", cupy, cupyx.scipy.sparse)
+
+
+PETSC = Backend("petsc", np, scipy.sparse)  # the state in numpy, the operator a PETSc Mat
+
+
+def gpu_available() -> bool:
+    """CuPy imports and sees at least one CUDA device."""
+    try:
+        import cupy
+
+        return cupy.cuda.runtime.getDeviceCount() > 0
+    except Exception:  # not installed, no driver, no device: the CPU paths remain
+        return False
+
+
+def select(name: str, ranks: int) -> Backend:
+    """The backend a scene's ``fe.backend`` names, on ``ranks`` MPI ranks (SceneError if it cannot run)."""
+    if name not in FE_BACKENDS:
+        raise SceneError("fe.backend", name, f"must be one of {FE_BACKENDS}")
+    if name == "auto":
+        name = "cupy" if ranks == 1 and gpu_available() else "petsc"
+    if name == "petsc":
+        return PETSC
+    if ranks > 1:
+        raise SceneError("fe.backend", name, f"runs serial only ({ranks} MPI ranks); use 'petsc' under MPI")
+    if name == "numpy":
+        return _numpy()
+    try:
+        return _cupy()
+    except ImportError as e:
+        raise SceneError("fe.backend", name, f"CuPy is not importable ({e}); {GPU_REMEDY}") from e
+
+
+def csr_of(A: Any) -> scipy.sparse.csr_matrix:
+    """A host CSR copy of ``A``: a PETSc Mat (serial; AIJ or BAIJ, through MatGetRow; destroyed, it was
+    assembled for this copy) or a SciPy matrix (copied: the operator scales its rows in place)."""
+    if scipy.sparse.issparse(A):
+        return scipy.sparse.csr_matrix(A, copy=True)
+    indptr, indices, data = A.getValuesCSR()
+    n_rows, n_cols = A.getSize()
+    A.destroy()
+    return scipy.sparse.csr_matrix((data, indices, indptr), shape=(n_rows, n_cols))
+
+
+class PetscOperator:
+    """A = diag(scale) K as the PETSc Mat (scaled in place), applied to the numpy state arrays through
+    Vecs sharing their memory (one per array, found by identity)."""
+
+    def __init__(self, A: Any, scale: np.ndarray, arrays: tuple[np.ndarray, ...]):
+        from petsc4py import PETSc
+
+        comm = A.getComm().tompi4py()
+        n_global, bs = A.getSize()[0], A.getBlockSize()
+
+        def vec(a: np.ndarray) -> Any:  # a Vec that shares the owned numpy array's memory
+            return PETSc.Vec().createWithArray(a, size=(a.size, n_global), bsize=bs, comm=comm)
+
+        self._vecs = {id(a): vec(a) for a in arrays}
+        A.diagonalScale(L=vec(scale))
+        self.A = A
+
+    def mult(self, x: np.ndarray, y: np.ndarray) -> None:
+        """y = A x."""
+        self.A.mult(self._vecs[id(x)], self._vecs[id(y)])
+
+    def mult_add(self, x: np.ndarray, y: np.ndarray) -> None:
+        """y += A x."""
+        vy = self._vecs[id(y)]
+        self.A.multAdd(self._vecs[id(x)], vy, vy)
+
+    def axpy(self, y: np.ndarray, a: float, x: np.ndarray) -> None:
+        """y += a x."""
+        self._vecs[id(y)].axpy(a, self._vecs[id(x)])
+
+    def destroy(self) -> None:
+        self.A.destroy()
+
+
+def _spmv_numpy(A: scipy.sparse.csr_matrix) -> Callable[[np.ndarray, np.ndarray], None]:
+    """y += A x in place (SciPy's CSR kernel; without it, A @ x into a temporary)."""
+    try:
+        from scipy.sparse._sparsetools import csr_matvec
+    except ImportError:  # a SciPy without the (private) kernel: allocate
+
+        def spmv(x: np.ndarray, y: np.ndarray) -> None:
+            y += A @ x
+
+        return spmv
+    n_rows, n_cols = A.shape
+
+    def spmv(x: np.ndarray, y: np.ndarray) -> None:
+        csr_matvec(n_rows, n_cols, A.indptr, A.indices, A.data, x, y)
+
+    return spmv
+
+
+def _spmv_cupy(A: Any) -> Callable[[Any, Any], None]:
+    """y += A x in place (cuSPARSE SpMV with β = 1; without the generic API, A @ x into a temporary)."""
+    import cupyx.cusparse
+
+    if cupyx.cusparse.check_availability("spmv"):
+
+        def spmv(x: Any, y: Any) -> None:
+            cupyx.cusparse.spmv(A, x, y=y, alpha=1.0, beta=1.0)
+
+        return spmv
+
+    def spmv_fallback(x: Any, y: Any) -> None:
+        y += A @ x
+
+    return spmv_fallback
+
+
+class CSROperator:
+    """A = diag(scale) K as a CSR matrix of ``backend`` (``K``: a host CSR matrix, scaled in place, then
+    copied to the device once), applied in place."""
+
+    def __init__(self, backend: Backend, K: scipy.sparse.csr_matrix, scale: Any):
+        K.data *= np.repeat(backend.to_host(scale), np.diff(K.indptr))  # row i scaled by scale_i
+        self.xp = backend.xp
+        if backend.on_device:
+            self.A = backend.sparse.csr_matrix(K)
+            self._spmv = _spmv_cupy(self.A)
+            self._axpy = self.xp.ElementwiseKernel("float64 a, float64 x", "float64 y", "y += a * x", "rods_axpy")
+        else:
+            self.A = K
+            self._spmv = _spmv_numpy(K)
+            self._axpy = None
+
+    def mult(self, x: Any, y: Any) -> None:
+        """y = A x."""
+        y.fill(0.0)
+        self._spmv(x, y)
+
+    def mult_add(self, x: Any, y: Any) -> None:
+        """y += A x."""
+        self._spmv(x, y)
+
+    def axpy(self, y: Any, a: float, x: Any) -> None:
+        """y += a x (on the device one fused kernel)."""
+        if self._axpy is None:
+            y += a * x
+        else:
+            self._axpy(a, x, y)
+
+    def destroy(self) -> None:
+        self.A = None
+
+
+class HostView:
+    """The stepper's state as host arrays, copied on access: what an observer that writes or checks
+    on the host (field frames, guards, checkpoints) reads from a device stepper."""
+
+    def __init__(self, stepper: Any, backend: Backend):
+        self._stepper, self._backend = stepper, backend
+
+    def __getattr__(self, name: str) -> Any:
+        value = getattr(self._stepper, name)
+        return self._backend.to_host(value) if isinstance(value, self._backend.xp.ndarray) else value
+
+
+class OnHost:
+    """Observer wrapper: hands ``observer`` a :class:`HostView` of the state (device backends only)."""
+
+    def __init__(self, observer: Any, backend: Backend):
+        self.observer, self.backend = observer, backend
+
+    def after_step(self, step: int, t: float, state: Any) -> None:
+        self.observer.after_step(step, t, HostView(state, self.backend))
+
+    def finish(self) -> None:
+        if hasattr(self.observer, "finish"):
+            self.observer.finish()

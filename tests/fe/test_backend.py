@@ -1,0 +1,203 @@
+"""Array backends of the explicit loop (rods.fe.backend): the NumPy/SciPy backend runs the PETSc path's scheme
+(histories equal to 1e-10 of each column's largest magnitude, serial) on the mesh-free toy impact with damping,
+the axisymmetric paper scene (0.1 ms: the whole first contact), a 3D half model of an eccentric impact and a
+driven submodel; the CuPy backend runs the same code and the same checks (skipped without CuPy and a CUDA
+device); the scene key ``fe.backend`` and its refusals."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+
+# isort: split
+import numpy as np
+import pytest
+import scipy.sparse
+from mpi4py import MPI
+
+from rods.fe import backend
+from rods.fe.explicit import CentralDifference, stable_step
+from rods.fe.model import ExplicitModel
+from rods.fe.observers import march
+from rods.fe.recorder import Recorder
+from rods.fe.submodel import CutDriver, submodel_scene
+from rods.scene import SCHEMA, SceneError, load_scene
+
+from ..conftest import MPIRUN, PAPER, ROOT, recorded_global, run_workflow, set_args
+from .toy import K_CONTACT, MASS, SPEED, bodies, omega_max, petsc_matrix
+
+TOL = 1e-10  # acceptance: relative to each column's largest magnitude (measured: <= 1.3e-11)
+R_ROD = 6.35e-3  # rod radius [m]: the scale of the contact centroid (0 to round-off in a centric impact)
+GPU = backend.gpu_available()
+ARRAY_BACKENDS = [
+    "numpy",
+    pytest.param(
+        "cupy",
+        marks=pytest.mark.skipif(
+            not GPU, reason="CuPy backend: needs CuPy and a CUDA device (pip install rods[gpu] on a GPU machine)"
+        ),
+    ),
+]
+THREE_D = [  # half model, eccentric impact: bilinear pairing, off-axis patch, bending (~11k DOFs)
+    "fe.kind='3d'",
+    "fe.symmetry='half'",
+    "impact.offset=1e-3",
+    "fe.axial_size=4e-3",
+    "fe.radial_size=1e-3",
+    "rod1.length=0.05",
+    "rod2.length=0.1",
+    "simulation.end_time=6e-5",
+]
+
+
+def assert_same_histories(ref: dict[str, np.ndarray], other: dict[str, np.ndarray], tol: float = TOL) -> None:
+    assert ref.keys() == other.keys()
+    for k, a in ref.items():
+        scale = R_ROD if k.startswith("contact_centroid") else max(np.abs(a).max(), 1e-300)
+        assert np.abs(other[k] - a).max() <= tol * scale, (k, np.abs(other[k] - a).max() / scale)
+
+
+def rerun(model: ExplicitModel, name: str, **kw):
+    """The same model (mesh, K, stable step) marched on backend ``name``."""
+    model.backend = backend.select(name, 1)
+    try:
+        return model.run(**kw)
+    finally:
+        model.backend = backend.PETSC
+
+
+# ----------------------------------------------------------------------------------------------
+# the stepper, mesh-free
+# ----------------------------------------------------------------------------------------------
+def toy_run(be: backend.Backend, steps: int, β: float) -> tuple[dict[str, np.ndarray], CentralDifference]:
+    """The toy impact (tests/fe/toy.py) on backend ``be``, damped, every step recorded."""
+    K, mass, contact = bodies()
+    contact.use(be)
+    Kc = K.copy()
+    Kc[1:3, 1:3] += K_CONTACT * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    dt = 0.5 * stable_step(omega_max(Kc, mass))  # [s]: half the limit with the contact closed
+    A = petsc_matrix(K) if be is backend.PETSC else scipy.sparse.csr_matrix(K)
+    st = CentralDifference(A, mass, 1.0 / mass, dt, np.array([SPEED, SPEED, 0.0, 0.0]), β, contact, be)
+    P = scipy.sparse.csr_matrix(([1.0], ([0], [0])), shape=(2, 4))
+    rec = Recorder(contact, (P, [("p0_velocity", "p0_strain")]), mass, np.arange(steps + 1), steps, dt,
+                   MPI.COMM_SELF, 1, (), be)  # fmt: skip
+    assert march(st, range(steps + 1), [rec], rec.is_out) is None
+    return rec.history(), st
+
+
+@pytest.mark.parametrize("name", ARRAY_BACKENDS)
+def test_toy_impact_same_on_every_backend(name):
+    """Damped toy impact (contact on and off, dissipation, momentum): the array backend's histories equal the
+    PETSc path's to round-off, and its state restores bit for bit."""
+    steps, β = 400, 1e-5
+    ref, _ = toy_run(backend.PETSC, steps, β)
+    be = backend.select(name, 1)
+    hist, st = toy_run(be, steps, β)
+    assert ref["contact_force"].max() > 0 and ref["dissipated_energy"][-1] > 0  # the checks can fail
+    assert_same_histories(ref, hist)
+    saved = st.state()
+    assert isinstance(saved["u"], np.ndarray) and np.array_equal(saved["u"], be.to_host(st.u))
+    st2 = CentralDifference(scipy.sparse.csr_matrix(bodies()[0]), MASS * np.ones(4), np.ones(4) / MASS, st.dt,
+                            np.zeros(4), β, None, be)  # fmt: skip
+    st2.restore(saved)
+    assert st2.n == st.n and np.array_equal(be.to_host(st2.v), saved["v"])
+
+
+# ----------------------------------------------------------------------------------------------
+# the models
+# ----------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def paper():
+    """The axisymmetric paper scene (paper mesh, 51.5k DOFs) over 0.1 ms on the PETSc path."""
+    m = ExplicitModel(load_scene(PAPER, ["simulation.end_time=1e-4"]))
+    return m, m.run()
+
+
+@pytest.fixture(scope="module")
+def three_d():
+    m = ExplicitModel(load_scene(PAPER, THREE_D))
+    return m, m.run()
+
+
+@pytest.mark.parametrize("name", ARRAY_BACKENDS)
+def test_paper_scene_histories(paper, name):
+    model, ref = paper
+    assert ref.history["contact_force"].max() > 1000 and ref.summary["contact_duration"] > 0  # contact closed
+    res = rerun(model, name)
+    assert_same_histories(ref.history, res.history)
+    assert res.summary["peak_contact_force"] == pytest.approx(ref.summary["peak_contact_force"], rel=TOL)
+
+
+@pytest.mark.parametrize("name", ARRAY_BACKENDS)
+def test_3d_histories(three_d, name):
+    model, ref = three_d
+    assert ref.summary["midpoint_peak_bending_strain"] > 0 and ref.summary["contact_centroid_x"] > 0  # off-axis
+    res = rerun(model, name)
+    assert_same_histories(ref.history, res.history)
+    for k in ("contact_centroid_x", "contact_radius_max", "midpoint_peak_bending_strain"):
+        assert res.summary[k] == pytest.approx(ref.summary[k], rel=1e-9), k
+
+
+@pytest.mark.parametrize("name", ARRAY_BACKENDS)
+def test_driven_submodel_histories(tmp_path_factory, name):
+    """A submodel driven at its cut (CutDriver: prescribed v, external work) by a global run recorded on the same
+    backend: the histories equal the PETSc path's, the cut work included."""
+    overrides = ["rod1.length=0.1", "rod2.length=0.1", "fe.axial_size=2e-3", "fe.radial_size=1e-3",
+                 "simulation.end_time=4e-5", "fe.submodel_length=12e-3"]  # fmt: skip
+    sc, _, _, cut = recorded_global(overrides, tmp_path_factory, f"global-{name}")
+    sub = ExplicitModel(submodel_scene(sc, 1e-3))
+    ref = sub.run(observers=(CutDriver(sub, cut),))
+    sub.backend = backend.select(name, 1)
+    res = sub.run(observers=(CutDriver(sub, cut),))
+    assert np.abs(ref.history["external_work"]).max() > 0
+    assert_same_histories(ref.history, res.history)
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene key
+# ----------------------------------------------------------------------------------------------
+def test_scene_key_default_and_refusals():
+    assert SCHEMA["fe.backend"][1] == "petsc"
+    assert backend.select("petsc", 4) is backend.PETSC
+    with pytest.raises(SceneError, match="fe.backend"):
+        load_scene(PAPER, ["fe.backend='torch'"])
+    for name in ("numpy", "cupy"):
+        with pytest.raises(SceneError, match="fe.backend.*serial only"):
+            backend.select(name, 2)
+    assert backend.select("auto", 2) is backend.PETSC  # MPI: the PETSc path
+    if not GPU:
+        assert backend.select("auto", 1) is backend.PETSC
+    try:
+        import cupy  # noqa: F401
+    except ImportError:
+        with pytest.raises(SceneError, match=r"pip install rods\[gpu\]"):
+            backend.select("cupy", 1)
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
+def test_array_backend_refused_under_mpi(tmp_path: Path):
+    """fe.backend = 'numpy' on 2 ranks: exit 2 naming the key, before any mesh is built."""
+    p = run_workflow("global.py", [*set_args(["fe.backend='numpy'"]), "--out", str(tmp_path / "o")], ranks=2)
+    assert p.returncode == 2 and "fe.backend" in p.stderr and "serial only" in p.stderr
+
+
+def test_gpu_benchmark_runs_on_the_cpu(tmp_path):
+    """benchmarks/gpu_throughput.py with --backend numpy on its tiny mesh: the table, the end-to-end run and the
+    comparison with the PETSc path (equal histories) are written to --out, the run's outputs to --run-out."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("gpu_throughput", ROOT / "benchmarks" / "gpu_throughput.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    out = tmp_path / "gpu.md"
+    args = ["--backend", "numpy", "--meshes", "tiny", "--steps", "10", "--run", "tiny", "--compare", "tiny",
+            "--end-time", "1e-5", "--copy-mib", "8", "--out", str(out), "--run-out", str(tmp_path / "r")]  # fmt: skip
+    assert bench.main(args) == 0
+    text = out.read_text()
+    assert "| tiny |" in text and "End to end, `tiny`" in text
+    diff = float(text.split("largest history difference ")[1].split(" ")[0])
+    assert diff <= TOL
+    assert (tmp_path / "r" / "tiny-numpy" / "history.csv").exists()
