@@ -23,6 +23,7 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     if _state["armed"] and not _state["signal"]:
         _state["signal"] = signum  # the loop stops at its next check, on every rank together
         return
+    _state["signal"] = signum  # raised inside a C extension, the interrupt may surface as another error
     raise KeyboardInterrupt
 
 

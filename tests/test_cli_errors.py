@@ -201,3 +201,20 @@ def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(t
     for key in a:
         np.testing.assert_allclose(b[key], a[key], rtol=1e-12, atol=1e-14 * np.abs(a[key]).max(), err_msg=key)
     assert json.loads((cut / "summary.json").read_text())["status"] == "ok"  # the partial summary is replaced
+
+
+@pytest.mark.mpi
+def test_interrupt_during_the_set_up_stops_every_rank(tmp_path):
+    """Ctrl-C before the time loop (mesh, SLEPc): every rank stops at once, exit 130, one line per rank."""
+    out, log = tmp_path / "out", tmp_path / "stdout"
+    cmd = [str(MPIRUN), "-n", "2", str(PY), str(W / "global.py"), "--set", "fe.axial_size=0.5e-3"]
+    with open(log, "w") as lf, open(tmp_path / "stderr", "w") as ef:
+        proc = subprocess.Popen([*cmd, "--set", "fe.radial_size=0.125e-3", "--out", str(out)], stdout=lf, stderr=ef)
+        _wait_for(log, "cost of", 60)  # the estimate is printed, the set-up (seconds) starts
+        time.sleep(0.5)
+        t0 = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        rc = proc.wait(timeout=30)
+    err = (tmp_path / "stderr").read_text()
+    assert rc == 130 and time.monotonic() - t0 < 5.0, err[-2000:]
+    assert "Traceback" not in err and "interrupted" in err

@@ -132,6 +132,15 @@ def _abort(message: str, code: int) -> int:
     return code
 
 
+def _interrupted() -> int:
+    """Ctrl-C/SIGTERM outside the time loop (set-up, writing): stop at once, every rank, exit 130, without the
+    extensions' exit handlers (they would report the interrupted call again)."""
+    code = _abort("interrupted (outside the time loop: nothing partial to write)", EXIT_INTERRUPTED)
+    sys.stderr.flush()
+    sys.stdout.flush()
+    os._exit(code)
+
+
 def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[str] | None], int]:
     """``main`` with the one error path (module docstring): exit 2 bad input, 1 failed run, 130 interrupt."""
 
@@ -144,11 +153,13 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
         except FileNotFoundError as e:
             fail(f"{e.filename or e}: no such file or folder (check the path)")
         except KeyboardInterrupt:
-            return _abort("interrupted (before or after the time loop: nothing partial to write)", EXIT_INTERRUPTED)
+            return _interrupted()
         except Exception as e:
             code = _stopped(e)
             if code is not None:
                 return code
+            if interrupt.requested():  # a signal inside a C extension (SLEPc, gmsh) surfaces as another error
+                return _interrupted()
             return _abort(f"{type(e).__name__}: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
         finally:
             interrupt.uninstall(previous)
