@@ -169,7 +169,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
     "fe.submodel_length": ("float", 14e-3, _positive("m", hi=1.0)),
     "fe.checkpoint_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no checkpoints)", closed_lo=True)),
-    "fe.energy_growth_limit": ("float", 0.01, _interval(0.0, 10.0, "(relative energy growth that stops a run)")),
+    "fe.energy_growth_limit": ("float", 0.05, _interval(0.0, 10.0, "(relative energy growth that stops a run)")),
     "fe.backend": ("str", "petsc", _choice(FE_BACKENDS)),
     "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer (fe.penalty is the global's: a driving global wants a stiffer one)

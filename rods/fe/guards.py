@@ -63,7 +63,7 @@ class Interrupted(SimulationError):
 class Guard:
     dt: float  # [s]
     dt_critical: float  # [s]
-    growth_limit: float = 0.01  # relative energy growth that stops the run (scene fe.energy_growth_limit) [-]
+    growth_limit: float = 0.05  # relative energy growth that stops the run (scene fe.energy_growth_limit) [-]
     dt_switching: float = math.inf  # [s] the contact-switching limit of the step (rods.fe.explicit.switching_step)
 
     def _cause(self, contact_share: float) -> str:

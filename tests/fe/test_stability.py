@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import rods.fe  # noqa: F401
+from rods import checks
 from rods.analytical import simulate
 from rods.fe.model import ExplicitModel
 from rods.hertz import YieldWarning
@@ -93,8 +94,15 @@ def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
     with pytest.raises(SceneError, match="switching"):
         ExplicitModel(scene_with(*COARSE, f"fe.penalty={100 * P0}", f"fe.dt={dt}"))
     fe.dt, fe.steps = dt, int(scene.end_time / dt)  # bypass the refusal to show the instability
-    with pytest.raises(SimulationError, match="energy grew"):
-        fe.run()
+    try:
+        r = fe.run()
+    except SimulationError as e:  # pumped past the guard's growth limit: stopped
+        assert "energy grew" in str(e)
+        return
+    # pumped less than the guard's limit (measured 1.6%): the run ends, but its status is not "ok"
+    summary = checks.apply(dict(r.summary), r.history, scene, scene.end_time)
+    assert r.summary["energy_error"] > checks.ENERGY_OK
+    assert summary["status"] != "ok" and any(w.startswith("energy_error") for w in summary["warnings"])
 
 
 def test_yield_warning_at_high_speed(scene_with):
