@@ -6,7 +6,8 @@ its stable step), :mod:`~rods.fe.observers` (the loop's observer protocol), :mod
 (named histories, energy balance, peak), :mod:`~rods.fe.guards`, :mod:`~rods.fe.checkpoint`,
 :mod:`~rods.fe.fields` (observers), :mod:`~rods.fe.contact` (penalty contact), :mod:`~rods.fe.probes`,
 :mod:`~rods.fe.forms`, :mod:`~rods.fe.mesh` / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.submodel` (cut
-recording and driving, σ_r at the Gauss points, levels).
+recording and driving, σ_r at the Gauss points, levels), :mod:`~rods.fe.backend` (the array backends of the
+stepper: PETSc Mat/Vec, NumPy/SciPy, CuPy).
 
 Importing this package loads the PyPI wheel's ``dolfinx_solver`` shim first when it is installed
 (it must precede dolfinx/petsc4py there); any other DOLFINx 0.11 install works without it.
