@@ -92,3 +92,25 @@ def test_no_richardson_when_the_comparison_has_none(stages, tmp_path):
     write_json(tmp_path / "t3.json", stages["table3.json"])
     stages["table3.json"] = report.load(tmp_path / "t3.json")
     assert "Richardson" not in render(stages)
+
+
+def test_verification_section_follows_the_matrix(stages):
+    """The verification paragraph counts the cases that meet every target and names each miss."""
+    import json
+
+    from tests.conftest import ROOT
+
+    v = json.loads((ROOT / "results" / "verification.json").read_text())
+    data = report.ReportData(
+        stages["table2.json"], stages["table3.json"], stages["fig4.json"], stages["accuracy-cost.json"],
+        stages["penalty-study.json"], verification=v,
+    )  # fmt: skip
+    for r in v["rows"]:
+        r["passes"] = {"peak_force": True, "duration": True, "energy": True}
+    v["rows"][0]["passes"]["duration"] = False
+    v["rows"][0]["duration_difference"] = 4.25e-6
+    text = report.render(data)
+    n = len(v["rows"])
+    assert f"{n - 1} of {n} cases meet every target" in text
+    assert f"{v['rows'][0]['description']}: Δ duration +4.25 µs" in text
+    assert "verification" not in render(stages).lower()  # no matrix, no section
