@@ -50,6 +50,7 @@ def scheduled_speeds(clone, speeds) -> set[str]:
     return found
 
 
+@pytest.mark.slow  # ~20 s alone: two real sweep points in a temporary clone, then dry runs
 def test_fresh_clone_runs_exactly_the_changed_points(clone):
     snakemake(clone, ["1.0", "2.0"])  # the record: two analytical points (~10 s)
     table = (clone / "results" / "sweep-speed.csv").read_text().splitlines()
