@@ -263,6 +263,7 @@ def test_no_fields_unless_asked(tmp_path):
     assert (tmp_path / "effect" / "fields.xdmf").exists()
 
 
+@pytest.mark.slow  # ~80 s of the default suite's 5 min 19 s; the main job checks the same scene (make verify, Fig. 4)
 def test_paper_scene_validation():
     """The paper scene at the paper's global mesh (1 x 0.25 mm) against the analytical model (~25 s).
 
