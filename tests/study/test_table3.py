@@ -62,15 +62,18 @@ def runs(scene_with):
     return sc, out
 
 
+# the analytical model's contract values the rows are compared with (paper scene magnitudes)
+ANALYTICAL = {
+    "peak_contact_force": 5555.0,  # [N]
+    "contact_radius": 1.09e-3,  # [m]
+    "contact_area": 3.74e-6,  # [m^2]
+    "peak_contact_pressure": 2.2e9,  # [Pa]
+}
+
+
 def test_models_that_follow_hertz_have_no_hertz_error_and_richardson_finds_the_limit(runs):
     sc, models = runs
-    an = {
-        "peak_contact_force": 5555.0,
-        "contact_radius": 1.09e-3,
-        "contact_area": 3.74e-6,
-        "peak_contact_pressure": 2.2e9,
-    }
-    d = table3(sc, an, models)
+    d = table3(sc, ANALYTICAL, models)
     assert [r["model"] for r in d["rows"]] == [
         "Global (uniform 1 mm)",
         "Global (tips graded to 0.25 mm; drives the submodels)",
@@ -100,13 +103,7 @@ def test_models_that_follow_hertz_have_no_hertz_error_and_richardson_finds_the_l
 
 def test_renderings_come_from_the_data_and_its_json(runs, tmp_path):
     sc, models = runs
-    an = {
-        "peak_contact_force": 5555.0,
-        "contact_radius": 1.09e-3,
-        "contact_area": 3.74e-6,
-        "peak_contact_pressure": 2.2e9,
-    }
-    d = table3(sc, an, models)
+    d = table3(sc, ANALYTICAL, models)
     io.write_data(tmp_path / "t.json", d)
     text = (tmp_path / "t.json").read_text()
     back = json.loads(text)  # strict JSON: NaN written as null
