@@ -108,7 +108,11 @@ class GridConvergence:
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready fields (tuples as lists; NaN stays NaN for :func:`rods.paper.data.dump` to null)."""
         d = {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()}
-        return d | {"relative_uncertainty": self.relative_uncertainty, "note": self.note()}
+        derived = {
+            "relative_uncertainty": self.relative_uncertainty,
+            "extrapolation_claimed": self.extrapolation_claimed,
+        }
+        return d | derived | {"note": self.note()}
 
 
 def _sigma(res: NDArray[np.float64], w: NDArray[np.float64], k: int) -> float:
@@ -125,12 +129,21 @@ def _linear(x: NDArray, g: NDArray, w: NDArray, exps: Sequence[float]) -> tuple[
     return c, g - A @ c
 
 
+def _scan(x: NDArray, g: NDArray, w: NDArray) -> float:
+    """The p of _P_SCAN with the smallest weighted SSR, (g0, α) solved in closed form for each p (Σ w = 1):
+    α = cov_w(x^p, g)/var_w(x^p), SSR = var_w(g) - cov²/var."""
+    X = x[None, :] ** _P_SCAN[:, None]
+    Xc, gc = X - (X @ w)[:, None], g - w @ g
+    var, cov = (Xc * Xc) @ w, Xc @ (w * gc)
+    ssr = np.where(var > 0, w @ (gc * gc) - cov * cov / np.where(var > 0, var, 1.0), np.inf)
+    return float(_P_SCAN[int(np.argmin(ssr))])
+
+
 def _power_fit(x: NDArray, g: NDArray, w: NDArray) -> tuple[float, float, float]:
     """(g0, α, p) minimising Σ w (g - g0 - α x^p)²: a scan over p (g0, α linear for fixed p) started from the
     best, then Gauss-Newton (scipy least_squares) over all three."""
-    ssr = [float(np.sum(w * _linear(x, g, w, (p,))[1] ** 2)) for p in _P_SCAN]
-    p_start = float(_P_SCAN[int(np.argmin(ssr))])
-    (g0, a), _ = _linear(x, g, w, (p_start,))
+    p_start = _scan(x, g, w)
+    (g0, a), r0 = _linear(x, g, w, (p_start,))
     sw = np.sqrt(w)
 
     def res(v: NDArray) -> NDArray:
@@ -146,7 +159,7 @@ def _power_fit(x: NDArray, g: NDArray, w: NDArray) -> tuple[float, float, float]
         gtol=1e-15,
         max_nfev=2000,
     )
-    best = sol.x if np.sum(sol.fun**2) <= min(ssr) else np.array([g0, a, p_start])
+    best = sol.x if np.sum(sol.fun**2) <= np.sum(w * r0 * r0) else np.array([g0, a, p_start])
     return float(best[0]), float(best[1]), float(best[2])
 
 

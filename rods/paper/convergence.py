@@ -1,0 +1,336 @@
+"""Mesh convergence of the contact: submodel levels and global meshes against Hertz and the analytical force,
+with the least-squares observed order, extrapolation and band of :mod:`rods.convergence` (issue 13, item 4).
+
+How to call it (the stage; nothing here runs a model)::
+
+    from rods import hertz
+    from rods.paper import convergence
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    records = [  # one dict per run: submodel levels (>= 4 wanted) and global meshes (>= 3 wanted)
+        {"model": "submodel", "level": "coarse", "h": 0.25e-3,           # element size at the contact [m]
+         "peak_contact_force": 5353.2, "contact_radius": 1.1107e-3,     # [N], [m]
+         "contact_area": 3.8753e-6, "peak_contact_pressure": 2.051e9},  # [m^2], [Pa]
+        ...,
+        {"model": "global", "level": "1 mm", "h": 0.244e-3, ...},
+    ]
+    data = convergence.write(records, analytical["peak_contact_force"], E_star, R_star, out_dir)
+    # -> out_dir/convergence.json (compute's data), convergence.md (render_markdown), convergence.png (plot)
+    section = convergence.render_markdown(data)  # the REPORT.md section, from the data or its JSON
+
+Errors, per level [%]: the peak force against the analytical model's peak force; contact radius, area and
+peak pressure against Hertz at the model's *own* peak force (paper Eq. 10, :func:`rods.hertz.at_force`), so
+they measure how well the mesh resolves the patch, not the force. Against Hertz at the analytical force the
+two errors add: a ∝ F^(1/3), so a/a_H(F_an) - 1 ≈ (a/a_H(F) - 1) + (F/F_an - 1)/3 (area 2/3, p0 1/3); where
+the force error and the own-force error have opposite signs they cancel, and the data say so ("errors
+cancel"). Each error series and each raw value series gets :func:`rods.convergence.estimate` over all
+levels and over the three finest (the classic Richardson/GCI, Roache; ASME V&V 20).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from rods import hertz, io
+from rods.compare import percent
+from rods.convergence import estimate
+from rods.paper.data import write_json
+
+__all__ = ["KEYS", "QUANTITIES", "compute", "plot", "render_markdown", "write"]
+
+# record key -> (label, unit shown, factor SI -> unit shown, Hertz key or None for the analytical force)
+QUANTITIES: dict[str, tuple[str, str, float, str | None]] = {
+    "peak_contact_force": ("peak force", "N", 1.0, None),
+    "contact_radius": ("contact radius", "mm", 1e3, "contact_radius"),
+    "contact_area": ("contact area", "mm²", 1e6, "contact_area"),
+    "peak_contact_pressure": ("peak pressure", "GPa", 1e-9, "peak_pressure"),
+}
+KEYS = ("model", "level", "h", *QUANTITIES)  # every record has these
+MODEL_ORDER = ("submodel", "global")  # families listed first, in this order; others follow by name
+
+
+def _level(r: Mapping[str, Any], F_an: float, E_star: float, R_star: float) -> dict[str, Any]:
+    """One level's values [SI], references [SI] and errors [%]: force vs analytical, the rest vs Hertz at the
+    level's own force; also vs Hertz at the analytical force (the two errors combined)."""
+    F = float(r["peak_contact_force"])
+    own, at_an = hertz.at_force(F, E_star, R_star), hertz.at_force(F_an, E_star, R_star)
+    values = {q: float(r[q]) for q in QUANTITIES}
+    ref = {q: (F_an if hk is None else own[hk]) for q, (_, _, _, hk) in QUANTITIES.items()}
+    vs_an = {q: percent(values[q], F_an if hk is None else at_an[hk]) for q, (_, _, _, hk) in QUANTITIES.items()}
+    return {
+        "level": str(r["level"]),
+        "h": float(r["h"]),
+        "values": values,
+        "reference": ref,
+        "error_pct": {q: percent(values[q], ref[q]) for q in QUANTITIES},
+        "error_vs_analytical_pct": vs_an,
+    }
+
+
+def _estimates(levels: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Per quantity: the error [%] and the raw value, each over all levels and over the three finest."""
+    names, h = [lv["level"] for lv in levels], [lv["h"] for lv in levels]
+    out = {}
+    for q in QUANTITIES:
+        series = {"error_pct": [lv["error_pct"][q] for lv in levels], "value": [lv["values"][q] for lv in levels]}
+        out[q] = {}
+        for kind, f in series.items():
+            out[q][kind] = estimate(h, f, names).as_dict()
+            out[q][f"{kind}_last3"] = estimate(h[-3:], f[-3:], names[-3:]).as_dict()
+    return out
+
+
+def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, Any] | None) -> list[str]:
+    """Plain-language findings: where errors cancel, where a series turns."""
+    flags = []
+    for lv in levels:
+        eF = lv["error_pct"]["peak_contact_force"]
+        opp = [q for q in QUANTITIES if q != "peak_contact_force" and eF * lv["error_pct"][q] < 0]
+        if opp:
+            parts = ", ".join(
+                f"{QUANTITIES[q][0]} {lv['error_pct'][q]:+.2f}% vs Hertz at its own force "
+                f"({lv['error_vs_analytical_pct'][q]:+.2f}% vs Hertz at the analytical force)"
+                for q in opp
+            )
+            flags.append(f"{model} {lv['level']}: errors cancel: force {eF:+.2f}% vs analytical, {parts}")
+    if est is None:
+        return [*flags, f"{model}: only {len(levels)} levels, no convergence estimate (three or more needed)"]
+    for q, (label, *_) in QUANTITIES.items():
+        e, v = est[q]["error_pct"], est[q]["value"]
+        bad = [(w, x) for w, x in (("error", e), ("value", v)) if not x["monotone"]]
+        if len(bad) == 2 and e["nonmonotone_levels"] == v["nonmonotone_levels"]:
+            bad = [("error and value", e)]
+        for what, x in bad:
+            last3 = "monotone" if x["monotone_last3"] else "not monotone either"
+            at = ", ".join(x["nonmonotone_levels"])
+            flags.append(f"{model} {label} {what}: non-monotone at {at}; over the three finest levels {last3}")
+        for span, x in (("all levels", e), ("the three finest levels", est[q]["error_pct_last3"])):
+            if x["branch"] == "diverging":
+                flags.append(
+                    f"{model} {label} error: the differences grow under refinement over {span} (p = {x['order']:.2f}): "
+                    "not in the asymptotic range, no extrapolation"
+                )
+    return flags
+
+
+def compute(
+    records: Sequence[Mapping[str, Any]], analytical_force: float, E_star: float, R_star: float
+) -> dict[str, Any]:
+    """The convergence data (convergence.json): per model family, its levels coarse to fine, the estimates of
+    :func:`_estimates` (None below three levels) and the flags. ``analytical_force`` [N], E* [Pa], R* [m]."""
+    for r in records:
+        missing = [k for k in KEYS if k not in r]
+        if missing:
+            raise KeyError(f"convergence record {dict(r)!r} lacks {missing}")
+    families = sorted({str(r["model"]) for r in records}, key=lambda m: (m not in MODEL_ORDER, *_rank(m)))
+    models = {}
+    for m in families:
+        recs = sorted((r for r in records if r["model"] == m), key=lambda r: -float(r["h"]))
+        levels = [_level(r, analytical_force, E_star, R_star) for r in recs]
+        est = _estimates(levels) if len(levels) >= 3 else None
+        models[m] = {"levels": levels, "estimates": est, "flags": _flags(m, levels, est)}
+        if est is not None:
+            models[m]["monotone_last3"] = all(est[q]["error_pct"]["monotone_last3"] for q in QUANTITIES)
+    return {
+        "reference": {
+            "analytical_force": analytical_force,
+            "E_star": E_star,
+            "R_star": R_star,
+            "hertz_at_analytical_force": hertz.at_force(analytical_force, E_star, R_star),
+        },
+        "quantities": {q: {"label": v[0], "unit": v[1], "factor": v[2]} for q, v in QUANTITIES.items()},
+        "models": models,
+    }
+
+
+def _rank(m: str) -> tuple[int, str]:
+    return (MODEL_ORDER.index(m) if m in MODEL_ORDER else len(MODEL_ORDER), m)
+
+
+def _num(v: Any) -> float:
+    return math.nan if v is None else float(v)
+
+
+def _f(v: Any, fmt: str) -> str:
+    v = _num(v)
+    return "–" if not math.isfinite(v) else format(v, fmt)
+
+
+def _mono(e: Mapping[str, Any]) -> str:
+    turns = ", ".join(e["nonmonotone_levels"])
+    return f"{'yes' if e['monotone'] else f'no ({turns})'} / {'yes' if e['monotone_last3'] else 'no'}"
+
+
+def _last3(t: Mapping[str, Any], k: float, digits: str) -> str:
+    """The three-finest estimate in one cell: p, extrapolated ± U (Richardson/GCI), or why there is none."""
+    if math.isfinite(_num(t["extrapolated"])):
+        return (
+            f"p = {_f(t['order'], '.2f')}: {_f(_num(t['extrapolated']) * k, digits)} ± "
+            f"{_f(_num(t['uncertainty']) * k, '.3g')} ({t['branch']}, Fs = {t['safety_factor']:g})"
+        )
+    return f"p = {_f(t['order'], '.2f')}: {t['branch']}, no extrapolation"
+
+
+def _error_rows(fam: Mapping[str, Any]) -> list[str]:
+    levels, est = fam["levels"], fam["estimates"]
+    head = " | ".join(f"{lv['level']} (h = {lv['h'] * 1e3:.4g} mm)" for lv in levels)
+    L = [
+        f"| error [%] | {head} | p (all) | e0 (all) | U (all) | branch | monotone (all / 3 finest) "
+        "| 3 finest (Richardson/GCI) |",
+        "|---|" + "---|" * (len(levels) + 6),
+    ]
+    for q, (label, *_rest, hk) in QUANTITIES.items():
+        vs = "analytical force" if hk is None else "Hertz at own force"
+        cells = " | ".join(f"{lv['error_pct'][q]:+.3f}" for lv in levels)
+        if est is None:
+            L.append(f"| {label} vs {vs} | {cells} | | | | | | |")
+            continue
+        a, t = est[q]["error_pct"], est[q]["error_pct_last3"]
+        L.append(
+            f"| {label} vs {vs} | {cells} | {_f(a['order'], '.2f')} | {_f(a['extrapolated'], '+.3f')} "
+            f"| ±{_f(a['uncertainty'], '.3f')} | {a['branch']} | {_mono(a)} "
+            f"| {_last3(t, 1.0, '+.3f')} |"
+        )
+    return L
+
+
+def _value_rows(fam: Mapping[str, Any]) -> list[str]:
+    L = [
+        "| value | finest | p (all) | extrapolated ± U (all) | U/\\|f1\\| (all) | 3 finest (Richardson/GCI) "
+        "| GCI_fine (3 finest) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for q, (label, unit, k, _) in QUANTITIES.items():
+        a, t = fam["estimates"][q]["value"], fam["estimates"][q]["value_last3"]
+        L.append(
+            f"| {label} [{unit}] | {a['f'][-1] * k:.5g} | {_f(a['order'], '.2f')} "
+            f"| {_f(_num(a['extrapolated']) * k, '.5g')} ± {_f(_num(a['uncertainty']) * k, '.3g')} "
+            f"| {_f(100 * _num(a['relative_uncertainty']), '.2f')}% | {_last3(t, k, '.5g')} | {_gci(t)} |"
+        )
+    return L
+
+
+def _gci(t: Mapping[str, Any]) -> str:
+    """U/|f1| of the three finest where it is Roache's GCI (credible order, Fs = 1.25), else '–'."""
+    ok = t["branch"] == "observed order" and t["safety_factor"] == 1.25
+    return f"{100 * _num(t['relative_uncertainty']):.2f}%" if ok else "–"
+
+
+METHOD = (
+    "Errors: the peak force against the analytical model's; contact radius, area and peak pressure against "
+    "Hertz at the model's own peak force (paper Eq. 10). Fit e(h) = e0 + α h^p to all levels by least squares "
+    "(Eça & Hoekstra, J. Comput. Phys. 262, 2014), e0 the extrapolated error; U the band of the finest level, "
+    "Fs = 1.25 for a credible order (0.5 ≤ p < 2.1, fit scatter below the data range), else 3 with a "
+    "fixed-order fit; '–' and branch non-monotone or diverging: no order and no extrapolation claimed, "
+    "U = 3 × the data range. On the three finest levels the same fit is Richardson's with Roache's GCI "
+    "(ASME V&V 20). Monotone: every successive difference of one sign; a named level is where the "
+    "sequence turns."
+)
+
+
+def render_markdown(data: Mapping[str, Any]) -> str:
+    """The convergence section (convergence.md; a section of REPORT.md) from :func:`compute`'s data or its JSON."""
+    ref = data["reference"]
+    L = [
+        "## Mesh convergence against Hertz and the analytical force",
+        "",
+        f"Analytical peak force F_an = {ref['analytical_force']:.1f} N (Hertz there: a = "
+        f"{_num(ref['hertz_at_analytical_force']['contact_radius']) * 1e3:.4f} mm, p0 = "
+        f"{_num(ref['hertz_at_analytical_force']['peak_pressure']) / 1e9:.3f} GPa). {METHOD}",
+    ]
+    for m, fam in data["models"].items():
+        n = len(fam["levels"])
+        L += ["", f"### {m} ({n} levels)", "", *_error_rows(fam)]
+        if fam["estimates"] is not None:
+            L += ["", *_value_rows(fam)]
+            ok = "yes" if fam["monotone_last3"] else "no"
+            grow = [
+                QUANTITIES[q][0] for q in QUANTITIES if fam["estimates"][q]["error_pct_last3"]["branch"] == "diverging"
+            ]
+            conv = "yes" if not grow else f"no ({', '.join(grow)}: the differences grow)"
+            L += ["", f"Every error monotone over the three finest levels: {ok}; converging there (p > 0): {conv}."]
+        if fam["flags"]:
+            L += ["", *(f"* {s}." for s in fam["flags"])]
+        else:
+            L += ["", "* No level is non-monotone and no errors cancel."]
+    return "\n".join(L) + "\n"
+
+
+def _fit_line(e: Mapping[str, Any], hh: np.ndarray) -> np.ndarray | None:
+    """e0 + α (h/h1)^p of an observed-order estimate at sizes hh [m]; None for the other branches."""
+    if e["branch"] != "observed order":
+        return None
+    return _num(e["extrapolated"]) + _num(e["alpha"]) * (hh / e["h"][-1]) ** _num(e["order"])
+
+
+def _positive(x: Sequence[float], y: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+    x, y = np.asarray(x, dtype=float), np.abs(np.asarray(y, dtype=float))
+    keep = np.isfinite(y) & (y > 0)
+    return x[keep], y[keep]
+
+
+def plot(data: Mapping[str, Any], path: str | Path) -> None:
+    """Log-log, per quantity: |error| [%] against h with the least-squares fit |e0 + α h^p| (top), and the
+    discretisation error |e - e0| with α h^p, a line of slope p (bottom); one colour per model family."""
+    fig, axes = plt.subplots(2, len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 7.5), squeeze=False)
+    for c, (m, fam) in enumerate(data["models"].items()):
+        colour, h = f"C{c}", np.array([lv["h"] for lv in fam["levels"]])
+        hh = np.geomspace(h.min(), h.max(), 60)
+        for j, q in enumerate(QUANTITIES):
+            err = [lv["error_pct"][q] for lv in fam["levels"]]
+            axes[0, j].loglog(*_positive(h * 1e3, err), "o-", color=colour, lw=0.8, label=m)
+            e = fam["estimates"][q]["error_pct"] if fam["estimates"] else None
+            line = _fit_line(e, hh) if e else None
+            if line is None:
+                why = e["branch"] if e else "under 3 levels"
+                axes[1, j].text(
+                    0.03,
+                    0.97 - 0.07 * c,
+                    f"{m}: {why}, no fit",
+                    color=colour,
+                    fontsize=8,
+                    transform=axes[1, j].transAxes,
+                    va="top",
+                )
+                continue
+            axes[0, j].loglog(*_positive(hh * 1e3, line), "--", color=colour, lw=1, label=f"{m} fit")
+            e0, p = _num(e["extrapolated"]), _num(e["order"])
+            axes[1, j].loglog(*_positive(h * 1e3, np.asarray(err) - e0), "o", color=colour)
+            axes[1, j].loglog(*_positive(hh * 1e3, line - e0), "--", color=colour, lw=1, label=f"{m}: p = {p:.2f}")
+    for a in axes[0]:  # where a fitted error crosses zero its |.| dips: keep the axis on the data
+        ys = [y for line in a.get_lines() if line.get_marker() == "o" for y in line.get_ydata()]
+        if ys:
+            a.set_ylim(bottom=min(ys) / 3)
+    for j, (label, *_rest, hk) in enumerate(QUANTITIES.values()):
+        vs = "analytical" if hk is None else "Hertz at own force"
+        axes[0, j].set(title=f"{label} vs {vs}", ylabel="|error| [%]")
+        axes[1, j].set(xlabel="element size at the contact h [mm]", ylabel="|e − e0| [%]")
+        for a in axes[:, j]:
+            a.grid(alpha=0.3, which="both")
+            if a.has_data():
+                a.legend(fontsize=7)
+    fig.suptitle("Mesh convergence of the contact (least-squares fit e0 + α h^p over all levels)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write(
+    records: Sequence[Mapping[str, Any]], analytical_force: float, E_star: float, R_star: float, out_dir: str | Path
+) -> dict[str, Any]:
+    """The stage: ``out_dir``/convergence.json (:func:`compute`), convergence.md (:func:`render_markdown`),
+    convergence.png (:func:`plot`). Returns the data."""
+    data = compute(records, analytical_force, E_star, R_star)
+    out = Path(out_dir)
+    write_json(out / "convergence.json", data)
+    io.atomic_write_text(out / "convergence.md", render_markdown(data))
+    plot(data, out / "convergence.png")
+    return data

@@ -1,0 +1,150 @@
+"""The convergence stage on synthetic levels whose errors are known in closed form (Hertz at the model's own
+force, a power law in h), and on the committed submodel record."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rods import compare, hertz
+from rods.paper import convergence
+from rods.paper.data import load
+
+E_STAR, R_STAR = 1.1e11, 0.035  # [Pa], [m]
+F_AN = 5555.0  # analytical peak force [N]
+H = (0.4e-3, 0.2e-3, 0.1e-3, 0.05e-3, 0.025e-3)  # [m]
+NAMES = ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
+
+
+def record(model, level, h, F, e_a=0.0, e_p=0.0):
+    """A level at force F [N] whose radius and peak pressure are Hertz at F times (1 + e); area π a²."""
+    Hz = hertz.at_force(F, E_STAR, R_STAR)
+    a = Hz["contact_radius"] * (1 + e_a)
+    return {
+        "model": model,
+        "level": level,
+        "h": h,
+        "peak_contact_force": F,
+        "contact_radius": a,
+        "contact_area": math.pi * a * a,
+        "peak_contact_pressure": Hz["peak_pressure"] * (1 + e_p),
+    }
+
+
+def power_records(model="submodel", n=5, p=1.5):
+    """Force low by 20 (h/h1)^p %, radius high by 10 (h/h1)^p %, pressure low by 5 (h/h1)^p %."""
+    out = []
+    for name, h in zip(NAMES[:n], H[:n], strict=True):
+        x = (h / H[n - 1]) ** p
+        out.append(record(model, name, h, F_AN * (1 - 0.002 * x), e_a=0.001 * x, e_p=-0.0005 * x))
+    return out
+
+
+def test_errors_against_own_force_and_analytical_force():
+    """Hertz at the model's own force: zero error for an exact Hertz patch; against the analytical force the
+    radius is off by (F/F_an)^(1/3) - 1, the area by (F/F_an)^(2/3) - 1 (Johnson Eq. 4.22)."""
+    F = 1.03 * F_AN
+    d = convergence.compute([record("global", "g", 1e-3, F)], F_AN, E_STAR, R_STAR)
+    lv = d["models"]["global"]["levels"][0]
+    assert lv["error_pct"]["peak_contact_force"] == pytest.approx(3.0)
+    for q in ("contact_radius", "contact_area", "peak_contact_pressure"):
+        assert lv["error_pct"][q] == pytest.approx(0.0, abs=1e-12)
+    assert lv["error_vs_analytical_pct"]["contact_radius"] == pytest.approx(100 * (1.03 ** (1 / 3) - 1))
+    assert lv["error_vs_analytical_pct"]["contact_area"] == pytest.approx(100 * (1.03 ** (2 / 3) - 1))
+    assert d["models"]["global"]["estimates"] is None
+    assert any("only 1 levels" in f for f in d["models"]["global"]["flags"])
+
+
+def test_power_law_errors_recovered_and_cancellation_flagged():
+    d = convergence.compute(power_records(), F_AN, E_STAR, R_STAR)
+    fam = d["models"]["submodel"]
+    x = (np.array(H) / H[-1]) ** 1.5
+    assert [lv["error_pct"]["peak_contact_force"] for lv in fam["levels"]] == pytest.approx(-0.2 * x)
+    assert [lv["error_pct"]["contact_radius"] for lv in fam["levels"]] == pytest.approx(0.1 * x)
+    for q in convergence.QUANTITIES:
+        e = fam["estimates"][q]["error_pct"]
+        assert e["branch"] == "observed order" and e["monotone"] and e["monotone_last3"]
+        if q == "contact_area":  # (1 + e_a)² - 1 = 2 e_a + e_a²: a power law only to first order; e0 within
+            # a tenth of the finest level's error (0.2%)
+            assert e["order"] == pytest.approx(1.5, abs=0.1) and e["extrapolated"] == pytest.approx(0.0, abs=0.02)
+        else:
+            assert e["order"] == pytest.approx(1.5, abs=1e-4) and e["extrapolated"] == pytest.approx(0.0, abs=1e-6)
+    assert fam["monotone_last3"]
+    # force low, radius and area high against Hertz at their own force: they cancel at every level;
+    # the pressure error has the force's sign: it does not
+    cancel = [f for f in fam["flags"] if "errors cancel" in f]
+    assert len(cancel) == 5 and all("contact radius" in f and "peak pressure" not in f for f in cancel)
+    assert not any("non-monotone" in f for f in fam["flags"])
+
+
+def test_non_monotone_level_named_in_flags_and_report():
+    recs = power_records(n=4)
+    a = recs[1]["contact_radius"] * 1.05  # the mid level's radius jumps above the coarse one
+    recs[1] = recs[1] | {"contact_radius": a, "contact_area": math.pi * a * a}
+    d = convergence.compute(recs, F_AN, E_STAR, R_STAR)
+    e = d["models"]["submodel"]["estimates"]["contact_radius"]["error_pct"]
+    assert not e["monotone"] and e["nonmonotone_levels"] == ["mid"] and e["monotone_last3"]
+    assert math.isnan(e["extrapolated"])
+    md = convergence.render_markdown(d)
+    assert "submodel contact radius error and value: non-monotone at mid" in md
+    assert "| no (mid) / yes |" in md
+
+
+def test_three_finest_are_richardson_on_the_committed_record(stages):
+    """The committed submodel levels (table3.json, rounded to 6 digits): the three-finest estimate of the force
+    is Richardson/GCI, the record's order, and the radius's turn at mid is reported."""
+    t3 = stages["table3.json"]
+    an = t3["analytical"]
+    R_star = R_STAR  # only R*/E* enters a_H: take E* from the analytical contact radius (Johnson Eq. 4.22)
+    E_star = 3 * an["peak_contact_force"] * R_star / (4 * an["contact_radius"] ** 3)
+    recs = [
+        {
+            "model": "submodel",
+            "level": r["level"],
+            "h": r["h_mm"] * 1e-3,
+            "peak_contact_force": r["force_N"],
+            "contact_radius": r["radius_mm"] * 1e-3,
+            "contact_area": r["area_mm2"] * 1e-6,
+            "peak_contact_pressure": r["p0_GPa"] * 1e9,
+        }
+        for r in t3["rows"]
+        if r["role"] == "submodel"
+    ]
+    d = convergence.compute(recs, an["peak_contact_force"], E_star, R_star)
+    est = d["models"]["submodel"]["estimates"]
+    rich = t3["richardson"]["quantities"]["peak_contact_force"]  # from the unrounded forces
+    F = [r["peak_contact_force"] for r in recs]
+    rr = compare.richardson(F[3], F[2], F[1], 2.0)
+    assert rr.order == pytest.approx(rich["order"], abs=0.01)
+    assert est["peak_contact_force"]["value_last3"]["order"] == pytest.approx(rr.order, rel=1e-8)
+    assert est["peak_contact_force"]["value_last3"]["uncertainty"] == pytest.approx(rr.error_band, rel=1e-8)
+    assert est["contact_radius"]["error_pct"]["nonmonotone_levels"] == ["mid"]
+    area = [lv["error_pct"]["contact_area"] for lv in d["models"]["submodel"]["levels"]]
+    assert area == pytest.approx([r["d_area_vs_hertz_pct"] for r in t3["rows"] if r["role"] == "submodel"], rel=1e-4)
+
+
+def test_write_three_files_and_json_renders_the_same(tmp_path):
+    recs = power_records() + power_records("global", n=3, p=1.0)
+    d = convergence.write(recs, F_AN, E_STAR, R_STAR, tmp_path / "out")
+    files = {p.name: p for p in (tmp_path / "out").iterdir()}
+    assert set(files) == {"convergence.json", "convergence.md", "convergence.png"}
+    assert (
+        files["convergence.png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        and files["convergence.png"].stat().st_size > 10_000
+    )
+    assert list(d["models"]) == ["submodel", "global"]
+    assert convergence.render_markdown(load(files["convergence.json"])) == files["convergence.md"].read_text()
+    # three global meshes: the all-level fit is the three-level Richardson/GCI
+    g = d["models"]["global"]["estimates"]["peak_contact_force"]
+    f = g["value"]["f"]
+    rr = compare.richardson(f[2], f[1], f[0], 2.0)
+    assert g["value"]["uncertainty"] == pytest.approx(rr.error_band, rel=1e-8)
+
+
+def test_record_without_a_key():
+    r = power_records(n=3)
+    del r[0]["contact_area"]
+    with pytest.raises(KeyError, match="contact_area"):
+        convergence.compute(r, F_AN, E_STAR, R_STAR)
