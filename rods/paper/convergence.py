@@ -112,7 +112,8 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
             last3 = "monotone" if x["monotone_last3"] else "not monotone either"
             at = ", ".join(x["nonmonotone_levels"])
             flags.append(f"{model} {label} {what}: non-monotone at {at}; over the three finest levels {last3}")
-        for span, x in (("all levels", e), ("the three finest levels", est[q]["error_pct_last3"])):
+        spans = (("all levels", e), ("the three finest levels", est[q]["error_pct_last3"]))
+        for span, x in spans[: 1 if len(levels) == 3 else 2]:
             if x["branch"] == "diverging":
                 flags.append(
                     f"{model} {label} error: the differences grow under refinement over {span} (p = {x['order']:.2f}): "
@@ -130,7 +131,7 @@ def compute(
         missing = [k for k in KEYS if k not in r]
         if missing:
             raise KeyError(f"convergence record {dict(r)!r} lacks {missing}")
-    families = sorted({str(r["model"]) for r in records}, key=lambda m: (m not in MODEL_ORDER, *_rank(m)))
+    families = sorted({str(r["model"]) for r in records}, key=_rank)
     models = {}
     for m in families:
         recs = sorted((r for r in records if r["model"] == m), key=lambda r: -float(r["h"]))

@@ -121,6 +121,11 @@ def test_three_finest_are_richardson_on_the_committed_record(stages):
     assert est["peak_contact_force"]["value_last3"]["order"] == pytest.approx(rr.order, rel=1e-8)
     assert est["peak_contact_force"]["value_last3"]["uncertainty"] == pytest.approx(rr.error_band, rel=1e-8)
     assert est["contact_radius"]["error_pct"]["nonmonotone_levels"] == ["mid"]
+    # 4.09% -> 2.90% -> 0.64%: monotone over the three finest, but the steps grow: no extrapolation claimed
+    assert est["contact_radius"]["error_pct_last3"]["branch"] == "diverging"
+    flags = d["models"]["submodel"]["flags"]
+    assert any("contact radius error: the differences grow" in f and "three finest" in f for f in flags)
+    assert "converging there (p > 0): no (contact radius, contact area" in convergence.render_markdown(d)
     area = [lv["error_pct"]["contact_area"] for lv in d["models"]["submodel"]["levels"]]
     assert area == pytest.approx([r["d_area_vs_hertz_pct"] for r in t3["rows"] if r["role"] == "submodel"], rel=1e-4)
 
