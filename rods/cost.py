@@ -124,7 +124,7 @@ def fe_cost(
     across, ``axial_size`` along, no grading, rods cut to fe.submodel_length) to ``end_time`` [s]."""
     kind = scene["fe.kind"]
     if size is None:
-        h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene["fe.tip_grading"]
+        h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
         lengths = (scene.rod1.length, scene.rod2.length)
     else:
         h_r, h, g = size, axial_size or size, 1.0

@@ -51,6 +51,8 @@ SUBMODEL_LEVEL_SIZES = {
     "ultra-fine": 0.015625e-3,  # [m]
 }
 SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
+# contact force laws: rods.fe.contact (penalty, the paper's) and rods.fe.kinematic (Lagrange, penalty-free)
+CONTACT_LAWS = ("penalty", "kinematic")
 
 
 class SceneError(ValueError):
@@ -159,10 +161,12 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.kind": ("str", "axisymmetric", _choice(FE_KINDS)),
     "fe.axial_size": ("float", 1.0e-3, _positive("m", hi=0.1)),
     "fe.radial_size": ("float", 0.25e-3, _positive("m", hi=0.1)),
-    "fe.tip_grading": ("float", 1.0, _interval(0.05, 1.0, closed_hi=True)),
+    # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
+    "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_hi=True)),
     "fe.degree": ("int", 1, _interval(1, 2, closed_lo=True, closed_hi=True)),
     "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
     "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
+    "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),
     "fe.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),
     "fe.bulk_viscosity": ("float", 0.0, _interval(0.0, 1.0, closed_lo=True)),
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
@@ -338,6 +342,15 @@ class Scene:
 
     def __getitem__(self, key: str) -> Any:
         return self.values[key]
+
+    @property
+    def tip_grading(self) -> float:
+        """``fe.tip_grading`` resolved [-]: "auto" makes the first tip element fe.radial_size long (square
+        elements at the contact, so the patch is resolved as finely across as along), within [0.05, 1]."""
+        g = self.values["fe.tip_grading"]
+        if g == "auto":
+            return min(1.0, max(0.05, self.values["fe.radial_size"] / self.values["fe.axial_size"]))
+        return float(g)
 
     @property
     def rods(self) -> tuple[Rod, Rod]:

@@ -238,6 +238,9 @@ class PenaltyContact:
     ``pressure``, the slave forces) is read on the host, copied once per evaluation when first asked for.
     """
 
+    predictive = False  # the force follows from u_n alone (see rods.fe.kinematic for the other kind)
+    dissipated = 0.0  # contact dissipation [J]: none, the penalty force is conservative
+
     def __init__(
         self,
         slave: TipNodes,
@@ -333,6 +336,13 @@ class PenaltyContact:
         self._g, self._p, self._host = g, self.ε * pen, None
         self.force = self.multiplicity * float(F.sum())  # full rods [N]
         self.energy = 0.5 * self.multiplicity * float(xp.dot(d.k, pen * pen))  # [J]
+
+    def slave_forces(self, u: np.ndarray) -> np.ndarray:
+        """Compressive slave forces F_s = k_s <-g_s(u)> [N] at the host displacement ``u`` (collective under
+        MPI: a gather), without touching the evaluated state (field output between steps)."""
+        us, um = self.gather(u)
+        pen = np.maximum(-(self.g0 + _interp(self.J, self.W, um) - us), 0.0) * self.inside  # [m]
+        return self.k * pen
 
     def add_force(self, y, scale=None) -> None:
         """y += scale ⊙ f_c for the owned tip entries: f_c = -F on the slaves (pushed along -z),

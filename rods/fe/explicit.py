@@ -187,15 +187,20 @@ class CentralDifference:
             if self.damped:
                 z += β * y
             z *= 0.5
-            if c is not None:
+            if c is not None and not c.predictive:
                 c.add_force(z, 0.5 * dt_inv_mass)
             v += z
+            if c is not None and c.predictive:
+                c.correct(v, self.dt, 0.5, dt_inv_mass)
         else:  # v_{n+½} = v_{n-½} + Δt M^-1 (f_c - K u_n - C v_{n-½})
             op.mult_add(u, v)
             if self.damped:
                 op.axpy(v, β, y)
             if c is not None:
-                c.add_force(v, dt_inv_mass)
+                if c.predictive:  # kinematic: the impulse that closes the predicted gaps
+                    c.correct(v, self.dt, 1.0, dt_inv_mass)
+                else:
+                    c.add_force(v, dt_inv_mass)
         if keep:
             self.increment = self._stiffness_increment()
         self.pending = True

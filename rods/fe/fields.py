@@ -10,7 +10,7 @@ Stresses and the contact pressure are evaluated at u(t_k).
 Fields (all P1, point data, one grid per frame): ``displacement``, ``velocity`` (3 components: r, z, 0
 axisymmetric; x, y, z in 3D), ``sigma_zz``, ``sigma_rr``, ``sigma_tt`` (σ_θθ) in each rod's cylindrical
 frame (3D: about the rod's own axis, Rod 1's placed one when tilted or offset), ``von_mises``, and
-``contact_pressure`` on both tip surfaces (Rod 1: p_s = ε <-g_s>; Rod 2: its nodal reaction Wᵀ F over its
+``contact_pressure`` on both tip surfaces (Rod 1: p_s = F_s / a_s of the contact law; Rod 2: its nodal reaction Wᵀ F over its
 tributary area; 0 elsewhere). Stresses are nodal averages, the lumped L² projection
 σ_i = ∫ N_i σ w dx / ∫ N_i w dx (w: the volume weight; Gauss points are interior, so r > 0 in 3D).
 
@@ -269,16 +269,16 @@ class FieldOutput:
             self.series.write(k, t_k, {name: np.vstack([p[name] for p in parts])[self.order] for name in data})
 
     def _contact_pressure(self, u: np.ndarray) -> np.ndarray:
-        """Owned nodal contact pressure [Pa] at ``u`` (collective): the penalty law of :mod:`rods.fe.contact`
-        on Rod 1's tip, its reaction Wᵀ F per tributary area on Rod 2's."""
+        """Owned nodal contact pressure [Pa] at ``u`` (collective): the slave forces F_s of the contact law
+        (:meth:`rods.fe.contact.PenaltyContact.slave_forces`) per tributary area on Rod 1's tip, their
+        reaction Wᵀ F per tributary area on Rod 2's."""
         c = self.contact
-        us, um = c.gather(u)
-        pen = np.maximum(-(c.g0 + (c.W * um[c.J]).sum(axis=1) - us), 0.0) * c.inside  # penetration [m]
-        F_m = np.bincount(c.J.ravel(), (c.W * (c.k * pen)[:, None]).ravel(), c.nm)  # [N]
-        area = c.master.area[c.master.pos]
+        F = c.slave_forces(u)  # [N]
+        F_m = np.bincount(c.J.ravel(), (c.W * F[:, None]).ravel(), c.nm)  # [N]
         p = np.zeros(self.n_nodes)
-        p[c.slave.local // self.bs] = c.ε * pen[c.slave.pos]
-        p[c.master.local // self.bs] = np.where(area > 0, F_m[c.master.pos] / np.where(area > 0, area, 1.0), 0.0)
+        for tip, Fk in ((c.slave, F), (c.master, F_m)):
+            area = tip.area[tip.pos]
+            p[tip.local // self.bs] = np.where(area > 0, Fk[tip.pos] / np.where(area > 0, area, 1.0), 0.0)
         return p
 
     def finish(self) -> None:

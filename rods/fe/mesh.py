@@ -93,7 +93,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     R, R2 = scene.rod1.diameter / 2, scene.rod2.diameter / 2  # [m]
     hr = scene["fe.radial_size"]
     h = scene["fe.axial_size"]
-    g = scene["fe.tip_grading"]
+    g = scene.tip_grading
     geo = gmsh.model.geo
     surfaces, tips, ends, axes, outers = {}, {}, {}, {}, {}
     info = {}

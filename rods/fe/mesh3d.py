@@ -160,7 +160,7 @@ def _build_gmsh_model(scene: Scene, symmetry: str) -> dict:  # rank 0 only
     import gmsh
 
     geo = gmsh.model.geo
-    h, hr, g = scene["fe.axial_size"], scene["fe.radial_size"], scene["fe.tip_grading"]
+    h, hr, g = scene["fe.axial_size"], scene["fe.radial_size"], scene.tip_grading
     info: dict = {}
     vols: dict[int, list[int]] = {}
     for k, (rod, sign) in enumerate(((scene.rod1, -1.0), (scene.rod2, 1.0)), start=1):

@@ -51,6 +51,7 @@ from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_no
 from rods.fe.explicit import CentralDifference, largest_eigenvalue, stable_step, switching_step
 from rods.fe.fields import DEFAULT_FIELD_INTERVAL, FieldOutput
 from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, RunGuard
+from rods.fe.kinematic import KinematicContact
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
 from rods.fe.observers import Observer, Progress, march
@@ -158,7 +159,11 @@ class ExplicitModel:
             quads = face_quads(V, rm.facet_tags.find(tags["rod2_tip"]), master)
             pairing = bilinear_pairing(slave.xy, master.xy, quads)
             mirrored = (rm.symmetry == "quarter", rm.symmetry != "full")
-        self.contact = PenaltyContact(slave, master, self.ε_pen, self.comm, pairing, self.multiplicity, mirrored)
+        if sc["fe.contact"] == "kinematic":
+            args = (slave, master, self.comm, self.inv_mass, pairing, self.multiplicity, mirrored)
+            self.contact = KinematicContact(*args)
+        else:
+            self.contact = PenaltyContact(slave, master, self.ε_pen, self.comm, pairing, self.multiplicity, mirrored)
 
     def _probes(self) -> None:
         """Stations on the rod surface (r = d/2): Rod 2 at z = +x, Rod 1 at z = -x from the tip (3D: at
@@ -253,6 +258,15 @@ class ExplicitModel:
         self.β_visc = 2.0 * self.ξ / self.ω_max  # stiffness-proportional damping C = β K [s]
         self.steps = math.ceil(sc.end_time / self.dt * (1 - 1e-12))
 
+    def _contact_text(self) -> str:
+        sc = self.scene
+        if sc["fe.contact"] == "kinematic":
+            return "kinematic (forward-increment Lagrange multipliers, no penalty; dissipation counted)"
+        return (
+            f"penalty {self.ε_pen:.4g} Pa/m ({sc['fe.penalty']:g} x E*/h, "
+            f"E* = {self.E_star:.4g} Pa, h = {self.h_normal:.4g} m)"
+        )
+
     def plan(self) -> dict[str, Any]:
         """What will run (printed by the workflow before the time loop)."""
         sc, rm = self.scene, self.rm
@@ -267,8 +281,7 @@ class ExplicitModel:
             "cells": rm.mesh.topology.index_map(rm.mesh.topology.dim).size_global,
             "dofs": self.n_global,
             "ranks": self.comm.size,
-            "penalty": f"{self.ε_pen:.4g} Pa/m ({sc['fe.penalty']:g} x E*/h, "
-            f"E* = {self.E_star:.4g} Pa, h = {self.h_normal:.4g} m)",
+            "contact": self._contact_text(),
             "dt": self.dt,
             "dt_critical": self.dt_critical,
             "dt_critical_without_contact": self.dt_critical_no_contact,

@@ -10,8 +10,9 @@ Energy bookkeeping (all [J], full rods: x ``multiplicity`` for a symmetry model)
 
 * kinetic ½ v_{n-½}·M v_{n+½} and strain ½ u_n·K u_n, the scheme's conserved discrete energy
   (:mod:`rods.fe.explicit`), K u_n recovered from the stepper's velocity increment;
-* contact: the penalty energy E_c(u_n);
-* dissipated: W_n = Σ ½Δt (v_{k+½}·f_d,k + v_{k+½}·f_d,k+1), f_d,k = C v_{k-½} (trapezoid rule in the
+* contact: the penalty energy E_c(u_n) (0 for the kinematic contact);
+* dissipated: the kinematic contact's dissipation (:mod:`rods.fe.kinematic`) plus the damping's
+  W_n = Σ ½Δt (v_{k+½}·f_d,k + v_{k+½}·f_d,k+1), f_d,k = C v_{k-½} (trapezoid rule in the
   force over each velocity interval);
 * external work: Σ of the observers' ``external_work()`` (a driven cut);
 * energy error: max_n |E_n + W_n - W_ext,n - E_0| / max(E_0, max |W_ext|).
@@ -146,6 +147,7 @@ class Recorder:
         for (kv, ks), v_i, ε_i in zip(self.probe_keys, 0.5 * pv[0::2], pu[1::2], strict=True):
             row[kv], row[ks] = v_i, ε_i  # axial velocity at t_n (mean of the half steps), ε_zz at t_n
         row.update(zip(c.patch_keys, c.patch(), strict=True))
+        W = W + c.dissipated  # damping + contact dissipation (kinematic contact; 0 for the penalty)
         row.update(kinetic_energy=E_k, strain_energy=E_s, contact_energy=c.energy, dissipated_energy=W)
         row.update(external_work=W_ext, momentum=p_z[0] * self.multiplicity)  # momentum at t_{n+½}
         k = self.k
@@ -164,6 +166,8 @@ class Recorder:
         out.update(k=k, force=self.force[: step + 1], W_local=self.W_local, s_prev=self.s_prev)
         out.update(p_max_all=self.p_max_all, wall=self.wall())
         out.update({f"peak_{key}": np.asarray(val) for key, val in self.peak.items()})
+        if hasattr(self.contact, "state"):  # a contact with memory (kinematic: F_{n-1}, g_{n-1}, dissipation)
+            out.update(self.contact.state())
         return out
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
@@ -175,6 +179,8 @@ class Recorder:
         self.W_local, self.s_prev = float(state["W_local"]), float(state["s_prev"])
         self.p_max_all, self.wall_before = float(state["p_max_all"]), float(state["wall"])
         self.peak = {key[5:]: (v if v.ndim else float(v)) for key, v in state.items() if key.startswith("peak_")}
+        if hasattr(self.contact, "restore"):
+            self.contact.restore(state)
         if k > 0:
             c = self.columns
             self.E0 = float(np.array([c["kinetic_energy"][0], c["strain_energy"][0], c["contact_energy"][0]]).sum())

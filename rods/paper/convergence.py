@@ -44,7 +44,7 @@ from rods.compare import percent
 from rods.convergence import estimate
 from rods.paper.data import write_json
 
-__all__ = ["KEYS", "QUANTITIES", "compute", "plot", "render_markdown", "write"]
+__all__ = ["KEYS", "QUANTITIES", "compute", "plot", "record", "render_markdown", "write"]
 
 # record key -> (label, unit shown, factor SI -> unit shown, Hertz key or None for the analytical force)
 QUANTITIES: dict[str, tuple[str, str, float, str | None]] = {
@@ -335,3 +335,17 @@ def write(
     io.atomic_write_text(out / "convergence.md", render_markdown(data))
     plot(data, out / "convergence.png")
     return data
+
+
+def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
+    """One record of :func:`compute` from a run's summary.json: a submodel level (its uniform element size) or
+    a global mesh (h = fe.radial_size, the element width across the contact face, which sets how finely the
+    patch radius is resolved; the tip is graded to it by default)."""
+    sub = "element_size" in summary and summary.get("level") is not None
+    if sub:
+        model, level, h = "submodel", str(summary["level"]), float(summary["element_size"])
+    else:
+        model, h = "global", float(summary["scene_values"]["fe"]["radial_size"])
+        level = label or f"{h * 1e3:g} mm"
+    keys = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
+    return {"model": model, "level": level, "h": h, **{k: float(summary[k]) for k in keys}}

@@ -15,11 +15,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rods import plan
 from rods.compare import percent
-from rods.paper import accuracy_cost, fig4, table2
+from rods.paper import accuracy_cost, convergence, fig4, table2
 from rods.paper.data import load
-from rods.scene import parse_override
 
 __all__ = ["ReportData", "read", "render"]
 
@@ -33,6 +31,7 @@ class ReportData:
     penalty_study: dict[str, Any] | None = None  # the benchmark's record, if it exists
     contact_fields: dict[str, Any] | None = None  # contact-fields.json (workflows/contact_picture.py), if it exists
     verification: dict[str, Any] | None = None  # verification.json (make verify), if it exists
+    convergence: dict[str, Any] | None = None  # convergence.json (rods.paper.convergence), if it exists
 
 
 def read(results: Path, penalty_study: Path | None = None) -> ReportData:
@@ -42,8 +41,13 @@ def read(results: Path, penalty_study: Path | None = None) -> ReportData:
     penalty = load(penalty_study) if penalty_study is not None and Path(penalty_study).is_file() else None
     fields = load(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
     verify = load(results / "verification.json") if (results / "verification.json").is_file() else None
+    conv = load(results / "convergence.json") if (results / "convergence.json").is_file() else None
     return ReportData(
-        *(load(results / f) for f in files), penalty_study=penalty, contact_fields=fields, verification=verify
+        *(load(results / f) for f in files),
+        penalty_study=penalty,
+        contact_fields=fields,
+        verification=verify,
+        convergence=conv,
     )
 
 
@@ -174,8 +178,6 @@ def table3_section(t3: dict[str, Any]) -> list[str]:
     paper = t3["paper"]
     paper_force = percent(paper["global-uniform"]["force"], paper["analytical"]["force"])
     paper_area = percent(paper["global-uniform"]["area"], paper["analytical"]["area"])
-    driver = dict(parse_override(o) for o in plan.DRIVER_OVERRIDES)  # the library's one driver definition
-    stiff = f" ({driver['fe.penalty']:g} x E*/h)" if "fe.penalty" in driver else ""
     return [
         "## Table 3, Fig. 5c, Fig. 6: contact patch and subsurface stress — [table3.md](table3.md)",
         "",
@@ -188,13 +190,25 @@ def table3_section(t3: dict[str, Any]) -> list[str]:
         "submodel's force against the analytical model, level by level: "
         + ", ".join(f"{r['model']}: {r['d_force_vs_analytical_pct']:+.2f}%" for r in subs)
         + _paper_submodels(t3)
-        + ". A displacement-driven submodel inherits the driving global's contact compliance: the main job drives "
-        f"from a graded global with a stiff contact layer{stiff} so that the cut moves as in a converged contact "
-        "([submodel-notes.md](submodel-notes.md)).",
+        + ". A displacement-driven submodel inherits the driving global's contact compliance; the default "
+        "kinematic contact has no penalty layer, so the submodels are driven by the scene's own global with no "
+        "special settings (the history of the old stiff-penalty driver is in [submodel-notes.md](submodel-notes.md)).",
         "",
         "![Fig. 5c](fig5c-pressure.png) ![p(r)](fig5c-profile.png)",
         "",
         "![Fig. 6](fig6-sigma-r.png)",
+    ]
+
+
+def convergence_section(conv: dict[str, Any]) -> list[str]:
+    """The convergence stage's own rendering (rods.paper.convergence), under a link to its files."""
+    body = convergence.render_markdown(conv).splitlines()
+    body = body[1:] if body and body[0].startswith("#") else body  # its own title is replaced by the link
+    return [
+        "## Mesh convergence of the contact — [convergence.md](convergence.md)",
+        *body,
+        "",
+        "![convergence](convergence.png)",
     ]
 
 
@@ -272,6 +286,7 @@ def render(data: ReportData) -> str:
         table2_section(data.table2),
         fig4_section(data.fig4, data.penalty_study),
         table3_section(data.table3),
+        *([convergence_section(data.convergence)] if data.convergence else []),
         accuracy_cost_section(data.accuracy_cost),
         *([contact_fields_section(data.contact_fields)] if data.contact_fields else []),
         *([verification_section(data.verification)] if data.verification else []),

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from rods import compare, hertz, paper_data
-from rods.scene import Scene
+from rods.scene import Scene, scene_from_summary
 
 __all__ = ["COLUMNS", "ModelRun", "model_name", "render_csv", "render_markdown", "table3"]
 
@@ -81,8 +81,8 @@ def model_name(run: ModelRun) -> str:
     s = run.summary
     if run.role == "submodel":
         return f"Submodel {s['level']} (h = {s['element_size'] * 1e3:g} mm)"
-    fe = s["scene_values"]["fe"]
-    h, g = fe["axial_size"], fe.get("tip_grading", 1.0)
+    sc = scene_from_summary(s["scene_values"])
+    h, g = sc["fe.axial_size"], sc.tip_grading
     mesh = f"uniform {h * 1e3:g} mm" if g == 1.0 else f"tips graded to {g * h * 1e3:g} mm"
     return f"Global ({mesh}; drives the submodels)" if run.role == "global-driver" else f"Global ({mesh})"
 

@@ -160,7 +160,9 @@ def test_conservation_and_contract(model, result):
     # the polygonal section's lost area (measured 1.2% at 1 mm elements on the 6.35 mm radius)
     sc = model.scene
     M1 = model.multiplicity * model.mass[_rod_entries(model, 1, model.axial)].sum()
-    assert E[0] == pytest.approx(0.5 * M1 * sc.speed**2, rel=1e-5)
+    # (rel 1e-4: the kinematic contact's impulse on the apex pair at step 0 enters the first mid-step product;
+    # measured 2e-5 in 3D)
+    assert E[0] == pytest.approx(0.5 * M1 * sc.speed**2, rel=1e-4)
     assert p[0] == pytest.approx(M1 * sc.speed, rel=1e-12)
     assert M1 == pytest.approx(sc.rod1.mass, rel=MASS_TOL[model.kind])
     assert s["scene_values"]["impact"]["speed"] == sc.speed
@@ -334,11 +336,13 @@ def test_centric_3d_matches_axisymmetric_to_peak():
     """Cheap version of the issue's criterion: paper rods, 4 x 1 mm meshes, up to just past the peak
     force (120 µs). Peak force within 1% (measured 0.70%); midpoint strain RMS within 10 µε (measured
     6.8 µε: the wave front at the midpoint follows the contact stiffness of the coarse tips, which the
-    2D node lattice of the 3D cap and the rings of the axisymmetric one resolve differently)."""
+    2D node lattice of the 3D cap and the rings of the axisymmetric one resolve differently). Peak time
+    within 10 µs: the force plateau is flat to ~0.1% from 70 to 130 µs, so its argmax wanders (measured
+    6.4 µs with the kinematic contact)."""
     s3, sa, rms = _axisymmetric_vs_3d(["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=1.2e-4"])
     assert s3["peak_contact_force"] == pytest.approx(sa["peak_contact_force"], rel=0.01)
     assert rms < 10e-6
-    assert s3["peak_force_time"] == pytest.approx(sa["peak_force_time"], abs=5e-6)
+    assert s3["peak_force_time"] == pytest.approx(sa["peak_force_time"], abs=10e-6)
 
 
 @pytest.mark.slow
@@ -389,8 +393,9 @@ def test_offset_impact(model, result):
     assert s["contact_centroid_y"] == 0.0
     bend = s["midpoint_peak_bending_strain"]
     assert bend > 0.1 * abs(s["midpoint_peak_strain"])  # plus_x != minus_x
-    # the +x side (under the impact) is compressed more than the -x side
-    assert h["rod2_mid_strain_plus_x"].min() < h["rod2_mid_strain_minus_x"].min()
+    # the +x side (under the impact) is compressed more than the -x side, on average over the run: the first
+    # flexural arrival on these short rods (20-30 µs) is dispersive and briefly compresses -x more (measured)
+    assert np.mean(h["rod2_mid_strain_plus_x"] - h["rod2_mid_strain_minus_x"]) < 0
     # same axial momentum transfer, a little softer and longer than centric
     assert s["peak_contact_force"] == pytest.approx(centric.summary["peak_contact_force"], rel=0.1)
 
