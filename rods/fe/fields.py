@@ -10,8 +10,8 @@ Stresses and the contact pressure are evaluated at u(t_k).
 Fields (all P1, point data, one grid per frame): ``displacement``, ``velocity`` (3 components: r, z, 0
 axisymmetric; x, y, z in 3D), ``sigma_zz``, ``sigma_rr``, ``sigma_tt`` (σ_θθ) in each rod's cylindrical
 frame (3D: about the rod's own axis, Rod 1's placed one when tilted or offset), ``von_mises``, and
-``contact_pressure`` on both tip surfaces (Rod 1: p_s = F_s / a_s of the contact law; Rod 2: its nodal reaction Wᵀ F over its
-tributary area; 0 elsewhere). Stresses are nodal averages, the lumped L² projection
+``contact_pressure`` on both tip surfaces (Rod 1: p_s = F_s / a_s of the contact law; Rod 2: its nodal
+reaction Wᵀ F over its tributary area; 0 elsewhere). Stresses are nodal averages, the lumped L² projection
 σ_i = ∫ N_i σ w dx / ∫ N_i w dx (w: the volume weight; Gauss points are interior, so r > 0 in 3D).
 
 Files in the run folder:
