@@ -12,6 +12,9 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
 * **energy**: an FE run whose energy-balance error (``energy_error``, contact and cut work counted) exceeds
   :data:`ENERGY_OK` is not "ok", even below the guard's growth limit that stops a run (a rattling stiff
   contact pumps a few percent: measured 1.6% at 100 x the default penalty past the switching limit);
+* **rattle**: a raw peak force more than :data:`RATTLE` above its :data:`rods.metrics.SMOOTHING` sliding
+  average (the recorded history) is a contact that rattles (a stiff penalty: measured +107% at 1000 x E*/h
+  with a balanced energy), not a peak of the impact;
 * **yield**: the paper's elastic criterion P < 1.1 S_y (rods.hertz.check_yield) at the model's own peak
   force (Hertz pressure of that force, rods.hertz.at_force), for the FE models as for the analytical one.
 """
@@ -34,11 +37,28 @@ __all__ = [
     "contact_warning",
     "energy_warning",
     "plateau_warning",
+    "rattle_warning",
     "yield_warnings",
 ]
 
 MIN_PLATEAU_SAMPLES = 3  # a run above the threshold shorter than this is a spike, not a plateau [-]
 ENERGY_OK = 1e-2  # largest energy-balance error of a run whose status is "ok" [-]
+RATTLE = 0.05  # largest excess of the raw peak force over its smoothed value in an "ok" run [-]
+
+
+def rattle_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray]) -> str | None:
+    """A warning when the raw peak force exceeds its smoothed value (history) by more than :data:`RATTLE`."""
+    F, t = history.get("contact_force"), history.get("time")
+    if F is None or t is None or len(F) < 2 or not summary.get("peak_contact_force"):
+        return None
+    smooth = metrics.smoothed_peak(t, F)
+    excess = summary["peak_contact_force"] / smooth - 1.0 if smooth > 0 else 0.0
+    if excess > RATTLE:
+        return (
+            f"peak_contact_force: {excess:.1%} above its {metrics.SMOOTHING * 1e6:g} µs average: the contact rattles "
+            "(use fe.contact = 'kinematic', or lower fe.penalty)"
+        )
+    return None
 
 
 def energy_warning(summary: Mapping[str, Any]) -> str | None:
@@ -103,6 +123,8 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
         if not metrics.plateaus(history["time"], history[mid]):
             summary["midpoint_peak_speed"] = None
     if (w := energy_warning(summary)) is not None:
+        found.append(w)
+    if (w := rattle_warning(summary, history)) is not None:
         found.append(w)
     if "yield_warnings" not in summary:
         summary["yield_warnings"] = yield_warnings(scene, summary["peak_contact_force"])

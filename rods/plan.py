@@ -20,7 +20,7 @@ The recipe, defined once here and used by every door (``workflows/run.py``, ``gl
 * the **contact phase** = :data:`CONTACT_MARGIN` x the end of the analytical model's *first* contact episode
   (:func:`contact_phase`): the end of a contact-only global run, the driver's record window and the
   submodels' end time;
-* the **submodel driver** (:func:`submodel_driver`): the scene's global with :data:`DRIVER_OVERRIDES`;
+* the **submodel driver** (:func:`submodel_driver`): the scene's own global (:data:`DRIVER_OVERRIDES` is empty);
 * the **most refined model wins** (:func:`most_refined`): each contract key of a run's summary comes from
   the most refined stage that computed it.
 """

@@ -176,7 +176,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.energy_growth_limit": ("float", 0.05, _interval(0.0, 10.0, "(relative energy growth that stops a run)")),
     "fe.backend": ("str", "petsc", _choice(FE_BACKENDS)),
     "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
-    # the submodel's own contact layer (fe.penalty is the global's: a driving global wants a stiffer one)
+    # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
     "submodel.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),
 }
 

@@ -1,4 +1,5 @@
-"""Two-body node-to-surface penalty contact between the rod tips (paper Sec. 2.2: "penalty algorithm").
+"""Two-body node-to-surface penalty contact between the rod tips (paper Sec. 2.2: "penalty algorithm"); the
+default contact law is the penalty-free kinematic one (:mod:`rods.fe.kinematic`), which shares this pairing.
 
 Slaves are the nodes of the Rod-1 tip face, the master is the Rod-2 tip face, interpolated linearly
 in r between its nodes. With u_z the axial displacements, the gap of slave s is
@@ -13,10 +14,9 @@ contact normal is the axis; frictionless.
 
 Pressure (penalty law) p_s = ε_pen <-g_s>, ε_pen = fe.penalty x E*/h_n [Pa/m], with E* the contact
 modulus (paper Eq. 8) and h_n the element size normal to the face: fe.penalty = 1 gives a contact
-layer as stiff as one element of the softer rod. The default, 2, is measured (``benchmarks/penalty_study.py``,
-``results/penalty-study.md``): at the paper mesh 1 x E*/h adds enough compliance to stretch the low-force
-tail of the contact (duration +3.1 µs), 2 meets every target of the global model with margin, and beyond
-about 4 the stiffer contact sharpens the wave fronts and the midpoint strain departs from the 1D model
+layer as stiff as one element of the softer rod. The factor moves the answer (``benchmarks/contact_study.py``,
+``results/contact-study.md``): a soft layer adds its compliance to the Hertz contact and stretches the
+low-force tail of the release, a stiff one rattles and sharpens the wave fronts the strain gauges see
 (RMS > 10 µε). Stiff penalties also limit the step (:func:`rods.fe.explicit.switching_step`).
 Nodal force F_s = p_s a_s, a_s the row-sum tributary
 area ∫ N_s 2πr ds over the Rod-1 tip; the reaction W_sj F_s goes to the master nodes, so the

@@ -100,9 +100,8 @@ def submodel_scene(
     dt: float | str = "auto",
 ) -> Scene:
     """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], uniform size
-    h [m] across and ``h_axial`` (default h) along, no tip grading, penalty factor ``submodel.penalty``
-    (its own contact layer, ε = submodel.penalty x E*/h; the global's ``fe.penalty`` may be stiffer so
-    that the cut it drives moves as in a converged contact), the default mid station only
+    h [m] across and ``h_axial`` (default h) along, no tip grading, the scene's contact law (under the
+    penalty law its own layer ε = ``submodel.penalty`` x E*/h), the default mid station only
     (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
     L_s = scene["fe.submodel_length"]
     for k, rod in enumerate(scene.rods, start=1):

@@ -8,7 +8,7 @@ and renders its markdown and figures from that data.
 * :mod:`rods.paper.accuracy_cost` — every model's error against its cost, Pareto fronts
   (``accuracy-cost.json``, ``.md``, ``.png``).
 * :mod:`rods.paper.report` — ``REPORT.md`` rendered only from the stages' JSON files (``table2.json``,
-  ``table3.json``, ``fig4.json``, ``accuracy-cost.json``, ``penalty-study.json``).
+  ``table3.json``, ``fig4.json``, ``accuracy-cost.json``, ``contact-study.json``).
 
 The paper's published numbers enter only through :func:`rods.paper_data.load`, by named keys.
 """

@@ -2,7 +2,7 @@
 
 Rendered only from the stages' data: ``table2.json`` (:mod:`rods.paper.table2`), ``table3.json`` (the
 comparison stage, :mod:`rods.study`), ``fig4.json`` (:mod:`rods.paper.fig4`), ``accuracy-cost.json``
-(:mod:`rods.paper.accuracy_cost`) and ``penalty-study.json`` (``benchmarks/penalty_study.py``), all read
+(:mod:`rods.paper.accuracy_cost`) and ``contact-study.json`` (``benchmarks/contact_study.py``), all read
 by named keys. Every number in the prose is one of theirs or computed from them, so the report cannot
 drift from the results, and the paper's numbers reach it only through those files (which take them from
 :func:`rods.paper_data.load`).
@@ -28,23 +28,23 @@ class ReportData:
     table3: dict[str, Any]
     fig4: dict[str, Any]
     accuracy_cost: dict[str, Any]
-    penalty_study: dict[str, Any] | None = None  # the benchmark's record, if it exists
+    contact_study: dict[str, Any] | None = None  # the contact study's record (a benchmark), if it exists
     contact_fields: dict[str, Any] | None = None  # contact-fields.json (workflows/contact_picture.py), if it exists
     verification: dict[str, Any] | None = None  # verification.json (make verify), if it exists
     convergence: dict[str, Any] | None = None  # convergence.json (rods.paper.convergence), if it exists
 
 
-def read(results: Path, penalty_study: Path | None = None) -> ReportData:
-    """The stage files in ``results``; the penalty study from its own path (a benchmark, optional)."""
+def read(results: Path, contact_study: Path | None = None) -> ReportData:
+    """The stage files in ``results``; the contact study from its own path (a benchmark, optional)."""
     results = Path(results)
     files = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json")
-    penalty = load(penalty_study) if penalty_study is not None and Path(penalty_study).is_file() else None
+    penalty = load(contact_study) if contact_study is not None and Path(contact_study).is_file() else None
     fields = load(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
     verify = load(results / "verification.json") if (results / "verification.json").is_file() else None
     conv = load(results / "convergence.json") if (results / "convergence.json").is_file() else None
     return ReportData(
         *(load(results / f) for f in files),
-        penalty_study=penalty,
+        contact_study=penalty,
         contact_fields=fields,
         verification=verify,
         convergence=conv,
@@ -103,13 +103,15 @@ def fig4_section(f4: dict[str, Any], penalty: dict[str, Any] | None) -> list[str
         f"Contact duration against the analytical model: {durations}"
     )
     if penalty:
-        target = penalty["targets"]["contact_duration"] * 1e6
-        study = ", ".join(
-            f"{r['duration_vs_analytical'] * 1e6:+.2f} µs at {r['factor']:g} x E*/h" for r in penalty["rows"]
+        study = "; ".join(
+            f"{r['scene']}, {'kinematic' if r['law'] == 'kinematic' else f'penalty {r["factor"]:g} x E*/h'}: "
+            f"{r['duration_vs_analytical'] * 1e6:+.2f} µs"
+            for r in penalty["rows"]
         )
         text += (
-            f" (target: within {target:g} µs). It depends on the penalty: a soft contact layer stretches the "
-            f"low-force tail of the release ([penalty-study.md](penalty-study.md): {study})"
+            ". With a penalty the duration depends on the factor (a soft contact layer stretches the low-force tail "
+            "of the release); the default kinematic contact has no factor "
+            f"([contact-study.md](contact-study.md): {study})"
         )
     return [
         "## Fig. 4: wave response, FE over analytical — [fig4.md](fig4.md), [fig4.png](fig4.png)",
@@ -284,7 +286,7 @@ def render(data: ReportData) -> str:
     sections = [
         HEADER,
         table2_section(data.table2),
-        fig4_section(data.fig4, data.penalty_study),
+        fig4_section(data.fig4, data.contact_study),
         table3_section(data.table3),
         *([convergence_section(data.convergence)] if data.convergence else []),
         accuracy_cost_section(data.accuracy_cost),

@@ -11,7 +11,7 @@ import pytest
 from rods.paper import data
 
 DATA = Path(__file__).resolve().parent / "data"
-STAGES = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json", "penalty-study.json")
+STAGES = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json", "contact-study.json")
 
 
 @pytest.fixture(scope="session")

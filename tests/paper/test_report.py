@@ -14,7 +14,7 @@ def render(stages: dict) -> str:
     return report.render(
         report.ReportData(
             stages["table2.json"], stages["table3.json"], stages["fig4.json"], stages["accuracy-cost.json"],
-            stages["penalty-study.json"],
+            stages["contact-study.json"],
         )
     )  # fmt: skip
 
@@ -28,8 +28,8 @@ def test_cli_reads_only_json_and_defaults_to_the_folder_of_out(results):
             "workflows/report.py",
             "--out",
             str(out),
-            "--penalty-study",
-            str(results / "penalty-study.json"),
+            "--contact-study",
+            str(results / "contact-study.json"),
         ],
         cwd=ROOT,
         capture_output=True,
@@ -39,7 +39,8 @@ def test_cli_reads_only_json_and_defaults_to_the_folder_of_out(results):
     text = out.read_text()
     assert "\n".join(fig4.render_table(report.read(results).fig4)) in text
     assert "\n".join(accuracy_cost.render_table(report.read(results).accuracy_cost)) in text
-    assert "+8.43 µs at 0.5 x E*/h" in text  # the penalty study's record
+    row = report.read(results, results / "contact-study.json").contact_study["rows"][0]  # the contact study
+    assert f"{row['scene']}, kinematic: {row['duration_vs_analytical'] * 1e6:+.2f} µs" in text
 
 
 def test_paper_numbers_in_the_prose_follow_the_data(stages):
@@ -68,12 +69,12 @@ def test_paper_numbers_in_the_prose_follow_the_data(stages):
 
 def test_measured_numbers_follow_the_data(stages):
     stages["fig4.json"]["runs"][0]["duration_vs_analytical"] = 3.5e-6
-    stages["penalty-study.json"]["targets"]["contact_duration"] = 1e-6
+    stages["contact-study.json"]["rows"][0]["duration_vs_analytical"] = -7.5e-6
     sub = [r for r in stages["table3.json"]["rows"] if r["role"] == "submodel"][-1]
     sub["d_area_vs_hertz_pct"] = 0.42
     stages["table3.json"]["richardson"]["quantities"]["plateau_radius_error_pct"]["vs_hertz_pct"] = 0.33
     text = render(stages)
-    assert "global, paper mesh: +3.50 µs" in text and "(target: within 1 µs)" in text
+    assert "global, paper mesh: +3.50 µs" in text and "kinematic: -7.50 µs" in text
     assert "the area is +0.4%" in text and "gives 0.33%" in text
 
 
@@ -103,7 +104,7 @@ def test_verification_section_follows_the_matrix(stages):
     v = json.loads((ROOT / "results" / "verification.json").read_text())
     data = report.ReportData(
         stages["table2.json"], stages["table3.json"], stages["fig4.json"], stages["accuracy-cost.json"],
-        stages["penalty-study.json"], verification=v,
+        stages["contact-study.json"], verification=v,
     )  # fmt: skip
     for r in v["rows"]:
         r["passes"] = {"peak_force": True, "duration": True, "energy": True}

@@ -1,0 +1,179 @@
+"""Contact study (issue 13): the kinematic (penalty-free) contact against the penalty law over its factor, at the
+default global mesh, on the paper scene and the paper rods at 1.0 m/s.
+
+    python benchmarks/contact_study.py [--factors 1 2 4 8 16] [--out results/contact-study]
+
+Each row runs the global model (one process) and the analytical model on the same scene and reports: peak force
+and first-contact duration against the analytical model, the Rod-2 midpoint strain RMS difference over
+rods.metrics.strain_window (paper scene, whole 1.5 ms), the energy-balance error (the kinematic contact's
+dissipation counted), the step and its limits (linear stability with the contact stiffness at full engagement,
+contact switching) and the cost per step (wall time of set-up + loop / steps, the loop dominates). The penalty
+factors are ε = factor x E*/h (h the tip element normal to the face); issue 13 asks that, if a contact
+stiffness setting remains, x0.5 to x4 of its default move the peak force by < 0.3% and the duration by < 1 µs.
+Writes --out + .json (read by the paper report), .md and .png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+
+# isort: split
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from rods import io, metrics  # noqa: E402
+from rods.analytical import simulate  # noqa: E402
+from rods.fe.model import ExplicitModel  # noqa: E402
+from rods.hertz import YieldWarning  # noqa: E402
+from rods.paper.data import write_json  # noqa: E402
+from rods.scene import SCHEMA, load_scene  # noqa: E402
+
+PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
+# scene -> (overrides, strain RMS wanted: the whole 1.5 ms run; else the first contact only)
+SCENES = {
+    "paper, 2.197 m/s": ((), True),
+    "paper rods, 1.0 m/s": (("impact.speed=1.0", "simulation.end_time=3e-4"), False),
+}
+TARGETS = {"peak_force": 0.003, "contact_duration": 1e-6}  # issue 13's insensitivity: [-], [s]
+
+
+def run(scene_name: str, law: str, factor: float | None) -> tuple[dict, dict]:
+    """One contact setting on one scene: its row (SI units) and the force curves for the figure."""
+    overrides, with_rms = SCENES[scene_name]
+    extra = [f"fe.contact='{law}'"] + ([f"fe.penalty={factor}"] if factor is not None else [])
+    sc = load_scene(PAPER, [*overrides, *extra])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", YieldWarning)
+        t0 = time.perf_counter()
+        fe = ExplicitModel(sc)
+        r = fe.run()
+        wall = time.perf_counter() - t0
+        a = simulate(sc)
+    s, sa, h, ha = r.summary, a.summary, r.history, a.history
+    rms = (
+        metrics.rms_difference(
+            h["time"], h["rod2_mid_strain"], ha["time"], ha["rod2_mid_strain"], metrics.strain_window(sc.rod2)
+        )
+        if with_rms
+        else float("nan")
+    )
+    row = {
+        "scene": scene_name,
+        "law": law,
+        "factor": factor,
+        "peak_force_vs_analytical": s["peak_contact_force"] / sa["peak_contact_force"] - 1,
+        "duration_vs_analytical": s["contact_duration"] - sa["contact_duration"],
+        "strain_rms_difference": rms,
+        "energy_error": s["energy_error"],
+        "contact_area": s["contact_area"],
+        "dt": fe.dt,
+        "dt_critical": fe.dt_critical,
+        "dt_switching": fe.dt_switching,
+        "steps": fe.steps,
+        "wall_time": wall,
+        "loop_time_per_step": s["wall_time"] / fe.steps,
+    }
+    return row, {"t": h["time"], "F": h["contact_force"], "ta": ha["time"], "Fa": ha["contact_force"]}
+
+
+def label(r: dict) -> str:
+    return "kinematic" if r["law"] == "kinematic" else f"penalty {r['factor']:g} x E*/h"
+
+
+def spread(rows: list[dict], key: str, lo: float, hi: float) -> float:
+    """Largest minus smallest ``key`` over the penalty rows with lo <= factor <= hi."""
+    v = [r[key] for r in rows if r["law"] == "penalty" and lo <= r["factor"] <= hi]
+    return max(v) - min(v) if v else float("nan")
+
+
+def render_md(data: dict) -> str:
+    p0 = data["default_penalty"]
+    lines = [
+        "# Contact study: kinematic contact and the penalty law at the default global mesh",
+        "",
+        "`python benchmarks/contact_study.py` — one process, against the analytical model; default mesh "
+        "(1 mm x 0.25 mm, tips graded to 0.25 mm). Δt: the step used; Δt_crit: linear limit with the contact "
+        "stiffness at full engagement; Δt_switch: the contact-switching limit (rods.fe.explicit); loop/step: "
+        "the time loop's wall time per step (a shared 2-core machine: compare within one run only).",
+        "",
+        "| scene | contact | peak force | duration | strain RMS [µε] | energy error | Δt [ns] | Δt_crit [ns] "
+        "| Δt_switch [ns] | loop/step [µs] |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in data["rows"]:
+        rms = (
+            "–"
+            if r["strain_rms_difference"] != r["strain_rms_difference"]
+            else f"{r['strain_rms_difference'] * 1e6:.2f}"
+        )
+        lines.append(
+            f"| {r['scene']} | {label(r)} | {r['peak_force_vs_analytical']:+.3%} "
+            f"| {r['duration_vs_analytical'] * 1e6:+.2f} µs | {rms} | {r['energy_error']:.1e} | {r['dt'] * 1e9:.2f} "
+            f"| {r['dt_critical'] * 1e9:.2f} | {r['dt_switching'] * 1e9:.2f} | {r['loop_time_per_step'] * 1e6:.1f} |"
+        )
+    lines += [
+        "",
+        f"Penalty insensitivity over x0.5 to x4 of the default {p0:g} x E*/h (issue 13 targets: "
+        f"< {TARGETS['peak_force']:.1%} peak force, < {TARGETS['contact_duration'] * 1e6:g} µs duration):",
+        "",
+    ]
+    for sc in SCENES:
+        rows = [r for r in data["rows"] if r["scene"] == sc]
+        dF = spread(rows, "peak_force_vs_analytical", 0.5 * p0, 4 * p0)
+        dT = spread(rows, "duration_vs_analytical", 0.5 * p0, 4 * p0)
+        lines.append(f"* {sc}: peak force spread {dF:.3%}, duration spread {dT * 1e6:.2f} µs")
+    return "\n".join(lines) + "\n"
+
+
+def plot(data: dict, curves: list[dict], path: Path) -> None:
+    scenes = list(SCENES)
+    fig, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4))
+    for ax, sc in zip(axes, scenes, strict=True):
+        pairs = [(r, c) for r, c in zip(data["rows"], curves, strict=True) if r["scene"] == sc]
+        ax.plot(pairs[0][1]["ta"] * 1e6, pairs[0][1]["Fa"] / 1e3, "k-", lw=2, label="analytical")
+        for r, c in pairs:
+            ax.plot(c["t"] * 1e6, c["F"] / 1e3, lw=1, label=label(r))
+        ax.set(xlim=(150, 220), xlabel="t [µs]", ylabel="contact force [kN]", title=f"release: {sc}")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p0 = SCHEMA["fe.penalty"][1]
+    ap.add_argument("--factors", type=float, nargs="+", default=[0.5 * p0, p0, 2 * p0, 4 * p0])
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / "contact-study")
+    args = ap.parse_args()
+    rows, curves = [], []
+    for sc in SCENES:
+        for law, f in [("kinematic", None), *(("penalty", f) for f in args.factors)]:
+            row, curve = run(sc, law, f)
+            rows.append(row)
+            curves.append(curve)
+            print(
+                f"{sc}, {label(row)}: peak {row['peak_force_vs_analytical']:+.3%}, duration "
+                f"{row['duration_vs_analytical'] * 1e6:+.2f} µs, energy {row['energy_error']:.1e}",
+                flush=True,
+            )
+    data = {"default_penalty": p0, "default_contact": SCHEMA["fe.contact"][1], "targets": TARGETS, "rows": rows}
+    write_json(args.out.with_suffix(".json"), data)
+    io.atomic_write_text(args.out.with_suffix(".md"), render_md(data))
+    plot(data, curves, args.out.with_suffix(".png"))
+    print(f"wrote {args.out.with_suffix('.json')}, .md and .png")
+
+
+if __name__ == "__main__":
+    main()
