@@ -88,12 +88,21 @@ def _estimates(levels: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, Any]]
     return out
 
 
+CANCEL_MIN = 0.1  # [%] both errors at least this large before "errors cancel" is said (else it is noise)
+
+
 def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, Any] | None) -> list[str]:
-    """Plain-language findings: where errors cancel, where a series turns."""
+    """Plain-language findings: where errors cancel (opposite signs, both >= CANCEL_MIN), where a series turns."""
     flags = []
     for lv in levels:
         eF = lv["error_pct"]["peak_contact_force"]
-        opp = [q for q in QUANTITIES if q != "peak_contact_force" and eF * lv["error_pct"][q] < 0]
+        opp = [
+            q
+            for q in QUANTITIES
+            if q != "peak_contact_force"
+            and eF * lv["error_pct"][q] < 0
+            and min(abs(eF), abs(lv["error_pct"][q])) >= CANCEL_MIN
+        ]
         if opp:
             parts = ", ".join(
                 f"{QUANTITIES[q][0]} {lv['error_pct'][q]:+.2f}% vs Hertz at its own force "
