@@ -200,7 +200,10 @@ def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(t
     a, b = read_history(ref / "history.csv"), read_history(cut / "history.csv")
     for key in a:
         np.testing.assert_allclose(b[key], a[key], rtol=1e-12, atol=1e-14 * np.abs(a[key]).max(), err_msg=key)
-    assert json.loads((cut / "summary.json").read_text())["status"] == "ok"  # the partial summary is replaced
+    # the partial summary is replaced by the finished run's (on this 4 mm mesh the kinematic contact's ringing
+    # gives the midpoint plateaus one-sample spikes: "warnings", as for the uninterrupted reference)
+    status = json.loads((cut / "summary.json").read_text())["status"]
+    assert status == json.loads((ref / "summary.json").read_text())["status"] and status != "interrupted"
 
 
 @pytest.mark.mpi
