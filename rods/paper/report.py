@@ -91,15 +91,28 @@ def table2_section(t2: dict[str, Any]) -> list[str]:
     ]
 
 
+STRAIN_RMS_OK = 10e-6  # [-] midpoint strain RMS difference under which FE and analytical "match" (issue #3)
+
+
 def fig4_section(f4: dict[str, Any], penalty: dict[str, Any] | None) -> list[str]:
     valid = fig4.validation_runs(f4)
     rms = max(r["strain_rms_difference"] for r in valid) * 1e6  # [µε]
     energy = max(r["energy_error"] for r in valid)
     durations = ", ".join(f"{r['label']}: {r['duration_vs_analytical'] * 1e6:+.2f} µs" for r in valid)
+    window = f"{f4['strain_window'][1] * 1e6:.0f} µs"
+    if rms <= STRAIN_RMS_OK * 1e6:
+        strain = (
+            f"peak force, plateau speed and midpoint strain (RMS difference at most {rms:.1f} µε over {window}) match"
+        )
+    else:
+        strain = (
+            f"peak force and plateau speed match; the midpoint strain differs by up to {rms:.1f} µε RMS over {window}, "
+            f"more than {STRAIN_RMS_OK * 1e6:g} µε: the FE contact loads faster than the 1D model's Hertz spring at "
+            "first contact, and the 3D-elastic wave front carries that to the gauge (a soft penalty layer hides it)"
+        )
     text = (
-        "**Agrees:** the axisymmetric global model overlies the analytical curves, as the paper found: peak force, "
-        f"plateau speed and midpoint strain (RMS difference at most {rms:.1f} µε over "
-        f"{f4['strain_window'][1] * 1e6:.0f} µs) match, and the energy balance holds to {energy:.1e}. "
+        "**Agrees:** the axisymmetric global model overlies the analytical curves, as the paper found: "
+        f"{strain}, and the energy balance holds to {energy:.1e}. "
         f"Contact duration against the analytical model: {durations}"
     )
     if penalty:

@@ -75,6 +75,10 @@ def test_measured_numbers_follow_the_data(stages):
     stages["table3.json"]["richardson"]["quantities"]["plateau_radius_error_pct"]["vs_hertz_pct"] = 0.33
     text = render(stages)
     assert "global, paper mesh: +3.50 µs" in text and "kinematic: -7.50 µs" in text
+    assert "midpoint strain (RMS difference at most" in text  # the record: within 10 µε
+    for r in stages["fig4.json"]["runs"]:
+        r["strain_rms_difference"] = 13.9e-6
+    assert "the midpoint strain differs by up to 13.9 µε RMS" in render(stages)
     assert "the area is +0.4%" in text and "gives 0.33%" in text
 
 
