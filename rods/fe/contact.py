@@ -324,11 +324,16 @@ class PenaltyContact:
         f[self.slave.local] += fs[self.slave.pos]
         f[self.master.local] += fm[self.master.pos]
 
+    def gaps(self, u):
+        """g_s = g0_s + Σ_j W_sj u_z,j - u_z,s [m] at the owned displacement ``u`` (host or backend arrays)."""
+        d = self._host_arrays if isinstance(u, np.ndarray) else self._d
+        us, um = self.gather(u)
+        return d.g0 + _interp(d.J, d.W, um) - us
+
     def evaluate(self, u) -> None:
         """Contact state at displacement ``u`` (owned array): gaps, pressures, nodal forces, energy."""
         d, xp = self._d, self.backend.xp
-        us, um = self.gather(u)
-        g = d.g0 + _interp(d.J, d.W, um) - us
+        g = self.gaps(u)
         pen = xp.maximum(-g, 0.0) * d.inside  # penetration [m]
         F = d.k * pen  # compressive nodal forces on the slaves [N]
         self._Fs = F
@@ -340,8 +345,7 @@ class PenaltyContact:
     def slave_forces(self, u: np.ndarray) -> np.ndarray:
         """Compressive slave forces F_s = k_s <-g_s(u)> [N] at the host displacement ``u`` (collective under
         MPI: a gather), without touching the evaluated state (field output between steps)."""
-        us, um = self.gather(u)
-        pen = np.maximum(-(self.g0 + _interp(self.J, self.W, um) - us), 0.0) * self.inside  # [m]
+        pen = np.maximum(-self.gaps(u), 0.0) * self.inside  # [m]
         return self.k * pen
 
     def add_force(self, y, scale=None) -> None:

@@ -138,9 +138,7 @@ class KinematicContact(PenaltyContact):
 
     def evaluate(self, u) -> None:
         """Gaps at u_n (the forces follow in :meth:`correct`, once the predictor is known)."""
-        d = self._d
-        us, um = self.gather(u)
-        g = d.g0 + _interp(d.J, d.W, um) - us
+        g = self.gaps(u)
         self._g, self._host = g, None
         self._g_host = self.backend.to_host(g).copy()
 
