@@ -364,20 +364,23 @@ class ExplicitModel:
         return Recorder(*args, sources, self.backend)
 
     def _observers(self, stepper, recorder, out, progress, step0: int) -> list[Observer]:
-        """The model's own observers after the recorder: guards, checkpoints (after ``step0``), fields, progress."""
+        """The model's own observers after the recorder: guards, fields, checkpoints (after ``step0``), the
+        interrupt check. Fields precede checkpoints: a checkpoint at step c (a restart at c + 1 keeps the frames
+        before (c + ½)Δt) then implies that the frames up to step c are on disk, whenever the run is killed."""
         sc, dt = self.scene, self.dt
         guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"], self.dt_switching)
+        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm)]
+        if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
+            view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
+            own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, view, step0))
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
-        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm), stop]
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = int(round(sc["fe.checkpoint_interval"] / dt))
             key = self._checkpoint_key()
             parts, h = (stepper, recorder), checkpoint.scene_hash(sc)  # h: the restart's pre-set-up check
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
             stop.on_stop = own[-1].save_now
-        if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
-            view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
-            own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, view, step0))
+        own.append(stop)
         if self.backend.on_device:  # guards, checkpoints, fields read the state on the host
             own = [backends.OnHost(o, self.backend) for o in own]
         if progress is not None:

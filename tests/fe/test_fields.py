@@ -130,6 +130,39 @@ def test_killed_run_keeps_its_frames_and_a_restart_appends(tmp_path):
             np.testing.assert_allclose(db[name], da[name], rtol=0, atol=1e-10 * max(np.abs(da[name]).max(), 1e-300))
 
 
+class _Killed(Exception):
+    """Stands for kill -9 right after a checkpoint is on disk."""
+
+
+def test_a_checkpoint_implies_its_frames_are_on_disk(tmp_path, monkeypatch):
+    """The kill window the subprocess test above cannot aim at: the process dies just after a checkpoint
+    at step c is written. The restart resumes at c + 1, so every frame up to step c must already be written
+    (fields before checkpoints in the observer order); otherwise a frame goes missing for good."""
+    from rods.fe import checkpoint
+    from rods.fe.model import ExplicitModel
+    from rods.scene import load_scene
+
+    from ..conftest import PAPER
+
+    sc = load_scene(
+        PAPER, [*COARSE, "simulation.end_time=4e-5", "fe.field_interval=1e-5", "fe.checkpoint_interval=2e-5"]
+    )
+    model = ExplicitModel(sc)
+    save = checkpoint.Checkpoints.save_now
+
+    def save_then_die(self, step, t):
+        save(self, step, t)
+        raise _Killed
+
+    monkeypatch.setattr(checkpoint.Checkpoints, "save_now", save_then_die)
+    with pytest.raises(_Killed):
+        model.run(tmp_path)
+    t_ck = json.loads((tmp_path / "checkpoint.json").read_text())["time"]
+    _, frames = _frames(tmp_path)
+    assert t_ck == pytest.approx(2e-5, rel=0.02)
+    assert [t for t, _ in frames] == pytest.approx([0.0, 1e-5, 2e-5], rel=1e-9, abs=1e-18)
+
+
 def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypatch):
     from rods.fe.fields import render_contact
 
