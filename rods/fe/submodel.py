@@ -67,6 +67,7 @@ from rods.scene import Scene, SceneError, Station, scene_from_dict
 __all__ = [
     "LEVEL_SIZES",
     "CutDriver",
+    "make_driver",
     "CutRecorder",
     "PeakField",
     "SubmodelResult",
@@ -373,16 +374,18 @@ class CutDriver:
         self.work = 0.0
         self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
 
-    def displacement(self, t: float) -> np.ndarray:
-        """u at the owned cut nodes at time t [s]: linear in time between records, W in space. (n_cut, gdim)"""
+    def band_state(self, t: float):
+        """The band's u at time t [s], linear in time between records (the scheme's own u(t)). (n_nodes, gdim)"""
         T = self.times
-        k = int(np.clip(np.searchsorted(T, t, side="right") - 1, 0, T.size - 2)) if T.size > 1 else 0
         if T.size == 1:
-            ub = self.U[0]
-        else:
-            θ = (t - T[k]) / (T[k + 1] - T[k])
-            ub = (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
-        return self.W_step @ ub
+            return self.U[0]
+        k = int(np.clip(np.searchsorted(T, t, side="right") - 1, 0, T.size - 2))
+        θ = (t - T[k]) / (T[k + 1] - T[k])
+        return (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
+
+    def displacement(self, t: float) -> np.ndarray:
+        """u at the owned cut nodes at time t [s]: :meth:`band_state`, W in space. (n_cut, gdim)"""
+        return self.W_step @ self.band_state(t)
 
     def external_work(self) -> float:
         """Work done by the cut on the submodel so far (this rank's cut entries) [J]."""
@@ -397,6 +400,16 @@ class CutDriver:
         self.work += float(self.xp.sum(R * 0.5 * (self.v_prev + v_new)))
         self.v_prev = v_new
         v[idx] = v_new
+
+
+def make_driver(model: ExplicitModel, cut_file: str | Path, driving: str) -> CutDriver:
+    """The cut driver of ``submodel.driving``: ``displacement`` (:class:`CutDriver`) or ``traction``
+    (:class:`rods.fe.traction.TractionDriver`, the global's cut stress as nodal forces)."""
+    if driving == "traction":
+        from rods.fe.traction import TractionDriver
+
+        return TractionDriver(model, cut_file)
+    return CutDriver(model, cut_file)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -507,7 +520,7 @@ def run_submodel(
     """Set up and run the submodel of ``scene`` (the *global* scene) at size h [m], driven by ``cut_file``."""
     sub = submodel_scene(scene, h, h_axial, end_time, dt)
     model = ExplicitModel(sub, comm)
-    driver = CutDriver(model, cut_file)  # first: it prescribes v_{n+1/2} before anything records it
+    driver = make_driver(model, cut_file, scene["submodel.driving"])  # first: it sets v_{n+1/2} before any record
     peak = PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
     res = model.run(None, progress, observers=(driver, peak))
     sig = surface_gauss_stress(model, peak.u)
@@ -522,6 +535,7 @@ def run_submodel(
             "element_size_axial": h_axial or h,
             "submodel_length": scene["fe.submodel_length"],
             "cut_nodes": driver.n_cut,
+            "driving": scene["submodel.driving"],
             "driver_build_time": driver.build_time,
             "stress_field_time": peak.step * model.dt,
             "stress_field_force": peak.F,

@@ -1,0 +1,157 @@
+"""Traction driving of a submodel at its cuts: the global's cut stress as nodal forces (``submodel.driving``).
+
+The displacement driver (:class:`rods.fe.submodel.CutDriver`) prescribes the global's motion at the cut, so
+a submodel inherits whatever compliance the global has between the cut and the contact (a penalty layer's
+penetration, the paper's Abaqus practice). Surface-based submodelling (Abaqus) drives the cut with the
+global's traction instead: the submodel's cut nodes move freely under
+
+    f_i(t) = A_i t(x_i, t),    t = σ(u_global) · n,    A_i = ∫_cut N_i w ds,
+
+n the submodel's outward normal at the cut (−e_z at Rod 1's cut z = −L_s, +e_z at Rod 2's), w = 2πr
+(axisymmetric) or 1 (3D; the cut planes are taken normal to z, as for the displacement driver), σ Hooke's
+stress of the recorded band's P1 displacement (:mod:`rods.fe.forms`), projected onto the band's nodes
+(lumped L², as the field output's stresses) and interpolated onto the cut nodes (DOLFINx non-matching
+interpolation). σ is linear in u, so the map from the band's displacement to the cut forces is built once, as
+a sparse matrix T, from unit band fields; at run time f(t_n) = T U_band(t_n), the band history interpolated
+linearly in time as for the displacement driver.
+
+In the central-difference scheme the force enters as the impulse Δt f(t_n) on v_{n+1/2} (added after the
+stepper's update: its M⁻¹(f_ext − K u_n) lacked it); its work Δt f · (v_{n−1/2} + v_{n+1/2})/2 enters the
+energy balance. The submodel then carries no kinematic constraint at the cut: an error in the traction
+drifts its rigid-body motion (momentum error = the force error's time integral), where the displacement
+driver would pass a compliance error. Which of the two errors is smaller is measured, not assumed
+(``benchmarks/driver_study.py``).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import dolfinx
+import numpy as np
+import scipy.sparse
+import ufl
+from mpi4py import MPI
+
+from rods.fe import forms
+from rods.fe.model import ExplicitModel
+from rods.fe.submodel import CutDriver, _band_space, _cut, _read_cut
+
+__all__ = ["TractionDriver", "cut_force_operator"]
+
+
+class _BandTraction:
+    """σ(u)·n of a band displacement ``u`` as P1 nodal values (lumped L² projection, as the field output's
+    stresses: quadrature points only, so the hoop strain u_r/r is never evaluated on the axis, and a node on
+    a face between two cells gets the average of both)."""
+
+    def __init__(self, Vb_vec: dolfinx.fem.FunctionSpace, scene, kind: str, axial: int):
+        band = Vb_vec.mesh
+        tdim = band.topology.dim
+        n_cells = band.topology.index_map(tdim).size_local + band.topology.index_map(tdim).num_ghosts
+        z = band.geometry.x[band.geometry.dofmaps[0][:n_cells], axial].mean(axis=1)  # cell centroids [m]
+        Q0 = dolfinx.fem.functionspace(band, ("DG", 0))
+        side, λ, μ = (dolfinx.fem.Function(Q0) for _ in range(3))
+        rod1 = z < 0.0  # Rod 1 lies at z < 0 (apexes at z = 0), its cut at z = −L_s: outward normal −e_z
+        side.x.array[:] = np.where(rod1, -1.0, 1.0)
+        for mask, rod in ((rod1, scene.rod1), (~rod1, scene.rod2)):
+            λ.x.array[mask], μ.x.array[mask] = rod.material.lame
+        self.u = dolfinx.fem.Function(Vb_vec)
+        self.t = dolfinx.fem.Function(Vb_vec)
+        x = ufl.SpatialCoordinate(band)
+        σ = forms.stress(forms.strain(self.u, x, kind), λ, μ)  # 3x3; axisymmetric ordered (r, θ, z)
+        rows = (0, 2) if kind == "axisymmetric" else (0, 1, 2)  # the in-plane components of σ e_z
+        q, w = ufl.TestFunction(Vb_vec), forms.measure_weight(x, kind)
+        dx = ufl.dx(metadata={"quadrature_degree": 2})
+        self.form = dolfinx.fem.form(ufl.inner(ufl.as_vector([side * σ[i, 2] for i in rows]), q) * w * dx)
+        one = ufl.as_vector([1.0] * len(rows))
+        self.inv_m = 1.0 / self._assemble(dolfinx.fem.form(ufl.inner(one, q) * w * dx))
+
+    def _assemble(self, form) -> np.ndarray:
+        import dolfinx.fem.petsc
+        from petsc4py import PETSc
+
+        b = dolfinx.fem.petsc.assemble_vector(form)
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        n = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
+        out = b.array_r[:n].copy()
+        b.destroy()
+        return out
+
+    def evaluate(self) -> dolfinx.fem.Function:
+        """The P1 traction [Pa] of the current ``u``."""
+        n = self.inv_m.size
+        self.t.x.array[:n] = self._assemble(self.form) * self.inv_m
+        self.t.x.scatter_forward()
+        return self.t
+
+
+def cut_force_operator(model: ExplicitModel, d: dict, tol: float = 1e-6) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
+    """T (owned cut entries x band entries) with f_cut = T U_band.ravel() [N], and the cut nodes (parents).
+
+    Built from unit band fields (σ is linear in u): per band node and component, the traction on the band
+    (:class:`_BandTraction`), interpolated onto the submodel's cut cells, times the cut nodes' tributary
+    areas A_i."""
+    comm, bs = model.comm, model.bs
+    Vb, node_of_dof = _band_space(d, comm)
+    Vb_vec = dolfinx.fem.functionspace(Vb.mesh, ("Lagrange", 1, (bs,)))
+    _, nodes0, cut_cells, cut_nodes = _cut(model)
+    traction = _BandTraction(Vb_vec, model.scene, model.kind, model.axial)
+    u, g = traction.u, dolfinx.fem.Function(model.V)
+    data = dolfinx.fem.create_interpolation_data(model.V, Vb_vec, cut_cells, padding=1e-10)
+    msh, rm, tags = model.V.mesh, model.rm, model.tags
+    ds = ufl.Measure("ds", domain=msh, subdomain_data=rm.facet_tags)((tags["rod1_end"], tags["rod2_end"]))
+    area = model._assemble_owned(forms.tributary_area_form(model.V, ds, model.kind))[cut_nodes * bs + model.axial]
+    n_nodes = d["nodes"].shape[0]
+    dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
+    own = np.arange(Vb.dofmap.index_map.size_local)
+    dof_of_node[node_of_dof[own]] = own
+    rows, cols, vals = [], [], []
+    entries = cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries of the model
+    for j in range(n_nodes):
+        for c in range(bs):
+            u.x.array[:] = 0.0
+            if dof_of_node[j] >= 0:
+                u.x.array[dof_of_node[j] * bs + c] = 1.0
+            u.x.scatter_forward()
+            tb = traction.evaluate()
+            g.x.array[:] = 0.0
+            g.interpolate_nonmatching(tb, cut_cells, data, tol=tol)
+            f = (g.x.array[entries] * area[:, None]).ravel()  # [N per m of band displacement]
+            nz = np.flatnonzero(f != 0.0)
+            rows.append(nz)
+            cols.append(np.full(nz.size, j * bs + c))
+            vals.append(f[nz])
+    shape = (entries.size, n_nodes * bs)
+    T = scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
+    return T, cut_nodes
+
+
+class TractionDriver(CutDriver):
+    """Observer of the submodel run: the global's cut traction as nodal forces on the cut (module docstring);
+    their work (``external_work()``) enters the energy balance."""
+
+    def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6):
+        super().__init__(model, cut_file, tol)  # the band history, the cut's coverage checks, the backend
+        t0 = time.perf_counter()
+        T, cut_nodes = cut_force_operator(model, _read_cut(Path(cut_file)), tol)
+        if not np.array_equal(cut_nodes, self.cut_nodes):
+            raise RuntimeError("traction driver: the cut nodes differ from the displacement driver's")
+        self.build_time += model.comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
+        self.T_step = model.backend.csr(T)
+        # Δt M⁻¹ [s/kg] on the cut entries, zero where constrained (u_r on the axis, a symmetry plane's normal)
+        self.dt_inv_m = model.backend.asarray(model.dt * model.inv_mass[self.idx])
+
+    def force(self, t: float):
+        """Nodal forces [N] on the owned cut entries at time t [s], shaped like the cut entries (n_cut, bs)."""
+        return (self.T_step @ self.band_state(t).ravel()).reshape(self.idx_step.shape)
+
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
+        """Add the impulse Δt f(t_n) to v_{n+1/2} at the cut; its work enters the balance."""
+        v, idx = state.v, self.idx_step
+        v_new = v[idx] + self.dt_inv_m * self.force(t)
+        R = self.m_cut * (v_new - v[idx])  # the impulse Δt f(t_n) [N s]
+        self.work += float(self.xp.sum(R * 0.5 * (self.v_prev + v_new)))
+        self.v_prev = v_new
+        v[idx] = v_new
