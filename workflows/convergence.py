@@ -5,7 +5,7 @@ analytical force, least-squares order, extrapolation and band (rods.paper.conver
         [--scene workflows/scenes/paper.toml] [--out output/paper/convergence]
 
 Each --run is a folder with summary.json (a submodel level or a global mesh). Writes convergence.json, .md and
-.png into --out (the main job passes --out results). The analytical reference force is computed here.
+.png into --out (the main job passes --out results); the recipe is rods.paper.convergence.for_scene.
 """
 
 from __future__ import annotations
@@ -15,8 +15,6 @@ import sys
 from pathlib import Path
 
 import _cli
-from rods import hertz
-from rods.analytical import simulate
 from rods.paper import convergence
 from rods.paper.data import parse_run
 
@@ -28,16 +26,14 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     out = _cli.output_dir(Path(args.out), "--out")
     scene = _cli.load(args)
-    records = []
+    runs = []
     for label, folder in map(parse_run, args.run):
         f = folder / "summary.json"
         if not f.is_file():
             print(f"skipping {folder}: no summary.json", file=sys.stderr)
             continue
-        records.append(convergence.record(json.loads(f.read_text(encoding="utf-8")), label))
-    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
-    F_an = simulate(scene).summary["peak_contact_force"]
-    data = convergence.write(records, F_an, E_star, R_star, out)
+        runs.append((label, json.loads(f.read_text(encoding="utf-8"))))
+    data = convergence.for_scene(scene, runs, out)
     print(convergence.render_markdown(data))
     return 0
 

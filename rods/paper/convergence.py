@@ -346,6 +346,17 @@ def write(
     return data
 
 
+def for_scene(scene: Any, runs: Sequence[tuple[str, Mapping[str, Any]]], out_dir: str | Path) -> dict[str, Any]:
+    """The stage for ``scene`` (rods.scene.Scene): its (label, summary) runs against Hertz with the scene's
+    E*, R* (rods.hertz.contact_constants) and the analytical model's peak force, written by :func:`write`."""
+    from rods import hertz
+    from rods.analytical import simulate
+
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    F_an = simulate(scene).summary["peak_contact_force"]
+    return write([record(s, label) for label, s in runs], F_an, E_star, R_star, out_dir)
+
+
 def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
     """One record of :func:`compute` from a run's summary.json: a submodel level (its uniform element size) or
     a global mesh (h = fe.radial_size, the element width across the contact face, which sets how finely the

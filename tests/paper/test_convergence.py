@@ -154,3 +154,26 @@ def test_record_without_a_key():
     del r[0]["contact_area"]
     with pytest.raises(KeyError, match="contact_area"):
         convergence.compute(r, F_AN, E_STAR, R_STAR)
+
+
+def test_for_scene_measures_against_the_scenes_own_references(tmp_path):
+    """The recipe for a scene: E*, R* of its rods and the analytical model's peak force. Levels built as Hertz
+    at exactly that force from those constants have zero error on every quantity."""
+    from rods.analytical import simulate
+    from rods.scene import load_scene
+
+    from ..conftest import PAPER
+
+    sc = load_scene(PAPER, ["impact.speed=1.0", "simulation.end_time=3e-4"])
+    F = simulate(sc).summary["peak_contact_force"]  # [N]
+    E, R = hertz.contact_constants(sc.rod1, sc.rod2)
+    runs = []
+    for name, h in zip(NAMES[:3], H[:3], strict=True):
+        Hz = hertz.at_force(F, E, R)
+        s = {"level": name, "element_size": h, "peak_contact_force": F, "peak_contact_pressure": Hz["peak_pressure"]}
+        s |= {"contact_radius": Hz["contact_radius"], "contact_area": Hz["contact_area"]}
+        runs.append((name, s))
+    d = convergence.for_scene(sc, runs, tmp_path)
+    for lv in d["models"]["submodel"]["levels"]:
+        assert max(abs(e) for e in lv["error_pct"].values()) < 1e-9
+    assert (tmp_path / "convergence.md").is_file()
