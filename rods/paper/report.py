@@ -2,10 +2,10 @@
 
 Rendered only from the stages' data: ``table2.json`` (:mod:`rods.paper.table2`), ``table3.json`` (the
 comparison stage, :mod:`rods.study`), ``fig4.json`` (:mod:`rods.paper.fig4`), ``accuracy-cost.json``
-(:mod:`rods.paper.accuracy_cost`) and ``contact-study.json`` (``benchmarks/contact_study.py``), all read
-by named keys. Every number in the prose is one of theirs or computed from them, so the report cannot
-drift from the results, and the paper's numbers reach it only through those files (which take them from
-:func:`rods.paper_data.load`).
+(:mod:`rods.paper.accuracy_cost`), ``contact-study.json`` (``benchmarks/contact_study.py``) and
+``driver-study.json`` (``benchmarks/driver_study.py``), all read by named keys. Every number in the prose is
+one of theirs or computed from them, so the report cannot drift from the results, and the paper's numbers
+reach it only through those files (which take them from :func:`rods.paper_data.load`).
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ class ReportData:
     contact_fields: dict[str, Any] | None = None  # contact-fields.json (workflows/contact_picture.py), if it exists
     verification: dict[str, Any] | None = None  # verification.json (make verify), if it exists
     convergence: dict[str, Any] | None = None  # convergence.json (rods.paper.convergence), if it exists
+    driver_study: dict[str, Any] | None = None  # driver-study.json (benchmarks/driver_study.py), if it exists
 
 
 def read(results: Path, contact_study: Path | None = None) -> ReportData:
@@ -42,12 +43,14 @@ def read(results: Path, contact_study: Path | None = None) -> ReportData:
     fields = load(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
     verify = load(results / "verification.json") if (results / "verification.json").is_file() else None
     conv = load(results / "convergence.json") if (results / "convergence.json").is_file() else None
+    drivers = load(results / "driver-study.json") if (results / "driver-study.json").is_file() else None
     return ReportData(
         *(load(results / f) for f in files),
         contact_study=penalty,
         contact_fields=fields,
         verification=verify,
         convergence=conv,
+        driver_study=drivers,
     )
 
 
@@ -187,7 +190,36 @@ def _paper_submodels(t3: dict[str, Any]) -> str:
     return f" (paper's Table 3: {' -> '.join(f'{F:.0f}' for F in forces)} N, {_signed_range(d)})"
 
 
-def table3_section(t3: dict[str, Any]) -> list[str]:
+def driver_text(ds: dict[str, Any] | None) -> str:
+    """How the cut is driven (the driver study): the finest level's force error under each driving, from the
+    penalty-free global and from a penalty global into a penalty-free submodel; which driving is closer."""
+    if not ds:
+        return ""
+    level = ds["rows"][-1]["level"]
+    err = {
+        (r["global"], r["submodel"], r["driving"]): r["peak_force_vs_analytical"]
+        for r in ds["rows"]
+        if r["level"] == level
+    }
+    kk = {d: err.get(("kinematic", "kinematic", d)) for d in ("displacement", "traction")}
+    pk = {d: err.get(("penalty", "kinematic", d)) for d in ("displacement", "traction")}
+    if None in kk.values():
+        return ""
+    closer = min(kk, key=lambda d: abs(kk[d]))
+    text = (
+        f" Cut driving ([driver-study.md](driver-study.md), {level} level, force against the analytical model): "
+        f"from the penalty-free global, displacement {kk['displacement']:+.2%}, traction {kk['traction']:+.2%}"
+    )
+    if None not in pk.values():
+        text += (
+            f"; from the penalty global into a penalty-free submodel, displacement {pk['displacement']:+.2%}, "
+            f"traction {pk['traction']:+.2%} (traction driving does not pass the layer's compliance on, only its "
+            "force history)"
+        )
+    return text + f". From the default global, {closer} driving is the closer here."
+
+
+def table3_section(t3: dict[str, Any], drivers: dict[str, Any] | None = None) -> list[str]:
     glob = next(r for r in t3["rows"] if r["role"] == "global-uniform")
     subs = [r for r in t3["rows"] if r["role"] == "submodel"]
     paper = t3["paper"]
@@ -207,7 +239,8 @@ def table3_section(t3: dict[str, Any]) -> list[str]:
         + _paper_submodels(t3)
         + ". A displacement-driven submodel inherits the driving global's contact compliance; the default "
         "kinematic contact has no penalty layer, so the submodels are driven by the scene's own global with no "
-        "special settings (the history of the old stiff-penalty driver is in [submodel-notes.md](submodel-notes.md)).",
+        "special settings (the history of the old stiff-penalty driver is in [submodel-notes.md](submodel-notes.md))."
+        + driver_text(drivers),
         "",
         "![Fig. 5c](fig5c-pressure.png) ![p(r)](fig5c-profile.png)",
         "",
@@ -300,7 +333,7 @@ def render(data: ReportData) -> str:
         HEADER,
         table2_section(data.table2),
         fig4_section(data.fig4, data.contact_study),
-        table3_section(data.table3),
+        table3_section(data.table3, data.driver_study),
         *([convergence_section(data.convergence)] if data.convergence else []),
         accuracy_cost_section(data.accuracy_cost),
         *([contact_fields_section(data.contact_fields)] if data.contact_fields else []),

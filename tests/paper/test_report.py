@@ -119,3 +119,25 @@ def test_verification_section_follows_the_matrix(stages):
     assert f"{n - 1} of {n} cases meet every target" in text
     assert f"{v['rows'][0]['description']}: Δ duration +4.25 µs" in text
     assert "verification" not in render(stages).lower()  # no matrix, no section
+
+
+def test_driver_sentence_follows_the_driver_study(stages):
+    """The cut-driving sentence quotes the finest level of the driver study and names the closer driving."""
+    rows = []
+    for level, scale in (("coarse", 2.0), ("fine", 1.0)):
+        for g, s, d, e in (
+            ("kinematic", "kinematic", "displacement", 0.0004),
+            ("kinematic", "kinematic", "traction", 0.003),
+            ("penalty", "kinematic", "displacement", 0.06),
+            ("penalty", "kinematic", "traction", -0.0004),
+        ):
+            rows.append(
+                {"global": g, "submodel": s, "driving": d, "level": level, "peak_force_vs_analytical": e * scale}
+            )
+    ds = {"rows": rows}
+    t = report.driver_text(ds)
+    assert "fine level" in t and "displacement +0.04%, traction +0.30%" in t
+    assert "displacement +6.00%, traction -0.04%" in t and "displacement driving is the closer" in t
+    rows[4]["peak_force_vs_analytical"] = -0.01  # fine, kinematic displacement
+    assert "traction driving is the closer" in report.driver_text(ds)
+    assert report.driver_text(None) == "" and "driver-study" not in render(stages)
