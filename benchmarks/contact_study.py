@@ -16,6 +16,7 @@ Writes --out + .json (read by the paper report), .md and .png.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 import warnings
@@ -32,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from rods import io, metrics  # noqa: E402
+from rods import hertz, io, metrics  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
@@ -48,8 +49,27 @@ SCENES = {
 TARGETS = {"peak_force": 0.003, "contact_duration": 1e-6}  # issue 13's insensitivity: [-], [s]
 
 
-def run(scene_name: str, law: str, factor: float | None) -> tuple[dict, dict]:
-    """One contact setting on one scene: its row (SI units) and the force curves for the figure."""
+def hertz_factor(scene_name: str, compliance: float) -> float:
+    """The penalty factor (x E*/h) whose layer has ``compliance`` x the Hertz contact's at the analytical peak.
+
+    A uniform layer p = ε g over the patch has stiffness ε π a², the Hertz contact dF/dδ = 2 E* a (F ∝ δ^{3/2},
+    a² = R δ), so ε = 2 E* / (compliance π a): per unit area, the Hertz tangent stiffness over the compliance
+    fraction. It is derived from the scene (a of the analytical peak force) and the tip element h of the default
+    mesh, i.e. factor = 2 h / (compliance π a)."""
+    sc = load_scene(PAPER, list(SCENES[scene_name][0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", YieldWarning)
+        F = simulate(sc).summary["peak_contact_force"]  # [N]
+    E_star, R_star = hertz.contact_constants(sc.rod1, sc.rod2)
+    a = hertz.at_force(F, E_star, R_star)["contact_radius"]  # [m]
+    h = ExplicitModel(sc).h_normal  # [m] the tip element normal to the face
+    return 2.0 * h / (compliance * math.pi * a)
+
+
+def run(scene_name: str, law: str, factor: float | None, basis: str = "element") -> tuple[dict, dict]:
+    """One contact setting on one scene: its row (SI units) and the force curves for the figure. ``basis``:
+    how the penalty factor was chosen ("element": a fixed multiple of E*/h; "hertz c": from the Hertz stiffness
+    at compliance fraction c, :func:`hertz_factor`)."""
     overrides, with_rms = SCENES[scene_name]
     extra = [f"fe.contact='{law}'"] + ([f"fe.penalty={factor}"] if factor is not None else [])
     sc = load_scene(PAPER, [*overrides, *extra])
@@ -72,6 +92,7 @@ def run(scene_name: str, law: str, factor: float | None) -> tuple[dict, dict]:
         "scene": scene_name,
         "law": law,
         "factor": factor,
+        "basis": basis,
         "peak_force_vs_analytical": s["peak_contact_force"] / sa["peak_contact_force"] - 1,
         "duration_vs_analytical": s["contact_duration"] - sa["contact_duration"],
         "strain_rms_difference": rms,
@@ -88,12 +109,16 @@ def run(scene_name: str, law: str, factor: float | None) -> tuple[dict, dict]:
 
 
 def label(r: dict) -> str:
-    return "kinematic" if r["law"] == "kinematic" else f"penalty {r['factor']:g} x E*/h"
+    if r["law"] == "kinematic":
+        return "kinematic"
+    if r.get("basis", "element").startswith("hertz"):
+        return f"penalty from Hertz, {float(r['basis'].split()[1]):.0%} compliance ({r['factor']:.3g} x E*/h)"
+    return f"penalty {r['factor']:g} x E*/h"
 
 
 def spread(rows: list[dict], key: str, lo: float, hi: float) -> float:
     """Largest minus smallest ``key`` over the penalty rows with lo <= factor <= hi."""
-    v = [r[key] for r in rows if r["law"] == "penalty" and lo <= r["factor"] <= hi]
+    v = [r[key] for r in rows if r["law"] == "penalty" and r.get("basis") == "element" and lo <= r["factor"] <= hi]
     return max(v) - min(v) if v else float("nan")
 
 
@@ -155,12 +180,21 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p0 = SCHEMA["fe.penalty"][1]
     ap.add_argument("--factors", type=float, nargs="+", default=[0.5 * p0, p0, 2 * p0, 4 * p0])
+    ap.add_argument(
+        "--hertz-compliance",
+        type=float,
+        nargs="*",
+        default=[0.1, 0.01],
+        help="penalty rows derived from the Hertz stiffness: layer compliance as a fraction of Hertz's",
+    )
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "contact-study")
     args = ap.parse_args()
     rows, curves = [], []
     for sc in SCENES:
-        for law, f in [("kinematic", None), *(("penalty", f) for f in args.factors)]:
-            row, curve = run(sc, law, f)
+        settings = [("kinematic", None, "element"), *(("penalty", f, "element") for f in args.factors)]
+        settings += [("penalty", hertz_factor(sc, c), f"hertz {c:g}") for c in args.hertz_compliance]
+        for law, f, basis in settings:
+            row, curve = run(sc, law, f, basis)
             rows.append(row)
             curves.append(curve)
             print(

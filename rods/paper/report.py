@@ -120,7 +120,7 @@ def fig4_section(f4: dict[str, Any], penalty: dict[str, Any] | None) -> list[str
     )
     if penalty:
         study = "; ".join(
-            f"{r['scene']}, {'kinematic' if r['law'] == 'kinematic' else f'penalty {r["factor"]:g} x E*/h'}: "
+            f"{r['scene']}, {'kinematic' if r['law'] == 'kinematic' else f'penalty {r["factor"]:.3g} x E*/h'}: "
             f"{r['duration_vs_analytical'] * 1e6:+.2f} µs"
             for r in penalty["rows"]
         )
