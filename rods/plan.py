@@ -47,10 +47,11 @@ __all__ = [
 ]
 
 CONTACT_MARGIN = 1.2  # contact phase: this x the analytical first contact episode's end [-]
-# The driving global of the submodels: the scene's own global, no special settings. With the default kinematic
-# contact (rods.fe.kinematic) it has no penalty layer whose compliance the displacement-driven cut would carry
-# into every submodel (the old driver needed tips graded to 0.25 mm and 8 x E*/h and still put the submodels'
-# force +2.3% above the analytical model); an override here would be a per-scene knob.
+# The driving global of the submodels: the scene's own global, no special settings. The default mixed cut
+# driving (rods.fe.traction) passes on the waves entering the region but not the global's contact compliance,
+# which a displacement-driven cut carries into every submodel (the old driver needed tips graded to 0.25 mm and
+# 8 x E*/h and still put the submodels' force +2.3% above the analytical model; results/driver-study.md); an
+# override here would be a per-scene knob.
 DRIVER_OVERRIDES: tuple[str, ...] = ()
 
 CONTACT_KEYS = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure", "contact_duration")

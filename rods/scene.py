@@ -53,7 +53,7 @@ SUBMODEL_LEVEL_SIZES = {
 SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
 # contact force laws: rods.fe.contact (penalty, the paper's) and rods.fe.kinematic (Lagrange, penalty-free)
 CONTACT_LAWS = ("penalty", "kinematic")
-SUBMODEL_DRIVINGS = ("displacement", "traction")  # rods.fe.submodel.make_driver
+SUBMODEL_DRIVINGS = ("displacement", "traction", "mixed")  # rods.fe.submodel.make_driver
 
 
 class SceneError(ValueError):
@@ -179,8 +179,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
     "submodel.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),
-    # how the global drives the submodel's cuts: its displacement (the paper's) or its traction (rods.fe.traction)
-    "submodel.driving": ("str", "displacement", _choice(SUBMODEL_DRIVINGS)),
+    # how the global drives the submodel's cuts: mixed (its traction plus a dashpot to its velocity, rods.fe.traction),
+    # its traction alone, or its displacement (the paper's)
+    "submodel.driving": ("str", "mixed", _choice(SUBMODEL_DRIVINGS)),
 }
 
 

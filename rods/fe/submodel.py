@@ -403,12 +403,13 @@ class CutDriver:
 
 
 def make_driver(model: ExplicitModel, cut_file: str | Path, driving: str) -> CutDriver:
-    """The cut driver of ``submodel.driving``: ``displacement`` (:class:`CutDriver`) or ``traction``
-    (:class:`rods.fe.traction.TractionDriver`, the global's cut stress as nodal forces)."""
-    if driving == "traction":
+    """The cut driver of ``submodel.driving``: ``displacement`` (:class:`CutDriver`), ``traction``
+    (:class:`rods.fe.traction.TractionDriver`, the global's cut stress as nodal forces) or ``mixed`` (that
+    traction plus a bar-impedance dashpot to the global's cut velocity)."""
+    if driving in ("traction", "mixed"):
         from rods.fe.traction import TractionDriver
 
-        return TractionDriver(model, cut_file)
+        return TractionDriver(model, cut_file, absorbing=driving == "mixed")
     return CutDriver(model, cut_file)
 
 

@@ -33,7 +33,9 @@ from ..conftest import MPIRUN, PAPER, recorded_global, run_workflow, set_args
 # The paper's penalty law on uniform meshes (these cases were measured with it); the kinematic default is
 # checked by test_kinematic_driving_reproduces_global.
 PENALTY = ["fe.contact='penalty'", "fe.tip_grading=1.0", "fe.penalty=1.0", "submodel.penalty=1.0"]
-COMMON = [*PENALTY, "simulation.end_time=1e-4", "fe.submodel_length=12e-3"]
+# the displacement driver (rods.fe.submodel.CutDriver) is what these tests check; mixed and traction driving:
+# tests/fe/test_traction.py
+COMMON = [*PENALTY, "simulation.end_time=1e-4", "fe.submodel_length=12e-3", "submodel.driving='displacement'"]
 TINY = {
     "axisymmetric": [*COMMON, "rod1.length=0.1", "rod2.length=0.1", "fe.axial_size=2e-3", "fe.radial_size=1e-3"],
     "3d": [
@@ -181,8 +183,8 @@ def global_dirs(tmp_path_factory):
 @pytest.mark.mpi
 @pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
 @pytest.mark.parametrize(
-    ("kind", "driving"), [(k, "displacement") for k in KINDS] + [("axisymmetric", "traction")]
-)  # 3D traction: its operator is checked serially in tests/fe/test_traction.py (the 2-rank build takes ~30 s)
+    ("kind", "driving"), [(k, "displacement") for k in KINDS] + [("axisymmetric", "mixed")]
+)  # 3D mixed/traction: the operator is checked serially in tests/fe/test_traction.py (the 2-rank build takes ~30 s)
 def test_serial_and_mpi_submodel_agree(global_dirs, tmp_path, kind, driving):
     """CLI end to end: the non-nested submodel on 1 and 2 ranks agrees to round-off (force, σ_r), under either
     cut driving (rods.fe.traction builds its operator from unit fields on whichever rank owns them)."""
