@@ -360,12 +360,15 @@ def for_scene(scene: Any, runs: Sequence[tuple[str, Mapping[str, Any]]], out_dir
 def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
     """One record of :func:`compute` from a run's summary.json: a submodel level (its uniform element size) or
     a global mesh (h = fe.radial_size, the element width across the contact face, which sets how finely the
-    patch radius is resolved; the tip is graded to it by default)."""
+    patch radius is resolved; the tip is graded to it by default), in the family of its kind ("global" for the
+    axisymmetric model, "global 3d" for the 3D one)."""
     sub = "element_size" in summary and summary.get("level") is not None
     if sub:
         model, level, h = "submodel", str(summary["level"]), float(summary["element_size"])
-    else:
-        model, h = "global", float(summary["scene_values"]["fe"]["radial_size"])
+    else:  # one family per model kind: a 3D global is not a finer axisymmetric one
+        fe = summary["scene_values"]["fe"]
+        model = "global" if fe.get("kind", "axisymmetric") == "axisymmetric" else f"global {fe['kind']}"
+        h = float(fe["radial_size"])
         level = label or f"{h * 1e3:g} mm"
     keys = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
     return {"model": model, "level": level, "h": h, **{k: float(summary[k]) for k in keys}}

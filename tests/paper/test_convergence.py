@@ -177,3 +177,12 @@ def test_for_scene_measures_against_the_scenes_own_references(tmp_path):
     for lv in d["models"]["submodel"]["levels"]:
         assert max(abs(e) for e in lv["error_pct"].values()) < 1e-9
     assert (tmp_path / "convergence.md").is_file()
+
+
+def test_3d_globals_are_their_own_family():
+    """A 3D global mesh is not a level of the axisymmetric series: records carry the kind in the family name."""
+    base = {"peak_contact_force": 5555.0, "contact_radius": 1e-3, "contact_area": 3.1e-6, "peak_contact_pressure": 2e9}
+    ax = convergence.record({**base, "scene_values": {"fe": {"kind": "axisymmetric", "radial_size": 0.25e-3}}})
+    three = convergence.record({**base, "scene_values": {"fe": {"kind": "3d", "radial_size": 1e-3}}}, "global 3d-c")
+    assert (ax["model"], ax["level"]) == ("global", "0.25 mm")
+    assert (three["model"], three["level"], three["h"]) == ("global 3d", "global 3d-c", 1e-3)
