@@ -1,6 +1,8 @@
 """Submodel driver study (issue 13, item 2): how the cut is driven, and from which global, on the paper scene.
 
-    python benchmarks/driver_study.py [--levels coarse mid fine] [--out results/driver-study]
+    python benchmarks/driver_study.py [--levels coarse mid fine] [--drivings D ...] [--out results/driver-study]
+
+``--drivings`` runs only those drivings and merges their rows into an existing --out record (the others kept).
 
 Two driving globals over the contact phase (rods.study.stages.driver: the scene's own global, recorded at
 the cuts), one per contact law: the kinematic (penalty-free, the default) and the penalty law at its default
@@ -16,6 +18,7 @@ mpirun). Writes --out + .json, .md and .png (force curves of the finest level).
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import tempfile
 import time
@@ -29,6 +32,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 from mpi4py import MPI  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -106,8 +110,8 @@ def render_md(data: dict) -> str:
 def plot(curves: dict, analytical: dict, path: Path) -> None:
     fig, ax = plt.subplots(figsize=(7, 4.5))
     ax.plot(analytical["time"] * 1e6, analytical["contact_force"] / 1e3, "k-", lw=2, label="analytical")
-    for name, (t, F) in curves.items():
-        ax.plot(t * 1e6, F / 1e3, lw=1, label=name)
+    for name, c in curves.items():
+        ax.plot(np.asarray(c["time"]) * 1e6, np.asarray(c["force"]) / 1e3, lw=1, label=name)
     ax.set(xlim=(0, 230), xlabel="t [µs]", ylabel="contact force [kN]", title="submodel force, finest level")
     ax.legend(fontsize=7)
     fig.tight_layout()
@@ -118,8 +122,10 @@ def plot(curves: dict, analytical: dict, path: Path) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--levels", nargs="+", default=["coarse", "mid", "fine"])
+    ap.add_argument("--drivings", nargs="+", default=None, help="run only these, merged into an existing --out")
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "driver-study")
     args = ap.parse_args()
+    cases = [c for c in CASES if args.drivings is None or c[2] in args.drivings]
     comm = MPI.COMM_WORLD
     root = comm.rank == 0
     scene = load_scene(PAPER)
@@ -131,10 +137,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(comm.bcast(tmp if root else None))
         drivers = {}
-        for law in dict.fromkeys(c[0] for c in CASES):
+        for law in dict.fromkeys(c[0] for c in cases):
             d = stages.driver(scene.with_overrides(f"fe.contact='{law}'"), tmp / f"driver-{law}", comm, phase)
             drivers[law], globals_[law] = d, {k: d.summary[k] for k in ("peak_contact_force", "contact_duration")}
-        for case in CASES:
+        for case in cases:
             g_law, s_law, driving = case
             d = drivers[g_law]
             sc = d.scene.with_overrides(f"fe.contact='{s_law}'", f"submodel.driving='{driving}'")
@@ -145,7 +151,8 @@ def main() -> None:
                 rows.append(r)
                 if level == args.levels[-1]:
                     h = st.history
-                    curves[f"{g_law} global, {s_law} submodel, {driving}"] = (h["time"], h["contact_force"])
+                    name = f"{g_law} global, {s_law} submodel, {driving}"
+                    curves[name] = {"time": h["time"][::2].tolist(), "force": h["contact_force"][::2].tolist()}
                 if root:
                     print(
                         f"{g_law} -> {s_law}, {driving}, {level}: force {r['peak_force_vs_analytical']:+.2%} "
@@ -156,10 +163,17 @@ def main() -> None:
     if not root:
         return
     data = {"analytical": {k: a.summary[k] for k in ("peak_contact_force", "contact_duration")}, "globals": globals_}
-    data["rows"] = rows
+    data["rows"], data["curves"] = rows, curves  # curves: the finest level's force histories (every 2nd sample)
+    old = args.out.with_suffix(".json")
+    if args.drivings is not None and old.is_file():  # merge: the other drivings' rows and curves are kept
+        prev = json.loads(old.read_text())
+        kept = [r for r in prev["rows"] if r["driving"] not in args.drivings]
+        order = {c: i for i, c in enumerate(CASES)}
+        data["rows"] = sorted(kept + rows, key=lambda r: (order[(r["global"], r["submodel"], r["driving"])],))
+        data["curves"] = {**prev.get("curves", {}), **curves}
     write_json(args.out.with_suffix(".json"), data)
     io.atomic_write_text(args.out.with_suffix(".md"), render_md(data))
-    plot(curves, a.history, args.out.with_suffix(".png"))
+    plot(data["curves"], a.history, args.out.with_suffix(".png"))
     print(f"wrote {args.out.with_suffix('.json')}, .md and .png")
 
 
