@@ -257,6 +257,8 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         f"{_num(ref['hertz_at_analytical_force']['peak_pressure']) / 1e9:.3f} GPa). {METHOD}",
     ]
     for m, fam in data["models"].items():
+        if not isinstance(fam["estimates"], Mapping):  # too few levels; JSON's null reads back as NaN
+            fam = {**fam, "estimates": None}
         n = len(fam["levels"])
         L += ["", f"### {m} ({n} levels)", "", *_error_rows(fam)]
         if fam["estimates"] is not None:

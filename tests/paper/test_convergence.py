@@ -186,3 +186,11 @@ def test_3d_globals_are_their_own_family():
     three = convergence.record({**base, "scene_values": {"fe": {"kind": "3d", "radial_size": 1e-3}}}, "global 3d-c")
     assert (ax["model"], ax["level"]) == ("global", "0.25 mm")
     assert (three["model"], three["level"], three["h"]) == ("global 3d", "global 3d-c", 1e-3)
+
+
+def test_a_two_level_family_renders_from_its_json(tmp_path):
+    """Two levels get no estimate; the record read back (null -> NaN, rods.paper.data.load) still renders."""
+    d = convergence.write(power_records() + power_records("global 3d", n=2), F_AN, E_STAR, R_STAR, tmp_path)
+    assert d["models"]["global 3d"]["estimates"] is None
+    text = convergence.render_markdown(load(tmp_path / "convergence.json"))
+    assert "### global 3d (2 levels)" in text and text == (tmp_path / "convergence.md").read_text()
