@@ -38,7 +38,6 @@ import dolfinx.fem.petsc
 import dolfinx.io
 import numpy as np
 import ufl
-from petsc4py import PETSc
 
 from rods import io
 from rods.fe import forms
@@ -85,11 +84,7 @@ class _Stresses:
         self.inv_weight = 1.0 / self._assemble(dolfinx.fem.form(q * w * dx))
 
     def _assemble(self, form) -> np.ndarray:
-        b = dolfinx.fem.petsc.assemble_vector(form)
-        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        out = b.array_r[: self.n].copy()
-        b.destroy()
-        return out
+        return forms.assemble_owned(form, self.n)
 
     def evaluate(self) -> list[np.ndarray]:
         """Owned nodal values [Pa] of σ_zz, σ_rr, σ_θθ, von Mises at the current ``u``."""

@@ -21,7 +21,16 @@ import ufl
 
 from rods.scene import Scene
 
-__all__ = ["Materials", "lumped_mass_form", "materials", "measure_weight", "stiffness_form", "strain", "stress"]
+__all__ = [
+    "Materials",
+    "assemble_owned",
+    "lumped_mass_form",
+    "materials",
+    "measure_weight",
+    "stiffness_form",
+    "strain",
+    "stress",
+]
 
 KINDS = ("axisymmetric", "3d")
 
@@ -110,3 +119,16 @@ def tributary_area_form(V: dolfinx.fem.FunctionSpace, ds: ufl.Measure, kind: str
     e_axis = np.zeros(V.mesh.geometry.dim)
     e_axis[1 if kind == "axisymmetric" else 2] = 1.0
     return ufl.inner(ufl.as_vector(e_axis.tolist()), v) * measure_weight(x, kind) * ds
+
+
+def assemble_owned(form: dolfinx.fem.Form, n: int) -> np.ndarray:
+    """The assembled vector of a compiled linear ``form``, ghost contributions summed in, its first ``n``
+    (owned) entries as a numpy array (collective)."""
+    import dolfinx.fem.petsc
+    from petsc4py import PETSc
+
+    b = dolfinx.fem.petsc.assemble_vector(form)
+    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    out = b.array_r[:n].copy()
+    b.destroy()
+    return out

@@ -197,11 +197,7 @@ class ExplicitModel:
         return K
 
     def _assemble_owned(self, form: ufl.Form) -> np.ndarray:
-        b = dolfinx.fem.petsc.assemble_vector(dolfinx.fem.form(form))
-        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        out = b.array_r[: self.n_local].copy()
-        b.destroy()
-        return out
+        return forms.assemble_owned(dolfinx.fem.form(form), self.n_local)
 
     def _omega_max(self, with_contact: bool) -> float:
         """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½ (SLEPc)."""

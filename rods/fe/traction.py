@@ -87,15 +87,8 @@ class _BandTraction:
         self.inv_m = 1.0 / self._assemble(dolfinx.fem.form(ufl.inner(one, q) * w * dx))
 
     def _assemble(self, form) -> np.ndarray:
-        import dolfinx.fem.petsc
-        from petsc4py import PETSc
-
-        b = dolfinx.fem.petsc.assemble_vector(form)
-        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        n = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
-        out = b.array_r[:n].copy()
-        b.destroy()
-        return out
+        imap = self.u.function_space.dofmap.index_map
+        return forms.assemble_owned(form, imap.size_local * self.u.function_space.dofmap.index_map_bs)
 
     def evaluate(self) -> dolfinx.fem.Function:
         """The P1 traction [Pa] of the current ``u``."""
