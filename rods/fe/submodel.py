@@ -348,6 +348,8 @@ class CutDriver:
         self.idx = self.cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries
         t0 = time.perf_counter()
         self.W = _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["nodes"].shape[0], tol)
+        self.band = (Vb, node_of_dof, d["nodes"].shape[0])  # the band space for a traction operator
+        self.cut_cells = cut_cells
         self.build_time = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
         # partition of unity: each cut node must be covered by the band (row sums 1). DOLFINx assigns a point
         # outside every cell but inside a candidate's bounding box to the closest cell and extrapolates (row sums

@@ -54,7 +54,7 @@ from mpi4py import MPI
 
 from rods.fe import forms
 from rods.fe.model import ExplicitModel
-from rods.fe.submodel import CutDriver, _band_space, _cut, _read_cut
+from rods.fe.submodel import CutDriver, _band_space, _cut
 
 __all__ = ["TractionDriver", "cut_force_operator"]
 
@@ -102,22 +102,27 @@ def cut_force_operator(
     model: ExplicitModel, d: dict, tol: float = 1e-6
 ) -> tuple[scipy.sparse.csr_matrix, np.ndarray, np.ndarray]:
     """T (owned cut entries x band entries) with f_cut = T U_band.ravel() [N], the cut nodes (parents) and their
-    tributary areas A_i [m^2].
+    tributary areas A_i [m^2], for the band record ``d`` (:func:`rods.fe.submodel._read_cut`)."""
+    Vb, node_of_dof = _band_space(d, model.comm)
+    _, _, cut_cells, cut_nodes = _cut(model)
+    T, area = _force_operator(model, Vb, node_of_dof, d["nodes"].shape[0], cut_cells, cut_nodes, tol)
+    return T, cut_nodes, area
+
+
+def _force_operator(model, Vb, node_of_dof, n_nodes: int, cut_cells, cut_nodes, tol: float):
+    """T and A_i of :func:`cut_force_operator` on a built band space and cut.
 
     Built from unit band fields (σ is linear in u): per band node and component, the traction on the band
     (:class:`_BandTraction`), interpolated onto the submodel's cut cells, times the cut nodes' tributary
     areas A_i."""
-    comm, bs = model.comm, model.bs
-    Vb, node_of_dof = _band_space(d, comm)
+    bs = model.bs
     Vb_vec = dolfinx.fem.functionspace(Vb.mesh, ("Lagrange", 1, (bs,)))
-    _, nodes0, cut_cells, cut_nodes = _cut(model)
     traction = _BandTraction(Vb_vec, model.scene, model.kind, model.axial)
     u, g = traction.u, dolfinx.fem.Function(model.V)
     data = dolfinx.fem.create_interpolation_data(model.V, Vb_vec, cut_cells, padding=1e-10)
     msh, rm, tags = model.V.mesh, model.rm, model.tags
     ds = ufl.Measure("ds", domain=msh, subdomain_data=rm.facet_tags)((tags["rod1_end"], tags["rod2_end"]))
     area = model._assemble_owned(forms.tributary_area_form(model.V, ds, model.kind))[cut_nodes * bs + model.axial]
-    n_nodes = d["nodes"].shape[0]
     dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
     own = np.arange(Vb.dofmap.index_map.size_local)
     dof_of_node[node_of_dof[own]] = own
@@ -139,7 +144,7 @@ def cut_force_operator(
             vals.append(f[nz])
     shape = (entries.size, n_nodes * bs)
     T = scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
-    return T, cut_nodes, area
+    return T, area
 
 
 class TractionDriver(CutDriver):
@@ -150,9 +155,7 @@ class TractionDriver(CutDriver):
     def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6, absorbing: bool = False):
         super().__init__(model, cut_file, tol)  # the band history, the cut's coverage checks, the backend
         t0 = time.perf_counter()
-        T, cut_nodes, area = cut_force_operator(model, _read_cut(Path(cut_file)), tol)
-        if not np.array_equal(cut_nodes, self.cut_nodes):
-            raise RuntimeError("traction driver: the cut nodes differ from the displacement driver's")
+        T, area = _force_operator(model, *self.band, self.cut_cells, self.cut_nodes, tol)  # the band and cut built once
         self.build_time += model.comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
         be = model.backend
         self.T_step = be.csr(T)
