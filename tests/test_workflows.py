@@ -147,3 +147,8 @@ def test_snakefile_wires_the_library_driver_and_stages():
     assert len(subs) == 4 and all("--global output/paper/driver" in ln for ln in subs)
     assert any("compare.py" in ln and "--out results" in ln for ln in lines)
     assert not any("fe.penalty=8" in ln or "record-until" in ln for ln in lines)  # the recipe is the library's
+    # a redirected log is a declared `log:` (Snakemake makes its folder; a bare `> output/paper/x.log` failed
+    # on a clean clone where no earlier output had made output/paper)
+    logs = {ln.split("log:", 1)[1].strip() for ln in p.stdout.splitlines() if ln.strip().startswith("log:")}
+    redirected = {ln.split(" > ", 1)[1].split()[0] for ln in lines if " > " in ln and "2>&1" in ln}
+    assert redirected and redirected <= logs, sorted(redirected - logs)
