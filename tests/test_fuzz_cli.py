@@ -1,6 +1,9 @@
 """Fuzz harness: random scenes, overrides and arguments for every entry point, in-process (bounded time:
 about 30 s). Whatever comes in, the script ends with exit 0 or exit 2 (bad input: one line on stderr, no
-output folder), never an uncaught exception (a traceback); the cost check keeps every run small in memory."""
+output folder), never an uncaught exception (a traceback). The harness lowers the cost check's budgets
+(:data:`SMALL`) so that every run it lets through is small in time and memory: the users' budgets admit runs
+of hours and gigabytes (an in-range draw once ran for minutes here, growing by 1 GB/min), which is right for
+a user and wrong for a test. The budgets themselves are tested in tests/test_cost.py."""
 
 from __future__ import annotations
 
@@ -10,6 +13,7 @@ import io
 import tempfile
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -24,6 +28,18 @@ values = st.one_of(numbers, st.text(max_size=8), st.floats(allow_nan=True).map(r
 override = st.tuples(st.sampled_from(sorted(SCHEMA)), values).map(lambda kv: f"{kv[0]}={kv[1]}")
 RESULTS: dict[str, list[int]] = {}  # exit codes seen per script (the harness's own check, below)
 TINY = ["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5"]
+# the harness's budgets: about 20 s of stepping and 1.5 GB at most for a run it lets through
+SMALL = {"STEP_BUDGET": 2e5, "WORK_BUDGET": 2e8, "VALUE_BUDGET": 1e6, "available_memory": lambda: 1.5e9}
+
+
+@pytest.fixture(autouse=True, scope="module")
+def small_budgets():
+    from rods import cost
+
+    with pytest.MonkeyPatch.context() as mp:
+        for name, value in SMALL.items():
+            mp.setattr(cost, name, value)
+        yield
 
 
 def call(script: str, argv: list[str]) -> tuple[int, str]:
