@@ -37,6 +37,20 @@ def test_rms_difference():
     assert metrics.rms_difference(t, np.sin(t), t, np.sin(t) + 2e-6, (0, 1)) == pytest.approx(2e-6, rel=1e-9)
 
 
+def test_time_lag_finds_a_known_delay():
+    """A Gaussian pulse delayed by 1.37 sample spacings: the lag is found to a few percent of a spacing
+    (between samples by the parabola) and the aligned RMS is far below the unaligned one."""
+    t = np.linspace(0, 1e-3, 2001)  # 0.5 µs spacing
+    pulse = lambda t: np.exp(-(((t - 4e-4) / 5e-5) ** 2))  # noqa: E731
+    delay = 1.37 * (t[1] - t[0])  # [s]
+    lag, rms = metrics.time_lag(t, pulse(t - delay), t, pulse(t), (0, 1e-3), max_lag=1e-5)
+    assert lag == pytest.approx(delay, rel=0.03)
+    assert rms < 0.02 * metrics.rms_difference(t, pulse(t - delay), t, pulse(t), (0, 1e-3))
+    assert metrics.time_lag(t, pulse(t + delay), t, pulse(t), (0, 1e-3), max_lag=1e-5)[0] == pytest.approx(
+        -delay, rel=0.03
+    )
+
+
 def test_chatter_shorter_than_min_gap_is_one_episode():
     t = np.linspace(0, 200e-6, 200001)
     F = 5000 * np.sin(np.pi * t / 200e-6) * (np.sin(2 * np.pi * t / 0.2e-6) > -0.5)  # gaps of ~0.07 µs

@@ -267,10 +267,15 @@ def test_no_fields_unless_asked(tmp_path):
 
 @pytest.mark.slow  # ~80 s of the default suite's 5 min 19 s; the main job checks the same scene (make verify, Fig. 4)
 def test_paper_scene_validation():
-    """The paper scene at the paper's global mesh (1 x 0.25 mm) against the analytical model (~25 s).
+    """The paper scene at the paper's global mesh (1 x 0.25 mm), default (kinematic) contact, against the
+    analytical model (~25 s).
 
-    Measured: peak +0.05%, duration +0.98 µs, strain RMS 5.5 µε, energy error 1.8e-7 (penalty 2 x E*/h;
-    at 1 x E*/h the softer contact tail made the contact 3.1 µs too long).
+    Measured (2026-11-23): peak force +0.06%, contact duration -1.57 µs, energy error 7e-10; midpoint strain
+    RMS 13.9 µε over five periods (6.4% of the 215 µε peak), of which most is a lead: the FE pulse runs
+    2.6 µs ahead of the 1D model's (its front rises sooner, its tail falls sooner: the contact onset, where the
+    patch is narrower than one 0.25 mm element, is stiffer than Hertz), and aligned the RMS is 7.9 µε. The
+    penalty law (2 x E*/h) gives 10.7 µε, 1.9 µs and 6.8 µε: its compliance hides part of the lead. The old
+    10 µε bound on the unaligned RMS was set against that penalty.
     """
     analytical = pytest.importorskip("rods.analytical")
     from rods import hertz
@@ -279,18 +284,15 @@ def test_paper_scene_validation():
     fe = ExplicitModel(sc).run()
     an = analytical.simulate(sc)
     s, a = fe.summary, an.summary
-    assert s["peak_contact_force"] == pytest.approx(a["peak_contact_force"], rel=0.02)
+    assert s["peak_contact_force"] == pytest.approx(a["peak_contact_force"], rel=0.005)
     assert abs(s["contact_duration"] - a["contact_duration"]) < 2e-6
-    T2 = sc.rod2.transit_time
-    rms = metrics.rms_difference(
-        fe.history["time"],
-        fe.history["rod2_mid_strain"],
-        an.history["time"],
-        an.history["rod2_mid_strain"],
-        (0.0, 5 * T2),
-    )
-    assert rms < 10e-6
-    assert s["energy_error"] < 1e-2
+    strains = (fe.history["time"], fe.history["rod2_mid_strain"], an.history["time"], an.history["rod2_mid_strain"])
+    window = metrics.strain_window(sc.rod2)
+    lag, aligned = metrics.time_lag(*strains, window, max_lag=10e-6)
+    assert -4e-6 < lag < 0.0  # the FE pulse leads, by less than 2% of the 204 µs contact
+    assert aligned < 10e-6
+    assert metrics.rms_difference(*strains, window) < 15e-6
+    assert s["energy_error"] < 1e-6
     a_h = hertz.at_force(s["peak_contact_force"], *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"]
     assert 0.8 < s["contact_radius"] / a_h < 1.5  # the global mesh resolves the patch coarsely
 
