@@ -118,6 +118,13 @@ def test_verification_section_follows_the_matrix(stages):
     n = len(v["rows"])
     assert f"{n - 1} of {n} cases meet every target" in text
     assert f"{v['rows'][0]['description']}: Δ duration +4.25 µs" in text
+    assert "does not attribute the duration misses" in text  # no mesh check in the row
+    v["rows"][0].update(
+        duration_gap_is_model_form=True, duration_mesh_change=-0.09e-6, mesh_check=2.0, strain_lag=-2.6e-6
+    )
+    text = report.render(data)
+    assert "1 of these duration gaps are the analytical model's form" in text
+    assert "at most 0.09 µs from a mesh 2 x coarser" in text and "leads by -2.6 to -2.6 µs" in text
     assert "verification" not in render(stages).lower()  # no matrix, no section
 
 

@@ -39,6 +39,35 @@ def test_row_targets_and_markdown():
     assert "+2.50 ✗" in md and "+0.400%" in md and "0 of 1 cases" in md
 
 
+def test_mesh_check_attributes_a_duration_gap_and_the_lag_is_measured():
+    """FE 3 µs shorter than the analytical model, its strain 1.5 µs ahead: with a 0.1 µs mesh change the gap
+    is the reference's model form; with a 1 µs change (more than an eighth of the gap) it is not."""
+    sc = load_scene(PAPER)
+    t = np.linspace(0.0, 1.5e-3, 6001)  # 0.25 µs spacing
+    pulse = lambda t: 2e-4 * np.exp(-(((t - 3e-4) / 5e-5) ** 2))  # noqa: E731
+    s = {"peak_contact_force": 5000.0, "contact_duration": 2.0e-4, "midpoint_peak_speed": 1.1}
+    fe_s = {**s, "contact_duration": 1.97e-4, "energy_error": 0.0, "wall_time": 1.0, "dofs": 10, "steps": 10}
+    ana = {"summary": s, "history": _history(t, 0 * t, 0 * t, pulse(t))}
+    fe = {"summary": fe_s, "history": _history(t, 0 * t, 0 * t, pulse(t + 1.5e-6))}
+    near = verification.case_row("paper", ana, fe, sc, {**fe_s, "contact_duration": 1.969e-4})
+    assert near["duration_mesh_change"] == pytest.approx(0.1e-6, rel=1e-6)
+    assert near["duration_gap_is_model_form"] and not near["passes"]["duration"]
+    assert near["strain_lag"] == pytest.approx(-1.5e-6, rel=0.02)
+    far = verification.case_row("paper", ana, fe, sc, {**fe_s, "contact_duration": 1.96e-4})
+    assert not far["duration_gap_is_model_form"]
+    assert not verification.case_row("paper", ana, fe, sc)["duration_gap_is_model_form"]  # no mesh check
+    data = {"base_scene": "paper", "extra_overrides": [], "targets": verification.TARGETS, "ranks": 1}
+    assert "1 of the 1 duration misses are the analytical model's form" in verification.render_markdown(
+        {**data, "rows": [near]}
+    )
+    assert "model's form" not in verification.render_markdown({**data, "rows": [far]})
+
+
+def test_coarser_doubles_both_sizes():
+    c = verification.coarser(load_scene(PAPER))
+    assert (c["fe.axial_size"], c["fe.radial_size"]) == (2e-3, 0.5e-3)
+
+
 def test_short_history_has_no_rms():
     sc = load_scene(PAPER)
     t = np.linspace(0.0, 2e-4, 101)
@@ -62,4 +91,6 @@ def test_cli_runs_one_case_on_a_coarse_mesh(tmp_path):
     (row,) = data["rows"]
     assert row["impact_speed"] == 1.0 and abs(row["peak_force_pct"]) < 3.0  # coarse 4 x 1 mm mesh
     assert (tmp_path / "speed-1.0" / "global" / "history.csv").exists()
+    assert (tmp_path / "speed-1.0" / "global-coarser" / "summary.json").exists()  # the mesh check
+    assert math.isfinite(row["duration_mesh_change"]) and row["strain_lag"] is None  # a short run: no lag (null)
     assert "verification matrix" in (tmp_path / "verification.md").read_text().lower()
