@@ -46,7 +46,7 @@ def test_cli_reads_only_json_and_defaults_to_the_folder_of_out(results):
 def test_paper_numbers_in_the_prose_follow_the_data(stages):
     before = render(stages)
     before_phrases = (
-        "5219 -> 5368 -> 5492 N, -5.8% to -0.9%", "(paper: +0.1%)", "(the paper's global model: +24%",
+        "5219 -> 5368 -> 5492 N, -5.8% to -0.9%", "(paper: +0.1%)", "(the paper's global model: area +24%",
         "Table 3's analytical 5,543 N", "(the paper: -4.9% to -1.7%)", "-1.25% from the paper's 1.105",
     )  # fmt: skip
     assert all(p in before for p in before_phrases)
@@ -60,7 +60,7 @@ def test_paper_numbers_in_the_prose_follow_the_data(stages):
     next(r for r in t2["trials"] if r["name"] == t2["fe_trial"])["paper_peak_speed"] = 1.2
     after = render(stages)
     after_phrases = (
-        "5219 -> 5368 -> 5543 N, -5.8% to +0.0%", "(paper: +1.0%)", "(the paper's global model: +50%",
+        "5219 -> 5368 -> 5543 N, -5.8% to +0.0%", "(paper: +1.0%)", "(the paper's global model: area +50%",
         "Table 3's analytical 5,000 N", "(the paper: -3.2% to +0.0%)", "-9.06% from the paper's 1.200",
     )  # fmt: skip
     assert [p for p in after_phrases if p not in after] == []
