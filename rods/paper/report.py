@@ -336,7 +336,7 @@ def _model_form_text(rows: list[dict[str, Any]]) -> str:
     lead = [r["strain_lag"] * 1e6 for r in form if r.get("strain_lag") is not None]
     return (
         f" {len(form)} of these duration gaps are the analytical model's form, not the FE's discretisation: "
-        f"the FE duration moves by at most {change:.2f} µs from a mesh {form[0]['mesh_check']:g} x coarser, "
+        f"the FE duration moves by at most {change:.2f} µs on a mesh {form[0]['mesh_check']:g} x finer, "
         "and the 1D model (bars loaded uniformly across the section, quasi-static Hertz between half-spaces) "
         "makes the contact more compliant than the rods are: the FE force rises sooner and ends sooner"
         + (f", its midpoint strain leads by {min(lead):+.1f} to {max(lead):+.1f} µs." if lead else ".")

@@ -124,7 +124,7 @@ def test_verification_section_follows_the_matrix(stages):
     )
     text = report.render(data)
     assert "1 of these duration gaps are the analytical model's form" in text
-    assert "at most 0.09 µs from a mesh 2 x coarser" in text and "leads by -2.6 to -2.6 µs" in text
+    assert "at most 0.09 µs on a mesh 2 x finer" in text and "leads by -2.6 to -2.6 µs" in text
     assert "verification" not in render(stages).lower()  # no matrix, no section
 
 

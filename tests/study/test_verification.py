@@ -63,9 +63,9 @@ def test_mesh_check_attributes_a_duration_gap_and_the_lag_is_measured():
     assert "model's form" not in verification.render_markdown({**data, "rows": [far]})
 
 
-def test_coarser_doubles_both_sizes():
-    c = verification.coarser(load_scene(PAPER))
-    assert (c["fe.axial_size"], c["fe.radial_size"]) == (2e-3, 0.5e-3)
+def test_finer_halves_both_sizes_and_stops_at_the_contact_phase():
+    c = verification.finer(load_scene(PAPER), 2.5e-4)
+    assert (c["fe.axial_size"], c["fe.radial_size"], c.end_time) == (0.5e-3, 0.125e-3, 2.5e-4)
 
 
 def test_short_history_has_no_rms():
@@ -91,6 +91,6 @@ def test_cli_runs_one_case_on_a_coarse_mesh(tmp_path):
     (row,) = data["rows"]
     assert row["impact_speed"] == 1.0 and abs(row["peak_force_pct"]) < 3.0  # coarse 4 x 1 mm mesh
     assert (tmp_path / "speed-1.0" / "global" / "history.csv").exists()
-    assert (tmp_path / "speed-1.0" / "global-coarser" / "summary.json").exists()  # the mesh check
+    assert (tmp_path / "speed-1.0" / "global-finer" / "summary.json").exists()  # the mesh check
     assert math.isfinite(row["duration_mesh_change"]) and row["strain_lag"] is None  # a short run: no lag (null)
     assert "verification matrix" in (tmp_path / "verification.md").read_text().lower()
