@@ -109,7 +109,8 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
                 f"({lv['error_vs_analytical_pct'][q]:+.2f}% vs Hertz at the analytical force)"
                 for q in opp
             )
-            flags.append(f"{model} {lv['level']}: errors cancel: force {eF:+.2f}% vs analytical, {parts}")
+            name = lv["level"] if lv["level"].startswith(model) else f"{model} {lv['level']}"  # not "global global"
+            flags.append(f"{name}: errors cancel: force {eF:+.2f}% vs analytical, {parts}")
     if est is None:
         return [*flags, f"{model}: only {len(levels)} levels, no convergence estimate (three or more needed)"]
     for q, (label, *_) in QUANTITIES.items():
