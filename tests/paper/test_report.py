@@ -114,6 +114,7 @@ def test_verification_section_follows_the_matrix(stages):
         r["passes"] = {"peak_force": True, "duration": True, "energy": True}
     v["rows"][0]["passes"]["duration"] = False
     v["rows"][0]["duration_difference"] = 4.25e-6
+    v["rows"][0]["duration_gap_is_model_form"] = False
     text = report.render(data)
     n = len(v["rows"])
     assert f"{n - 1} of {n} cases meet every target" in text
