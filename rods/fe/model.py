@@ -29,11 +29,10 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -48,15 +47,16 @@ from rods import hertz
 from rods.fe import backend as backends
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
-from rods.fe.explicit import CentralDifference, largest_eigenvalue, stable_step, switching_step
+from rods.fe.explicit import CentralDifference
 from rods.fe.fields import DEFAULT_FIELD_INTERVAL, FieldOutput
 from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, RunGuard
 from rods.fe.kinematic import KinematicContact
-from rods.fe.mesh import TAGS, RodsMesh, build_mesh, cell_sizes
-from rods.fe.mesh3d import TAGS_3D, build_mesh_3d, cell_sizes_3d
+from rods.fe.mesh import TAGS, RodsMesh, build_mesh
+from rods.fe.mesh3d import TAGS_3D, build_mesh_3d
 from rods.fe.observers import Observer, Progress, march
 from rods.fe.probes import PointProbes
 from rods.fe.recorder import Recorder, output_steps
+from rods.fe.timestep import time_step
 from rods.scene import Scene, SceneError
 
 __all__ = ["FEResult", "ExplicitModel"]
@@ -70,11 +70,6 @@ class FEResult:
     units: dict[str, str]
     summary: dict[str, Any]
     pressure_profile: dict[str, np.ndarray] = field(default_factory=dict)  # r [m], p [Pa] at peak force
-
-
-def _vec(comm: MPI.Comm, a: np.ndarray, n_global: int, bs: int) -> PETSc.Vec:
-    """A PETSc Vec that shares the memory of the owned numpy array ``a``."""
-    return PETSc.Vec().createWithArray(a, size=(a.size, n_global), bsize=bs, comm=comm)
 
 
 class ExplicitModel:
@@ -199,60 +194,9 @@ class ExplicitModel:
     def _assemble_owned(self, form: ufl.Form) -> np.ndarray:
         return forms.assemble_owned(dolfinx.fem.form(form), self.n_local)
 
-    def _omega_max(self, with_contact: bool) -> float:
-        """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½ (SLEPc)."""
-        D = np.sqrt(self.inv_mass)
-        z, Kz = np.zeros(self.n_local), np.zeros(self.n_local)
-        zv, Kzv = _vec(self.comm, z, self.n_global, self.bs), _vec(self.comm, Kz, self.n_global, self.bs)
-
-        def apply(x: np.ndarray, y: np.ndarray) -> None:
-            np.multiply(D, x, out=z)
-            self.K.mult(zv, Kzv)
-            if with_contact:
-                self.contact.apply_stiffness(z, Kz)
-            y += D * Kz
-
-        return math.sqrt(largest_eigenvalue(apply, self.n_local, self.comm))
-
-    def _gershgorin(self) -> float:
-        """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
-        # DOLFINx's own CSR matrix (owned rows, all columns): no PETSc type conversion needed
-        S = dolfinx.fem.assemble_matrix(self.stiffness).to_scipy()
-        rows = np.asarray(abs(S).sum(axis=1)).ravel()[: self.n_local]
-        del S
-        self.contact.add_abs_row_sums(rows)
-        return self.comm.allreduce(float(np.max(rows * self.inv_mass, initial=0.0)), op=MPI.MAX)
-
     def _stable_step(self) -> None:
-        sc = self.scene
-        self.ω_max_K = self._omega_max(False)
-        self.ω_max = self._omega_max(True)
-        self.ξ = sc["fe.bulk_viscosity"]
-        self.dt_critical = stable_step(self.ω_max, self.ξ)  # [s]
-        self.dt_critical_no_contact = stable_step(self.ω_max_K, self.ξ)
-        self.dt_gershgorin = stable_step(math.sqrt(self._gershgorin()), self.ξ)  # a safe lower bound [s]
-        self.ω_contact = self.contact.pair_frequency(self.inv_mass)  # [rad/s]
-        self.dt_switching = switching_step(self.ω_contact)  # [s]
-        h_min = min(cell_sizes_3d(self.rm.mesh) if self.kind == "3d" else cell_sizes(self.rm.mesh))
-        self.h_min = h_min  # smallest element size [m] (element step estimate, run guards)
-        c_d = max(r.material.dilatational_wave_speed for r in sc.rods)
-        self.dt_element = h_min / c_d  # [s]
-        req = sc["fe.dt"]
-        if req == "auto":
-            self.dt = min(sc["fe.dt_fraction"] * self.dt_critical, self.dt_switching)
-        else:
-            if req > self.dt_critical:
-                raise SceneError("fe.dt", req, f"must be <= stable limit {self.dt_critical:g} s")
-            if req > self.dt_switching:
-                raise SceneError(
-                    "fe.dt",
-                    req,
-                    f"must be <= contact-switching limit {self.dt_switching:g} s (stiff penalty: "
-                    "contact nodes would rattle and pump energy; lower fe.penalty or fe.dt)",
-                )
-            self.dt = float(req)
-        self.β_visc = 2.0 * self.ξ / self.ω_max  # stiffness-proportional damping C = β K [s]
-        self.steps = math.ceil(sc.end_time / self.dt * (1 - 1e-12))
+        """The step's limits and the step (rods.fe.timestep), kept as attributes (dt, dt_critical, ω_max, ...)."""
+        self.__dict__.update(asdict(time_step(self)))
 
     def _contact_text(self) -> str:
         sc = self.scene

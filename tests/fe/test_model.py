@@ -141,6 +141,8 @@ def test_stable_step(model):
     assert model.dt_critical <= model.dt_critical_no_contact * (1 + 1e-9)  # the penalty can only stiffen
     lo = 0.3 if model.kind == "3d" else 0.5
     assert lo < model.dt_critical / model.dt_element < 2.0
+    assert model.dt_gershgorin <= model.dt_critical * (1 + 1e-9)  # a lower bound (rods.fe.timestep)
+    assert model.steps * model.dt >= model.scene.end_time * (1 - 1e-9) > (model.steps - 1) * model.dt
 
 
 ENERGY_TOL = {"axisymmetric": 1e-5, "3d": 1e-5}  # energy balance error of the coarse runs [-]

@@ -1,0 +1,123 @@
+"""The explicit model's step: its limits and the step it marches at (:mod:`rods.fe.explicit` for the theory).
+
+:func:`time_step` computes, once per model after K, the lumped mass and the contact are set up:
+
+* ω_max [rad/s] of M^-1 (K + K_c), K_c the contact stiffness at full engagement, by SLEPc Krylov-Schur on
+  M^-½ (K + K_c) M^-½ (:func:`omega_max`), and without contact; the linear limit
+  Δt_crit = 2/ω_max (sqrt(1 + ξ²) - ξ) with the bulk-viscosity fraction ξ (:func:`rods.fe.explicit.stable_step`);
+* the Gershgorin bound ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i (:func:`gershgorin`), a check never marched at;
+* the contact-switching limit SWITCHING/ω_c of an isolated penalty pair (:func:`rods.fe.explicit.switching_step`);
+* the element estimate h_min/c_d, c_d the largest dilatational wave speed;
+* the step: ``fe.dt_fraction`` x Δt_crit capped by the switching limit when ``fe.dt`` is "auto", else
+  ``fe.dt`` checked against both limits (:class:`rods.scene.SceneError` above either), and the stiffness-
+  proportional damping β = 2ξ/ω_max [s] and the step count to the scene's end time.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import dolfinx
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from rods.fe.explicit import largest_eigenvalue, stable_step, switching_step
+from rods.fe.mesh import cell_sizes
+from rods.fe.mesh3d import cell_sizes_3d
+from rods.scene import SceneError
+
+if TYPE_CHECKING:
+    from rods.fe.model import ExplicitModel
+
+__all__ = ["TimeStep", "gershgorin", "omega_max", "time_step"]
+
+
+@dataclass(frozen=True)
+class TimeStep:
+    ω_max: float  # [rad/s] with the contact at full engagement
+    ω_max_K: float  # [rad/s] without contact
+    ξ: float  # bulk-viscosity fraction of critical damping [-]
+    dt_critical: float  # [s] the linear limit with contact
+    dt_critical_no_contact: float  # [s]
+    dt_gershgorin: float  # [s] a safe lower bound of dt_critical
+    ω_contact: float  # [rad/s] an isolated contact pair's frequency (0: kinematic)
+    dt_switching: float  # [s] the contact-switching limit (inf: none)
+    h_min: float  # [m] the smallest element
+    dt_element: float  # [s] h_min / c_d
+    dt: float  # [s] the step marched at
+    β_visc: float  # [s] stiffness-proportional damping C = β K
+    steps: int  # steps to the scene's end time
+
+
+def _vec(comm: MPI.Comm, a: np.ndarray, n_global: int, bs: int) -> PETSc.Vec:
+    """A PETSc Vec that shares the memory of the owned numpy array ``a``."""
+    return PETSc.Vec().createWithArray(a, size=(a.size, n_global), bsize=bs, comm=comm)
+
+
+def omega_max(model: ExplicitModel, with_contact: bool) -> float:
+    """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½ (SLEPc)."""
+    D = np.sqrt(model.inv_mass)
+    z, Kz = np.zeros(model.n_local), np.zeros(model.n_local)
+    zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
+
+    def apply(x: np.ndarray, y: np.ndarray) -> None:
+        np.multiply(D, x, out=z)
+        model.K.mult(zv, Kzv)
+        if with_contact:
+            model.contact.apply_stiffness(z, Kz)
+        y += D * Kz
+
+    return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm))
+
+
+def gershgorin(model: ExplicitModel) -> float:
+    """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
+    # DOLFINx's own CSR matrix (owned rows, all columns): no PETSc type conversion needed
+    S = dolfinx.fem.assemble_matrix(model.stiffness).to_scipy()
+    rows = np.asarray(abs(S).sum(axis=1)).ravel()[: model.n_local]
+    del S
+    model.contact.add_abs_row_sums(rows)
+    return model.comm.allreduce(float(np.max(rows * model.inv_mass, initial=0.0)), op=MPI.MAX)
+
+
+def time_step(model: ExplicitModel) -> TimeStep:
+    """The limits and the step of ``model`` (collective); see the module docstring."""
+    sc = model.scene
+    ω_K, ω, ξ = omega_max(model, False), omega_max(model, True), sc["fe.bulk_viscosity"]
+    dt_critical = stable_step(ω, ξ)
+    ω_contact = model.contact.pair_frequency(model.inv_mass)
+    dt_switching = switching_step(ω_contact)
+    h_min = min(cell_sizes_3d(model.rm.mesh) if model.kind == "3d" else cell_sizes(model.rm.mesh))
+    c_d = max(r.material.dilatational_wave_speed for r in sc.rods)  # [m/s]
+    req = sc["fe.dt"]
+    if req == "auto":
+        dt = min(sc["fe.dt_fraction"] * dt_critical, dt_switching)
+    elif req > dt_critical:
+        raise SceneError("fe.dt", req, f"must be <= stable limit {dt_critical:g} s")
+    elif req > dt_switching:
+        raise SceneError(
+            "fe.dt",
+            req,
+            f"must be <= contact-switching limit {dt_switching:g} s (stiff penalty: "
+            "contact nodes would rattle and pump energy; lower fe.penalty or fe.dt)",
+        )
+    else:
+        dt = float(req)
+    return TimeStep(
+        ω_max=ω,
+        ω_max_K=ω_K,
+        ξ=ξ,
+        dt_critical=dt_critical,
+        dt_critical_no_contact=stable_step(ω_K, ξ),
+        dt_gershgorin=stable_step(math.sqrt(gershgorin(model)), ξ),
+        ω_contact=ω_contact,
+        dt_switching=dt_switching,
+        h_min=h_min,
+        dt_element=h_min / c_d,
+        dt=dt,
+        β_visc=2.0 * ξ / ω,
+        steps=math.ceil(sc.end_time / dt * (1 - 1e-12)),
+    )
