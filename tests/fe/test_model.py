@@ -355,8 +355,8 @@ def test_centric_3d_matches_axisymmetric_paper_rods():
 
     Measured 2026-11-23 (tips graded by default): peak force -0.24%, midpoint strain RMS 3.57 µε (1.7% of
     the 215 µε peak; the 3D strain trails by 0.34 µs, aligned 3.21 µε); the penalty law gives 3.23 µε. Issue
-    #4's 3 µε was met (2.8 µε) before the default tip grading; both laws now exceed it by about as much, the
-    difference being how the cap's node lattice and the axisymmetric rings resolve the contact onset."""
+    #4's 3 µε was met (2.8 µε, recorded under earlier defaults; which change moved it was not bisected); both
+    laws now exceed it by about as much."""
     sc = load_scene(PAPER)
     end = 5 * sc.rod2.transit_time
     s3, sa, rms = _axisymmetric_vs_3d(["fe.axial_size=2e-3", "fe.radial_size=0.5e-3", f"simulation.end_time={end}"])
