@@ -121,7 +121,7 @@ def case_row(
         "peak_force_mesh_change_pct": math.nan
         if refined is None
         else percent(sf["peak_contact_force"], refined["peak_contact_force"]),
-        # the duration gap is the reference's model form when the FE's own mesh change is far smaller
+        # the duration gap is the reference's model form when the refinement widens it or moves the FE far less
         "duration_gap_is_model_form": gap_is_model_form(d_dur, mesh_dur),
         "energy_error": sf["energy_error"],
         "wall_time": sf["wall_time"] + sf.get("setup_time", 0.0),
