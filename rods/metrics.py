@@ -18,6 +18,8 @@
 * RMS strain difference (Table 2): over the first five periods 2 L2/c2 of the midpoint strain,
   counted from impact (:func:`strain_window`); the two histories are compared on the first one's
   sample times.
+* Strain lag (:func:`time_lag`): the shift of one history against the other that minimises that RMS (negative:
+  the first leads); it tells a timing offset from a difference of shape.
 """
 
 from __future__ import annotations
