@@ -138,16 +138,16 @@ def time_lag(
     RMS: τ > 0 when a trails b. Searched on a's sample spacing, then refined by the vertex of the parabola
     through the three mean squares around the best sample (the mean square, not the RMS, is quadratic in a
     small lag error). The RMS at τ = 0 is :func:`rms_difference`."""
-    t = np.asarray(t, float)
+    t, t_b = np.asarray(t, float), np.asarray(t_b, float)
     step = float(t[1] - t[0])
     lags = step * np.arange(-int(max_lag / step), int(max_lag / step) + 1)
-    r = np.array([rms_difference(t, a, np.asarray(t_b, float) + lag, b, window) for lag in lags])
+    r = np.array([rms_difference(t, a, t_b + lag, b, window) for lag in lags])
     i = int(np.argmin(r))
     if 0 < i < r.size - 1:  # vertex of the parabola through (i-1, i, i+1)
         q = r[i - 1 : i + 2] ** 2
         d = q[0] - 2 * q[1] + q[2]
         lag = lags[i] + (0.5 * step * (q[0] - q[2]) / d if d > 0 else 0.0)
-        return float(lag), rms_difference(t, a, np.asarray(t_b, float) + lag, b, window)
+        return float(lag), rms_difference(t, a, t_b + lag, b, window)
     return float(lags[i]), float(r[i])
 
 
