@@ -42,7 +42,7 @@ from rods import io, metrics, plan  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
 from rods.paper.data import write_json  # noqa: E402
-from rods.scene import load_scene  # noqa: E402
+from rods.scene import SUBMODEL_DRIVINGS, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
@@ -122,7 +122,9 @@ def plot(curves: dict, analytical: dict, path: Path) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--levels", nargs="+", default=["coarse", "mid", "fine"])
-    ap.add_argument("--drivings", nargs="+", default=None, help="run only these, merged into an existing --out")
+    ap.add_argument(
+        "--drivings", nargs="+", choices=SUBMODEL_DRIVINGS, default=None, help="run only these, merged into --out"
+    )
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "driver-study")
     args = ap.parse_args()
     cases = [c for c in CASES if args.drivings is None or c[2] in args.drivings]
