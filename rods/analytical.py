@@ -15,7 +15,13 @@ and the compression rate (Eq. 6) is minus the sum of the two tip velocities away
     δ'(t) = s1 - 2 a_1(t - T_1) - 2 a_2(t - T_2) - P(t) (1/Z_1 + 1/Z_2).
 
 With ``a_i(t) = Σ_k P(t - k T_i) / Z_i`` this is one scalar delay differential equation with the
-discrete delays k T_i; the paper's f_i', g_i' are a_i and the returning wave. It is the paper's
+discrete delays k T_i; the paper's f_i', g_i' are a_i and the returning wave.
+
+Contact law: the paper's (``analytical.contact = "hertz"``) is Hertz's half-space approach. The option
+``"hertz-rod"`` adds the rods' end correction, a linear term: δ = (P/K)^{2/3} + c P with
+c = Σ_i χ(ν_i)/(E_i b_i) < 0 (:func:`rods.hertz.rod_end_compliance`): the bars already carry the far field
+that the half-space approach counts. The state is then the Hertz part δ_H = (P/K)^{2/3}, and
+δ_H' = δ' / (1 + (3/2) c K sqrt(δ_H)). It is the paper's
 system (2)-(7) with two misprints corrected: Eq. 8's R* is r1 r2/(r1 + r2) (the paper prints its
 square root), and Eq. 5's last factor is dδ/dt, not δ (F' = (3/2) K sqrt(δ) dδ/dt). P is the
 magnitude of the compressive force (the paper's F = -P).
@@ -44,9 +50,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
 from rods import hertz, metrics
-from rods.scene import Rod, Scene
+from rods.scene import Rod, Scene, SceneError
 
-__all__ = ["AnalyticalResult", "WaveModel", "simulate"]
+__all__ = ["AnalyticalResult", "WaveModel", "contact_compliance", "simulate"]
 
 
 class _History:
@@ -109,6 +115,7 @@ class WaveModel:
     rod2: Rod
     speed: float  # s1 [m/s]
     rtol: float = 1e-10
+    compliance: float = 0.0  # c [m/N]: linear term of the approach (rod-end correction; 0: paper Eq. 8)
     E_star: float = field(init=False)  # [Pa]
     R_star: float = field(init=False)  # [m]
     K: float = field(init=False)  # Hertz stiffness [N/m^1.5]
@@ -128,13 +135,22 @@ class WaveModel:
 
     # ---- history -------------------------------------------------------------------------
     def force(self, t: ArrayLike) -> NDArray[np.float64]:
-        """Contact force magnitude P(t) = K <δ>^{3/2} [N] from the stored dense output (0 for t < 0)."""
-        t = np.atleast_1d(np.asarray(t, dtype=float))
-        δ = self.compression(t)
-        return self.K * np.maximum(δ, 0.0) ** 1.5
+        """Contact force magnitude P(t) = K <δ_H>^{3/2} [N] from the stored dense output (0 for t < 0)."""
+        return self.K * np.maximum(self._hertz_approach(t), 0.0) ** 1.5
 
     def compression(self, t: ArrayLike) -> NDArray[np.float64]:
-        """δ(t) [m]; negative values are the gap between the tips in free flight (0 for t < 0)."""
+        """δ(t) = δ_H + c P [m]; negative values are the gap between the tips in free flight (0 for t < 0)."""
+        δ_H = self._hertz_approach(t)
+        return δ_H + self.compliance * self.K * np.maximum(δ_H, 0.0) ** 1.5
+
+    def contact_energy(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Energy stored in the contact, ∫P dδ = (2/5) K δ_H^{5/2} + c P²/2 [J] (0 when apart)."""
+        δ_H = np.maximum(self._hertz_approach(t), 0.0)
+        P = self.K * δ_H**1.5
+        return 0.4 * self.K * δ_H**2.5 + 0.5 * self.compliance * P**2
+
+    def _hertz_approach(self, t: ArrayLike) -> NDArray[np.float64]:
+        """The state δ_H(t) [m] (δ itself for the paper's law; 0 for t < 0)."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
         δ = self._history(t, 0)
         δ[t < 0] = 0.0
@@ -181,7 +197,7 @@ class WaveModel:
     # ---- integration ---------------------------------------------------------------------
     def run(self, end_time: float) -> WaveModel:
         """Integrate from first touch (t = 0, δ = 0, δ' = s1) to ``end_time``."""
-        s1, K, Zs = self.speed, self.K, 1.0 / self.Z[0] + 1.0 / self.Z[1]
+        s1, K, Zs, c = self.speed, self.K, 1.0 / self.Z[0] + 1.0 / self.Z[1], self.compliance
         Tmin = min(self.T)
         atol = np.array([self.rtol * self.delta_scale * 1e-2, self.rtol * 1e-2 * self.delta_scale * K * Tmin])
 
@@ -195,8 +211,11 @@ class WaveModel:
                     tb += T
 
         def rhs(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
-            P = K * max(y[0], 0.0) ** 1.5
-            return np.array([s1 - self._delayed_force(t) - P * Zs, P])
+            root = math.sqrt(max(y[0], 0.0))
+            P = K * root**3
+            # dδ/dδ_H, 1 for the paper's law; floored for the integrator's trial stages only (checked after)
+            stiffening = max(1.0 + 1.5 * c * K * root, 0.1)
+            return np.array([(s1 - self._delayed_force(t) - P * Zs) / stiffening, P])
 
         def release(t: float, y: NDArray[np.float64]) -> float:
             return y[0]
@@ -227,7 +246,27 @@ class WaveModel:
                 add_breaks(t)
             elif touching:
                 self.contacts[-1][1] = t  # provisional end, so delayed lookups see the open episode
+        self._check_rod_end_term()
         return self
+
+    def _check_rod_end_term(self) -> None:
+        """The rod-end term must stay a correction: dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) >= 0.25 at the largest
+        approach (about a <= b: χ is constant to 2% for Hertz radii a from 0.075 b to 0.7 b, rods.fe.end_compliance;
+        beyond, the patch covers the rod's end and neither Hertz nor the correction holds)."""
+        if self.compliance == 0.0 or not self._history.t_lo:
+            return
+        δ_H = max(float(np.max(self._history(np.asarray(self._history.t_lo), 0))), 0.0)
+        if 1.0 + 1.5 * self.compliance * self.K * math.sqrt(δ_H) < 0.25:
+            P = self.K * δ_H**1.5
+            a = float(hertz.contact_radius(P, self.E_star, self.R_star))
+            raise SceneError(
+                "analytical.contact",
+                "hertz-rod",
+                f"the Hertz radius {a * 1e3:.3g} mm at P = {P:.4g} N is not small against the rods' radii "
+                f"({self.rod1.diameter * 500:.3g}, {self.rod2.diameter * 500:.3g} mm): the rod-end term reverses the "
+                "approach",
+                "use analytical.contact = 'hertz', a smaller tip radius or a lower impact.speed",
+            )
 
     # ---- kinematics (paper Eq. 9, generalised to any station) ---------------------------
     def station(self, rod: int, x: float, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -269,10 +308,21 @@ class AnalyticalResult:
     summary: dict[str, Any]
 
 
+def contact_compliance(scene: Scene) -> float:
+    """The linear term c [m/N] of the contact law ``analytical.contact``: 0 for the paper's half-space Hertz,
+    the two rods' end corrections for "hertz-rod" (module docstring)."""
+    if scene["analytical.contact"] == "hertz":
+        return 0.0
+    return sum(hertz.rod_end_compliance(rod) for rod in scene.rods)
+
+
 def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     """Run the analytical model on a scene; histories on the scene's output grid plus summary.json keys."""
     t0 = time.perf_counter()
-    model = WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=scene["analytical.rtol"] if rtol is None else rtol)
+    c = contact_compliance(scene)
+    model = WaveModel(
+        scene.rod1, scene.rod2, scene.speed, rtol=scene["analytical.rtol"] if rtol is None else rtol, compliance=c
+    )
     model.run(scene.end_time)
     wall = time.perf_counter() - t0
 
@@ -316,6 +366,8 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         "rigid_velocity_rod2": V2,
         "max_compression": float(model.compression(t_peak)[0]),
         "hertz": {"E_star": model.E_star, "R_star": model.R_star, "K": model.K},
+        "contact_law": scene["analytical.contact"],
+        "contact_compliance": c,
         "rtol": model.rtol,
         "steps": model.steps,
         "wall_time": wall,

@@ -25,6 +25,8 @@ __all__ = [
     "YIELD_FACTOR",
     "HertzContact",
     "YieldWarning",
+    "ROD_END_CHI",
+    "ROD_END_NU",
     "approach",
     "axis_stresses",
     "check_yield",
@@ -37,6 +39,7 @@ __all__ = [
     "max_shear",
     "peak_pressure",
     "pressure",
+    "rod_end_compliance",
     "surface_hoop_stress",
     "surface_radial_stress",
     "yield_check",
@@ -44,12 +47,47 @@ __all__ = [
 
 YIELD_FACTOR = 1.1  # P < 1.1 S_y keeps the contact elastic (paper §2.3, Fischer-Cripps) [-]
 
+# The rod-end correction χ(ν) [-] of the Hertz approach (rods.fe.end_compliance: a rod's end is stiffer than
+# the half-space by χ F/(E b)); tabulated by `python benchmarks/rod_end_compliance.py`
+# (results/rod-end-compliance.md: Q2, n = 48, a = 0.15 b; a mesh 2 x finer agrees to 0.04%, a = 0.075 b
+# to 0.12% for ν >= -0.5 and 0.6% at -0.9). χ [-].
+ROD_END_NU = (-0.9, -0.5, -0.25, 0.0, 0.15, 0.25, 0.3, 0.35, 0.4, 0.45, 0.49)  # [-]
+ROD_END_CHI = (  # [-]
+    -0.08331,
+    -0.45605,
+    -0.59294,
+    -0.64660,
+    -0.63791,
+    -0.61491,
+    -0.59823,
+    -0.57810,
+    -0.55450,
+    -0.52743,
+    -0.50329,
+)
+
 FloatOrArray = float | NDArray[np.float64]
 
 
 def _out(x: NDArray[np.float64]) -> FloatOrArray:
     """Return a Python float for 0-d results so scalar calls stay scalar."""
     return float(x) if np.ndim(x) == 0 else x
+
+
+class _MaterialLike(Protocol):
+    @property
+    def youngs_modulus(self) -> float: ...  # [Pa]
+    @property
+    def poisson_ratio(self) -> float: ...  # [-]
+
+
+class _RodLike(Protocol):
+    @property
+    def tip_radius(self) -> float: ...  # [m]; inf = flat
+    @property
+    def diameter(self) -> float: ...  # [m]
+    @property
+    def material(self) -> _MaterialLike: ...
 
 
 # --------------------------------------------------------------------------------------------
@@ -131,21 +169,24 @@ def approach(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
     return _out((_force(F) / K) ** (2.0 / 3.0))
 
 
+def rod_end_compliance(rod: _RodLike) -> float:
+    """The rod-end correction χ(ν)/(E b) [m/N] (< 0) of one body's Hertz approach: a rod of radius b is
+    stiffer at its end than the half-space Hertz assumes, because its 1D bar strain already carries the far
+    field (rods.fe.end_compliance). The approach of the bar ends is δ = δ_Hertz(F) + Σ_i χ(ν_i) F/(E_i b_i).
+
+    χ is interpolated (monotone cubic) in :data:`ROD_END_CHI` over ν in [-0.9, 0.49]; outside, the end
+    value (a Poisson ratio below -0.9 or above 0.49 is no engineering metal). Assumes a << b and a tip
+    whose cap is short against b (the cap's own shape is not in χ)."""
+    from scipy.interpolate import PchipInterpolator
+
+    ν = min(max(rod.material.poisson_ratio, ROD_END_NU[0]), ROD_END_NU[-1])
+    χ = float(PchipInterpolator(ROD_END_NU, ROD_END_CHI)(ν))
+    return χ / (rod.material.youngs_modulus * 0.5 * rod.diameter)
+
+
 # --------------------------------------------------------------------------------------------
 # One contact state
 # --------------------------------------------------------------------------------------------
-class _MaterialLike(Protocol):
-    @property
-    def youngs_modulus(self) -> float: ...  # [Pa]
-    @property
-    def poisson_ratio(self) -> float: ...  # [-]
-
-
-class _RodLike(Protocol):
-    @property
-    def tip_radius(self) -> float: ...  # [m]; inf = flat
-    @property
-    def material(self) -> _MaterialLike: ...
 
 
 def contact_constants(rod1: _RodLike, rod2: _RodLike) -> tuple[float, float]:

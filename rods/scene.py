@@ -53,6 +53,7 @@ SUBMODEL_LEVEL_SIZES = {
 SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
 # contact force laws: rods.fe.contact (penalty, the paper's) and rods.fe.kinematic (Lagrange, penalty-free)
 CONTACT_LAWS = ("penalty", "kinematic")
+ANALYTICAL_CONTACT_LAWS = ("hertz", "hertz-rod")  # rods.analytical: the contact law of the 1D model
 SUBMODEL_DRIVINGS = ("displacement", "traction", "mixed")  # rods.fe.submodel.make_driver
 
 
@@ -159,6 +160,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "simulation.end_time": ("float", 1.5e-3, _positive("s", hi=1.0)),
     "simulation.output_interval": ("float", 0.25e-6, _positive("s", hi=1e-3)),
     "analytical.rtol": ("float", 1e-10, _interval(1e-14, 1e-2, closed_lo=True, closed_hi=True)),
+    # hertz: the paper's half-space approach (Eq. 8); hertz-rod: plus the rods' end correction (rods.analytical)
+    "analytical.contact": ("str", "hertz", _choice(ANALYTICAL_CONTACT_LAWS)),
     "fe.kind": ("str", "axisymmetric", _choice(FE_KINDS)),
     "fe.axial_size": ("float", 1.0e-3, _positive("m", hi=0.1)),
     "fe.radial_size": ("float", 0.25e-3, _positive("m", hi=0.1)),

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rods import hertz
-from rods.analytical import WaveModel, simulate
+from rods.analytical import WaveModel, contact_compliance, simulate
 from rods.scene import load_scene
 
 from .conftest import SCENES
@@ -23,8 +23,7 @@ def field_totals(m: WaveModel, t: float, n: int = 400_001) -> tuple[float, float
         ρA, EA = rod.material.density * rod.area, rod.material.youngs_modulus * rod.area
         P_tot += np.trapezoid(ρA * v, x)
         E_tot += np.trapezoid(0.5 * ρA * v**2 + 0.5 * EA * ε**2, x)
-    δ = max(float(m.compression(t)[0]), 0.0)
-    return P_tot, E_tot + 0.4 * m.K * δ**2.5  # Hertz energy ∫P dδ = (2/5) K δ^{5/2}
+    return P_tot, E_tot + float(m.contact_energy(t)[0])
 
 
 def test_stiff_contact_limit_equal_impedance(scene_with):
@@ -64,14 +63,17 @@ SHORT_STRIKER = (  # a short steel striker on a long aluminium rod acts like a m
         ("rod1.length=0.9", "rod2.length=0.3"),  # striker longer than target
         SHORT_STRIKER,  # several impacts
         ("rod2.material.youngs_modulus=70e9", "rod2.material.density=2700.0"),  # steel on aluminium
+        ("analytical.contact=hertz-rod",),  # the paper with the rods' end correction of the approach
+        ("analytical.contact=hertz-rod", *SHORT_STRIKER, "rod1.tip_radius=0.035"),
     ],
-    ids=["paper", "long-striker", "short-striker", "steel-on-aluminium"],
+    ids=["paper", "long-striker", "short-striker", "steel-on-aluminium", "rod-end", "rod-end-short-striker"],
 )
 def test_momentum_and_energy_after_separation(scene_with, overrides):
-    """Fields integrated over both rods after the last contact: momentum m1 s1 (rel 1e-6) and
-    energy m1 s1²/2 (rel 1e-5; the trapezoid rule on the wave fields limits it)."""
+    """Fields integrated over both rods during and after the last contact: momentum m1 s1 (rel 1e-6) and
+    energy m1 s1²/2 (rel 1e-5; the trapezoid rule on the wave fields limits it), the contact's own energy
+    ∫P dδ included (with the rod-end term, a wrong δ_H' would break the balance)."""
     s = scene_with(*overrides, "simulation.end_time=1.2e-3")
-    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    m = WaveModel(s.rod1, s.rod2, s.speed, compliance=contact_compliance(s)).run(s.end_time)
     p0, E0 = s.rod1.mass * s.speed, 0.5 * s.rod1.mass * s.speed**2
     for t in (0.5 * m.contacts[0][1], s.end_time):  # during the first contact, and at the end
         p, E = field_totals(m, t)
@@ -100,14 +102,29 @@ def test_contact_releases_and_engages_again(scene_with):
     assert m.rigid_velocities()[0] != pytest.approx(0.0, abs=1e-3)
 
 
-def test_force_never_negative_and_hertz_consistent():
-    r = simulate(load_scene(SCENES / "paper.toml"))
-    h = r.history
+@pytest.mark.parametrize("law", ["hertz", "hertz-rod"])
+def test_force_never_negative_and_hertz_consistent(scene_with, law):
+    """P >= 0, and the approach δ = (P/K)^{2/3} + c P (c = 0 for the paper's Hertz) wherever in contact."""
+    r = simulate(scene_with(f"analytical.contact={law}"))
+    h, c = r.history, r.summary["contact_compliance"]
+    assert (c == 0.0) == (law == "hertz")
     assert np.all(h["contact_force"] >= 0)
     on = h["compression"] > 0
-    K = r.summary["hertz"]["K"]
-    assert np.allclose(h["contact_force"][on], K * h["compression"][on] ** 1.5, rtol=1e-12)
+    P, K = h["contact_force"][on], r.summary["hertz"]["K"]
+    assert np.allclose(h["compression"][on], (P / K) ** (2 / 3) + c * P, rtol=1e-10)
     assert np.all(h["contact_force"][~on] == 0)
+
+
+def test_rod_end_correction_stiffens_the_contact(scene_with):
+    """The rod-end term (c < 0) makes the contact stiffer: the first contact is shorter, the peak force higher,
+    and by little (|c| P against the Hertz approach, a few per cent of it at the paper's force)."""
+    paper, rod = (simulate(scene_with(f"analytical.contact={law}")).summary for law in ("hertz", "hertz-rod"))
+    c = rod["contact_compliance"]
+    assert c < 0
+    assert rod["contact_duration"] < paper["contact_duration"]
+    assert paper["peak_contact_force"] < rod["peak_contact_force"] < 1.001 * paper["peak_contact_force"]
+    δ_H = hertz.approach(rod["peak_contact_force"], rod["hertz"]["E_star"], rod["hertz"]["R_star"])
+    assert 0.01 < -c * rod["peak_contact_force"] / δ_H < 0.2
 
 
 @pytest.mark.convergence
@@ -151,3 +168,13 @@ def test_table3_peak_force_and_summary_contract():
     # first midpoint plateau sits near s1/2, strain near -s1/(2c)
     assert r.summary["midpoint_peak_speed"] == pytest.approx(2.197 / 2, rel=0.01)
     assert r.summary["midpoint_peak_strain"] == pytest.approx(-2.197 / (2 * 5117.0), rel=0.02)
+
+
+def test_rod_end_correction_refused_where_the_patch_covers_the_end(scene_with):
+    """A near-flat tip (100 m) on the short striker: a Hertz radius above the rod radius, where the rod-end
+    term would reverse the approach; refused with the key and the remedy, not integrated silently."""
+    from rods.scene import SceneError
+
+    s = scene_with("analytical.contact=hertz-rod", *SHORT_STRIKER, "simulation.end_time=3e-4")
+    with pytest.raises(SceneError, match="analytical.contact.*not small against the rods' radii"):
+        simulate(s)

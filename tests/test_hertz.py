@@ -193,3 +193,22 @@ def test_yield_check_and_warning():
         assert check_yield(1e12, None) is True
     assert issubclass(YieldWarning, UserWarning)
     assert hertz.YIELD_FACTOR == 1.1
+
+
+def test_rod_end_compliance_scales_with_modulus_and_radius():
+    """c = χ(ν)/(E b): the table's value at a node, halved by doubling E or the diameter, negative, and clamped
+    outside the table's ν range."""
+    from types import SimpleNamespace as NS
+
+    def rod(E, ν, d):
+        return NS(diameter=d, tip_radius=math.inf, material=NS(youngs_modulus=E, poisson_ratio=ν))
+
+    i = hertz.ROD_END_NU.index(0.3)
+    c = hertz.rod_end_compliance(rod(200e9, 0.3, 0.0127))
+    assert c == pytest.approx(hertz.ROD_END_CHI[i] / (200e9 * 0.00635), rel=1e-12)
+    assert c < 0
+    assert hertz.rod_end_compliance(rod(400e9, 0.3, 0.0127)) == pytest.approx(c / 2, rel=1e-12)
+    assert hertz.rod_end_compliance(rod(200e9, 0.3, 0.0254)) == pytest.approx(c / 2, rel=1e-12)
+    assert hertz.rod_end_compliance(rod(200e9, 0.4999, 0.0127)) == hertz.rod_end_compliance(
+        rod(200e9, hertz.ROD_END_NU[-1], 0.0127)
+    )
