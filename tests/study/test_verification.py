@@ -100,5 +100,45 @@ def test_cli_runs_one_case_on_a_coarse_mesh(tmp_path):
     assert row["impact_speed"] == 1.0 and abs(row["peak_force_pct"]) < 3.0  # coarse 4 x 1 mm mesh
     assert (tmp_path / "speed-1.0" / "global" / "history.csv").exists()
     assert (tmp_path / "speed-1.0" / "global-finer" / "summary.json").exists()  # the mesh check
+    assert (tmp_path / "speed-1.0" / "analytical-rod-end" / "summary.json").exists()  # the second reference
+    assert row["rod_end"]["contact_compliance"] < 0 and row["rod_end"]["passes"]["energy"]
     assert math.isfinite(row["duration_mesh_change"]) and row["strain_lag"] is None  # a short run: no lag (null)
     assert "verification matrix" in (tmp_path / "verification.md").read_text().lower()
+
+
+def test_rod_end_reference_gets_its_own_columns_and_count():
+    """The FE 3 µs shorter than the paper's model but 0.2 µs shorter than the rod-end model: the first table
+    marks the miss, the second passes it, and each counts its own cases."""
+    sc = load_scene(PAPER)
+    t = np.linspace(0.0, 2e-4, 101)
+    h = _history(t, 0 * t, 0 * t, 0 * t)
+    s = {"peak_contact_force": 5000.0, "contact_duration": 2.0e-4, "midpoint_peak_speed": 1.1}
+    fe = {**s, "contact_duration": 1.97e-4, "energy_error": 0.0, "wall_time": 1.0, "dofs": 10, "steps": 10}
+    e = {**s, "contact_duration": 1.972e-4, "peak_contact_force": 5001.0, "contact_compliance": -9.2e-10}
+    row = verification.case_row("paper", {"summary": s, "history": h}, {"summary": fe, "history": h}, sc, None,
+                                {"summary": e, "history": h})  # fmt: skip
+    assert not row["passes"]["duration"]
+    assert row["rod_end"]["duration_difference"] == pytest.approx(-0.2e-6, rel=1e-6)
+    assert row["rod_end"]["passes"] == {"peak_force": True, "duration": True, "energy": True}
+    md = verification.render_markdown(
+        {"base_scene": "paper", "extra_overrides": [], "targets": verification.TARGETS, "ranks": 1, "rows": [row]}
+    )
+    assert "0 of 1 cases meet every target." in md and "1 of 1 cases meet every target; durations within 0.20 µs" in md
+    assert "| -0.920 | 197.20 | -0.20 |" in md
+
+
+@pytest.mark.slow
+def test_default_global_matches_the_rod_end_model_where_the_paper_law_misses(tmp_path):
+    """The two worst duration gaps of the paper's law (equal 0.35 m rods: -4.10 µs; paper rods at 1.0 m/s:
+    -2.30 µs, results/verification.md) close to < 1 µs against the analytical model with the rods' end
+    correction (measured: -0.14 and -0.27 µs), with peak force within 0.3% of it: the gap is the 1D model's
+    half-space approach, not the FE. Default settings, serial."""
+    p = run_workflow("verify.py", ["--case", "equal-0.35m", "--case", "speed-1.0", "--out", str(tmp_path)])
+    assert p.returncode == 0, p.stderr
+    rows = {r["case"]: r for r in json.loads((tmp_path / "verification.json").read_text())["rows"]}
+    assert rows["equal-0.35m"]["duration_difference"] < -3e-6  # the paper's law: the FE ends > 3 µs sooner
+    for r in rows.values():
+        e = r["rod_end"]
+        assert abs(e["duration_difference"]) < 1e-6, r["case"]
+        assert abs(e["peak_force_pct"]) < 0.3, r["case"]
+        assert r["energy_error"] < 1e-6
