@@ -171,7 +171,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
     "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
     "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),
-    "fe.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),
+    "fe.penalty": ("float", 10.0, _positive("x element stiffness", hi=1e4)),
+    # penalty law only: viscous damping of each contact pair, fraction of critical (rods.fe.contact)
+    "fe.contact_damping": ("float", 0.2, _interval(0.0, 0.5, "of critical", closed_lo=True, closed_hi=True)),
     "fe.bulk_viscosity": ("float", 0.0, _interval(0.0, 1.0, closed_lo=True)),
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
@@ -181,7 +183,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.backend": ("str", "petsc", _choice(FE_BACKENDS)),
     "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
-    "submodel.penalty": ("float", 2.0, _positive("x element stiffness", hi=1e4)),
+    "submodel.penalty": ("float", 10.0, _positive("x element stiffness", hi=1e4)),
     # how the global drives the submodel's cuts: mixed (its traction plus a dashpot to its velocity, rods.fe.traction),
     # its traction alone, or its displacement (the paper's)
     "submodel.driving": ("str", "mixed", _choice(SUBMODEL_DRIVINGS)),

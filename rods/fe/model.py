@@ -197,6 +197,8 @@ class ExplicitModel:
     def _stable_step(self) -> None:
         """The step's limits and the step (rods.fe.timestep), kept as attributes (dt, dt_critical, ω_max, ...)."""
         self.__dict__.update(asdict(time_step(self)))
+        if self.scene["fe.contact"] == "penalty" and self.scene["fe.contact_damping"] > 0:
+            self.contact.set_damping(self.scene["fe.contact_damping"], self.inv_mass, self.dt)
 
     def _contact_text(self) -> str:
         sc = self.scene

@@ -71,13 +71,17 @@ def rerun(model: ExplicitModel, name: str, **kw):
 # ----------------------------------------------------------------------------------------------
 # the stepper, mesh-free
 # ----------------------------------------------------------------------------------------------
-def toy_run(be: backend.Backend, steps: int, β: float) -> tuple[dict[str, np.ndarray], CentralDifference]:
-    """The toy impact (tests/fe/toy.py) on backend ``be``, damped, every step recorded."""
+def toy_run(
+    be: backend.Backend, steps: int, β: float, ζ: float = 0.0
+) -> tuple[dict[str, np.ndarray], CentralDifference]:
+    """The toy impact (tests/fe/toy.py) on backend ``be``, damped (bulk β, contact ζ), every step recorded."""
     K, mass, contact = bodies()
-    contact.use(be)
     Kc = K.copy()
     Kc[1:3, 1:3] += K_CONTACT * np.array([[1.0, -1.0], [-1.0, 1.0]])
     dt = 0.5 * stable_step(omega_max(Kc, mass))  # [s]: half the limit with the contact closed
+    if ζ:
+        contact.set_damping(ζ, 1.0 / mass, dt)
+    contact.use(be)
     A = petsc_matrix(K) if be is backend.PETSC else scipy.sparse.csr_matrix(K)
     st = CentralDifference(A, mass, 1.0 / mass, dt, np.array([SPEED, SPEED, 0.0, 0.0]), β, contact, be)
     P = scipy.sparse.csr_matrix(([1.0], ([0], [0])), shape=(2, 4))
@@ -87,14 +91,15 @@ def toy_run(be: backend.Backend, steps: int, β: float) -> tuple[dict[str, np.nd
     return rec.history(), st
 
 
+@pytest.mark.parametrize("ζ", [0.0, 0.2], ids=["undamped-contact", "damped-contact"])
 @pytest.mark.parametrize("name", ARRAY_BACKENDS)
-def test_toy_impact_same_on_every_backend(name):
-    """Damped toy impact (contact on and off, dissipation, momentum): the array backend's histories equal the
-    PETSc path's to round-off, and its state restores bit for bit."""
+def test_toy_impact_same_on_every_backend(name, ζ):
+    """Damped toy impact (contact on and off, dissipation, momentum; also with contact damping): the array
+    backend's histories equal the PETSc path's to round-off, and its state restores bit for bit."""
     steps, β = 400, 1e-5
-    ref, _ = toy_run(backend.PETSC, steps, β)
+    ref, _ = toy_run(backend.PETSC, steps, β, ζ)
     be = backend.select(name, 1)
-    hist, st = toy_run(be, steps, β)
+    hist, st = toy_run(be, steps, β, ζ)
     assert ref["contact_force"].max() > 0 and ref["dissipated_energy"][-1] > 0  # the checks can fail
     assert_same_histories(ref, hist)
     saved = st.state()

@@ -129,11 +129,13 @@ def test_verification_section_follows_the_matrix(stages):
     assert "rods' end correction" not in text or all(r.get("rod_end") for r in v["rows"])
     for k, r in enumerate(v["rows"]):  # the second reference: every case within 0.3 µs but one at 2.5 µs
         ok = k != 1
+        r["strain_rms"] = 12e-6
         r["rod_end"] = {"duration_difference": 0.3e-6 if ok else 2.5e-6, "peak_force_pct": 0.05, "strain_lag": -0.5e-6,
-                        "passes": {"peak_force": True, "duration": ok, "energy": True}}  # fmt: skip
+                        "strain_rms": 3e-6, "passes": {"peak_force": True, "duration": ok, "energy": True}}  # fmt: skip
     text = report.render(data)
     assert f"meet every target in {n - 1} of {n} cases: durations within 2.50 µs" in text
     assert "against the paper's law: up to 4.25 µs" in text and "strain lag -0.5 to -0.5 µs" in text
+    assert "strain RMS 3.0 to 3.0 µε (against the paper's law: 12.0 to 12.0 µε)" in text
     assert "verification" not in render(stages).lower()  # no matrix, no section
 
 
