@@ -175,3 +175,18 @@ def test_fig4_strain_gap_is_attributed_to_the_half_space_approach():
     plain = "\n".join(report.fig4_section(f4, None))
     assert "more than 10 µε" in plain and "end correction" not in plain
     assert "the same FE strain differs by 3.2 µε RMS, lag +0.12 µs" in with_rod_end
+
+
+def test_edge_scatter_sentence_quotes_each_levels_band():
+    """The convergence section quotes, per level, the band of the radius, area and peak-pressure errors over the
+    sizes around it (benchmarks/edge_scatter.py), and says the non-monotone radius is that scatter."""
+    rows = [
+        {"level": lv, "h": h, "errors": {"radius_peak": e, "radius_loading_mean": e / 2, "area": 2 * e,
+                                          "peak_pressure": p}}
+        for lv, h, e, p in (("mid", 1.2e-4, -0.002, -0.017), ("mid", 1.25e-4, 0.0037, -0.0155),
+                            ("fine", 6e-5, -0.0018, -0.0083), ("fine", 5.8e-5, 0.0105, -0.0074))
+    ]  # fmt: skip
+    text = report.edge_scatter_text({"levels": ["mid", "fine"], "spread": [0.93, 1.0, 1.07], "rows": rows})
+    assert "mid: radius -0.20% to +0.37%, area -0.40% to +0.74%, peak pressure -1.70% to -1.55%" in text
+    assert "fine: radius -0.18% to +1.05%" in text and "from 0.93 to 1.07 x a level's" in text
+    assert "non-monotone radius and area" in text
