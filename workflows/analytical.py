@@ -23,7 +23,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = _cli.out_dir(args, "analytical", scene)
     _cli.afford(args, cost.analytical_cost(scene))
     print(
-        f"plan: analytical model (1D waves + Hertz), scene '{scene.name}', s1 = {scene.speed} m/s, "
+        f"plan: analytical model (1D waves + Hertz, contact law '{scene['analytical.contact']}'), scene "
+        f"'{scene.name}', s1 = {scene.speed} m/s, "
         f"t_end = {scene.end_time:g} s every {scene.output_interval:g} s, rtol = {scene['analytical.rtol']:g}; "
         f"stations: {', '.join(s.name for s in scene.stations)} -> {out}"
     )
