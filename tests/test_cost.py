@@ -28,6 +28,19 @@ def test_estimate_matches_the_built_axisymmetric_model(scene_with):
     assert cost.check(c) is c  # a tiny run passes
 
 
+@pytest.mark.parametrize("factor", [2.0, 10.0, 40.0])
+def test_penalty_switching_limit_enters_the_steps(scene_with, factor):
+    """Under the penalty law the contact-switching limit sets the step once it is shorter than the bulk limit:
+    the estimate follows the built model's steps within 20% from 2 to 40 x E*/h (graded paper tip)."""
+    from rods.fe.model import ExplicitModel
+
+    sc = scene_with("fe.contact=penalty", f"fe.penalty={factor}", "simulation.end_time=1e-4")
+    c, m = cost.fe_cost(sc), ExplicitModel(sc)
+    assert c.steps == pytest.approx(m.steps, rel=0.2)
+    if factor >= 10:  # the switching limit is the step's
+        assert m.dt == pytest.approx(m.dt_switching, rel=1e-9)
+
+
 def test_budgets_and_force(scene_with):
     """--force lifts the step budget, never the memory check."""
     long = cost.fe_cost(scene_with("fe.dt=1e-12"))
