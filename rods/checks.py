@@ -11,7 +11,7 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
   null + warning when none is found, a warning otherwise;
 * **energy**: an FE run whose energy-balance error (``energy_error``, contact and cut work counted) exceeds
   :data:`ENERGY_OK` is not "ok", even below the guard's growth limit that stops a run (a rattling stiff
-  contact pumps a few percent: measured 1.6% at 100 x the default penalty past the switching limit);
+  contact pumps a few percent: measured 1.6% at 200 x E*/h, undamped, past the switching limit);
 * **rattle**: a raw peak force more than :data:`RATTLE` above its :data:`rods.metrics.SMOOTHING` sliding
   average (the recorded history) is a contact that rattles (a stiff penalty: measured +107% at 1000 x E*/h
   with a balanced energy), not a peak of the impact;
