@@ -20,7 +20,8 @@ scene's defaults (no per-case tuning). Per case the matrix reports
   still) (:func:`gap_is_model_form`).
   A coarser check would mislead: on the paper scene a 2 x coarser mesh (2 tip elements across the patch
   radius) lasts 1.22 µs longer, where the default and a 2 x finer mesh agree to 0.02 µs (202.74, 202.76 µs);
-  two equal 0.35 m rods converge slowly (2/1/0.5 mm: 160.96, 161.08, 161.17 µs) against the analytical 165.18 µs;
+  two equal 0.35 m rods converge slowly (2/1/0.5 mm: 160.96, 161.08, 161.17 µs) against the analytical 165.18 µs
+  (161.21 µs with the rods' end correction, the second table);
 * wall time of the FE run (set-up + time loop) [s].
 
 A case *passes* when every targeted column is inside its target. The targets are issue 13's acceptance
