@@ -391,9 +391,10 @@ def _rod_end_text(rows: list[dict[str, Any]]) -> str:
     return (
         f' Against the analytical model with the rods\' end correction (`analytical.contact = "hertz-rod"`: the '
         "paper's Hertz law takes the half-space approach, whose far field the 1D bars carry a second time; a static "
-        "elasticity solve gives the correction χ(ν) F/(E b) per rod, results/rod-end-compliance.md, nothing fitted "
-        f"to these runs) the same FE runs meet every target in {n_ok} of {len(rows)} cases: durations within "
-        f"{worst_d:.2f} µs (against the paper's law: up to {paper:.2f} µs), peak force within {worst_F:.3f}%"
+        "elasticity solve gives the correction χ(ν) F/(E b) per rod, [rod-end-compliance.md](rod-end-compliance.md), "
+        f"nothing fitted to these runs) the same FE runs meet every target in {n_ok} of {len(rows)} cases: "
+        f"durations within {worst_d:.2f} µs (against the paper's law: up to {paper:.2f} µs), peak force within "
+        f"{worst_F:.3f}%"
         + (f", midpoint strain lag {min(lags):+.1f} to {max(lags):+.1f} µs" if lags else "")
         + (
             f", midpoint strain RMS {min(b for _, b in rms):.1f} to {max(b for _, b in rms):.1f} µε (against the "

@@ -290,8 +290,8 @@ def _rod_end_table(rows: Sequence[Mapping[str, Any]]) -> list[str]:
         "## Against the analytical model with the rods' end correction",
         "",
         f"`{ROD_END}` (rods.analytical): Hertz's half-space approach less χ(ν) F/(E b) per rod, the far field "
-        "that the 1D bars already carry (χ from a static elasticity solve, results/rod-end-compliance.md; "
-        "nothing fitted to these runs). Same FE runs, same targets.",
+        "that the 1D bars already carry (χ from a static elasticity solve, "
+        "[rod-end-compliance.md](rod-end-compliance.md); nothing fitted to these runs). Same FE runs, same targets.",
         "",
         "| case | c [µm/kN] | duration analytical [µs] | Δ duration [µs] | peak force vs analytical "
         "| avg. peak speed vs analytical | strain RMS [µε] | strain lag [µs] |",
