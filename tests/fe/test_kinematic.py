@@ -154,6 +154,19 @@ def hertz_separation(r: np.ndarray, a: float, R: float) -> np.ndarray:
     return np.where(r > a, ro**2 / (2 * R) - a * a / R + uz, 0.0)
 
 
+@pytest.mark.parametrize("θ", [0.05, 0.2, 0.35])
+def test_edge_radius_when_a_node_closes_just_beyond_the_edge(θ):
+    """A node a fraction θ of an element beyond the Hertz edge closed with a vanishing force (as the discrete
+    contact does: measured 0.2 h at the 0.058 mm submodel): the open nodes' gaps still place the edge within
+    0.1% of a, not at that node (which would read up to θ h / a = 1.2% too wide here)."""
+    a, R, h = 1.091e-3, 35e-3, 0.0625e-3  # [m]
+    r = a + θ * h + h * np.arange(-18, 30)  # [m] node k = 18 at a + θ h
+    g = hertz_separation(r, a, R)
+    closed = r <= r[18]
+    g[closed] = 0.0
+    assert edge_radius(r, g, closed) == pytest.approx(a, rel=1e-3)
+
+
 @pytest.mark.parametrize("h", [0.25e-3, 0.125e-3, 0.0625e-3])
 def test_edge_radius_on_the_hertz_profile_wherever_the_edge_falls(h):
     """The paper scene's contact at peak (a = 1.09 mm, R = 35 mm) on nodes spaced h, the edge at 40 positions
