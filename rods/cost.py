@@ -156,7 +156,7 @@ def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
     """The penalty pair's switching limit 1/ω_c [s] estimated from the tip element h_n [m] (module docstring)."""
     m1, m2 = scene.rod1.material, scene.rod2.material
     E_star = hertz.effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
-    inv_ρ = 1.0 / scene.rod1.material.density + 1.0 / scene.rod2.material.density  # [m^3/kg]
+    inv_ρ = 1.0 / m1.density + 1.0 / m2.density  # [m^3/kg]
     return h_n / math.sqrt(2.0 * factor * E_star * inv_ρ)
 
 

@@ -298,6 +298,8 @@ class PenaltyContact:
         self._g, self._p = self._d.g0.copy(), xp.zeros(self.ns)  # gap [m], pressure [Pa]
         self._Fs, self._Fm = xp.zeros(self.ns), xp.zeros(self.nm)  # slave, master nodal forces [N]
         self._host: tuple[np.ndarray, ...] | None = None
+        a = self.slave.area
+        self._inv_area = backend.asarray(np.where(a > 0, 1.0 / np.where(a > 0, a, 1.0), 0.0))  # 1/a_s [1/m^2]
         # contact damping: c_s/Δt, the last gaps and damping forces, the damping's work so far
         self._cd = backend.asarray(self._c_dt)
         self._g_prev, self._Fd_prev = self._d.g0.copy(), xp.zeros(self.ns)
@@ -306,9 +308,8 @@ class PenaltyContact:
     def set_damping(self, ζ: float, inv_mass: np.ndarray, dt: float) -> None:
         """Contact damping ζ (fraction of critical of each isolated pair, module docstring) at the step ``dt``
         [s]; ``inv_mass`` the owned inverse lumped mass [1/kg]. Collective (a gather); kept by :meth:`use`."""
-        ims, imm = self.gather(inv_mass)
-        inv_m = ims + (self.W**2 * imm[self.J]).sum(axis=1)  # 1/m_s [1/kg]
-        m = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
+        inv_m = self._pair_inverse_mass(inv_mass)
+        m = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)  # m_s [kg]
         self.ζ, self._c_dt = float(ζ), 2.0 * ζ * np.sqrt(self.k * m) / dt
         self._cd = self.backend.asarray(self._c_dt)
 
@@ -365,7 +366,7 @@ class PenaltyContact:
         self._Fs = F
         self._Fm = _transpose(xp, d.J, d.W, F, self.nm)
         self._g, self._host = g, None
-        self._p = self.ε * pen if self.ζ == 0.0 else F * self.ε / xp.where(d.k > 0, d.k, 1.0)
+        self._p = self.ε * pen if self.ζ == 0.0 else F * self._inv_area
         self.force = self.multiplicity * float(F.sum())  # full rods [N]
         self.energy = 0.5 * self.multiplicity * float(xp.dot(d.k, pen * pen))  # [J]
 
@@ -424,9 +425,14 @@ class PenaltyContact:
 
         It sets the contact *switching* limit of the step (:func:`rods.fe.explicit.switching_step`);
         ``inv_mass`` is the owned inverse lumped mass array [1/kg]."""
-        ims, imm = self.gather(inv_mass)
-        ω2 = self.k * (ims + (self.W**2 * imm[self.J]).sum(axis=1))
+        ω2 = self.k * self._pair_inverse_mass(inv_mass)
         return float(math.sqrt(ω2.max())) if ω2.size else 0.0
+
+    def _pair_inverse_mass(self, inv_mass: np.ndarray) -> np.ndarray:
+        """1/m_s = 1/m_slave + Σ_j W_sj²/m_j [1/kg] of every pair (its reduced mass along the normal), from the
+        owned inverse lumped mass ``inv_mass`` (collective: a gather)."""
+        ims, imm = self.gather(inv_mass)
+        return ims + (self.W**2 * imm[self.J]).sum(axis=1)
 
     def add_abs_row_sums(self, y: np.ndarray) -> None:
         """y += Σ_j |K_c,ij| bound for the owned tip entries: K_c = Σ_s k_s b_s b_sᵀ with

@@ -135,11 +135,9 @@ class KinematicContact(PenaltyContact):
         self._cache: dict = {}
 
     def use(self, backend) -> None:
-        """As :meth:`PenaltyContact.use` (the state starts at rest: no forces, no dissipation yet), plus 1/a_s
-        [1/m^2] on the backend (pressure p_s = F_s / a_s)."""
+        """As :meth:`PenaltyContact.use` (the state starts at rest: no forces, no dissipation yet; pressure
+        p_s = F_s / a_s with its 1/a_s)."""
         super().use(backend)
-        a = self.slave.area
-        self._inv_area = backend.asarray(np.where(a > 0, 1.0 / np.where(a > 0, a, 1.0), 0.0))
         self.dissipated = 0.0  # contact dissipation D_c, full rods [J]
         self._F_prev = np.zeros(self.ns)  # h F_{n-1} [N]
         self._g_prev: np.ndarray | None = None  # g_{n-1} [m]
