@@ -317,7 +317,7 @@ class ExplicitModel:
             own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, view, step0))
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
-            every = int(round(sc["fe.checkpoint_interval"] / dt))
+            every = max(1, int(round(sc["fe.checkpoint_interval"] / dt)))  # an interval below Δt: every step
             key = self._checkpoint_key()
             parts, h = (stepper, recorder), checkpoint.scene_hash(sc)  # h: the restart's pre-set-up check
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))

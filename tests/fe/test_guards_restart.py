@@ -106,3 +106,11 @@ def test_inverted_cells_are_found_and_rigid_motion_is_not(scene_with, kind):
         from rods.fe.guards import Guard
 
         Guard(m.dt, m.dt_critical).check_inverted(7, 7 * m.dt, m.inverted_cells(u))
+
+
+def test_checkpoint_interval_below_the_step_checkpoints_every_step(scene_with, tmp_path):
+    """fe.checkpoint_interval under Δt (in range: any positive interval) checkpoints every step, not a division
+    by zero (found by tests/test_fuzz_cli.py with 1e-9 s)."""
+    m = ExplicitModel(scene_with(*COARSE[:2], "simulation.end_time=2e-6", "fe.checkpoint_interval=1e-9"))
+    res = m.run(out=tmp_path)
+    assert res.summary["steps"] == m.steps and list(tmp_path.glob("*checkpoint*"))
