@@ -17,11 +17,13 @@ and the compression rate (Eq. 6) is minus the sum of the two tip velocities away
 With ``a_i(t) = Σ_k P(t - k T_i) / Z_i`` this is one scalar delay differential equation with the
 discrete delays k T_i; the paper's f_i', g_i' are a_i and the returning wave.
 
-Contact law: the paper's (``analytical.contact = "hertz"``) is Hertz's half-space approach. The option
-``"hertz-rod"`` adds the rods' end correction, a linear term: δ = (P/K)^{2/3} + c P with
+Contact law: the paper's (``analytical.contact = "hertz"``, :data:`PAPER_LAW`) is Hertz's half-space approach.
+The default, ``"hertz-rod"``, adds the rods' end correction, a linear term: δ = (P/K)^{2/3} + c P with
 c = Σ_i χ(ν_i)/(E_i b_i) < 0 (:func:`rods.hertz.rod_end_compliance`): the bars already carry the far field
 that the half-space approach counts. The state is then the Hertz part δ_H = (P/K)^{2/3}, and
-δ_H' = δ' / (1 + (3/2) c K sqrt(δ_H)). It is the paper's
+δ_H' = δ' / (1 + (3/2) c K sqrt(δ_H)). Where the patch grows as wide as the rods the correction would
+reverse the approach (:meth:`WaveModel.rod_end_term_problem`); such a run falls back to the paper's law and
+says so in its warnings (status "warnings"). The paper's reproduction (Table 2) uses the paper's law. It is the paper's
 system (2)-(7) with two misprints corrected: Eq. 8's R* is r1 r2/(r1 + r2) (the paper prints its
 square root), and Eq. 5's last factor is dδ/dt, not δ (F' = (3/2) K sqrt(δ) dδ/dt). P is the
 magnitude of the compressive force (the paper's F = -P).
@@ -50,9 +52,11 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
 from rods import hertz, metrics
-from rods.scene import Rod, Scene, SceneError
+from rods.scene import Rod, Scene
 
-__all__ = ["AnalyticalResult", "WaveModel", "contact_compliance", "simulate"]
+__all__ = ["PAPER_LAW", "AnalyticalResult", "WaveModel", "contact_compliance", "simulate"]
+
+PAPER_LAW = "analytical.contact=hertz"  # the paper's half-space Hertz (Eq. 8), as a scene override
 
 
 class _History:
@@ -246,27 +250,25 @@ class WaveModel:
                 add_breaks(t)
             elif touching:
                 self.contacts[-1][1] = t  # provisional end, so delayed lookups see the open episode
-        self._check_rod_end_term()
         return self
 
-    def _check_rod_end_term(self) -> None:
-        """The rod-end term must stay a correction: dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) >= 0.25 at the largest
-        approach (about a <= b: χ is constant to 2% for Hertz radii a from 0.075 b to 0.7 b, rods.fe.end_compliance;
-        beyond, the patch covers the rod's end and neither Hertz nor the correction holds)."""
+    def rod_end_term_problem(self) -> str | None:
+        """Why the rod-end term is not a correction on this run (None: it is). It must stay one:
+        dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) >= 0.25 at the largest approach (about a <= 0.57 b for equal steel rods:
+        χ is constant to 2% for Hertz radii a from 0.075 b to 0.7 b, rods.fe.end_compliance; beyond, the patch
+        covers the rod's end and neither Hertz nor the correction holds)."""
         if self.compliance == 0.0 or not self._history.t_lo:
-            return
+            return None
         δ_H = max(float(np.max(self._history(np.asarray(self._history.t_lo), 0))), 0.0)
-        if 1.0 + 1.5 * self.compliance * self.K * math.sqrt(δ_H) < 0.25:
-            P = self.K * δ_H**1.5
-            a = float(hertz.contact_radius(P, self.E_star, self.R_star))
-            raise SceneError(
-                "analytical.contact",
-                "hertz-rod",
-                f"the Hertz radius {a * 1e3:.3g} mm at P = {P:.4g} N is not small against the rods' radii "
-                f"({self.rod1.diameter * 500:.3g}, {self.rod2.diameter * 500:.3g} mm): the rod-end term reverses the "
-                "approach",
-                "use analytical.contact = 'hertz', a smaller tip radius or a lower impact.speed",
-            )
+        if 1.0 + 1.5 * self.compliance * self.K * math.sqrt(δ_H) >= 0.25:
+            return None
+        P = self.K * δ_H**1.5
+        a = float(hertz.contact_radius(P, self.E_star, self.R_star))
+        return (
+            f"analytical.contact: the Hertz radius {a * 1e3:.3g} mm at P = {P:.4g} N is not small against the rods' "
+            f"radii ({self.rod1.diameter * 500:.3g}, {self.rod2.diameter * 500:.3g} mm): the rod-end term would "
+            "reverse the approach, so this run uses the paper's half-space law ('hertz'); neither holds there"
+        )
 
     # ---- kinematics (paper Eq. 9, generalised to any station) ---------------------------
     def station(self, rod: int, x: float, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -319,11 +321,13 @@ def contact_compliance(scene: Scene) -> float:
 def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     """Run the analytical model on a scene; histories on the scene's output grid plus summary.json keys."""
     t0 = time.perf_counter()
-    c = contact_compliance(scene)
-    model = WaveModel(
-        scene.rod1, scene.rod2, scene.speed, rtol=scene["analytical.rtol"] if rtol is None else rtol, compliance=c
-    )
-    model.run(scene.end_time)
+    rtol = scene["analytical.rtol"] if rtol is None else rtol
+    c, law, law_warnings = contact_compliance(scene), scene["analytical.contact"], []
+    model = WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
+    if (problem := model.rod_end_term_problem()) is not None:
+        # a patch as wide as the rods: the correction's range ends; the paper's law keeps the run (with a warning)
+        c, law, law_warnings = 0.0, "hertz", [problem]
+        model = WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
     wall = time.perf_counter() - t0
 
     t = np.arange(0.0, scene.end_time * (1 + 1e-12), scene.output_interval)
@@ -366,7 +370,8 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         "rigid_velocity_rod2": V2,
         "max_compression": float(model.compression(t_peak)[0]),
         "hertz": {"E_star": model.E_star, "R_star": model.R_star, "K": model.K},
-        "contact_law": scene["analytical.contact"],
+        "contact_law": law,
+        "contact_law_warnings": law_warnings,
         "contact_compliance": c,
         "rtol": model.rtol,
         "steps": model.steps,

@@ -15,6 +15,8 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
 * **rattle**: a raw peak force more than :data:`RATTLE` above its :data:`rods.metrics.SMOOTHING` sliding
   average (the recorded history) is a contact that rattles (a stiff penalty: measured +107% at 1000 x E*/h
   with a balanced energy), not a peak of the impact;
+* **contact law**: the analytical model's rod-end correction outside its range (a patch as wide as the rods,
+  rods.analytical): the run fell back to the paper's law;
 * **yield**: the paper's elastic criterion P < 1.1 S_y (rods.hertz.check_yield) at the model's own peak
   force (Hertz pressure of that force, rods.hertz.at_force), for the FE models as for the analytical one.
 """
@@ -126,6 +128,7 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
         found.append(w)
     if (w := rattle_warning(summary, history)) is not None:
         found.append(w)
+    found += summary.get("contact_law_warnings", [])  # the analytical model's law outside its range
     if "yield_warnings" not in summary:
         summary["yield_warnings"] = yield_warnings(scene, summary["peak_contact_force"])
     found += summary["yield_warnings"]

@@ -1,5 +1,6 @@
 """Table 2 reproduced: the analytical model (Section 2.1) on the paper's six trials, against the paper's
-analytical column and its measurements, with first-order uncertainty bands.
+analytical column and its measurements, with first-order uncertainty bands. It reproduces the paper's model,
+so it runs the paper's contact law (rods.analytical.PAPER_LAW), not the default with the rods' end correction.
 
 :func:`compute` runs the trials and returns the stage result as data (``table2.json``); :func:`render_csv`,
 :func:`render_md` and :func:`plot` render it; :func:`write` does all of it into a results folder. The
@@ -21,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from rods import io, metrics, paper_data
-from rods.analytical import AnalyticalResult, simulate
+from rods.analytical import PAPER_LAW, AnalyticalResult, simulate
 from rods.compare import percent
 from rods.hertz import YieldWarning
 from rods.paper.data import pct, write_json
@@ -46,7 +47,7 @@ def run_trials(scenes: Path, out: Path, names: list[str]) -> dict[str, tuple[Sce
     later stages rebuild the scene from the run) under ``out/analytical/<trial>``."""
     runs = {}
     for name in names:
-        scene = load_scene(scenes / f"{name}.toml")
+        scene = load_scene(scenes / f"{name}.toml", (PAPER_LAW,))
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", YieldWarning)
             r = simulate(scene)

@@ -100,52 +100,56 @@ def test_cli_runs_one_case_on_a_coarse_mesh(tmp_path):
     assert row["impact_speed"] == 1.0 and abs(row["peak_force_pct"]) < 3.0  # coarse 4 x 1 mm mesh
     assert (tmp_path / "speed-1.0" / "global" / "history.csv").exists()
     assert (tmp_path / "speed-1.0" / "global-finer" / "summary.json").exists()  # the mesh check
-    assert (tmp_path / "speed-1.0" / "analytical-rod-end" / "summary.json").exists()  # the second reference
-    assert row["rod_end"]["contact_compliance"] < 0 and row["rod_end"]["passes"]["energy"]
+    assert (tmp_path / "speed-1.0" / "analytical-paper-law" / "summary.json").exists()  # the second reference
+    assert row["contact_law"] == "hertz-rod" and row["contact_compliance"] < 0  # the default reference
+    assert row["paper_law"]["contact_law"] == "hertz" and row["paper_law"]["passes"]["energy"]
     assert math.isfinite(row["duration_mesh_change"]) and row["strain_lag"] is None  # a short run: no lag (null)
     assert "verification matrix" in (tmp_path / "verification.md").read_text().lower()
 
 
-def test_rod_end_reference_gets_its_own_columns_and_count():
-    """The FE 3 µs shorter than the paper's model but 0.2 µs shorter than the rod-end model: the first table
-    marks the miss, the second passes it, and each counts its own cases."""
+def test_paper_law_reference_gets_its_own_columns_and_count():
+    """The FE 0.2 µs shorter than the default (rod-end) model but 3 µs shorter than the paper's law: the first
+    table passes it, the second marks the miss, and each counts its own cases."""
     sc = load_scene(PAPER)
     t = np.linspace(0.0, 2e-4, 101)
     h = _history(t, 0 * t, 0 * t, 0 * t)
-    s = {"peak_contact_force": 5000.0, "contact_duration": 2.0e-4, "midpoint_peak_speed": 1.1}
+    s = {"peak_contact_force": 5000.0, "contact_duration": 2.0e-4, "midpoint_peak_speed": 1.1, "contact_law": "hertz"}
     fe = {**s, "contact_duration": 1.97e-4, "energy_error": 0.0, "wall_time": 1.0, "dofs": 10, "steps": 10}
-    e = {**s, "contact_duration": 1.972e-4, "peak_contact_force": 5001.0, "contact_compliance": -9.2e-10}
-    row = verification.case_row("paper", {"summary": s, "history": h}, {"summary": fe, "history": h}, sc, None,
-                                {"summary": e, "history": h})  # fmt: skip
-    assert not row["passes"]["duration"]
-    assert row["rod_end"]["duration_difference"] == pytest.approx(-0.2e-6, rel=1e-6)
-    assert row["rod_end"]["passes"] == {"peak_force": True, "duration": True, "energy": True}
+    e = {**s, "contact_duration": 1.972e-4, "peak_contact_force": 5001.0, "contact_compliance": -9.2e-10,
+         "contact_law": "hertz-rod"}  # fmt: skip
+    row = verification.case_row("paper", {"summary": e, "history": h}, {"summary": fe, "history": h}, sc, None,
+                                {"summary": s, "history": h})  # fmt: skip
+    assert row["passes"] == {"peak_force": True, "duration": True, "energy": True}
+    assert row["duration_difference"] == pytest.approx(-0.2e-6, rel=1e-6)
+    assert not row["paper_law"]["passes"]["duration"]
+    assert row["paper_law"]["duration_difference"] == pytest.approx(-3e-6, rel=1e-6)
     md = verification.render_markdown(
         {"base_scene": "paper", "extra_overrides": [], "targets": verification.TARGETS, "ranks": 1, "rows": [row]}
     )
-    assert "0 of 1 cases meet every target." in md and "1 of 1 cases meet every target; durations within 0.20 µs" in md
-    assert "| -0.920 | 197.20 | -0.20 |" in md
+    assert "1 of 1 cases meet every target." in md and "0 of 1 cases meet every target; durations within 3.00 µs" in md
+    assert "`hertz-rod`, c = -0.920 µm/kN" in md and "| 200.00 | -3.00 ✗ |" in md
 
 
 @pytest.mark.slow
-def test_default_global_matches_the_rod_end_model_where_the_paper_law_misses(tmp_path):
+def test_default_global_matches_the_default_analytical_model_where_the_paper_law_misses(tmp_path):
     """The two worst duration gaps of the paper's law (equal 0.35 m rods: -4.10 µs; paper rods at 1.0 m/s:
-    -2.30 µs, results/verification.md) close to < 1 µs against the analytical model with the rods' end
-    correction (measured: -0.14 and -0.27 µs), with peak force within 0.3% of it and the midpoint strain in step
-    with it: the gap is the 1D model's half-space approach, not the FE. Default settings, serial."""
+    -2.30 µs, results/verification.md) close to < 1 µs against the default analytical model, the one with the
+    rods' end correction (measured: -0.14 and -0.27 µs), with peak force within 0.3% of it and the midpoint
+    strain in step with it: the gap is the paper's half-space approach, not the FE. Default settings, serial."""
     p = run_workflow("verify.py", ["--case", "equal-0.35m", "--case", "speed-1.0", "--out", str(tmp_path)])
     assert p.returncode == 0, p.stderr
     rows = {r["case"]: r for r in json.loads((tmp_path / "verification.json").read_text())["rows"]}
-    assert rows["equal-0.35m"]["duration_difference"] < -3e-6  # the paper's law: the FE ends > 3 µs sooner
+    assert rows["equal-0.35m"]["paper_law"]["duration_difference"] < -3e-6  # the paper's law: > 3 µs sooner
     for r in rows.values():
-        e = r["rod_end"]
-        assert abs(e["duration_difference"]) < 1e-6, r["case"]
-        assert abs(e["peak_force_pct"]) < 0.3, r["case"]
+        e = r["paper_law"]
+        assert r["contact_law"] == "hertz-rod" and all(r["passes"].values()), r["case"]
+        assert abs(r["duration_difference"]) < 1e-6, r["case"]
+        assert abs(r["peak_force_pct"]) < 0.3, r["case"]
         assert r["energy_error"] < 1e-6
         # and the wave response: the midpoint strain within 3 µε RMS, in step to 0.5 µs (measured 0.98 and 2.26 µε,
         # lags -0.12 and +0.24 µs; against the paper's law 6.00 and 7.14 µε, lags -2.78 and -1.65 µs)
-        assert e["strain_rms"] < 3e-6 and abs(e["strain_lag"]) < 0.5e-6, r["case"]
-        assert r["strain_rms"] > 2 * e["strain_rms"] and r["strain_lag"] < -1e-6, r["case"]
+        assert r["strain_rms"] < 3e-6 and abs(r["strain_lag"]) < 0.5e-6, r["case"]
+        assert e["strain_rms"] > 2 * r["strain_rms"] and e["strain_lag"] < -1e-6, r["case"]
 
 
 UNLISTED = {  # scenes outside the matrix: another material and diameter, another tip, speed and lengths
@@ -156,13 +160,13 @@ UNLISTED = {  # scenes outside the matrix: another material and diameter, anothe
 
 
 @pytest.mark.parametrize("name", UNLISTED)
-def test_rod_end_model_holds_on_scenes_outside_the_matrix(name):
-    """The default global against both analytical laws on scenes the matrix does not list: the rod-end model
-    within 0.5 µs and 0.3% (measured +0.11/-0.08 µs, +0.13/+0.02%), the paper's law over 1.5 µs off
+def test_default_models_agree_on_scenes_outside_the_matrix(name):
+    """The default global against both analytical laws on scenes the matrix does not list: the default (rod-end)
+    model within 0.5 µs and 0.3% (measured +0.11/-0.08 µs, +0.13/+0.02%), the paper's law over 1.5 µs off
     (-1.81/-3.42 µs). Serial, to the end of the first contact (about 8 s each)."""
     import warnings
 
-    from rods.analytical import simulate
+    from rods.analytical import PAPER_LAW, simulate
     from rods.fe.model import ExplicitModel
     from rods.hertz import YieldWarning
 
@@ -170,8 +174,9 @@ def test_rod_end_model_holds_on_scenes_outside_the_matrix(name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", YieldWarning)
         s = ExplicitModel(sc).run().summary
-        paper = simulate(sc).summary
-        rod = simulate(sc.with_overrides(verification.ROD_END)).summary
+        rod = simulate(sc).summary  # the default law
+        paper = simulate(sc.with_overrides(PAPER_LAW)).summary
+    assert rod["contact_law"] == "hertz-rod" and paper["contact_law"] == "hertz"
     assert abs(s["contact_duration"] - rod["contact_duration"]) < 0.5e-6
     assert s["peak_contact_force"] == pytest.approx(rod["peak_contact_force"], rel=3e-3)
     assert s["contact_duration"] - paper["contact_duration"] < -1.5e-6
