@@ -65,7 +65,10 @@ def compute(analytical: Run, fe: list[Run]) -> dict[str, Any]:
         "impact_speed": sa["impact_speed"],
         "strain_window": list(window),
         "force_panel_end": FORCE_PANEL_END,
-        "analytical": {k: sa[k] for k in ("peak_contact_force", "contact_duration", "midpoint_peak_speed")},
+        "analytical": {
+            **{k: sa[k] for k in ("peak_contact_force", "contact_duration", "midpoint_peak_speed")},
+            "contact_law": sa.get("contact_law", "hertz"),  # rods.analytical: the reference's contact law
+        },
         "runs": [_measures(r, analytical, window, reference_fe) for r in fe],
     }
 

@@ -285,14 +285,13 @@ def render_markdown(data: Mapping[str, Any]) -> str:
 
 
 def _laws(rows: Sequence[Mapping[str, Any]]) -> str:
-    """The reference's contact law(s) and rod-end terms c [µm/kN], named once each."""
-
-    def law(r: Mapping[str, Any]) -> str:
-        c = r.get("contact_compliance")
-        return f"`{r.get('contact_law')}`" + (f", c = {c * 1e9:+.3f} µm/kN" if c else "")
-
-    seen = dict.fromkeys(law(r) for r in rows)
-    return "; ".join(seen) or "–"
+    """The reference's contact law(s), each with its distinct rod-end terms c [µm/kN]."""
+    laws: dict[str, list[str]] = {}
+    for r in rows:
+        c = laws.setdefault(f"`{r.get('contact_law')}`", [])
+        if r.get("contact_compliance") and (x := f"{r['contact_compliance'] * 1e9:+.3f}") not in c:
+            c.append(x)
+    return "; ".join(law + (f", c = {', '.join(c)} µm/kN" if c else "") for law, c in laws.items()) or "–"
 
 
 def _paper_law_table(rows: Sequence[Mapping[str, Any]]) -> list[str]:
