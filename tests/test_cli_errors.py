@@ -221,3 +221,16 @@ def test_interrupt_during_the_set_up_stops_every_rank(tmp_path):
     err = (tmp_path / "stderr").read_text()
     assert rc == 130 and time.monotonic() - t0 < 5.0, err[-2000:]
     assert "Traceback" not in err and "interrupted" in err
+
+
+def test_a_run_outside_a_laws_range_ends_with_its_warning_and_status(tmp_path):
+    """A near-flat 100 m tip at 1 m/s: the patch outgrows the rods, the default law falls back to the paper's; the
+    console ends with the warning (stderr) and the status line, as summary.json records them."""
+    import json
+
+    p = run("analytical.py", "--set", "rod1.tip_radius=100.0", "--set", "impact.speed=1.0", "--out", "o", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert s["status"] == "warnings" and s["contact_law"] == "hertz"
+    assert "warning: analytical.contact: the Hertz radius" in p.stderr
+    assert p.stdout.rstrip().endswith("status: warnings")

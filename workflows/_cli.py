@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -76,6 +76,15 @@ def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = pri
     for c in costs:
         cost.check(c, args.force)
         log(c.describe())
+
+
+def status(summary: Mapping[str, Any], rank: int = 0) -> None:
+    """Rank 0 ends a run's console output with its warnings (stderr) and its status line (rods.checks)."""
+    if rank != 0:
+        return
+    for w in summary.get("warnings", []):
+        print(f"warning: {w}", file=sys.stderr)
+    print(f"status: {summary.get('status', 'unknown')}", flush=True)
 
 
 def fail(message: str) -> NoReturn:

@@ -29,9 +29,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         f"stations: {', '.join(s.name for s in scene.stations)} -> {out}"
     )
     s = stages.analytical(scene, out).summary
-    for w in s["yield_warnings"]:
-        print(f"warning: {w}", file=sys.stderr)
     print(json.dumps({k: s[k] for k in [*io.SUMMARY_KEYS[2:], "rigid_velocity_rod1", "rigid_velocity_rod2"]}, indent=1))
+    _cli.status(s)
     return 0
 
 

@@ -54,6 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         s = stages.global_model(scene, out, comm, record_cut=args.record_cut, progress=progress, log=log, **kw)
         s = s.summary
     log(json.dumps({k: s[k] for k in (*io.SUMMARY_KEYS[2:], *SHOWN, "dof_steps_per_second")}, indent=1))
+    _cli.status(s, comm.rank)
     return 0
 
 

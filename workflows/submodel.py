@@ -67,6 +67,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         dt=dt, progress=progress,
     ).summary  # fmt: skip
     log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
+    _cli.status(s, comm.rank)
     return 0
 
 
