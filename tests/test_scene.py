@@ -118,3 +118,26 @@ def test_stations(paper_dict):
         scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": 0.3}]})
     with pytest.raises(SceneError, match=r"station\[0\].rod"):
         scene_from_dict({**paper_dict, "station": [{"rod": 3, "position": 0.1}]})
+
+
+def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
+    """fe.radial_size = "auto" (the default): 4 elements across the Hertz radius at the impedance-bound force
+    s1 Z1 Z2/(Z1 + Z2), at most the thinner rod's radius / 8; re-resolved after an override; a record (as_dict)
+    holds the size used, a re-parse keeps "auto"."""
+    from rods import hertz
+    from rods.scene import BAR_ELEMENTS, PATCH_ELEMENTS
+
+    sc = scene_with("fe.radial_size=auto")
+    E, R = hertz.contact_constants(sc.rod1, sc.rod2)
+    Z = sc.rod1.impedance  # equal rods: the bound is s1 Z/2
+    a = float(hertz.contact_radius(sc.speed * Z / 2, E, R))
+    assert sc["fe.radial_size"] == pytest.approx(a / PATCH_ELEMENTS, rel=1e-12)
+    assert 0.25e-3 < sc["fe.radial_size"] < 0.3e-3  # near the paper's own 0.25 mm
+    assert sc.tip_grading == pytest.approx(sc["fe.radial_size"] / sc["fe.axial_size"])
+    slow = sc.with_overrides("impact.speed=0.05")  # a smaller patch, a finer mesh: a ∝ s1^(1/3)
+    assert slow["fe.radial_size"] == pytest.approx(sc["fe.radial_size"] * (0.05 / sc.speed) ** (1 / 3), rel=1e-9)
+    fast = sc.with_overrides("impact.speed=100")  # the patch outgrows the rod: the bar's own resolution
+    assert fast["fe.radial_size"] == sc.rod1.diameter / 2 / BAR_ELEMENTS
+    assert sc.as_dict()["fe"]["radial_size"] == sc["fe.radial_size"]
+    assert sc.as_dict(json_safe=False)["fe"]["radial_size"] == "auto"
+    assert scene_with("fe.radial_size=0.5e-3")["fe.radial_size"] == 0.5e-3
