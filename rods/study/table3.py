@@ -83,7 +83,7 @@ def model_name(run: ModelRun) -> str:
         return f"Submodel {s['level']} (h = {s['element_size'] * 1e3:g} mm)"
     sc = scene_from_summary(s["scene_values"])
     h, g = sc["fe.axial_size"], sc.tip_grading
-    mesh = f"uniform {h * 1e3:g} mm" if g == 1.0 else f"tips graded to {g * h * 1e3:g} mm"
+    mesh = f"uniform {h * 1e3:.3g} mm" if g == 1.0 else f"tips graded to {g * h * 1e3:.3g} mm"
     return f"Global ({mesh}; drives the submodels)" if run.role == "global-driver" else f"Global ({mesh})"
 
 
