@@ -273,14 +273,14 @@ def test_no_fields_unless_asked(tmp_path):
 
 @pytest.mark.slow  # ~80 s of the default suite's 5 min 19 s; the main job checks the same scene (make verify, Fig. 4)
 def test_paper_scene_validation():
-    """The paper scene at the paper's global mesh (1 x 0.25 mm), default (kinematic) contact, against the
+    """The paper scene at default settings (1 mm along, "auto" 0.273 mm across, kinematic contact) against the
     analytical model at its default law (Hertz less the rods' end correction) and the paper's law (~25 s).
 
-    Measured (2026-11-23): against the default, peak force +0.05%, contact duration -0.10 µs, midpoint strain
-    3.17 µε RMS unaligned over five periods, lag +0.12 µs; energy error 7e-10. Against the paper's half-space
-    law: peak force +0.06%, duration -1.57 µs, strain 13.9 µε RMS (6.4% of the 215 µε peak), of which most is a
-    lead: the FE pulse runs 2.6 µs ahead (aligned 7.9 µε), because that law counts the rods' far field twice and
-    its contact spring is too soft at first contact.
+    Measured (main job 2026-11-23, results/verification.md): against the default, peak force +0.05%, contact
+    duration -0.02 µs, midpoint strain 2.8 µε RMS unaligned over five periods, lag +0.10 µs; energy error 8e-10.
+    Against the paper's half-space law: duration -1.48 µs, strain 13.7 µε RMS, of which most is a lead: the FE
+    pulse runs 2.6 µs ahead, because that law counts the rods' far field twice and its contact spring is too soft
+    at first contact.
     """
     analytical = pytest.importorskip("rods.analytical")
     from rods import hertz
