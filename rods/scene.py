@@ -179,8 +179,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
     "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
     "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),
-    # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.02% and
-    # the first contact < 0.7 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md); step ~ 1/sqrt(factor)
+    # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.03% and
+    # the first contact < 0.4 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md); step ~ 1/sqrt(factor)
     "fe.penalty": ("float", 10.0, _positive("x element stiffness", hi=1e4)),
     # penalty law only: viscous damping of each contact pair, fraction of critical (rods.fe.contact)
     "fe.contact_damping": ("float", 0.2, _interval(0.0, 0.5, "of critical", closed_lo=True, closed_hi=True)),
