@@ -144,7 +144,7 @@ def render_md(data: dict) -> str:
         "# Contact study: kinematic contact and the penalty law at the default global mesh",
         "",
         "`python benchmarks/contact_study.py` — one process, against the analytical model; default mesh "
-        "(1 mm along; across fe.radial_size = \"auto\": 0.273 mm on the paper scene, 0.210 mm at 1.0 m/s; tips "
+        '(1 mm along; across fe.radial_size = "auto": 0.273 mm on the paper scene, 0.210 mm at 1.0 m/s; tips '
         "graded to match). Δt: the step used; Δt_crit: linear limit with the contact "
         "stiffness at full engagement; Δt_switch: the contact-switching limit (rods.fe.explicit); loop/step: "
         "the time loop's wall time per step (a shared 2-core machine: compare within one run only).",

@@ -348,3 +348,25 @@ def test_non_nested_cut_interpolation_3d(tiny):
         j = np.flatnonzero(np.linalg.norm(X - d.cut_x[i], axis=1) < 1e-12)
         assert j.size == 1
         assert np.allclose(u[i], 0.3 * U[300, j[0]] + 0.7 * U[301, j[0]], rtol=1e-12, atol=1e-18)
+
+
+def test_a_submodel_step_longer_than_the_record_spacing_may_end_past_it(tiny):
+    """A submodel whose step exceeds the global's record spacing (a kinematic submodel under a penalty global,
+    found by benchmarks/driver_study.py) ends its last step up to one of its own steps past the record: accepted
+    (band_state extrapolates over it); beyond one step and one spacing it is refused with the key."""
+    import h5py
+
+    from rods.scene import SceneError
+
+    sc, _, _, path = tiny
+    with h5py.File(path, "r") as f:
+        times = f["times"][()]
+    spacing = times[-1] - times[-2]
+    m = ExplicitModel(submodel_scene(sc, 2e-3, end_time=float(times[-1])))
+    m.steps = int(times[-1] // (3.0 * spacing))  # about three spacings a step, the last one ending 2 past the record
+    m.dt = (times[-1] + 2.0 * spacing) / m.steps
+    assert times[-1] + spacing < m.steps * m.dt <= times[-1] + m.dt
+    CutDriver(m, path)  # accepted
+    m.steps += 2  # two steps past the record: refused
+    with pytest.raises(SceneError, match="simulation.end_time"):
+        CutDriver(m, path)
