@@ -121,7 +121,7 @@ def fig4_section(
     text = (
         "**Agrees:** the axisymmetric global model overlies the analytical curves, as the paper found: "
         f"{strain}, and the energy balance holds to {energy:.1e}. "
-        f"Contact duration against the analytical model: {durations}"
+        f"Contact duration against this reference (`{f4['analytical'].get('contact_law', 'hertz')}`): {durations}"
     )
     if penalty:
         ζ0 = penalty.get("default_damping")  # rows at the default contact damping (older records: all rows)
@@ -135,7 +135,8 @@ def fig4_section(
         text += (
             ". With a penalty the duration depends on the factor (a soft contact layer stretches the low-force tail "
             "of the release); the default kinematic contact has no factor "
-            f"([contact-study.md](contact-study.md), penalty{damped}: {study})"
+            f"([contact-study.md](contact-study.md), against the analytical model at the default law, on the default "
+            f"mesh; penalty{damped}: {study})"
         )
     return [
         "## Fig. 4: wave response, FE over analytical — [fig4.md](fig4.md), [fig4.png](fig4.png)",
