@@ -322,12 +322,16 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     """Run the analytical model on a scene; histories on the scene's output grid plus summary.json keys."""
     t0 = time.perf_counter()
     rtol = scene["analytical.rtol"] if rtol is None else rtol
+
+    def solve(c: float) -> WaveModel:
+        return WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
+
     c, law, law_warnings = contact_compliance(scene), scene["analytical.contact"], []
-    model = WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
+    model = solve(c)
     if (problem := model.rod_end_term_problem()) is not None:
         # a patch as wide as the rods: the correction's range ends; the paper's law keeps the run (with a warning)
         c, law, law_warnings = 0.0, "hertz", [problem]
-        model = WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
+        model = solve(c)
     wall = time.perf_counter() - t0
 
     t = np.arange(0.0, scene.end_time * (1 + 1e-12), scene.output_interval)

@@ -378,11 +378,9 @@ class Scene:
         from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
         bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS
-        E_star, R_star = hertz.contact_constants(self.rod1, self.rod2)
-        if math.isinf(R_star):
-            return bar
         P = self.speed / (1.0 / self.rod1.impedance + 1.0 / self.rod2.impedance)  # [N]
-        return min(bar, float(hertz.contact_radius(P, E_star, R_star)) / PATCH_ELEMENTS)
+        a_P = float(hertz.contact_radius(P, *hertz.contact_constants(self.rod1, self.rod2)))  # [m]
+        return min(bar, a_P / PATCH_ELEMENTS)
 
     @property
     def tip_grading(self) -> float:
