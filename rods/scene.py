@@ -124,6 +124,16 @@ def _choices(options: Iterable[str], noun: str = "entry"):
     return check
 
 
+MAX_TIP_RADIUS = 1e4  # [m] a curved tip's largest radius: the Hertz stiffness grows as sqrt(R), and at 1e300 m the
+# analytical model's contact is so stiff that its integration did not end (1e3, 1e4, 1e6 m: 1.8, 2.4, 7.0 s)
+
+
+def _tip_radius(key: str, v: float) -> None:
+    """A tip radius: inf (flat) or in (0, MAX_TIP_RADIUS] m."""
+    if v != math.inf:
+        _positive("m (inf = flat)", hi=MAX_TIP_RADIUS, hint_hi="a flatter tip is flat for the contact: use inf")(key, v)
+
+
 def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
     p = f"rod{n}"
     return {
@@ -133,11 +143,7 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
             REQUIRED,
             _positive("m", hi=1.0, hint_hi="looks like millimetres; give metres"),
         ),
-        f"{p}.tip_radius": (
-            "float|inf",
-            math.inf,
-            _positive("m (inf = flat)"),
-        ),
+        f"{p}.tip_radius": ("float|inf", math.inf, _tip_radius),
         f"{p}.material.density": (
             "float",
             REQUIRED,
