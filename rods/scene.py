@@ -512,6 +512,11 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
         ):
             if v[k] != "auto" and v[k] > lim:  # auto: at most the thinner radius / BAR_ELEMENTS by construction
                 raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {what})")
+    L = min(v["rod1.length"], v["rod2.length"])
+    if v["fe.submodel_length"] >= L:  # a cut beyond a rod's far end has no band to record (the fuzz test's 1 m)
+        raise SceneError(
+            "fe.submodel_length", v["fe.submodel_length"], f"must be < {L:g} m (the submodel cuts both rods)"
+        )
 
 
 def _cross_checks(v: dict[str, Any]) -> None:

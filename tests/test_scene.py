@@ -65,6 +65,7 @@ BAD = [
     ("rod1.tip_radius=0.001", "rod1.tip_radius", "diameter/2"),
     ("rod1.tip_radius=1e300", "rod1.tip_radius", "use inf"),  # its analytical contact never finished integrating
     ("rod2.tip_radius=-inf", "rod2.tip_radius", "> 0"),
+    ("fe.submodel_length=1", "fe.submodel_length", "cuts both rods"),  # --record-cut crashed (ValueError)
     ("fe.radial_size=0.01", "fe.radial_size", "radius"),
     ("fe.dt=-1e-9", "fe.dt", "> 0"),
     ("fe.dt='fast'", "fe.dt", "'auto'"),
