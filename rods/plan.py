@@ -71,6 +71,20 @@ def contact_phase(analytical_summary: Mapping[str, Any], end_time: float) -> flo
     return _phase(first_contact_end(analytical_summary), end_time)
 
 
+def phase_radius(scene: Scene, analytical_summary: Mapping[str, Any] | None = None) -> float:
+    """The contact radius [m] the phase-averaged submodel members are placed about
+    (rods.scene.submodel_phase_size): Hertz at the analytical model's peak force (run here if its summary is
+    not given); a flat-on-flat scene (no Hertz radius) is refused by the caller's level check."""
+    from rods import hertz
+
+    if analytical_summary is None:
+        from rods.analytical import simulate
+
+        analytical_summary = simulate(scene).summary
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    return float(hertz.at_force(analytical_summary["peak_contact_force"], E_star, R_star)["contact_radius"])
+
+
 def _phase(contact_end: float | None, end_time: float) -> float:
     return end_time if contact_end is None else min(end_time, CONTACT_MARGIN * contact_end)
 

@@ -28,6 +28,8 @@ __all__ = [
     "Scene",
     "SUBMODEL_LEVELS",
     "SUBMODEL_LEVEL_SIZES",
+    "SUBMODEL_PHASES",
+    "submodel_phase_size",
     "SceneError",
     "Station",
     "load_scene",
@@ -52,6 +54,28 @@ SUBMODEL_LEVEL_SIZES = {
     "ultra-fine": 0.015625e-3,  # [m]
 }
 SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
+# meshes per submodel level in the phase-averaged convergence study (submodel_phase_size); the middle one is the
+# level's own size [-]
+SUBMODEL_PHASES = 5
+
+
+def submodel_phase_size(h: float, a: float, phase: int, phases: int = SUBMODEL_PHASES) -> float:
+    """Element size [m] of member ``phase`` (0 .. ``phases`` - 1) of the level of size ``h`` [m], for a contact
+    radius about ``a`` [m].
+
+    The node-based contact closes node by node, so the discrete contact radius depends on where the edge falls
+    between two nodes, by about ±0.4% of a at 0.125 mm and ±0.2% at 0.0625 mm on the paper scene
+    (results/edge-scatter.md), more than a halving of h changes it. That scatter is a function of the edge's
+    phase a/h mod 1; the members place the edge at ``phases`` equally spaced phases around the level's own,
+    a/h_k = a/h + (k - (phases - 1)/2)/phases (stratified over one period, the middle member is h itself), so the
+    mean over the members cancels the scatter's harmonics below ``phases`` and leaves the trend in h.
+    ``a`` need only be within some ten per cent (the analytical model's Hertz radius serves): the members then
+    span 0.9 to 1.1 periods instead of one."""
+    if not (h > 0 and a > 0 and 0 <= phase < phases):
+        raise ValueError(f"submodel phase: need h > 0, a > 0 and 0 <= phase < {phases} (h={h}, a={a}, {phase=})")
+    return a / (a / h + (phase - (phases - 1) / 2) / phases)
+
+
 # contact force laws: rods.fe.contact (penalty, the paper's) and rods.fe.kinematic (Lagrange, penalty-free)
 CONTACT_LAWS = ("penalty", "kinematic")
 ANALYTICAL_CONTACT_LAWS = ("hertz", "hertz-rod")  # rods.analytical: the contact law of the 1D model

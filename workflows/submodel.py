@@ -4,7 +4,8 @@
     mpirun -n 2 python workflows/submodel.py --global GDIR --level fine --out DIR
 
 Scene: the global run's unless --scene/--set are given. Levels: rods.scene.SUBMODEL_LEVEL_SIZES (--size
-overrides); end: the driver's contact phase unless --end-time. Writes DIR/summary.json, history.csv,
+overrides; --phase K runs member K of the level's phase-averaged study, rods.scene.submodel_phase_size); end: the
+driver's contact phase unless --end-time. Writes DIR/summary.json, history.csv,
 pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR output/submodel/<level>/<scene>.
 """
 
@@ -20,9 +21,9 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
-from rods import cost
+from rods import cost, plan
 from rods.preflight import InputError, input_dir
-from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, scene_from_summary
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, SUBMODEL_PHASES, scene_from_summary, submodel_phase_size
 from rods.study import stages
 
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
@@ -39,6 +40,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--global", dest="global_dir", required=True, help="output folder of a global run with cut.h5")
     ap.add_argument("--level", default="fine", choices=SUBMODEL_LEVELS, help="mesh level (default %(default)s)")
     ap.add_argument("--size", type=_cli.positive, default=None, help="element size [m] (overrides --level)")
+    ap.add_argument(
+        "--phase",
+        type=int,
+        default=None,
+        choices=range(SUBMODEL_PHASES),
+        metavar=f"{{0..{SUBMODEL_PHASES - 1}}}",
+        help="member of the level's phase-averaged study (rods.scene.submodel_phase_size; not with --size)",
+    )
     ap.add_argument("--axial-size", type=_cli.positive, default=None, help="axial element size [m] (default = size)")
     ap.add_argument("--end-time", type=_cli.positive, default=None, help="end time [s] (default: the contact phase)")
     ap.add_argument(
@@ -55,16 +64,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
     dt = gsum["dt"] if args.dt == "global" else args.dt
+    if args.phase is not None and args.size is not None:
+        raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     level = args.level if args.size is None else f"h={args.size:g}"
+    if args.phase is not None:
+        level = f"{args.level}-phase-{args.phase}"
     out = _cli.out_dir(args, f"submodel/{level}", scene)
     log, progress = _cli.rank0(comm)
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
     h = args.size or SUBMODEL_LEVEL_SIZES[args.level]
+    if args.phase is not None:
+        h = submodel_phase_size(h, plan.phase_radius(scene), args.phase)
     c = cost.fe_cost(scene, comm.size, what=f"the submodel {level}", size=h, axial_size=args.axial_size, end_time=end)
     _cli.afford(args, c, log=log)
     s = stages.submodel(
         scene, gdir / "cut.h5", out, comm, args.level, size=args.size, axial_size=args.axial_size, end_time=end,
-        dt=dt, progress=progress,
+        dt=dt, progress=progress, phase=args.phase,
     ).summary  # fmt: skip
     log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
     _cli.status(s, comm.rank)

@@ -62,7 +62,7 @@ from mpi4py import MPI
 from rods import hertz
 from rods.fe import forms
 from rods.fe.model import ExplicitModel, FEResult
-from rods.scene import Scene, SceneError, Station, scene_from_dict
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, SceneError, Station, scene_from_dict
 
 __all__ = [
     "LEVEL_SIZES",
@@ -76,14 +76,8 @@ __all__ = [
     "surface_gauss_stress",
 ]
 
-# element size across and along per level [m] (paper: coarse/mid/fine; finer: axisymmetric only)
-LEVEL_SIZES = {
-    "coarse": 0.25e-3,
-    "mid": 0.125e-3,
-    "fine": 0.0625e-3,
-    "extra-fine": 0.03125e-3,
-    "ultra-fine": 0.015625e-3,
-}
+# element size across and along per level [m] (paper: coarse/mid/fine; finer: axisymmetric only): the scene's table
+LEVEL_SIZES = SUBMODEL_LEVEL_SIZES
 BAND_ELEMENTS = 2  # band half-width in global axial elements [-]
 # most negative interpolation weight accepted [-]: a cut node at most ~this fraction of a band cell outside it
 # (3D: a finer submodel's circle bulges past the band's polygonal section by its sagitta, 0.03 mm on 1 mm cells)

@@ -54,7 +54,8 @@ QUANTITIES: dict[str, tuple[str, str, float, str | None]] = {
     "peak_contact_pressure": ("peak pressure", "GPa", 1e-9, "peak_pressure"),
 }
 KEYS = ("model", "level", "h", *QUANTITIES)  # every record has these
-MODEL_ORDER = ("submodel", "global")  # families listed first, in this order; others follow by name
+PHASE_FAMILY = "submodel (phase mean)"  # each level the mean over its phase members (rods.scene.submodel_phase_size)
+MODEL_ORDER = ("submodel", PHASE_FAMILY, "global")  # families listed first, in this order; others follow by name
 
 
 def _level(r: Mapping[str, Any], F_an: float, E_star: float, R_star: float) -> dict[str, Any]:
@@ -72,6 +73,38 @@ def _level(r: Mapping[str, Any], F_an: float, E_star: float, R_star: float) -> d
         "reference": ref,
         "error_pct": {q: percent(values[q], ref[q]) for q in QUANTITIES},
         "error_vs_analytical_pct": vs_an,
+    }
+
+
+def _phase_means(records: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """One :data:`PHASE_FAMILY` record per submodel level with two or more phase members (the level's own run,
+    without a ``phase``, is the middle member): the members' mean values at the level's own size (else the
+    geometric mean of the members'), and the members themselves under ``members``."""
+    by_level: dict[str, list[Mapping[str, Any]]] = {}
+    for r in records:
+        if r["model"] == "submodel":
+            by_level.setdefault(str(r["level"]), []).append(r)
+    out = []
+    for level, ms in by_level.items():
+        if len(ms) < 2 or all(m.get("phase") is None for m in ms):
+            continue
+        own = [m for m in ms if m.get("phase") is None]
+        h = float(own[0]["h"]) if own else math.exp(np.mean([math.log(float(m["h"])) for m in ms]))
+        mean = {q: float(np.mean([float(m[q]) for m in ms])) for q in QUANTITIES}
+        out.append({"model": PHASE_FAMILY, "level": level, "h": h, **mean, "members": list(ms)})
+    return out
+
+
+def _member_scatter(r: Mapping[str, Any], F_an: float, E_star: float, R_star: float) -> dict[str, Any]:
+    """The phase members of a :data:`PHASE_FAMILY` record: their sizes [m], and per quantity the error [%]
+    range (min, max) and the standard error of the mean, s/sqrt(n) [%] (stratified members: an upper bound)."""
+    errs = [_level(m, F_an, E_star, R_star)["error_pct"] for m in r["members"]]
+    n = len(errs)
+    return {
+        "members": n,
+        "member_h": sorted((float(m["h"]) for m in r["members"]), reverse=True),
+        "spread_pct": {q: [min(e[q] for e in errs), max(e[q] for e in errs)] for q in QUANTITIES},
+        "standard_error_pct": {q: float(np.std([e[q] for e in errs], ddof=1) / math.sqrt(n)) for q in QUANTITIES},
     }
 
 
@@ -121,7 +154,8 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
         for what, x in bad:
             last3 = "monotone" if x["monotone_last3"] else "not monotone either"
             at = ", ".join(x["nonmonotone_levels"])
-            flags.append(f"{model} {label} {what}: non-monotone at {at}; over the three finest levels {last3}")
+            scatter = _turns_vs_scatter(levels, q, x["nonmonotone_levels"]) if what != "value" else ""
+            flags.append(f"{model} {label} {what}: non-monotone at {at}; over the three finest levels {last3}{scatter}")
         spans = (("all levels", e), ("the three finest levels", est[q]["error_pct_last3"]))
         for span, x in spans[: 1 if len(levels) == 3 else 2]:
             if x["branch"] == "diverging":
@@ -130,6 +164,26 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
                     "not in the asymptotic range, no extrapolation"
                 )
     return flags
+
+
+def _turns_vs_scatter(levels: Sequence[Mapping[str, Any]], q: str, turns: Sequence[str]) -> str:
+    """For phase-mean levels: at each turn, the smaller of its two steps [points] against the two levels'
+    combined standard error, so the reader sees whether the turn is a trend or the members' scatter."""
+    if not all("standard_error_pct" in lv for lv in levels):
+        return ""
+    names = [lv["level"] for lv in levels]
+    e = [lv["error_pct"][q] for lv in levels]
+    se = [lv["standard_error_pct"][q] for lv in levels]
+    parts = []
+    for t in turns:
+        j = names.index(t)
+        if not 0 < j < len(levels) - 1:
+            continue
+        k = j - 1 if abs(e[j] - e[j - 1]) < abs(e[j + 1] - e[j]) else j + 1  # the smaller step's other end
+        step, s = abs(e[j] - e[k]), math.hypot(se[j], se[k])
+        verdict = "within the members' scatter" if step < 2 * s else "larger than the members' scatter"
+        parts.append(f"at {t} the smaller step is {step:.3f} points against a standard error of {s:.3f}: {verdict}")
+    return ("; " + "; ".join(parts)) if parts else ""
 
 
 def compute(
@@ -141,11 +195,15 @@ def compute(
         missing = [k for k in KEYS if k not in r]
         if missing:
             raise KeyError(f"convergence record {dict(r)!r} lacks {missing}")
+    records = [r for r in records if r.get("phase") is None] + _phase_means(records)
     families = sorted({str(r["model"]) for r in records}, key=_rank)
     models = {}
     for m in families:
         recs = sorted((r for r in records if r["model"] == m), key=lambda r: -float(r["h"]))
         levels = [_level(r, analytical_force, E_star, R_star) for r in recs]
+        for lv, r in zip(levels, recs, strict=True):
+            if "members" in r:
+                lv.update(_member_scatter(r, analytical_force, E_star, R_star))
         est = _estimates(levels) if len(levels) >= 3 else None
         models[m] = {"levels": levels, "estimates": est, "flags": _flags(m, levels, est)}
         if est is not None:
@@ -229,6 +287,24 @@ def _value_rows(fam: Mapping[str, Any]) -> list[str]:
     return L
 
 
+def _member_rows(fam: Mapping[str, Any]) -> list[str]:
+    """The phase members behind each level's mean: sizes, and per quantity the error range and standard error."""
+    L = [
+        "| level | members | h of the members [mm] | "
+        + " | ".join(f"{QUANTITIES[q][0]}: range (SE) [%]" for q in QUANTITIES)
+        + " |",
+        "|---|---|---|" + "---|" * len(QUANTITIES),
+    ]
+    for lv in fam["levels"]:
+        hs = ", ".join(f"{h * 1e3:.4g}" for h in lv["member_h"])
+        cells = " | ".join(
+            f"{lv['spread_pct'][q][0]:+.3f} .. {lv['spread_pct'][q][1]:+.3f} ({lv['standard_error_pct'][q]:.3f})"
+            for q in QUANTITIES
+        )
+        L.append(f"| {lv['level']} | {lv['members']} | {hs} | {cells} |")
+    return L
+
+
 def _gci(t: Mapping[str, Any]) -> str:
     """U/|f1| of the three finest where it is Roache's GCI (credible order, Fs = 1.25), else '–'."""
     ok = t["branch"] == "observed order" and t["safety_factor"] == 1.25
@@ -270,6 +346,8 @@ def render_markdown(data: Mapping[str, Any]) -> str:
             ]
             conv = "yes" if not grow else f"no ({', '.join(grow)}: the differences grow)"
             L += ["", f"Every error monotone over the three finest levels: {ok}; converging there (p > 0): {conv}."]
+        if all("members" in lv for lv in fam["levels"]):
+            L += ["", *_member_rows(fam)]
         if fam["flags"]:
             L += ["", *(f"* {s}." for s in fam["flags"])]
         else:
@@ -374,4 +452,5 @@ def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
         h = float(fe["radial_size"])
         level = label or f"{h * 1e3:g} mm"
     keys = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
-    return {"model": model, "level": level, "h": h, **{k: float(summary[k]) for k in keys}}
+    phase = summary.get("phase", {}).get("member") if sub else None  # a phase member (rods.scene.submodel_phase_size)
+    return {"model": model, "level": level, "h": h, "phase": phase, **{k: float(summary[k]) for k in keys}}

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from rods import checks, io, plan
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_PHASES, Scene, submodel_phase_size
 
 __all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "global_model", "submodel"]
 
@@ -150,22 +150,30 @@ def submodel(
     end_time: float | None = None,
     dt: float | str = "auto",
     progress: Progress = None,
+    phase: int | None = None,
 ) -> Stage:
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
     ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the contact phase of the
-    analytical model, rods.plan.contact_phase; capped by the scene's end). Writes history, pressure_profile,
-    sigma_r (r, depth, σ_r at peak force) and the summary."""
+    analytical model, rods.plan.contact_phase; capped by the scene's end). ``phase``: the level's member of the
+    phase-averaged study instead (rods.scene.submodel_phase_size, about the Hertz radius at the analytical
+    model's peak force). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
+    summary."""
+    from rods.analytical import simulate
     from rods.fe.submodel import run_submodel
 
     h = size or SUBMODEL_LEVEL_SIZES[level]
     name = level if size is None else f"h={h:g}"
+    analytical = simulate(scene).summary if (phase is not None or end_time is None) else None
+    if phase is not None:
+        h = submodel_phase_size(SUBMODEL_LEVEL_SIZES[level], plan.phase_radius(scene, analytical), phase)
+        name = level
     if end_time is None:
-        from rods.analytical import simulate
-
-        end_time = plan.contact_phase(simulate(scene).summary, scene.end_time)
+        end_time = plan.contact_phase(analytical, scene.end_time)
     end = min(end_time, scene.end_time)
     sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name)
     sr.summary["cut_file"] = str(cut_file)
+    if phase is not None:
+        sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}
     checks.apply(sr.summary, {}, scene, end)  # its midpoint is no Rod-2 midpoint: no plateau check
     if comm.rank == 0:
         io.write_history(out / "history.csv", sr.result.history, sr.result.units)
