@@ -55,6 +55,12 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "record-every 0": ("global.py", ["--record-cut", "--record-every", "0", "--out", "o"], ["--record-every", "0"]),
     "submodel dt abc": ("submodel.py", ["--global", "nosummary", "--dt", "abc", "--out", "o"], ["--dt", "abc"]),
     "submodel size 0": ("submodel.py", ["--global", "nosummary", "--size=0", "--out", "o"], ["--size", "0"]),
+    "submodel phase 9": ("submodel.py", ["--global", "nosummary", "--phase", "9", "--out", "o"], ["--phase", "9"]),
+    "submodel phase with size": (
+        "submodel.py",
+        ["--global", "nosummary", "--phase", "1", "--size", "1e-4", "--out", "o"],
+        ["--phase", "--size"],
+    ),
     "global without summary": ("submodel.py", ["--global", "nosummary", "--out", "o"], ["summary.json", "--driver"]),
     "compare missing": ("compare.py", ["--global", "missing", "--out", "o"], ["--global", "missing"]),
     "restart without checkpoint": ("global.py", ["--restart", "--out", "o"], ["--restart", "checkpoint.json"]),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from rods.scene import SceneError, load_scene, parse_override, scene_from_dict
@@ -144,3 +145,44 @@ def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     assert sc.as_dict()["fe"]["radial_size"] == sc["fe.radial_size"]
     assert sc.as_dict(json_safe=False)["fe"]["radial_size"] == "auto"
     assert scene_with("fe.radial_size=0.5e-3")["fe.radial_size"] == 0.5e-3
+
+
+# ---- the phase members of a submodel level (rods.scene.submodel_phase_size) ----
+
+
+def test_phase_members_step_the_edge_by_equal_fractions_of_an_element():
+    """a/h_k - a/h = (k - (n - 1)/2)/n: the members place the edge at n evenly spaced phases of one element,
+    the middle one at the level's own size; sizes decrease with k."""
+    from rods.scene import SUBMODEL_PHASES, submodel_phase_size
+
+    h, a = 0.0625e-3, 1.0912e-3  # [m]
+    sizes = [submodel_phase_size(h, a, k) for k in range(SUBMODEL_PHASES)]
+    assert sizes[SUBMODEL_PHASES // 2] == h
+    assert all(x > y for x, y in zip(sizes, sizes[1:], strict=False))
+    steps = [a / s - a / h for s in sizes]
+    assert steps == pytest.approx([(k - (SUBMODEL_PHASES - 1) / 2) / SUBMODEL_PHASES for k in range(SUBMODEL_PHASES)])
+
+
+@pytest.mark.parametrize("harmonic", [1, 2, 3, 4])
+def test_phase_mean_cancels_a_periodic_edge_scatter(harmonic):
+    """A scatter that is any harmonic m < n of the edge phase a/h mod 1 averages to zero over the n members
+    (stratified sampling of one period), whatever the level's own phase; the n-th harmonic does not."""
+    from rods.scene import SUBMODEL_PHASES, submodel_phase_size
+
+    a = 1.0912e-3  # [m]
+    for h in (0.25e-3, 0.1234e-3, 0.0625e-3, 0.03125e-3):
+        phases = [a / submodel_phase_size(h, a, k) for k in range(SUBMODEL_PHASES)]
+        for shift in (0.0, 0.3):
+            mean = np.mean([np.sin(2 * np.pi * harmonic * (x + shift)) for x in phases])
+            assert abs(mean) < 1e-12
+    nth = np.mean([np.cos(2 * np.pi * SUBMODEL_PHASES * a / submodel_phase_size(0.0625e-3, a, k)) for k in range(5)])
+    assert abs(nth) == pytest.approx(abs(np.cos(2 * np.pi * SUBMODEL_PHASES * a / 0.0625e-3)))
+
+
+@pytest.mark.parametrize("bad", [dict(h=0.0), dict(a=-1e-3), dict(phase=5), dict(phase=-1)])
+def test_phase_size_refuses_bad_arguments(bad):
+    from rods.scene import submodel_phase_size
+
+    args = dict(h=0.0625e-3, a=1e-3, phase=0) | bad
+    with pytest.raises(ValueError, match="submodel phase"):
+        submodel_phase_size(**args)

@@ -54,6 +54,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--dt", type=_step, default="auto", help="time step [s], 'auto' (stable) or 'global' (the global's)"
     )
     args = ap.parse_args(argv)
+    if args.phase is not None and args.size is not None:
+        raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     remedy = f"run workflows/global.py --driver --out {args.global_dir} first"
     gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
     try:
@@ -64,8 +66,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
     dt = gsum["dt"] if args.dt == "global" else args.dt
-    if args.phase is not None and args.size is not None:
-        raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     level = args.level if args.size is None else f"h={args.size:g}"
     if args.phase is not None:
         level = f"{args.level}-phase-{args.phase}"

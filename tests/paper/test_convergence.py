@@ -194,3 +194,48 @@ def test_a_two_level_family_renders_from_its_json(tmp_path):
     assert d["models"]["global 3d"]["estimates"] is None
     text = convergence.render_markdown(load(tmp_path / "convergence.json"))
     assert "### global 3d (2 levels)" in text and text == (tmp_path / "convergence.md").read_text()
+
+
+def phase_members(level, h, F, e_area_members, e_p=-0.001):
+    """Phase members of one level at force F [N]: areas off Hertz at F by e (the edge scatter), radius √(area/π)."""
+    out = []
+    for k, e in enumerate(e_area_members):
+        r = record("submodel", level, h * (1.02 - 0.01 * k), F, e_a=math.sqrt(1 + e) - 1, e_p=e_p)
+        out.append(r | {"phase": None if k == len(e_area_members) // 2 else k})  # the middle one: the level's own
+    return out
+
+
+def test_phase_family_is_the_mean_of_the_members_and_the_plain_family_keeps_the_own_runs():
+    """Per level the phase family's values are the members' means at the level's own size; the plain submodel
+    family sees the own runs only; the range and standard error are the members' errors'."""
+    scat = {"coarse": (-0.02, 0.01, 0.03, -0.01, 0.0), "mid": (-0.01, 0.005, 0.012, -0.006, 0.0)}
+    recs = [r for lv, e in scat.items() for r in phase_members(lv, H[NAMES.index(lv)], F_AN, e)]
+    recs += phase_members("fine", H[2], F_AN, (-0.004, 0.002, 0.005, -0.003, 0.0))
+    d = convergence.compute(recs, F_AN, E_STAR, R_STAR)
+    plain, fam = d["models"]["submodel"], d["models"][convergence.PHASE_FAMILY]
+    assert [lv["h"] for lv in plain["levels"]] == [lv["h"] for lv in fam["levels"]] == list(H[:3])
+    assert [lv["error_pct"]["contact_area"] for lv in plain["levels"]] == pytest.approx([3.0, 1.2, 0.5])
+    for lv, e in zip(fam["levels"], (*scat.values(), (-0.004, 0.002, 0.005, -0.003, 0.0)), strict=True):
+        assert lv["members"] == 5
+        assert lv["error_pct"]["contact_area"] == pytest.approx(100 * np.mean(e), abs=1e-9)
+        assert lv["spread_pct"]["contact_area"] == pytest.approx([100 * min(e), 100 * max(e)])
+        assert lv["standard_error_pct"]["contact_area"] == pytest.approx(100 * np.std(e, ddof=1) / math.sqrt(5))
+        assert lv["error_pct"]["peak_contact_pressure"] == pytest.approx(-0.1)
+
+
+def test_phase_family_turn_is_weighed_against_the_members_scatter():
+    """A turn smaller than twice the combined standard error of the two means is called scatter; a larger one is
+    not. Members ±0.03 points about means of 1.0, 0.5 and then 0.51 or 0.8 %."""
+    offsets = (0.0003, -0.0003, 0.0002, -0.0002, 0.0)
+
+    def flags(fine_mean):
+        recs = []
+        for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
+            recs += phase_members(name, h, F_AN, [mean + x for x in offsets])
+        return convergence.compute(recs, F_AN, E_STAR, R_STAR)["models"][convergence.PHASE_FAMILY]["flags"]
+
+    small = [f for f in flags(0.0051) if "contact area" in f]
+    assert len(small) == 1 and "at mid the smaller step is 0.010 points" in small[0]
+    assert "within the members' scatter" in small[0]
+    large = [f for f in flags(0.008) if "contact area" in f]
+    assert len(large) == 1 and "larger than the members' scatter" in large[0]

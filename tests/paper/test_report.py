@@ -201,3 +201,26 @@ def test_edge_scatter_sentence_quotes_each_levels_band():
     assert "mid: radius -0.20% to +0.37%, area -0.40% to +0.74%, peak pressure -1.70% to -1.55%" in text
     assert "fine: radius -0.18% to +1.05%" in text and "from 0.93 to 1.07 x a level's" in text
     assert "non-monotone radius and area" in text
+
+
+def test_phase_mean_paragraph_follows_the_phase_family():
+    """The paragraph quotes the phase family's series and says whether the last step is within the members'
+    scatter, from the convergence data; absent without phase members."""
+    from rods.paper import convergence
+    from tests.paper.test_convergence import E_STAR, F_AN, NAMES, R_STAR, H, phase_members
+
+    def conv(fine_mean):
+        recs = []
+        for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
+            recs += phase_members(name, h, F_AN, [mean + x for x in (0.0003, -0.0003, 0.0002, -0.0002, 0.0)])
+        return convergence.compute(recs, F_AN, E_STAR, R_STAR)
+
+    mono = report.phase_mean_text(conv(0.002))
+    assert "+1.000% / +0.500% / +0.200%" in mono and "monotone over the three finest levels" in mono
+    turn = report.phase_mean_text(conv(0.0051))
+    assert "not strictly monotone" in turn and "stopped changing" in turn
+    jump = report.phase_mean_text(conv(0.008))
+    assert "more than the members' scatter explains" in jump
+    plain = convergence.compute([r for r in phase_members("fine", H[2], F_AN, [0.0] * 5) if r["phase"] is None],
+                                F_AN, E_STAR, R_STAR)  # fmt: skip
+    assert convergence.PHASE_FAMILY not in plain["models"]
