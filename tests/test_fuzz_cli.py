@@ -109,8 +109,9 @@ def test_global(overrides, flags, value, where):
     size=numbers,
     dt=st.one_of(numbers, st.sampled_from(["auto", "global"])),
     level=st.sampled_from(["coarse", "fine", "bogus"]),
+    phase=st.one_of(st.none(), st.sampled_from(["0", "4", "5", "-1", "x", "2.5"])),
 )
-def test_submodel(folder, size, dt, level):
+def test_submodel(folder, size, dt, level, phase):
     with tempfile.TemporaryDirectory() as d:
         g = Path(d) / folder
         if folder != "missing":
@@ -120,7 +121,9 @@ def test_submodel(folder, size, dt, level):
         if folder == "badsummary":
             (g / "summary.json").write_text("{")
         out = Path(d) / "out"
-        check("submodel", ["--global", str(g), "--size", size, "--dt", dt, "--level", level, "--out", str(out)], out)
+        extra = [] if phase is None else ["--phase", phase]
+        args = ["--global", str(g), "--size", size, "--dt", dt, "--level", level, *extra, "--out", str(out)]
+        check("submodel", args, out)
 
 
 @FUZZ

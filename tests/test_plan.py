@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import pytest
 
+from rods import plan
 from rods.plan import CONTACT_MARGIN, make_plan
 from rods.scene import SceneError
+
+from .conftest import PAPER
 
 
 def test_wave_response_alone_runs_no_submodel(scene_with):
@@ -37,3 +40,16 @@ def test_misalignment_needs_3d_and_unknown_effects_fail(scene_with):
         scene_with("effects=['wave']")
     with pytest.raises(SceneError, match="submodel.levels"):
         scene_with("submodel.levels=['huge']")
+
+
+@pytest.mark.parametrize("overrides", [[], ["impact.speed=1.0", "rod1.tip_radius=0.05"]])
+def test_phase_radius_is_the_analytical_models_contact_radius(overrides):
+    """The phase members are placed about Hertz at the analytical peak force: the analytical model's own peak
+    contact radius (computed there from its force history), on the paper scene and a slower, blunter one."""
+    from rods.analytical import simulate
+    from rods.scene import load_scene
+
+    sc = load_scene(PAPER, overrides)
+    s = simulate(sc).summary
+    assert plan.phase_radius(sc) == pytest.approx(s["contact_radius"], rel=1e-12)
+    assert plan.phase_radius(sc, s) == plan.phase_radius(sc)

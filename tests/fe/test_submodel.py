@@ -267,6 +267,23 @@ def test_end_to_end_cli(global_dirs, tmp_path):
     assert p.returncode == 2 and "cut.h5" in p.stderr
 
 
+def test_phase_member_cli(global_dirs, tmp_path):
+    """`--phase K` runs the level's member K: its size places the edge 1/5 of an element from the level's own
+    about the scene's Hertz radius at the analytical force, and the summary names the level and the member."""
+    from rods import plan
+    from rods.scene import SUBMODEL_LEVEL_SIZES, load_scene, submodel_phase_size
+
+    g = global_dirs("axisymmetric")
+    p = run_workflow("submodel.py", ["--global", str(g), "--level", "coarse", "--phase", "3", "--out", str(tmp_path)])
+    assert p.returncode == 0, p.stderr
+    s = json.loads((tmp_path / "summary.json").read_text())
+    a = plan.phase_radius(load_scene(PAPER, TINY["axisymmetric"]))
+    h = SUBMODEL_LEVEL_SIZES["coarse"]
+    assert s["element_size"] == pytest.approx(submodel_phase_size(h, a, 3), rel=1e-12)
+    assert a / s["element_size"] - a / h == pytest.approx(0.2, rel=1e-9)
+    assert s["level"] == "coarse" and s["phase"] == {"member": 3, "members": 5}
+
+
 @pytest.mark.slow
 def test_targets_at_finest_axisymmetric_level(tmp_path):
     """Paper scene, extra-fine level (h = 0.03125 mm), driven as every door drives it (`global.py --driver`:
