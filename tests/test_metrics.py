@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -75,3 +77,48 @@ def test_strain_window_is_five_round_trips_of_rod2(scene_with):
     assert metrics.strain_window(rod2, periods=1)[1] == pytest.approx(2 * 0.5 / c2, rel=1e-12)
     paper = scene_with().rod2
     assert metrics.strain_window(paper)[1] == pytest.approx(1370e-6, abs=0.5e-6)  # fig4.md's "1370 µs"
+
+
+# ---- the edge-period contact radius (rods.metrics.edge_period_radius) ----
+E_EDGE, R_EDGE = 1.1e11, 0.035  # E* [Pa], R* [m]
+
+
+def _sawtooth_loading(e0: float, amplitude: float, spacing: float, shift: float, n: int = 4000):
+    """A half-sine force pulse and a node-based radius a = a_H(F) (1 + e0 + A saw(a_H/spacing + shift)), the
+    sawtooth rising over each spacing and dropping where the edge reaches a node (zero mean over a period)."""
+    from rods.hertz import contact_radius
+
+    t = np.linspace(0.0, 1.0, n)
+    F = 5500.0 * np.sin(np.pi * t)  # [N]
+    aH = contact_radius(F, E_EDGE, R_EDGE)
+    phase = (aH / spacing + shift) % 1.0
+    return F, aH * (1.0 + e0 + amplitude * (phase - 0.5))
+
+
+@pytest.mark.parametrize("spacing", [0.25e-3, 0.125e-3, 0.0625e-3])
+def test_edge_period_radius_removes_a_sawtooth_scatter_whatever_its_phase(spacing):
+    """The snapshot at the peak moves by ± A/2 with the nodes' phase; the edge-period mean returns the trend e0
+    to a small fraction of A (the sawtooth's slow change of a_H/a over the sweep), at every phase."""
+    from rods.hertz import contact_radius
+
+    e0, A = -0.001, 0.008
+    snap, swept = [], []
+    for shift in np.linspace(0.0, 1.0, 7, endpoint=False):
+        F, a = _sawtooth_loading(e0, A, spacing, shift)
+        a_edge, ratio, n = metrics.edge_period_radius(F, a, spacing, E_EDGE, R_EDGE)
+        assert n >= metrics.EDGE_MIN_SAMPLES
+        assert a_edge == pytest.approx(contact_radius(F.max(), E_EDGE, R_EDGE) * (1 + ratio), rel=1e-12)
+        snap.append(a[np.argmax(F)] / contact_radius(F.max(), E_EDGE, R_EDGE) - 1)
+        swept.append(ratio)
+    assert np.ptp(snap) > 0.5 * A
+    assert np.max(np.abs(np.array(swept) - e0)) < 0.05 * A
+
+
+def test_edge_period_radius_is_nan_without_a_full_sweep():
+    """No contact, under two spacings across the patch radius, or too few samples in the sweep: NaN."""
+    F, a = _sawtooth_loading(0.0, 0.0, 0.1e-3, 0.0)
+    assert math.isnan(metrics.edge_period_radius(np.zeros(10), np.zeros(10), 1e-4, E_EDGE, R_EDGE)[0])
+    assert math.isnan(metrics.edge_period_radius(F, a, 0.6e-3, E_EDGE, R_EDGE)[0])  # a_peak ~1.1 mm < 2 x 0.6
+    coarse = slice(None, None, 400)  # 10 samples over the pulse: 1-2 in the sweep
+    assert math.isnan(metrics.edge_period_radius(F[coarse], a[coarse], 0.1e-3, E_EDGE, R_EDGE)[0])
+    assert not math.isnan(metrics.edge_period_radius(F, a, 0.1e-3, E_EDGE, R_EDGE)[0])

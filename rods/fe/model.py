@@ -43,7 +43,7 @@ import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from rods import hertz
+from rods import hertz, metrics
 from rods.fe import backend as backends
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
@@ -395,8 +395,28 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
         }
     )
     summary.update(_mesh_summary(model, recorder.peak, hist))
+    summary.update(_edge_period(model, hist, summary["contact_radius"]))
     profile = {"r": model.contact.slave.r.copy(), "p": np.asarray(recorder.peak.get("p", np.zeros(model.contact.ns)))}
     return FEResult(hist, units, summary, profile)
+
+
+def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: float) -> dict[str, Any]:
+    """The contact radius and area at the peak force averaged over the last node spacing the edge swept
+    (:func:`rods.metrics.edge_period_radius`): the spacing of the slave nodes around the peak radius
+    (axisymmetric; 3D: ``fe.radial_size``, the nodes are not in rings there)."""
+    sc, r = model.scene, model.contact.slave.r
+    if model.kind == "3d" or r.size < 2:
+        spacing = float(sc["fe.radial_size"])
+    else:
+        i = int(np.clip(np.searchsorted(r, a_peak), 1, r.size - 1))
+        spacing = float(r[i] - r[i - 1])
+    E_star, R_star = hertz.contact_constants(sc.rod1, sc.rod2)
+    a, ratio, n = metrics.edge_period_radius(hist["contact_force"], hist["contact_radius"], spacing, E_star, R_star)
+    return {
+        "contact_radius_edge_mean": a,
+        "contact_area_edge_mean": np.pi * a * a,
+        "edge_period": {"spacing": spacing, "ratio_to_hertz": ratio, "samples": n},
+    }
 
 
 def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np.ndarray]) -> dict[str, Any]:

@@ -47,13 +47,17 @@ from rods.paper.data import write_json
 __all__ = ["KEYS", "QUANTITIES", "compute", "plot", "record", "render_markdown", "write"]
 
 # record key -> (label, unit shown, factor SI -> unit shown, Hertz key or None for the analytical force)
+# (the edge-period mean: rods.metrics.edge_period_radius, free of the node-position scatter; NaN where a run has none)
 QUANTITIES: dict[str, tuple[str, str, float, str | None]] = {
     "peak_contact_force": ("peak force", "N", 1.0, None),
     "contact_radius": ("contact radius", "mm", 1e3, "contact_radius"),
     "contact_area": ("contact area", "mm²", 1e6, "contact_area"),
     "peak_contact_pressure": ("peak pressure", "GPa", 1e-9, "peak_pressure"),
+    "contact_radius_edge_mean": ("contact radius, edge-period mean", "mm", 1e3, "contact_radius"),
+    "contact_area_edge_mean": ("contact area, edge-period mean", "mm²", 1e6, "contact_area"),
 }
-KEYS = ("model", "level", "h", *QUANTITIES)  # every record has these
+OPTIONAL = ("contact_radius_edge_mean", "contact_area_edge_mean")  # NaN in a record that lacks them
+KEYS = ("model", "level", "h", *(q for q in QUANTITIES if q not in OPTIONAL))  # every record has these
 PHASE_FAMILY = "submodel (phase mean)"  # each level the mean over its phase members (rods.scene.submodel_phase_size)
 MODEL_ORDER = ("submodel", PHASE_FAMILY, "global")  # families listed first, in this order; others follow by name
 
@@ -63,7 +67,7 @@ def _level(r: Mapping[str, Any], F_an: float, E_star: float, R_star: float) -> d
     level's own force; also vs Hertz at the analytical force (the two errors combined)."""
     F = float(r["peak_contact_force"])
     own, at_an = hertz.at_force(F, E_star, R_star), hertz.at_force(F_an, E_star, R_star)
-    values = {q: float(r[q]) for q in QUANTITIES}
+    values = {q: _num(r.get(q)) for q in QUANTITIES}
     ref = {q: (F_an if hk is None else own[hk]) for q, (_, _, _, hk) in QUANTITIES.items()}
     vs_an = {q: percent(values[q], F_an if hk is None else at_an[hk]) for q, (_, _, _, hk) in QUANTITIES.items()}
     return {
@@ -109,11 +113,14 @@ def _member_scatter(r: Mapping[str, Any], F_an: float, E_star: float, R_star: fl
 
 
 def _estimates(levels: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-    """Per quantity: the error [%] and the raw value, each over all levels and over the three finest."""
+    """Per quantity: the error [%] and the raw value, each over all levels and over the three finest (a quantity
+    that some level lacks, NaN, is left out)."""
     names, h = [lv["level"] for lv in levels], [lv["h"] for lv in levels]
     out = {}
     for q in QUANTITIES:
         series = {"error_pct": [lv["error_pct"][q] for lv in levels], "value": [lv["values"][q] for lv in levels]}
+        if not np.isfinite(series["value"]).all():
+            continue
         out[q] = {}
         for kind, f in series.items():
             out[q][kind] = estimate(h, f, names).as_dict()
@@ -147,6 +154,8 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
     if est is None:
         return [*flags, f"{model}: only {len(levels)} levels, no convergence estimate (three or more needed)"]
     for q, (label, *_) in QUANTITIES.items():
+        if q not in est:
+            continue
         e, v = est[q]["error_pct"], est[q]["value"]
         bad = [(w, x) for w, x in (("error", e), ("value", v)) if not x["monotone"]]
         if len(bad) == 2 and e["nonmonotone_levels"] == v["nonmonotone_levels"]:
@@ -207,7 +216,7 @@ def compute(
         est = _estimates(levels) if len(levels) >= 3 else None
         models[m] = {"levels": levels, "estimates": est, "flags": _flags(m, levels, est)}
         if est is not None:
-            models[m]["monotone_last3"] = all(est[q]["error_pct"]["monotone_last3"] for q in QUANTITIES)
+            models[m]["monotone_last3"] = all(e["error_pct"]["monotone_last3"] for e in est.values())
     return {
         "reference": {
             "analytical_force": analytical_force,
@@ -258,8 +267,8 @@ def _error_rows(fam: Mapping[str, Any]) -> list[str]:
     ]
     for q, (label, *_rest, hk) in QUANTITIES.items():
         vs = "analytical force" if hk is None else "Hertz at own force"
-        cells = " | ".join(f"{lv['error_pct'][q]:+.3f}" for lv in levels)
-        if est is None:
+        cells = " | ".join(_f(lv["error_pct"][q], "+.3f") for lv in levels)
+        if est is None or q not in est:
             L.append(f"| {label} vs {vs} | {cells} | | | | | | |")
             continue
         a, t = est[q]["error_pct"], est[q]["error_pct_last3"]
@@ -278,6 +287,8 @@ def _value_rows(fam: Mapping[str, Any]) -> list[str]:
         "|---|---|---|---|---|---|---|",
     ]
     for q, (label, unit, k, _) in QUANTITIES.items():
+        if q not in fam["estimates"]:
+            continue
         a, t = fam["estimates"][q]["value"], fam["estimates"][q]["value_last3"]
         L.append(
             f"| {label} [{unit}] | {a['f'][-1] * k:.5g} | {_f(a['order'], '.2f')} "
@@ -298,7 +309,8 @@ def _member_rows(fam: Mapping[str, Any]) -> list[str]:
     for lv in fam["levels"]:
         hs = ", ".join(f"{h * 1e3:.4g}" for h in lv["member_h"])
         cells = " | ".join(
-            f"{lv['spread_pct'][q][0]:+.3f} .. {lv['spread_pct'][q][1]:+.3f} ({lv['standard_error_pct'][q]:.3f})"
+            f"{_f(lv['spread_pct'][q][0], '+.3f')} .. {_f(lv['spread_pct'][q][1], '+.3f')} "
+            f"({_f(lv['standard_error_pct'][q], '.3f')})"
             for q in QUANTITIES
         )
         L.append(f"| {lv['level']} | {lv['members']} | {hs} | {cells} |")
@@ -342,7 +354,7 @@ def render_markdown(data: Mapping[str, Any]) -> str:
             L += ["", *_value_rows(fam)]
             ok = "yes" if fam["monotone_last3"] else "no"
             grow = [
-                QUANTITIES[q][0] for q in QUANTITIES if fam["estimates"][q]["error_pct_last3"]["branch"] == "diverging"
+                QUANTITIES[q][0] for q, e in fam["estimates"].items() if e["error_pct_last3"]["branch"] == "diverging"
             ]
             conv = "yes" if not grow else f"no ({', '.join(grow)}: the differences grow)"
             L += ["", f"Every error monotone over the three finest levels: {ok}; converging there (p > 0): {conv}."]
@@ -378,7 +390,7 @@ def plot(data: Mapping[str, Any], path: str | Path) -> None:
         for j, q in enumerate(QUANTITIES):
             err = [lv["error_pct"][q] for lv in fam["levels"]]
             axes[0, j].loglog(*_positive(h * 1e3, err), "o-", color=colour, lw=0.8, label=m)
-            e = fam["estimates"][q]["error_pct"] if fam["estimates"] else None
+            e = fam["estimates"][q]["error_pct"] if fam["estimates"] and q in fam["estimates"] else None
             line = _fit_line(e, hh) if e else None
             if line is None:
                 why = e["branch"] if e else "under 3 levels"
@@ -452,5 +464,6 @@ def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
         h = float(fe["radial_size"])
         level = label or f"{h * 1e3:g} mm"
     keys = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
+    edge = {q: _num(summary.get(q)) for q in OPTIONAL}
     phase = summary.get("phase", {}).get("member") if sub else None  # a phase member (rods.scene.submodel_phase_size)
-    return {"model": model, "level": level, "h": h, "phase": phase, **{k: float(summary[k]) for k in keys}}
+    return {"model": model, "level": level, "h": h, "phase": phase, **{k: float(summary[k]) for k in keys}, **edge}

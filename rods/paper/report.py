@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from rods.compare import percent
 from rods.paper import accuracy_cost, convergence, fig4, table2
 from rods.paper.data import load
@@ -274,9 +276,53 @@ def convergence_section(conv: dict[str, Any], scatter: dict[str, Any] | None = N
         *body,
         *(["", edge_scatter_text(scatter)] if scatter else []),
         *(["", phase_mean_text(conv)] if convergence.PHASE_FAMILY in conv["models"] else []),
+        *(["", edge_mean_text(conv)] if "submodel" in conv["models"] else []),
         "",
         "![convergence](convergence.png)",
     ]
+
+
+def edge_mean_text(conv: dict[str, Any]) -> str:
+    """The submodel's edge-period area (rods.metrics.edge_period_radius): its series, monotonicity and order over
+    the levels, and how far it moves between a level's phase members (when they were run)."""
+    q = "contact_area_edge_mean"
+    fam = conv["models"]["submodel"]
+    levels = fam["levels"]
+    series = " / ".join(_signed(lv["error_pct"][q], 3) for lv in levels)
+    est = (fam["estimates"] or {}).get(q)
+    if est is None:
+        trend = "no convergence estimate (a level lacks it, or under three levels)"
+    else:
+        e = est["error_pct"]
+        mono = "monotone over the three finest levels" if e["monotone_last3"] else "not monotone over the three finest"
+        fit = (
+            f"fitted order {e['order']:.2f}, extrapolated {e['extrapolated']:+.3f}% ± {e['uncertainty']:.3f}"
+            if e["extrapolation_claimed"]
+            else f"no order claimed ({e['branch']})"
+        )
+        trend = f"{mono}; {fit}"
+    members = conv["models"].get(convergence.PHASE_FAMILY, {}).get("levels", [])
+    spread = [float(np.ptp(lv["spread_pct"][q])) for lv in members if "spread_pct" in lv]
+    phases = (
+        " Between a level's phase members it moves by at most "
+        + " / ".join(f"{x:.3f}" for x in spread)
+        + " points (the snapshot area: "
+        + " / ".join(f"{np.ptp(lv['spread_pct']['contact_area']):.3f}" for lv in members)
+        + "), so it no longer depends on where the nodes fall."
+        if spread and all(math.isfinite(x) for x in spread)
+        else ""
+    )
+    names = " / ".join(lv["level"] for lv in levels)
+    return (
+        "**Edge-period mean** (rows *edge-period mean* above; rods.metrics.edge_period_radius): the ratio of the "
+        "contact radius to Hertz at the same force, averaged over the last node spacing the edge swept before the "
+        "peak force (one whole period of the node-by-node scatter), times Hertz at the peak force. Submodel levels "
+        f"{names}: area {series} against Hertz at own force, {trend}.{phases}"
+    )
+
+
+def _signed(x: float, digits: int) -> str:
+    return f"{x:+.{digits}f}%" if math.isfinite(x) else "–"
 
 
 def phase_mean_text(conv: dict[str, Any]) -> str:
