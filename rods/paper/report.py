@@ -293,15 +293,26 @@ def edge_mean_text(conv: dict[str, Any]) -> str:
     if est is None:
         trend = "no convergence estimate (a level lacks it, or under three levels)"
     else:
-        e = est["error_pct"]
+        e, t = est["error_pct"], est["error_pct_last3"]
         mono = "monotone over the three finest levels" if e["monotone_last3"] else "not monotone over the three finest"
+        if t["branch"] == "diverging":
+            mono += ", but the differences grow there (not in the asymptotic range)"
         fit = (
             f"fitted order {e['order']:.2f}, extrapolated {e['extrapolated']:+.3f}% ± {e['uncertainty']:.3f}"
             if e["extrapolation_claimed"]
-            else f"no order claimed ({e['branch']})"
+            else f"no order claimed over all levels ({e['branch']})"
         )
         trend = f"{mono}; {fit}"
-    members = conv["models"].get(convergence.PHASE_FAMILY, {}).get("levels", [])
+    phase = conv["models"].get(convergence.PHASE_FAMILY, {})
+    members = phase.get("levels", [])
+    head = f"{convergence.PHASE_FAMILY} contact area, edge"
+    turn = next((f for f in phase.get("flags", []) if f.startswith(head)), "")
+    if "larger than the members' scatter" in turn:
+        pm = " / ".join(_signed(lv["error_pct"][q], 3) for lv in members)
+        trend += (
+            f". Its phase means ({pm}) turn by more than the members' scatter: the area's approach to Hertz is itself "
+            "non-monotone at these levels, not an artefact of where the nodes fall"
+        )
     spread = [float(np.ptp(lv["spread_pct"][q])) for lv in members if "spread_pct" in lv]
     phases = (
         " Between a level's phase members it moves by at most "
