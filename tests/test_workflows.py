@@ -144,7 +144,11 @@ def test_snakefile_wires_the_library_driver_and_stages():
     drivers = [ln for ln in lines if "global.py" in ln and "--driver" in ln]
     assert len(drivers) == 1 and "--record" not in drivers[0] and "--set" not in drivers[0]
     subs = [ln for ln in lines if "submodel.py" in ln]
-    assert len(subs) == 4 and all("--global output/paper/driver" in ln for ln in subs)
+    assert all("--global output/paper/driver" in ln for ln in subs)
+    levels = [ln for ln in subs if "--phase" not in ln]
+    phases = sorted(ln.split("--phase ", 1)[1].split()[0] for ln in subs if "--phase" in ln)
+    assert len(levels) == 4  # the four levels, and the other four phase members of each (the middle is the level)
+    assert phases == sorted(["0", "1", "3", "4"] * 4)
     assert any("compare.py" in ln and "--out results" in ln for ln in lines)
     assert not any("fe.penalty=8" in ln or "record-until" in ln for ln in lines)  # the recipe is the library's
     # a redirected log is a declared `log:` (Snakemake makes its folder; a bare `> output/paper/x.log` failed
