@@ -186,3 +186,12 @@ def test_phase_size_refuses_bad_arguments(bad):
     args = dict(h=0.0625e-3, a=1e-3, phase=0) | bad
     with pytest.raises(ValueError, match="submodel phase"):
         submodel_phase_size(**args)
+
+
+@pytest.mark.parametrize("v", [7.117247484842497e-182, 1e-9, 0.0, 10.0])
+def test_energy_growth_limit_below_round_off_is_refused(v):
+    """The fuzz harness drew 7e-182: in range then, the guard stopped the run at its first record (exit 1).
+    A limit under 1e-6 is below the energy sums' round-off; refused with the range."""
+    with pytest.raises(SceneError, match=r"fe.energy_growth_limit.*\[1e-06, 10\)"):
+        load_scene(SCENES / "paper.toml", [f"fe.energy_growth_limit={v!r}"])
+    assert load_scene(SCENES / "paper.toml", ["fe.energy_growth_limit=1e-6"])["fe.energy_growth_limit"] == 1e-6
