@@ -31,7 +31,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, submodel_phase_size
 
 __all__ = [
     "CONTACT_KEYS",
@@ -83,6 +83,15 @@ def phase_radius(scene: Scene, analytical_summary: Mapping[str, Any] | None = No
         analytical_summary = simulate(scene).summary
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
     return float(hertz.at_force(analytical_summary["peak_contact_force"], E_star, R_star)["contact_radius"])
+
+
+def submodel_size(
+    scene: Scene, level: str, phase: int | None = None, analytical_summary: Mapping[str, Any] | None = None
+) -> float:
+    """Element size [m] of submodel ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES), or of its member ``phase`` of the
+    phase-averaged study (rods.scene.submodel_phase_size about :func:`phase_radius`)."""
+    h = SUBMODEL_LEVEL_SIZES[level]
+    return h if phase is None else submodel_phase_size(h, phase_radius(scene, analytical_summary), phase)
 
 
 def _phase(contact_end: float | None, end_time: float) -> float:

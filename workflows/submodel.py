@@ -23,7 +23,7 @@ from mpi4py import MPI
 import _cli
 from rods import cost, plan
 from rods.preflight import InputError, input_dir
-from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, SUBMODEL_PHASES, scene_from_summary, submodel_phase_size
+from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, scene_from_summary
 from rods.study import stages
 
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
@@ -72,14 +72,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = _cli.out_dir(args, f"submodel/{level}", scene)
     log, progress = _cli.rank0(comm)
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
-    h = args.size or SUBMODEL_LEVEL_SIZES[args.level]
-    if args.phase is not None:
-        h = submodel_phase_size(h, plan.phase_radius(scene), args.phase)
+    h = args.size or plan.submodel_size(scene, args.level, args.phase)
     c = cost.fe_cost(scene, comm.size, what=f"the submodel {level}", size=h, axial_size=args.axial_size, end_time=end)
     _cli.afford(args, c, log=log)
+    size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
-        scene, gdir / "cut.h5", out, comm, args.level, size=args.size, axial_size=args.axial_size, end_time=end,
-        dt=dt, progress=progress, phase=args.phase,
+        scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end, dt=dt,
+        progress=progress, phase=args.phase,
     ).summary  # fmt: skip
     log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
     _cli.status(s, comm.rank)

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from rods import checks, io, plan
-from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_PHASES, Scene, submodel_phase_size
+from rods.scene import SUBMODEL_PHASES, Scene
 
 __all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "global_model", "submodel"]
 
@@ -155,18 +155,16 @@ def submodel(
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
     ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the contact phase of the
     analytical model, rods.plan.contact_phase; capped by the scene's end). ``phase``: the level's member of the
-    phase-averaged study instead (rods.scene.submodel_phase_size, about the Hertz radius at the analytical
-    model's peak force). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
+    phase-averaged study instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
+    the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
     summary."""
     from rods.analytical import simulate
     from rods.fe.submodel import run_submodel
 
-    h = size or SUBMODEL_LEVEL_SIZES[level]
-    name = level if size is None else f"h={h:g}"
-    analytical = simulate(scene).summary if (phase is not None or end_time is None) else None
-    if phase is not None:
-        h = submodel_phase_size(SUBMODEL_LEVEL_SIZES[level], plan.phase_radius(scene, analytical), phase)
-        name = level
+    resolve = size is None and phase is not None
+    analytical = simulate(scene).summary if (resolve or end_time is None) else None
+    h = size or plan.submodel_size(scene, level, phase, analytical)
+    name = f"h={h:g}" if size is not None and phase is None else level
     if end_time is None:
         end_time = plan.contact_phase(analytical, scene.end_time)
     end = min(end_time, scene.end_time)
