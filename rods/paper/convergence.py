@@ -44,7 +44,17 @@ from rods.compare import percent
 from rods.convergence import estimate
 from rods.paper.data import write_json
 
-__all__ = ["KEYS", "QUANTITIES", "compute", "plot", "record", "render_markdown", "write"]
+__all__ = [
+    "KEYS",
+    "QUANTITIES",
+    "compute",
+    "plot",
+    "record",
+    "render_markdown",
+    "step_vs_scatter",
+    "turns_vs_scatter",
+    "write",
+]
 
 # record key -> (label, unit shown, factor SI -> unit shown, Hertz key or None for the analytical force)
 # (the edge-period mean: rods.metrics.edge_period_radius, free of the node-position scatter; NaN where a run has none)
@@ -163,7 +173,7 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
         for what, x in bad:
             last3 = "monotone" if x["monotone_last3"] else "not monotone either"
             at = ", ".join(x["nonmonotone_levels"])
-            scatter = _turns_vs_scatter(levels, q, x["nonmonotone_levels"]) if what != "value" else ""
+            scatter = _turns_text(turns_vs_scatter(levels, q, x["nonmonotone_levels"])) if what != "value" else ""
             flags.append(f"{model} {label} {what}: non-monotone at {at}; over the three finest levels {last3}{scatter}")
         spans = (("all levels", e), ("the three finest levels", est[q]["error_pct_last3"]))
         for span, x in spans[: 1 if len(levels) == 3 else 2]:
@@ -175,23 +185,43 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
     return flags
 
 
-def _turns_vs_scatter(levels: Sequence[Mapping[str, Any]], q: str, turns: Sequence[str]) -> str:
-    """For phase-mean levels: at each turn, the smaller of its two steps [points] against the two levels'
-    combined standard error, so the reader sees whether the turn is a trend or the members' scatter."""
+SCATTER_SIGMAS = 2.0  # a phase-mean step under this many combined standard errors is the members' scatter [-]
+
+
+def step_vs_scatter(a: Mapping[str, Any], b: Mapping[str, Any], q: str) -> dict[str, Any]:
+    """The step of quantity ``q`` between two phase-mean levels [points], their combined standard error [points]
+    and whether the step is within :data:`SCATTER_SIGMAS` of it (the members' scatter) or a trend."""
+    step = abs(b["error_pct"][q] - a["error_pct"][q])
+    s = math.hypot(a["standard_error_pct"][q], b["standard_error_pct"][q])
+    return {"step": step, "standard_error": s, "within_scatter": step < SCATTER_SIGMAS * s}
+
+
+def turns_vs_scatter(levels: Sequence[Mapping[str, Any]], q: str, turns: Sequence[str]) -> list[dict[str, Any]]:
+    """For phase-mean levels (with ``standard_error_pct``): at each interior level in ``turns``, the smaller of its
+    two steps of quantity ``q`` [points], the two levels' combined standard error [points] and whether the step is
+    within :data:`SCATTER_SIGMAS` of it (the members' scatter) or a trend; [] for levels without members."""
     if not all("standard_error_pct" in lv for lv in levels):
-        return ""
+        return []
     names = [lv["level"] for lv in levels]
     e = [lv["error_pct"][q] for lv in levels]
-    se = [lv["standard_error_pct"][q] for lv in levels]
-    parts = []
+    out = []
     for t in turns:
         j = names.index(t)
         if not 0 < j < len(levels) - 1:
             continue
         k = j - 1 if abs(e[j] - e[j - 1]) < abs(e[j + 1] - e[j]) else j + 1  # the smaller step's other end
-        step, s = abs(e[j] - e[k]), math.hypot(se[j], se[k])
-        verdict = "within the members' scatter" if step < 2 * s else "larger than the members' scatter"
-        parts.append(f"at {t} the smaller step is {step:.3f} points against a standard error of {s:.3f}: {verdict}")
+        out.append({"level": t, **step_vs_scatter(levels[j], levels[k], q)})
+    return out
+
+
+def _turns_text(turns: Sequence[Mapping[str, Any]]) -> str:
+    """The flag's tail for :func:`turns_vs_scatter`'s entries."""
+    parts = [
+        f"at {t['level']} the smaller step is {t['step']:.3f} points against a standard error of "
+        f"{t['standard_error']:.3f}: "
+        + ("within the members' scatter" if t["within_scatter"] else "larger than the members' scatter")
+        for t in turns
+    ]
     return ("; " + "; ".join(parts)) if parts else ""
 
 

@@ -305,9 +305,9 @@ def edge_mean_text(conv: dict[str, Any]) -> str:
         trend = f"{mono}; {fit}"
     phase = conv["models"].get(convergence.PHASE_FAMILY, {})
     members = phase.get("levels", [])
-    head = f"{convergence.PHASE_FAMILY} contact area, edge"
-    turn = next((f for f in phase.get("flags", []) if f.startswith(head)), "")
-    if "larger than the members' scatter" in turn:
+    phase_est = (phase.get("estimates") or {}).get(q)
+    turns = phase_est["error_pct"]["nonmonotone_levels"] if phase_est else []
+    if any(not t["within_scatter"] for t in convergence.turns_vs_scatter(members, q, turns)):
         pm = " / ".join(_signed(lv["error_pct"][q], 3) for lv in members)
         trend += (
             f". Its phase means ({pm}) turn by more than the members' scatter: the area's approach to Hertz is itself "
@@ -352,17 +352,15 @@ def phase_mean_text(conv: dict[str, Any]) -> str:
     elif area["monotone_last3"]:
         verdict = "monotone over the three finest levels"
     else:
-        last = levels[-1]
-        step = abs(last["error_pct"]["contact_area"] - levels[-2]["error_pct"]["contact_area"])
-        se = math.hypot(last["standard_error_pct"]["contact_area"], levels[-2]["standard_error_pct"]["contact_area"])
+        last = convergence.step_vs_scatter(levels[-2], levels[-1], "contact_area")
         meaning = (
             "the area has stopped changing within what the members resolve"
-            if step < 2 * se
+            if last["within_scatter"]
             else "more than the members' scatter explains"
         )
         verdict = (
-            f"not strictly monotone over the three finest levels: the last step is {step:.3f} points against a "
-            f"standard error of {se:.3f} points of the two means, {meaning}"
+            f"not strictly monotone over the three finest levels: the last step is {last['step']:.3f} points against "
+            f"a standard error of {last['standard_error']:.3f} points of the two means, {meaning}"
         )
     names = " / ".join(lv["level"] for lv in levels)
     return (
