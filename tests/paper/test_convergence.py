@@ -226,16 +226,21 @@ def test_phase_family_is_the_mean_of_the_members_and_the_plain_family_keeps_the_
         assert lv["error_pct"]["peak_contact_pressure"] == pytest.approx(-0.1)
 
 
+def phase_study(fine_mean):
+    """Three levels of five phase members each, ±0.03 points about area errors of 1.0, 0.5 and ``fine_mean``
+    (fractions), through :func:`convergence.compute`."""
+    recs = []
+    for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
+        recs += phase_members(name, h, F_AN, [mean + x for x in (0.0003, -0.0003, 0.0002, -0.0002, 0.0)])
+    return convergence.compute(recs, F_AN, E_STAR, R_STAR)
+
+
 def test_phase_family_turn_is_weighed_against_the_members_scatter():
     """A turn smaller than twice the combined standard error of the two means is called scatter; a larger one is
     not. Members ±0.03 points about means of 1.0, 0.5 and then 0.51 or 0.8 %."""
-    offsets = (0.0003, -0.0003, 0.0002, -0.0002, 0.0)
 
     def flags(fine_mean):
-        recs = []
-        for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
-            recs += phase_members(name, h, F_AN, [mean + x for x in offsets])
-        return convergence.compute(recs, F_AN, E_STAR, R_STAR)["models"][convergence.PHASE_FAMILY]["flags"]
+        return phase_study(fine_mean)["models"][convergence.PHASE_FAMILY]["flags"]
 
     small = [f for f in flags(0.0051) if f.startswith("submodel (phase mean) contact area error")]
     assert len(small) == 1 and "at mid the smaller step is 0.010 points" in small[0]

@@ -207,13 +207,8 @@ def test_phase_mean_paragraph_follows_the_phase_family():
     """The paragraph quotes the phase family's series and says whether the last step is within the members'
     scatter, from the convergence data; absent without phase members."""
     from rods.paper import convergence
-    from tests.paper.test_convergence import E_STAR, F_AN, NAMES, R_STAR, H, phase_members
-
-    def conv(fine_mean):
-        recs = []
-        for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
-            recs += phase_members(name, h, F_AN, [mean + x for x in (0.0003, -0.0003, 0.0002, -0.0002, 0.0)])
-        return convergence.compute(recs, F_AN, E_STAR, R_STAR)
+    from tests.paper.test_convergence import E_STAR, F_AN, R_STAR, H, phase_members
+    from tests.paper.test_convergence import phase_study as conv
 
     mono = report.phase_mean_text(conv(0.002))
     assert "+1.000% / +0.500% / +0.200%" in mono and "monotone over the three finest levels" in mono
@@ -229,14 +224,7 @@ def test_phase_mean_paragraph_follows_the_phase_family():
 def test_edge_mean_paragraph_says_when_the_trend_itself_turns():
     """The edge-period paragraph quotes the submodel series and, where the phase means turn by more than the
     members' scatter, says the approach itself is non-monotone; not where they are monotone."""
-    from rods.paper import convergence
-    from tests.paper.test_convergence import E_STAR, F_AN, NAMES, R_STAR, H, phase_members
-
-    def conv(fine_mean):
-        recs = []
-        for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
-            recs += phase_members(name, h, F_AN, [mean + x for x in (0.0003, -0.0003, 0.0002, -0.0002, 0.0)])
-        return convergence.compute(recs, F_AN, E_STAR, R_STAR)
+    from tests.paper.test_convergence import phase_study as conv
 
     smooth = report.edge_mean_text(conv(0.002))
     assert "area +1.020% / +0.520% / +0.220%" in smooth and "monotone over the three finest" in smooth
