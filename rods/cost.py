@@ -18,8 +18,15 @@ goes wrong"):
   contact-switching limit 1/ω_c (rods.fe.explicit) when it is shorter: a pair of lumped masses ρ_i a h_n/2 on
   the spring ε a, ε = factor x E*/h_n, has ω_c² = 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n², h_n the tip element normal
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
-* speed: 1e7 DOF-steps/s per rank axisymmetric, 5e6 in 3D (runs under output/: 2.0e7 to 9.6e7 axisymmetric
-  and 1.6e7 3D on 2 ranks; 5.1e6 3D serial with the other core busy);
+* time: set-up (mesh, assembly, the contact's data) + steps x (a fixed cost per step + DOFs / (rate x ranks)).
+  The fixed cost (contact, cut driving, recorder, Python: 6.6e-5 s per step on a 13.6k-DOF global, ~1.9e-4 s
+  on the 6.2k-DOF coarse submodel) dominates small models; the rate is the DRAM-bound one of large models,
+  9e7 DOF-steps/s per rank axisymmetric (results/fe-throughput.md: 99e6 at 396k DOFs on one rank; the 1.46M-DOF
+  ultra-fine submodel ran 1.7e8 on 2 ranks) and 2e7 in 3D (serial: 2.9e7 at 132k DOFs, 3.1e7 at 983k;
+  results/fe-scaling.md: 14.6e6 per rank on 2 at 567k DOFs); set-up 1.2e-5 s per DOF axisymmetric and 1e-4 in
+  3D (gmsh's hexahedra) over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 11.4 s at 1.46M
+  DOFs on 2 ranks; 3D 11.4 s at 132k, 148 s at 983k). Cache-resident small meshes run faster than the rate, so
+  the estimate errs high there: time loop 2.1x at 48k DOFs, 1.2x at 199k axisymmetric, 1.7x in 3D (measured);
 * cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
   per cell axisymmetric, 3.35 in 3D (measured on the same meshes; 2.3 tends to 2 on finer ones).
 """
@@ -47,13 +54,15 @@ __all__ = [
 ]
 
 STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
-WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 28 h on one rank) [-]
+WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 3 h on one rank, 14 h in 3D) [-]
 VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
 BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
 BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
-DOF_STEPS_PER_SECOND = {"axisymmetric": 1e7, "3d": 5e6}  # per rank [1/s]
+DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
+STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
+SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
 DOFS_PER_CELL = {"axisymmetric": 2.3, "3d": 3.35}  # [-]
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
@@ -68,8 +77,9 @@ class Cost:
     samples: float
     values: float  # history values, samples x columns
     memory: float  # [B] all ranks together
-    wall_time: float  # [s]
+    wall_time: float  # [s] set-up and time loop
     ranks: int = 1
+    setup_time: float = 0.0  # [s] the part of wall_time before the time loop
 
     def describe(self) -> str:
         return (
@@ -148,8 +158,9 @@ def fe_cost(
     memory = (
         ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
     )
-    wall = dofs * steps / (DOF_STEPS_PER_SECOND[kind] * ranks)
-    return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks)
+    setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
+    loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
+    return Cost(what, cells, dofs, steps, samples, values, memory, setup + loop, ranks, setup)
 
 
 def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
