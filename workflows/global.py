@@ -1,4 +1,4 @@
-"""The paper's global FE model (Section 2.2), axisymmetric or 3D: both rods, penalty contact, explicit dynamics.
+"""The paper's global FE model (Section 2.2), axisymmetric or 3D: both rods in contact, explicit dynamics.
 
     mpirun -n 2 python workflows/global.py --scene workflows/scenes/paper.toml --set fe.axial_size=2e-3 --out DIR
     mpirun -n 2 python workflows/global.py --driver --out DIR   # the submodels' driver (rods.plan), with cut.h5
@@ -26,7 +26,7 @@ from rods import cost, io, plan
 from rods.fe import checkpoint
 from rods.study import stages
 
-SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_error", "ranks", "penalty")
+SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_error", "ranks", "contact", "penalty")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

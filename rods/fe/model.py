@@ -388,8 +388,9 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
             "dt_contact_switching": model.dt_switching,
             **energy,
             "ranks": model.comm.size,
-            "penalty": model.ε_pen,
-            "penalty_factor": sc["fe.penalty"],
+            "contact": sc["fe.contact"],  # the law that ran; the penalty only where it is the penalty law's
+            "penalty": model.ε_pen if sc["fe.contact"] == "penalty" else None,
+            "penalty_factor": sc["fe.penalty"] if sc["fe.contact"] == "penalty" else None,
             "bulk_viscosity": model.ξ,
             "dof_steps_per_second": model.n_global * n_steps / wall_loop if wall_loop > 0 else 0.0,
         }

@@ -144,6 +144,7 @@ def case_row(
         "wall_time": sf["wall_time"] + sf.get("setup_time", 0.0),
         "dofs": sf["dofs"],
         "steps": sf["steps"],
+        "contact": sf.get("contact"),
         "penalty_factor": sf.get("penalty_factor"),
     }
     row["passes"] = _passes(row["peak_force_pct"], d_dur, sf["energy_error"])
