@@ -124,6 +124,32 @@ def test_stations(paper_dict):
         scene_from_dict({**paper_dict, "station": [{"rod": 3, "position": 0.1}]})
 
 
+def test_auto_axial_size_is_the_papers_unless_the_force_rises_fast(scene_with):
+    """fe.axial_size = "auto" (paper.toml's, the schema's default): the paper's 1 mm on its rods (diameter/12.7),
+    and at most c t_rise/50, t_rise = δ_P/s1 Hertz's approach at the impedance-bound force over the speed: a 1 m
+    tip's contact closes in ~5 µs and gets about half the size; a thinner rod scales it; a given size is kept."""
+    from rods import hertz
+    from rods.scene import AXIAL_PER_DIAMETER, RISE_ELEMENTS
+
+    sc = scene_with()
+    assert sc["fe.axial_size"] == pytest.approx(1e-3, rel=1e-12)
+    assert scene_with("rod2.diameter=0.0254")["fe.axial_size"] == pytest.approx(1e-3, rel=1e-12)  # the thinner
+    wide = scene_with("rod1.tip_radius=1.0")
+    P = wide.speed / (1 / wide.rod1.impedance + 1 / wide.rod2.impedance)  # [N]
+    E_star, R_star = hertz.contact_constants(wide.rod1, wide.rod2)
+    δ = float(hertz.contact_radius(P, E_star, R_star)) ** 2 / R_star  # [m]
+    t_rise = δ / wide.speed  # [s]
+    assert 4e-6 < t_rise < 6e-6
+    assert wide["fe.axial_size"] == pytest.approx(wide.rod1.material.wave_speed * t_rise / RISE_ELEMENTS, rel=1e-12)
+    assert 0.45e-3 < wide["fe.axial_size"] < 0.6e-3
+    thin = scene_with("rod1.diameter=0.008", "rod2.diameter=0.008", "fe.radial_size=0.5e-3")
+    assert thin["fe.axial_size"] == pytest.approx(0.008 / AXIAL_PER_DIAMETER, rel=1e-12)
+    assert wide.as_dict()["fe"]["axial_size"] == wide["fe.axial_size"]  # records hold the size used
+    assert wide.as_dict(json_safe=False)["fe"]["axial_size"] == "auto"
+    assert scene_with("fe.axial_size=2e-3")["fe.axial_size"] == 2e-3
+    assert wide.tip_grading == pytest.approx(min(1.0, wide["fe.radial_size"] / wide["fe.axial_size"]))
+
+
 def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     """fe.radial_size = "auto" (the default): 4 elements across the Hertz radius at the impedance-bound force
     s1 Z1 Z2/(Z1 + Z2), at most the thinner rod's radius / 8; re-resolved after an override; a record (as_dict)
