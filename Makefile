@@ -13,9 +13,9 @@ SNAKE := .venv/bin/snakemake -s workflows/Snakefile --workflow-profile workflows
 paper: venv
 	$(SNAKE) paper
 
-## The main job plus the ultra-fine submodel level (0.0156 mm; about 25 more minutes on 2 cores).
+## The main job plus the ultra-fine level's four other phase members (about 75 more minutes on 2 cores).
 paper-full: venv
-	$(SNAKE) paper --config 'paper_levels=[coarse,mid,fine,extra-fine,ultra-fine]'
+	$(SNAKE) paper --config 'paper_phase_levels=[coarse,mid,fine,extra-fine,ultra-fine]'
 
 ## Parameter sweeps (impact speed, mesh level, time-step fraction): results/sweep-*.csv
 sweep: venv
