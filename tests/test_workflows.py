@@ -147,8 +147,9 @@ def test_snakefile_wires_the_library_driver_and_stages():
     assert all("--global output/paper/driver" in ln for ln in subs)
     levels = [ln for ln in subs if "--phase" not in ln]
     phases = sorted(ln.split("--phase ", 1)[1].split()[0] for ln in subs if "--phase" in ln)
-    assert len(levels) == 4  # the four levels, and the other four phase members of each (the middle is the level)
+    assert len(levels) == 5  # the five levels; the other four phase members of the first four (the middle is the level)
     assert phases == sorted(["0", "1", "3", "4"] * 4)
+    assert any("--level ultra-fine" in ln for ln in levels)
     assert any("compare.py" in ln and "--out results" in ln for ln in lines)
     assert not any("fe.penalty=8" in ln or "record-until" in ln for ln in lines)  # the recipe is the library's
     # a redirected log is a declared `log:` (Snakemake makes its folder; a bare `> output/paper/x.log` failed
