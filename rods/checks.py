@@ -101,9 +101,11 @@ def duration_warning(summary: dict[str, Any], history: Mapping[str, np.ndarray])
 def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray], scene: Any) -> str | None:
     """A warning when the analytical model's force rises faster than :data:`RISE_TRANSITS` diameter transits."""
     F, t = history.get("contact_force"), history.get("time")
-    if summary.get("model") != "analytical" or F is None or t is None or len(F) < 2 or not F.max() > 0:
+    if summary.get("model") != "analytical" or F is None or t is None or len(F) < 2:
         return None
     F, t = np.asarray(F, float), np.asarray(t, float)
+    if not F.max() > 0:
+        return None
     rise = t[np.argmax(F > 0.9 * F.max())] - t[np.argmax(F > 0.1 * F.max())]  # [s]
     transit = min(r.diameter / r.material.wave_speed for r in scene.rods)  # [s]
     if rise < RISE_TRANSITS * transit:

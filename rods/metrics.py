@@ -100,20 +100,19 @@ def contact_episodes(
     return merged
 
 
-def contact_duration(t: ArrayLike, force: ArrayLike) -> float:
+def contact_duration(t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_THRESHOLD) -> float:
     """Duration of the first contact episode [s] (see module docstring); 0 if there is none."""
-    ep = contact_episodes(t, force)
+    ep = contact_episodes(t, force, threshold=threshold)
     return ep[0][1] - ep[0][0] if ep else 0.0
 
 
 def contact_duration_spread(t: ArrayLike, force: ArrayLike, factor: float = 2.0) -> tuple[float, float]:
     """Durations [s] of the first contact episode at ``factor`` x and 1/``factor`` x the threshold (module
     docstring): (shorter, longer); (0, 0) without contact."""
-    out = []
-    for th in (CONTACT_THRESHOLD * factor, CONTACT_THRESHOLD / factor):
-        ep = contact_episodes(t, force, threshold=th)
-        out.append(ep[0][1] - ep[0][0] if ep else 0.0)
-    return out[0], out[1]
+    return (
+        contact_duration(t, force, CONTACT_THRESHOLD * factor),
+        contact_duration(t, force, CONTACT_THRESHOLD / factor),
+    )
 
 
 def edge_period_radius(

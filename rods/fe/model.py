@@ -371,6 +371,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     derived = recorder.summary(hist, steps, sc.stations[0].name)
     energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
     n_steps = min(steps, recorder.force.size) - 1
+    penalty = sc["fe.contact"] == "penalty"
     summary: dict[str, Any] = {"model": model.model_name, "scene": sc.name, "impact_speed": sc.speed}
     summary.update(derived)  # peak, contact, midpoint
     summary.update(
@@ -389,8 +390,8 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
             **energy,
             "ranks": model.comm.size,
             "contact": sc["fe.contact"],  # the law that ran; the penalty only where it is the penalty law's
-            "penalty": model.ε_pen if sc["fe.contact"] == "penalty" else None,
-            "penalty_factor": sc["fe.penalty"] if sc["fe.contact"] == "penalty" else None,
+            "penalty": model.ε_pen if penalty else None,
+            "penalty_factor": sc["fe.penalty"] if penalty else None,
             "bulk_viscosity": model.ξ,
             "dof_steps_per_second": model.n_global * n_steps / wall_loop if wall_loop > 0 else 0.0,
         }
