@@ -142,8 +142,10 @@ def contact_warning(summary: Mapping[str, Any], end_time: float) -> str | None:
 def plateau_warning(t: np.ndarray, v: np.ndarray) -> str | None:
     """A warning when the plateaus behind ``midpoint_peak_speed`` are missing, too few or not flat."""
     runs = metrics.plateaus(t, v)
-    if not runs:
-        return "midpoint_peak_speed: no plateau above the threshold (null)"
+    if not runs:  # at a relative threshold only when it never moves forward: a slow Rod 2 or a short end_time
+        return (
+            "midpoint_peak_speed: the midpoint does not move forward by end_time (null); lengthen simulation.end_time"
+        )
     problems = []
     if len(runs) < metrics.PLATEAU_COUNT:
         problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time")

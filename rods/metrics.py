@@ -158,8 +158,11 @@ def plateaus(
     threshold: float | None = None,
 ) -> list[slice]:
     """Index ranges of the first ``count`` runs of ``v >= fraction x max(v)``, or of ``v >= threshold``
-    [m/s] when an absolute threshold is given."""
+    [m/s] when an absolute threshold is given. None when ``v`` never exceeds 0 (e.g. the wave has not reached the
+    probe by the end time): a relative threshold of 0 would call the whole rest a plateau."""
     v = np.asarray(v, float)
+    if threshold is None and not v.max() > 0:
+        return []
     on = v >= (fraction * v.max() if threshold is None else threshold)
     edges = np.flatnonzero(np.diff(np.concatenate(([0], on.astype(np.int8), [0]))))
     runs = [slice(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True)]

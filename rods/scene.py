@@ -259,14 +259,14 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
         return list(v)
     if kind == "float|auto" and v == "auto":
         return v
-    if kind == "float|none" and v is None:
-        return v
+    if kind == "float|none" and (v is None or v == "none"):  # TOML has no null: "none" unsets a base's value
+        return None
     if kind == "int":
         if isinstance(v, bool) or not isinstance(v, int):
             raise SceneError(key, v, "must be an integer")
         return v
     if isinstance(v, bool) or not isinstance(v, int | float):
-        extra = " or 'auto'" if kind == "float|auto" else ""
+        extra = {"float|auto": " or 'auto'", "float|none": " or 'none' (not stated)"}.get(kind, "")
         raise SceneError(key, v, f"must be a number{extra}")
     v = float(v)
     if math.isnan(v):
@@ -610,7 +610,10 @@ def _cross_checks(v: dict[str, Any]) -> None:
             )
         if S is not None and S >= E:
             raise SceneError(
-                f"rod{n}.material.yield_strength", S, f"must be < youngs_modulus = {E:g} Pa", "looks like wrong units"
+                f"rod{n}.material.yield_strength",
+                S,
+                f"must be < youngs_modulus = {E:g} Pa",
+                f"looks like wrong units; 'none' drops a base scene's value: --set rod{n}.material.yield_strength=none",
             )
     if math.isinf(v["rod1.tip_radius"]) and math.isinf(v["rod2.tip_radius"]):
         raise SceneError(

@@ -37,7 +37,19 @@ def test_plateau_assumptions():
     assert "spikes" in checks.plateau_warning(t, spiky)
     rippled = square * (1 + 0.05 * np.sin(2 * np.pi * 50 * t))  # ripple on plateaus: still plateaus
     assert checks.plateau_warning(t, rippled) is None
-    assert "no plateau" in checks.plateau_warning(t, -np.ones_like(t))
+    assert "does not move forward" in checks.plateau_warning(t, -np.ones_like(t))
+    assert "end_time" in checks.plateau_warning(t, np.zeros_like(t))  # the wave has not arrived
+
+
+def test_a_midpoint_the_wave_never_reaches_has_a_null_speed(scene_with):
+    """A 10 MPa Rod 2 (c = 95 m/s): the wave needs 3.7 ms to its midpoint, past the 1.5 ms end time."""
+    sc = scene_with(
+        "rod2.material.youngs_modulus=10e6", "rod2.material.density=1100.0", "rod2.material.yield_strength=none"
+    )
+    r = simulate(sc)
+    s = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    assert s["midpoint_peak_speed"] is None and s["status"] == "warnings"
+    assert any("does not move forward" in w for w in s["warnings"])
 
 
 def test_a_rattling_peak_is_not_ok():

@@ -70,6 +70,14 @@ def test_absolute_plateau_threshold():
     assert np.isnan(metrics.midpoint_peak_speed(t, v, threshold=1.5))  # nothing reaches it
 
 
+def test_a_probe_the_wave_has_not_reached_has_no_plateau():
+    """A still midpoint (a slow rod or a short end time): no plateau and a NaN speed, not a "plateau" of zeros
+    at a relative threshold of 0 (before: 0.0 m/s, reported as a number)."""
+    t = np.linspace(0, 1, 1001)
+    assert metrics.plateaus(t, np.zeros_like(t)) == []
+    assert np.isnan(metrics.midpoint_peak_speed(t, np.zeros_like(t)))
+
+
 def test_strain_window_is_five_round_trips_of_rod2(scene_with):
     rod2 = scene_with("rod2.length=0.5", "rod2.material.youngs_modulus=100e9").rod2
     c2 = np.sqrt(100e9 / rod2.material.density)

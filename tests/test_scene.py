@@ -40,6 +40,20 @@ def test_overrides_reach_any_value(scene_with):
     assert parse_override("rod1.tip_radius=inf") == ("rod1.tip_radius", math.inf)
 
 
+def test_none_drops_an_optional_value_of_a_base_scene(scene_with, tmp_path):
+    """TOML has no null: "none" unsets the paper scene's yield strength, so a soft material can be swapped in
+    (before, the base's 2.2 GPa could not be removed and a 10 MPa rubber failed "yield_strength < E")."""
+    soft = ("rod2.material.youngs_modulus=10e6", "rod2.material.density=1100.0")
+    with pytest.raises(SceneError, match="yield_strength=none"):  # the remedy is in the refusal
+        scene_with(*soft)
+    assert scene_with(*soft, "rod2.material.yield_strength=none").rod2.material.yield_strength is None
+    f = tmp_path / "rubber.toml"
+    f.write_text(f'base = "{SCENES / "paper.toml"}"\n[rod2.material]\nyoungs_modulus = 10e6\nyield_strength = "none"\n')
+    assert load_scene(f).rod2.material.yield_strength is None
+    with pytest.raises(SceneError, match="'none'"):  # any other string is still refused, naming the choice
+        scene_with("rod2.material.yield_strength='weak'")
+
+
 BAD = [
     ("rod1.length=0", "rod1.length", "> 0"),
     ("rod1.length=-0.25", "rod1.length", "> 0"),
