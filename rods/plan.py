@@ -126,10 +126,9 @@ class Plan:
         else:
             lines.append("  global FE model: no")
         if self.submodel_levels:
-            lines.append(
-                f"  submodel driver: global with {', '.join(self.driver_overrides)}, recording the cut until "
-                f"t = {self.contact_phase * 1e6:.1f} µs"
-            )
+            settings = ", ".join(self.driver_overrides) or "the scene's own settings"
+            until = f"t = {self.contact_phase * 1e6:.1f} µs"
+            lines.append(f"  submodel driver: global with {settings}, recording the cut until {until}")
         lines.append(f"  submodel levels: {', '.join(self.submodel_levels) or 'none'}")
         lines.append(f"  field files: {'yes' if self.fields else 'none'}")
         lines += [f"  - {r}" for r in self.reasons]

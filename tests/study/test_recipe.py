@@ -57,6 +57,7 @@ def test_submodel_driver_is_the_scene_itself_to_the_contact_phase(scene_with):
     assert submodel_driver(sc).end_time == sc.end_time
     p = make_plan(sc.with_overrides("effects=['contact_patch']"), 2e-4)
     assert p.driver_overrides == DRIVER_OVERRIDES
+    assert "submodel driver: global with the scene's own settings, recording" in p.describe()  # was "with , "
     assert make_plan(sc, 2e-4).driver_overrides == ()  # wave response only: no submodel, no driver
 
 
