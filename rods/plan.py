@@ -43,6 +43,7 @@ __all__ = [
     "first_contact_end",
     "make_plan",
     "most_refined",
+    "offers",
     "submodel_driver",
 ]
 
@@ -178,21 +179,26 @@ def _refinement(stage: str) -> float:
     return {"analytical": 0.0, "global": 1.0}.get(stage, -1.0)
 
 
+def offers(plan: Plan, stage: str) -> tuple[str, ...]:
+    """The contract keys that ``stage`` (``analytical``, ``global``, ``submodel/<level>``, others: none) offers
+    under ``plan``: the analytical model every key; the global model the contact keys, and the wave keys only
+    when the wave response was asked for (a contact-only global stops after the contact phase); a submodel the
+    contact keys but the duration (its run ends at the contact phase, cut by the driver's record)."""
+    if stage == "analytical":
+        return CONTACT_KEYS + WAVE_KEYS
+    if stage == "global":
+        return CONTACT_KEYS + WAVE_KEYS if "wave_response" in plan.effects else CONTACT_KEYS
+    return CONTACT_KEYS[:-1] if stage.startswith("submodel/") else ()
+
+
 def most_refined(plan: Plan, summaries: Mapping[str, Mapping[str, Any]]) -> tuple[dict[str, Any], dict[str, str]]:
     """Each contract key of a run's summary from the most refined stage that computed it: (values, sources).
 
-    ``summaries`` maps stage names (``analytical``, ``global``, ``submodel/<level>``; others, such as the
-    driver, offer nothing) to their summaries. Offers: the analytical model every key; the global model the
-    contact keys, and the wave keys only when the wave response was asked for (a contact-only global stops
-    after the contact phase); a submodel the contact keys but the duration (its run ends at the contact
-    phase, cut by the driver's record). Refinement: analytical < global < submodel, finer level wins."""
-    offers = {"analytical": CONTACT_KEYS + WAVE_KEYS, "global": CONTACT_KEYS}
-    if "wave_response" in plan.effects:
-        offers["global"] = CONTACT_KEYS + WAVE_KEYS
+    ``summaries`` maps stage names to their summaries; what each offers is :func:`offers`.
+    Refinement: analytical < global < submodel, finer level wins."""
     values: dict[str, Any] = {}
     sources: dict[str, str] = {}
     for stage in sorted((s for s in summaries if _refinement(s) >= 0), key=_refinement):
-        keys = CONTACT_KEYS[:-1] if stage.startswith("submodel/") else offers[stage]
-        for k in keys:
+        for k in offers(plan, stage):
             values[k], sources[k] = summaries[stage][k], stage
     return values, sources

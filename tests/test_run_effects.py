@@ -62,6 +62,13 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     assert fe == g and (run_dir / "driver" / "cut.h5").exists()  # the scene's own global: no driver settings
     assert s["sources"]["contact_radius"] == "submodel/coarse"
     assert s["sources"]["midpoint_peak_speed"] == "analytical"  # no wave response was asked for
+    # the global stopped at the contact phase: its midpoint plateaus are missing, which its own summary says,
+    # but the study takes that key from the analytical model, so the warning does not reach the study's status
+    assert any(
+        w.startswith("midpoint_peak_speed")
+        for w in json.loads((run_dir / "global" / "summary.json").read_text())["warnings"]
+    )
+    assert [w.split(":")[0] for w in s["warnings"] if "midpoint_peak_speed" in w] == ["analytical"]  # 0.3 ms
     table = json.loads((run_dir / "compare" / "table3.json").read_text())
     assert [r["role"] for r in table["rows"]] == ["global-uniform", "global-driver", "submodel"]
     sub = table["rows"][-1]

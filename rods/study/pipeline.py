@@ -74,7 +74,7 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
         "impact_speed": scene.speed,
         **values,
         "wall_time": comm.allreduce(time.perf_counter() - t0, op=_max()),
-        **_status(done),
+        **_status(p, done),
         "sources": sources,
         "plan": p.as_dict(),
         "stages": folders,
@@ -85,9 +85,14 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     return Study(p, done, comparison, summary)
 
 
-def _status(done: dict[str, stages.Stage]) -> dict[str, Any]:
-    """The study's status: "ok" when every stage's checks passed; the stages' warnings, each named."""
-    found = [f"{k}: {w}" for k, st in done.items() for w in st.summary.get("warnings", [])]
+def _status(p: plan.Plan, done: dict[str, stages.Stage]) -> dict[str, Any]:
+    """The study's status: "ok" when every stage's checks passed; the stages' warnings, each named. A stage
+    that stops at the contact phase (a contact-only global, the driver, the submodels) offers no wave keys
+    (rods.plan.offers), so its warnings about them (two midpoint plateaus in 263 µs) stay in its own summary."""
+    found = []
+    for k, st in done.items():
+        unused = set(plan.WAVE_KEYS) - set(plan.offers(p, k))
+        found += [f"{k}: {w}" for w in st.summary.get("warnings", []) if w.split(":", 1)[0] not in unused]
     return {"status": "warnings" if found else "ok", "warnings": found}
 
 

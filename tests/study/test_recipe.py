@@ -16,6 +16,7 @@ from rods.plan import (
     first_contact_end,
     make_plan,
     most_refined,
+    offers,
     submodel_driver,
 )
 from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
@@ -91,6 +92,8 @@ def test_most_refined_model_wins(scene_with):
     assert sources["midpoint_peak_speed"] == "global" and values["peak_contact_force"] == 1.0
     values, sources = most_refined(wave, {"analytical": stages["analytical"]})
     assert set(sources.values()) == {"analytical"}
+    assert offers(contact, "driver") == () and "contact_duration" not in offers(contact, "submodel/fine")
+    assert "midpoint_peak_speed" in offers(wave, "global") and "midpoint_peak_speed" not in offers(contact, "global")
 
 
 def test_level_sizes_are_one_table_halving_per_level():
