@@ -22,6 +22,7 @@ __all__ = [
     "SUMMARY_KEYS",
     "atomic_write_text",
     "file_mode",
+    "offscreen_pyvista",
     "read_history",
     "write_data",
     "write_history",
@@ -121,3 +122,15 @@ def read_history(path: str | Path) -> dict[str, np.ndarray]:
         header = f.readline().strip().split(",")
     data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     return {h.split(" [")[0]: data[:, i] for i, h in enumerate(header)}
+
+
+def offscreen_pyvista() -> Any:
+    """pyvista set up for off-screen pictures on EGL (no X server): the one place that says so. Without the EGL
+    default VTK probes X first and prints "bad X server connection" on every picture of a headless run."""
+    import os
+
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    return pv

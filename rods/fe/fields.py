@@ -295,10 +295,9 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     contact pressure: von Mises on the deformed mesh (left), the contact pressure on the tip nodes (right),
     in the (r, z) plane (3D: the section y = 0). Displacements relative to the contact centre are scaled so
     that the largest within ``window`` [m] of it is 5% of the window (said in the title). The frame's time [s]."""
-    import os
+    from rods.io import offscreen_pyvista
 
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")  # no X probe, no X warning
-    import pyvista as pv
+    pv = offscreen_pyvista()
 
     points, cells, frames = read_fields(xdmf)
     t, d = max(frames, key=lambda f: f[1]["contact_pressure"].max())

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from rods import compare, hertz
+from rods import compare, hertz, io
 
 __all__ = ["fig5c", "fig6"]
 
@@ -89,9 +89,7 @@ def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None
     keep = r <= R_disc
     rk, pk = r[keep], p[keep]
     try:
-        import pyvista as pv
-
-        pv.OFF_SCREEN = True
+        pv = io.offscreen_pyvista()
         X = np.outer(rk, np.cos(th)) * 1e3
         Y = np.outer(rk, np.sin(th)) * 1e3
         grid = pv.StructuredGrid(X, Y, np.zeros_like(X))
