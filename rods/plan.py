@@ -31,7 +31,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, submodel_phase_size
+from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, Scene, submodel_phase_size
 
 __all__ = [
     "CONTACT_KEYS",
@@ -145,7 +145,7 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
     fx = set(scene.effects)
     reasons = []
     wave = "wave_response" in fx
-    contact = bool(fx & {"contact_patch", "subsurface_stress"})
+    contact = bool(fx & set(SUBMODEL_EFFECTS))
     fields = "fields" in fx or scene["fe.field_interval"] > 0
     global_model = wave or contact or fields or "misalignment" in fx
     phase = _phase(contact_end, scene.end_time)

@@ -30,8 +30,10 @@ __all__ = [
     "SUBMODEL_LEVEL_SIZES",
     "SUBMODEL_PHASES",
     "submodel_phase_size",
+    "SUBMODEL_EFFECTS",
     "SceneError",
     "Station",
+    "check_submodel_length",
     "load_scene",
     "parse_override",
     "scene_from_dict",
@@ -80,6 +82,7 @@ def submodel_phase_size(h: float, a: float, phase: int, phases: int = SUBMODEL_P
 CONTACT_LAWS = ("penalty", "kinematic")
 ANALYTICAL_CONTACT_LAWS = ("hertz", "hertz-rod")  # rods.analytical: the contact law of the 1D model
 SUBMODEL_DRIVINGS = ("displacement", "traction", "mixed")  # rods.fe.submodel.make_driver
+SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that run the submodel (rods.plan)
 
 
 class SceneError(ValueError):
@@ -554,6 +557,7 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         return Rod(values[f"{p}.length"], values[f"{p}.diameter"], values[f"{p}.tip_radius"], mat)
 
     rods = (rod(1), rod(2))
+    check_submodel_length(values["fe.submodel_length"], rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
     return Scene(
         name=values["name"] or (Path(source).stem if source else "scene"),
         rod1=rods[0],
@@ -577,11 +581,25 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
         ):
             if v[k] != "auto" and v[k] > lim:  # auto: within the thinner rod's radius by construction
                 raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {what})")
-    L = min(v["rod1.length"], v["rod2.length"])
-    if v["fe.submodel_length"] >= L:  # a cut beyond a rod's far end has no band to record (the fuzz test's 1 m)
-        raise SceneError(
-            "fe.submodel_length", v["fe.submodel_length"], f"must be < {L:g} m (the submodel cuts both rods)"
-        )
+
+
+def check_submodel_length(L_s: float, rods: Iterable[Rod], caps: bool = True) -> None:
+    """``fe.submodel_length`` L_s [m]: the submodel cuts both rods at L_s from their tips, so L_s lies within
+    each rod (a cut beyond a far end has no band to record: the fuzz test's 1 m) and, where a submodel runs
+    (``caps``), beyond twice each cap height (checked with the scene, not after the global and driver ran)."""
+    for k, rod in enumerate(rods, start=1):
+        if L_s >= rod.length:
+            raise SceneError(
+                "fe.submodel_length", L_s, f"must be < rod{k}.length = {rod.length:g} m (the submodel cuts both rods)"
+            )
+        if caps and L_s <= 2 * rod.cap_height:
+            need = 2 * rod.cap_height
+            raise SceneError(
+                "fe.submodel_length",
+                L_s,
+                f"must be > 2 x the cap height of rod {k} = {need:g} m (the submodel's rods keep a cylinder)",
+                f"e.g. --set fe.submodel_length={1.1 * need:.3g}",
+            )
 
 
 def _cross_checks(v: dict[str, Any]) -> None:

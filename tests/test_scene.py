@@ -114,6 +114,18 @@ def test_both_flat_tips_and_off_axis_axisymmetric_are_contradictions(scene_with)
         scene_with("effects=['misalignment']")
 
 
+def test_a_submodel_that_cannot_hold_the_cap_is_refused_with_the_scene(scene_with):
+    """A 12.7 mm hemispherical tip on a 25.4 mm rod: the 14 mm submodel cannot hold twice its cap. With a submodel
+    effect that is a scene error (before: found by the submodel stage, after the global and the driver had run and
+    written their folders); without one the cut never happens and the scene is fine."""
+    big = ("rod1.diameter=0.0254", "rod1.tip_radius=0.0127")
+    assert scene_with(*big).rod1.cap_height == pytest.approx(0.0127)
+    for effect in ("contact_patch", "subsurface_stress"):
+        with pytest.raises(SceneError, match=r"2 x the cap height of rod 1 = 0.0254 m.*fe.submodel_length=0.0279"):
+            scene_with(*big, f"effects=['{effect}']")
+    assert scene_with(*big, "effects=['contact_patch']", "fe.submodel_length=0.03").rod1.cap_height > 0
+
+
 def test_files(tmp_path):
     with pytest.raises(SceneError, match="no such scene file"):
         load_scene(tmp_path / "nope.toml")

@@ -62,7 +62,7 @@ from mpi4py import MPI
 from rods import hertz
 from rods.fe import forms
 from rods.fe.model import ExplicitModel, FEResult
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, SceneError, Station, scene_from_dict
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, SceneError, Station, check_submodel_length, scene_from_dict
 
 __all__ = [
     "LEVEL_SIZES",
@@ -99,11 +99,7 @@ def submodel_scene(
     penalty law its own layer ε = ``submodel.penalty`` x E*/h), the default mid station only
     (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
     L_s = scene["fe.submodel_length"]
-    for k, rod in enumerate(scene.rods, start=1):
-        if L_s >= rod.length:
-            raise SceneError("fe.submodel_length", L_s, f"must be < rod{k}.length = {rod.length:g} m")
-        if L_s <= 2 * rod.cap_height:
-            raise SceneError("fe.submodel_length", L_s, f"must exceed twice the cap height of rod {k}")
+    check_submodel_length(L_s, scene.rods)
     d = scene.as_dict(json_safe=False)
     d["station"] = []
     d["fe"].update(
