@@ -172,11 +172,15 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
     )
 
 
-def _refinement(stage: str) -> float:
-    """Rank of a stage name, larger = more refined: analytical < global < submodel levels by element size."""
-    if stage.startswith("submodel/"):
-        return 2.0 + 1.0 / SUBMODEL_LEVEL_SIZES.get(stage.split("/", 1)[1], 1.0)
-    return {"analytical": 0.0, "global": 1.0}.get(stage, -1.0)
+def _refinement(stage: str, summary: Mapping[str, Any]) -> tuple[float, float, bool]:
+    """Sort key of a stage, larger = more refined: the analytical model, then the FE stages by the element size
+    across the contact (``mesh.radial_size``: a submodel level is not finer than a global sized to a small
+    patch, e.g. 0.0625 mm against 0.025 mm on 1 mm rods), a submodel before a global of the same size."""
+    if stage == "analytical":
+        return (0.0, 0.0, False)
+    h = summary.get("mesh", {}).get("radial_size")
+    by_name = 1.0 / SUBMODEL_LEVEL_SIZES.get(stage.split("/", 1)[-1], 1.0)  # a summary without its mesh
+    return (1.0, 1.0 / h if h else by_name, stage.startswith("submodel/"))
 
 
 def offers(plan: Plan, stage: str) -> tuple[str, ...]:
@@ -195,10 +199,10 @@ def most_refined(plan: Plan, summaries: Mapping[str, Mapping[str, Any]]) -> tupl
     """Each contract key of a run's summary from the most refined stage that computed it: (values, sources).
 
     ``summaries`` maps stage names to their summaries; what each offers is :func:`offers`.
-    Refinement: analytical < global < submodel, finer level wins."""
+    Refinement: the analytical model < the FE stages, the finer across the contact wins (:func:`_refinement`)."""
     values: dict[str, Any] = {}
     sources: dict[str, str] = {}
-    for stage in sorted((s for s in summaries if _refinement(s) >= 0), key=_refinement):
+    for stage in sorted((s for s in summaries if offers(plan, s)), key=lambda s: _refinement(s, summaries[s])):
         for k in offers(plan, stage):
             values[k], sources[k] = summaries[stage][k], stage
     return values, sources

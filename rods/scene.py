@@ -239,7 +239,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
         ),
     ),
     "fe.backend": ("str", "petsc", _choice(FE_BACKENDS)),
-    "submodel.levels": ("list[str]", ["coarse", "mid", "fine"], _choices(SUBMODEL_LEVELS)),
+    # auto: three consecutive levels from the coarsest that resolves the expected patch (Scene.submodel_levels)
+    "submodel.levels": ("list[str]|auto", "auto", _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
     "submodel.penalty": ("float", 10.0, _positive("x element stiffness", hi=1e4)),
     # how the global drives the submodel's cuts: mixed (its traction plus a dashpot to its velocity, rods.fe.traction),
@@ -254,7 +255,9 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
         if not isinstance(v, str):
             raise SceneError(key, v, "must be a string")
         return v
-    if kind == "list[str]":
+    if kind == "list[str]|auto" and v == "auto":
+        return v
+    if kind in ("list[str]", "list[str]|auto"):
         if isinstance(v, str):
             v = [v]
         if not isinstance(v, list) or not all(isinstance(e, str) for e in v):
@@ -409,8 +412,8 @@ class Scene:
 
     def __getitem__(self, key: str) -> Any:
         v = self.values[key]
-        if v == "auto" and key in ("fe.radial_size", "fe.axial_size"):
-            return self.radial_size if key == "fe.radial_size" else self.axial_size
+        if v == "auto" and key in ("fe.radial_size", "fe.axial_size", "submodel.levels"):
+            return {"fe.radial_size": self.radial_size, "fe.axial_size": self.axial_size}.get(key, self.submodel_levels)
         return v
 
     @cached_property
@@ -423,6 +426,21 @@ class Scene:
         E_star, R_star = hertz.contact_constants(self.rod1, self.rod2)
         a_P = float(hertz.contact_radius(P, E_star, R_star))  # [m]
         return P, a_P, a_P * a_P / R_star
+
+    @cached_property
+    def submodel_levels(self) -> list[str]:
+        """``submodel.levels`` resolved. "auto": three consecutive levels (:data:`SUBMODEL_LEVEL_SIZES`, the last
+        three where fewer remain) from the coarsest with :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P
+        at the impedance-bound force (:attr:`radial_size`). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
+        paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): fine, extra-fine,
+        ultra-fine, where the paper's three put 0.4, 0.8 and 1.7 elements across the patch."""
+        v = self.values["submodel.levels"]
+        if v != "auto":
+            return list(v)
+        a_P = self._impedance_patch[1]
+        first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if a_P / h >= PATCH_ELEMENTS), -1)
+        first = min(first if first >= 0 else len(SUBMODEL_LEVELS), len(SUBMODEL_LEVELS) - 3)
+        return list(SUBMODEL_LEVELS[first : first + 3])
 
     @cached_property
     def radial_size(self) -> float:

@@ -52,6 +52,15 @@ def test_a_midpoint_the_wave_never_reaches_has_a_null_speed(scene_with):
     assert any("does not move forward" in w for w in s["warnings"])
 
 
+def test_an_unresolved_patch_is_not_ok():
+    """Fewer than two elements across the contact radius: the submodel's fine level on 1 mm rods (a = 0.105 mm at
+    h = 0.0625 mm: 1.7) is flagged, the paper's coarse level (1.09 mm at 0.25 mm: 4.4) and the analytical model
+    (no mesh) are not."""
+    assert "1.7 elements" in checks.patch_warning({"contact_radius": 0.105e-3, "mesh": {"radial_size": 0.0625e-3}})
+    assert checks.patch_warning({"contact_radius": 1.09e-3, "mesh": {"radial_size": 0.25e-3}}) is None
+    assert checks.patch_warning({"contact_radius": 1.09e-3}) is None
+
+
 def test_a_rattling_peak_is_not_ok():
     """A raw peak 20% above a smooth 200 µs pulse (one spiky sample, as a stiff penalty rattles) is flagged; the
     smooth pulse itself, sampled every 0.25 µs, is not (its 2 µs average sits 0.01% below its top)."""

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from rods.scene import SceneError, load_scene, parse_override, scene_from_dict
+from rods.scene import SUBMODEL_LEVEL_SIZES, SceneError, load_scene, parse_override, scene_from_dict
 
 from .conftest import SCENES
 
@@ -53,6 +53,15 @@ def test_none_drops_an_optional_value_of_a_base_scene(scene_with, tmp_path):
     with pytest.raises(SceneError, match="'none'"):  # any other string is still refused, naming the choice
         scene_with("rod2.material.yield_strength='weak'")
 
+
+MICRO = (  # 1 mm rods, 5 mm tip: a patch of 0.105 mm
+    "rod1.diameter=0.001",
+    "rod2.diameter=0.001",
+    "rod1.length=0.05",
+    "rod2.length=0.05",
+    "rod1.tip_radius=0.005",
+    "fe.submodel_length=0.004",
+)
 
 BAD = [
     ("rod1.length=0", "rod1.length", "> 0"),
@@ -200,6 +209,26 @@ def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
 
 
 # ---- the phase members of a submodel level (rods.scene.submodel_phase_size) ----
+
+
+@pytest.mark.parametrize(
+    ("overrides", "levels"),
+    [
+        ((), ["coarse", "mid", "fine"]),  # the paper's: 4.4 elements across a_P = 1.09 mm at coarse
+        (("impact.speed=1.0",), ["mid", "fine", "extra-fine"]),  # a_P = 0.84 mm: coarse has 3.4
+        (("impact.speed=0.05",), ["fine", "extra-fine", "ultra-fine"]),  # 0.31 mm: fine is the first with 4.9
+        (MICRO, ["fine", "extra-fine", "ultra-fine"]),  # 0.105 mm: none has 4, the finest three
+        (("submodel.levels=['mid']",), ["mid"]),  # a list is taken as given
+    ],
+)
+def test_auto_submodel_levels_resolve_the_patch(scene_with, overrides, levels):
+    """submodel.levels = "auto" (the default): three consecutive levels from the coarsest with 4 elements across
+    the expected patch radius, so a small patch is not left to levels that put one element across it."""
+    s = scene_with(*overrides)
+    assert s["submodel.levels"] == s.submodel_levels == levels
+    first = SUBMODEL_LEVEL_SIZES[levels[0]]
+    if len(levels) == 3 and levels[-1] != "ultra-fine":
+        assert s._impedance_patch[1] / first >= 4 > s._impedance_patch[1] / (2 * first)
 
 
 def test_phase_members_step_the_edge_by_equal_fractions_of_an_element():

@@ -92,6 +92,16 @@ def test_most_refined_model_wins(scene_with):
     assert sources["midpoint_peak_speed"] == "global" and values["peak_contact_force"] == 1.0
     values, sources = most_refined(wave, {"analytical": stages["analytical"]})
     assert set(sources.values()) == {"analytical"}
+    # by the element size across the contact, not by the stage's name: on 1 mm rods with a 5 mm tip the global's
+    # auto mesh (0.025 mm) is finer than the fine submodel level (0.0625 mm), which then is not the answer
+    sized = {
+        k: {**v, "mesh": {"radial_size": h}}
+        for (k, v), h in zip(stages.items(), (6.25e-5, 0, 0, 2.5e-4, 2.5e-5), strict=True)
+    }
+    values, sources = most_refined(contact, sized)
+    assert sources["contact_radius"] == "global" and values["peak_contact_force"] == 1.0
+    sized["global"]["mesh"]["radial_size"] = 6.25e-5  # a tie: the submodel
+    assert most_refined(contact, sized)[1]["contact_radius"] == "submodel/fine"
     assert offers(contact, "driver") == () and "contact_duration" not in offers(contact, "submodel/fine")
     assert "midpoint_peak_speed" in offers(wave, "global") and "midpoint_peak_speed" not in offers(contact, "global")
 
