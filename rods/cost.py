@@ -14,7 +14,8 @@ goes wrong"):
   and 198k DOFs: 176, 215, 334 MB peak RSS), 2.2 kB per DOF in 3D (128k DOFs: 448 MB) + 9 bytes per step
   (the per-step force and the output mask) + the histories (8 bytes per value, about 25 more for the CSV text);
 * time step: Δt ≈ fe.dt_fraction x h_min / c_d (measured Δt / (h_min/c_d) = 0.80 at fe.dt_fraction 0.8),
-  h_min ≈ 0.85 x the smallest requested size (the cap shortens the tip cells); under the penalty law the
+  h_min ≈ 0.85 x the smallest requested size (the cap shortens the tip cells), times :data:`CAP_STEP_FACTOR`
+  for a strongly curved axisymmetric tip (down to 0.46: its rim cells are the most distorted); under the penalty law the
   contact-switching limit 1/ω_c (rods.fe.explicit) when it is shorter: a pair of lumped masses ρ_i a h_n/2 on
   the spring ε a, ε = factor x E*/h_n, has ω_c² = 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n², h_n the tip element normal
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
@@ -66,6 +67,20 @@ SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, 
 DOFS_PER_CELL = {"axisymmetric": 2.3, "3d": 3.35}  # [-]
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
+# axisymmetric global: Δt of a curved tip / the estimate above, against its rim angle asin(d/2r) [deg, -]: the cells
+# where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°). Measured on the
+# paper rods at the auto mesh (tip radius 35, 15, 10, 8, 7.2, 6.75, 6.5, 6.35 mm; 6.35 mm at 0.5 mm too: 0.69)
+CAP_STEP_FACTOR = (
+    (0.0, 1.0),
+    (10.5, 1.0),
+    (25.0, 0.78),
+    (39.4, 0.73),
+    (52.5, 0.69),
+    (61.9, 0.57),
+    (70.2, 0.46),
+    (77.7, 0.57),
+    (90.0, 0.69),
+)
 
 
 @dataclass(frozen=True)
@@ -97,13 +112,9 @@ def _duration(s: float) -> str:
 
 
 def _cells_axisymmetric(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> float:
-    from rods.fe.mesh import axial_spacing
+    from rods.fe.mesh import cell_count
 
-    cells = 0.0
-    for rod, L in zip(scene.rods, lengths, strict=True):
-        sp = axial_spacing(_with_length(rod, L), h, g)
-        cells += math.ceil(rod.diameter / 2 / h_r - 1e-9) * (sp.n_graded + sp.n_uniform)
-    return cells
+    return float(sum(cell_count(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)))
 
 
 def _cells_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> float:
@@ -149,6 +160,8 @@ def fe_cost(
     c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
     h_min = H_MIN_FRACTION * min(h_r, g * h)
     dt = scene["fe.dt"] if scene["fe.dt"] != "auto" else DT_PER_ELEMENT_STEP * scene["fe.dt_fraction"] * h_min / c_d
+    if scene["fe.dt"] == "auto" and kind != "3d" and size is None:
+        dt *= _cap_step_factor(scene)
     if scene["fe.dt"] == "auto" and scene["fe.contact"] == "penalty":
         factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
         dt = min(dt, _switching_step(scene, factor, g * h))
@@ -161,6 +174,16 @@ def fe_cost(
     setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
     loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
     return Cost(what, cells, dofs, steps, samples, values, memory, setup + loop, ranks, setup)
+
+
+def _cap_step_factor(scene: Scene) -> float:
+    """:data:`CAP_STEP_FACTOR` at the larger rim angle of the two tips (1 for flat tips)."""
+    phi = max(math.degrees(math.asin(min(1.0, r.diameter / 2 / r.tip_radius))) for r in scene.rods)
+    table = CAP_STEP_FACTOR
+    for (x0, y0), (x1, y1) in zip(table, table[1:], strict=False):
+        if phi <= x1:
+            return y0 + (y1 - y0) * (phi - x0) / (x1 - x0)
+    return table[-1][1]
 
 
 def _switching_step(scene: Scene, factor: float, h_n: float) -> float:

@@ -131,6 +131,22 @@ def butterfly(rod: Rod) -> Butterfly | None:
     return Butterfly(t, th, {**pts, "Oc": (0.0, rt)})
 
 
+def butterfly_counts(b: Butterfly, hr: float) -> tuple[int, int, int]:
+    """Elements (n_a, n_b, m) of a butterfly at size ``hr`` [m]: along the arcs A-P and P-E, across the bands."""
+    n_a, n_b = (max(1, math.ceil(x / hr - 1e-9)) for x in b.arcs)
+    return n_a, n_b, max(1, math.ceil(b.t / hr - 1e-9))
+
+
+def cell_count(rod: Rod, hr: float, h: float, grading: float) -> int:
+    """Cells of one rod's mesh at radial size ``hr``, axial ``h`` [m] and tip grading (what the mesher makes)."""
+    sp = axial_spacing(rod, h, grading)
+    b = butterfly(rod)
+    if b is None:
+        return max(1, math.ceil(rod.diameter / 2 / hr - 1e-9)) * (sp.n_graded + sp.n_uniform)
+    n_a, n_b, m = butterfly_counts(b, hr)
+    return (n_a + n_b) * m + n_a * n_b + (n_a + m) * (sp.n_graded + sp.n_uniform)
+
+
 def _butterfly_cap(geo, rod: Rod, s: float, hr: float) -> dict[str, Any]:  # rank 0 only
     """Mesh the cap of ``rod`` (side ``s`` = -1: rod 1, +1: rod 2) as :func:`butterfly`'s three blocks; returns
     the tip and axis curves, the rim line O-G-E (the next block's bottom), its end points and counts."""
@@ -138,9 +154,7 @@ def _butterfly_cap(geo, rod: Rod, s: float, hr: float) -> dict[str, Any]:  # ran
 
     b = butterfly(rod)
     p = {k: geo.addPoint(r, s * z, 0.0) for k, (r, z) in b.points.items()}
-    arc_ap, arc_pe = b.arcs
-    n_a, n_b = (max(1, math.ceil(x / hr - 1e-9)) for x in (arc_ap, arc_pe))
-    m = max(1, math.ceil(b.t / hr - 1e-9))
+    n_a, n_b, m = butterfly_counts(b, hr)
     c = {
         "AP": (geo.addCircleArc(p["A"], p["Oc"], p["P"]), n_a),
         "PE": (geo.addCircleArc(p["P"], p["Oc"], p["E"]), n_b),
