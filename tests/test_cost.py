@@ -30,7 +30,8 @@ def test_estimate_matches_the_built_axisymmetric_model(scene_with):
 
 def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
     """The butterfly cap's cells exactly (rods.fe.mesh.cell_count) and the step of its distorted rim cells
-    (CAP_STEP_FACTOR, 0.69 at 90°) within 15%: before, 1.45x too few steps (19x on the auto mesh with the single-block cap)."""
+    (CAP_STEP_FACTOR, 0.69 at 90°) within 15%: before, 1.45x too few steps (19x on the auto mesh with the
+    single-block cap)."""
     from rods.fe.model import ExplicitModel
 
     sc = scene_with(*TINY, "rod1.tip_radius=0.00635", "fe.radial_size=0.5e-3")
