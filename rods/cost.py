@@ -39,6 +39,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from rods import hertz
 from rods.preflight import InputError
 from rods.scene import Scene
@@ -177,13 +179,10 @@ def fe_cost(
 
 
 def _cap_step_factor(scene: Scene) -> float:
-    """:data:`CAP_STEP_FACTOR` at the larger rim angle of the two tips (1 for flat tips)."""
+    """:data:`CAP_STEP_FACTOR` at the larger rim angle of the two tips (1 for flat tips), interpolated linearly."""
     phi = max(math.degrees(math.asin(min(1.0, r.diameter / 2 / r.tip_radius))) for r in scene.rods)
-    table = CAP_STEP_FACTOR
-    for (x0, y0), (x1, y1) in zip(table, table[1:], strict=False):
-        if phi <= x1:
-            return y0 + (y1 - y0) * (phi - x0) / (x1 - x0)
-    return table[-1][1]
+    angles, factors = zip(*CAP_STEP_FACTOR, strict=True)
+    return float(np.interp(phi, angles, factors))
 
 
 def _switching_step(scene: Scene, factor: float, h_n: float) -> float:

@@ -85,6 +85,10 @@ SUBMODEL_DRIVINGS = ("displacement", "traction", "mixed")  # rods.fe.submodel.ma
 SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that run the submodel (rods.plan)
 
 
+# keys whose "auto" a Scene resolves -> the property that does ([] reads the resolved value)
+_RESOLVED = {"fe.radial_size": "radial_size", "fe.axial_size": "axial_size", "submodel.levels": "submodel_levels"}
+
+
 class SceneError(ValueError):
     """A scene value is missing, unknown, of the wrong type or out of range."""
 
@@ -412,9 +416,7 @@ class Scene:
 
     def __getitem__(self, key: str) -> Any:
         v = self.values[key]
-        if v == "auto" and key in ("fe.radial_size", "fe.axial_size", "submodel.levels"):
-            return {"fe.radial_size": self.radial_size, "fe.axial_size": self.axial_size}.get(key, self.submodel_levels)
-        return v
+        return getattr(self, _RESOLVED[key]) if v == "auto" and key in _RESOLVED else v
 
     @cached_property
     def _impedance_patch(self) -> tuple[float, float, float]:
@@ -438,9 +440,10 @@ class Scene:
         if v != "auto":
             return list(v)
         a_P = self._impedance_patch[1]
-        first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if a_P / h >= PATCH_ELEMENTS), -1)
-        first = min(first if first >= 0 else len(SUBMODEL_LEVELS), len(SUBMODEL_LEVELS) - 3)
-        return list(SUBMODEL_LEVELS[first : first + 3])
+        n = len(SUBMODEL_LEVELS)
+        first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if a_P / h >= PATCH_ELEMENTS), n)
+        start = min(first, n - 3)  # the finest three where fewer than three remain
+        return list(SUBMODEL_LEVELS[start : start + 3])
 
     @cached_property
     def radial_size(self) -> float:

@@ -147,12 +147,11 @@ def cell_count(rod: Rod, hr: float, h: float, grading: float) -> int:
     return (n_a + n_b) * m + n_a * n_b + (n_a + m) * (sp.n_graded + sp.n_uniform)
 
 
-def _butterfly_cap(geo, rod: Rod, s: float, hr: float) -> dict[str, Any]:  # rank 0 only
-    """Mesh the cap of ``rod`` (side ``s`` = -1: rod 1, +1: rod 2) as :func:`butterfly`'s three blocks; returns
+def _butterfly_cap(geo, b: Butterfly, s: float, hr: float) -> dict[str, Any]:  # rank 0 only
+    """Mesh a cap laid out as ``b`` (:func:`butterfly`; side ``s`` = -1: rod 1, +1: rod 2) in three blocks; returns
     the tip and axis curves, the rim line O-G-E (the next block's bottom), its end points and counts."""
     import gmsh
 
-    b = butterfly(rod)
     p = {k: geo.addPoint(r, s * z, 0.0) for k, (r, z) in b.points.items()}
     n_a, n_b, m = butterfly_counts(b, hr)
     c = {
@@ -190,9 +189,9 @@ def _butterfly_cap(geo, rod: Rod, s: float, hr: float) -> dict[str, Any]:  # ran
     }
 
 
-def _flat_block_cap(geo, rod: Rod, s: float, R: float, hr: float) -> dict[str, Any]:  # rank 0 only
+def _flat_block_cap(geo, rod: Rod, s: float, hr: float) -> dict[str, Any]:  # rank 0 only
     """The tip face of a flat or flatter curved tip: the first block's bottom, from the apex to the rim."""
-    cap = rod.cap_height
+    R, cap = rod.diameter / 2, rod.cap_height
     p_apex, p_edge = geo.addPoint(0.0, 0.0, 0.0), geo.addPoint(R, s * cap, 0.0)
     if math.isinf(rod.tip_radius):
         tip = geo.addLine(p_apex, p_edge)
@@ -215,7 +214,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
         R = rod.diameter / 2
         sp = axial_spacing(rod, h, g)
         b = butterfly(rod)
-        cap = _butterfly_cap(geo, rod, s, hr) if b else _flat_block_cap(geo, rod, s, R, hr)
+        cap = _butterfly_cap(geo, b, s, hr) if b else _flat_block_cap(geo, rod, s, hr)
         n_r = cap["n_cross"]
         # axial stations: optional graded block, then the uniform block to the far end
         blocks = []
@@ -237,7 +236,6 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
             gmsh.model.geo.mesh.setTransfiniteCurve(c_top, n_r + 1)
             if len(lower) == 1:
                 gmsh.model.geo.mesh.setTransfiniteCurve(lower[0], n_r + 1)
-            if len(lower) == 1:
                 gmsh.model.geo.mesh.setTransfiniteSurface(surf)
             else:  # a butterfly's rim line O-G-E is two curves: name the corners, G is none
                 gmsh.model.geo.mesh.setTransfiniteSurface(surf, "Left", [lower_axis, lower_outer, po, pa])
