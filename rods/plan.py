@@ -41,6 +41,7 @@ __all__ = [
     "Plan",
     "contact_phase",
     "first_contact_end",
+    "global_drives",
     "make_plan",
     "most_refined",
     "offers",
@@ -127,9 +128,9 @@ class Plan:
         else:
             lines.append("  global FE model: no")
         if self.submodel_levels:
-            settings = ", ".join(self.driver_overrides) or "the scene's own settings"
             until = f"t = {self.contact_phase * 1e6:.1f} µs"
-            lines.append(f"  submodel driver: global with {settings}, recording the cut until {until}")
+            driver = f"global with {', '.join(self.driver_overrides)}" if self.driver_overrides else "the global above"
+            lines.append(f"  submodel driver: {driver}, recording the cut until {until}")
         lines.append(f"  submodel levels: {', '.join(self.submodel_levels) or 'none'}")
         lines.append(f"  field files: {'yes' if self.fields else 'none'}")
         lines += [f"  - {r}" for r in self.reasons]
@@ -170,6 +171,12 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
         driver_overrides=DRIVER_OVERRIDES if levels else (),
         reasons=tuple(reasons),
     )
+
+
+def global_drives(p: Plan) -> bool:
+    """The scene's global run is the submodels' driver (no driver settings, :data:`DRIVER_OVERRIDES`): the study
+    runs it once, recording the cut over the contact phase, rather than a second time as a separate driver."""
+    return bool(p.global_model and p.submodel_levels and not p.driver_overrides)
 
 
 def _refinement(stage: str, summary: Mapping[str, Any]) -> tuple[float, float, bool]:

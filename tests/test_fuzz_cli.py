@@ -82,6 +82,7 @@ def sets(overrides: list[str]) -> list[str]:
 
 @FUZZ
 @given(overrides=st.lists(override, max_size=3), where=outs, force=st.booleans())
+@example(overrides=[], where="fresh", force=False)  # one that runs, whatever the draws (the harness check below)
 def test_analytical(overrides, where, force):
     with tempfile.TemporaryDirectory() as d:
         out = _where(where, Path(d))

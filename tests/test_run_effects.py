@@ -50,16 +50,16 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     _, s = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
     run_dir = tmp_path / "run"
     assert set(s["stages"]) == {"analytical", "global", "driver", "submodel/coarse", "compare"}
+    # the scene's own global drives the submodels (no driver settings): one run, recording the cut, not two
+    assert s["stages"]["driver"] == s["stages"]["global"] and not (run_dir / "driver").exists()
+    assert (run_dir / "global" / "cut.h5").exists()
     phase = s["plan"]["contact_phase"]
     episodes = json.loads((run_dir / "analytical" / "summary.json").read_text())["contact_episodes"]
     assert phase == pytest.approx(1.2 * episodes[0][1], rel=1e-12) and phase < 3e-4
-    for stage in ("global", "driver", "submodel/coarse"):  # all stop after the contact phase
+    for stage in ("global", "submodel/coarse"):  # both stop after the contact phase
         t_end = read_history(run_dir / stage / "history.csv")["time"][-1]
         assert t_end == pytest.approx(phase, abs=0.25e-6), stage  # to one output interval
-    driver = json.loads((run_dir / "driver" / "summary.json").read_text())
-    fe = driver["scene_values"]["fe"]
-    g = json.loads((run_dir / "global" / "summary.json").read_text())["scene_values"]["fe"]
-    assert fe == g and (run_dir / "driver" / "cut.h5").exists()  # the scene's own global: no driver settings
+    assert json.loads((run_dir / "global" / "summary.json").read_text())["contact_phase"] == phase
     assert s["sources"]["contact_radius"] == "submodel/coarse"
     assert s["sources"]["midpoint_peak_speed"] == "analytical"  # no wave response was asked for
     # the global stopped at the contact phase: its midpoint plateaus are missing, which its own summary says,
@@ -70,11 +70,40 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     )
     assert [w.split(":")[0] for w in s["warnings"] if "midpoint_peak_speed" in w] == ["analytical"]  # 0.3 ms
     table = json.loads((run_dir / "compare" / "table3.json").read_text())
-    assert [r["role"] for r in table["rows"]] == ["global-uniform", "global-driver", "submodel"]
+    assert [r["role"] for r in table["rows"]] == ["global-driver", "submodel"]  # the global once
     sub = table["rows"][-1]
     assert sub["force_N"] == pytest.approx(s["peak_contact_force"], rel=1e-12)
     assert abs(sub["d_force_vs_analytical_pct"]) < 10  # 0.25 mm submodel driven by a 4 mm global
     assert not list(run_dir.rglob("*.xdmf"))
+
+
+def test_wave_and_contact_run_one_global_that_records_the_cut_over_the_contact_phase_only(tmp_path):
+    import h5py
+
+    p, s = run(tmp_path, "['wave_response', 'contact_patch']", "--set", "submodel.levels=['coarse']")
+    run_dir, phase = tmp_path / "run", s["plan"]["contact_phase"]
+    assert p.stdout.count("cost of the global") == 1 and "cost of the driving global" not in p.stdout
+    assert s["stages"]["driver"] == s["stages"]["global"] and not (run_dir / "driver").exists()
+    assert read_history(run_dir / "global" / "history.csv")["time"][-1] == pytest.approx(3e-4, rel=1e-3)
+    with h5py.File(run_dir / "global" / "cut.h5") as f:
+        times = f["times"][:]
+    dt = times[1] - times[0]
+    assert phase <= times[-1] < phase + dt + 1e-15  # the record covers the contact phase, one step past, no more
+    t_sub = read_history(run_dir / "submodel" / "coarse" / "history.csv")["time"][-1]
+    assert t_sub == pytest.approx(phase, abs=0.25e-6)
+    assert s["sources"]["midpoint_peak_speed"] == "global" and s["sources"]["contact_radius"] == "submodel/coarse"
+
+
+def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
+    out = tmp_path / "x"
+    p = subprocess.run(
+        [sys.executable, str(ROOT / "workflows" / "run.py"), "--set", "effects=['contact_patch']", "--dry-run",
+         "--out", str(out)],
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    assert p.returncode == 0, p.stderr
+    assert "submodel levels: coarse, mid, fine" in p.stdout and "cost of the submodel fine" in p.stdout
+    assert "dry run" in p.stdout and not out.exists()
 
 
 def test_fields_only_when_asked(tmp_path):

@@ -50,7 +50,8 @@ non_negative = _number(float, 0.0, True, "")
 count = _number(int, 1, True, "")  # a step stride
 
 
-def parser(description: str, default_scene: str = "paper.toml") -> argparse.ArgumentParser:
+def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = False) -> argparse.ArgumentParser:
+    """The scene options (--scene, --set, --out, --force); ``dry_run``: also --dry-run (see :func:`afford`)."""
     p = _Parser(description=description)
     p.add_argument("--scene", default=str(SCENES / default_scene), help="scene TOML file (default: %(default)s)")
     p.add_argument(
@@ -65,17 +66,28 @@ def parser(description: str, default_scene: str = "paper.toml") -> argparse.Argu
     p.add_argument(
         "--force", action="store_true", help="run above the step/history budgets (never above the free memory)"
     )
+    if dry_run:
+        p.add_argument(
+            "--dry-run",
+            action="store_true",
+            help="check the input and --out, print the plan and the cost estimate, then exit 0 without running or "
+            "writing anything",
+        )
     return p
 
 
 def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print) -> None:
     """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
-    --force, above the step/history budgets; before anything heavy is allocated."""
+    --force, above the step/history budgets; before anything heavy is allocated. With --dry-run, stop here:
+    exit 0, nothing run, nothing written (every rank alike)."""
     from rods import cost
 
     for c in costs:
         cost.check(c, args.force)
         log(c.describe())
+    if getattr(args, "dry_run", False):
+        log("dry run: the input and the output folder are valid; nothing was run or written")
+        raise SystemExit(0)
 
 
 def status(summary: Mapping[str, Any], rank: int = 0) -> None:

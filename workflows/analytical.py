@@ -18,16 +18,16 @@ from rods.study import stages
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = _cli.parser(__doc__.splitlines()[0]).parse_args(argv)
+    args = _cli.parser(__doc__.splitlines()[0], dry_run=True).parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "analytical", scene)
-    _cli.afford(args, cost.analytical_cost(scene))
     print(
         f"plan: analytical model (1D waves + Hertz, contact law '{scene['analytical.contact']}'), scene "
         f"'{scene.name}', s1 = {scene.speed} m/s, "
         f"t_end = {scene.end_time:g} s every {scene.output_interval:g} s, rtol = {scene['analytical.rtol']:g}; "
         f"stations: {', '.join(s.name for s in scene.stations)} -> {out}"
     )
+    _cli.afford(args, cost.analytical_cost(scene))
     s = stages.analytical(scene, out).summary
     print(json.dumps({k: s[k] for k in [*io.SUMMARY_KEYS[2:], "rigid_velocity_rod1", "rigid_velocity_rod2"]}, indent=1))
     _cli.status(s)

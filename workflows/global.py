@@ -31,7 +31,7 @@ SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_er
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    ap = _cli.parser(__doc__.splitlines()[0])
+    ap = _cli.parser(__doc__.splitlines()[0], dry_run=True)
     ap.add_argument("--driver", action="store_true", help="the submodels' driving global, recorded (rods.plan)")
     ap.add_argument("--record-cut", action="store_true", help="write DIR/cut.h5, the band around the submodel cut")
     ap.add_argument("--record-until", type=_cli.non_negative, help="last recorded time [s] (default end time)")

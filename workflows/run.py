@@ -2,6 +2,7 @@
 
     python workflows/run.py --scene workflows/scenes/paper.toml --set 'effects=["contact_patch"]' --out DIR
     mpirun -n 2 python workflows/run.py --scene ... --set 'submodel.levels=["fine"]' --out DIR
+    python workflows/run.py --scene ... --dry-run   # the plan and its cost estimate only; nothing runs
 
 The study pipeline (rods.study.pipeline.run_study): DIR/analytical/, DIR/global/ (to the planned end time),
 and for contact effects DIR/driver/ (the library's driving global over the contact phase), DIR/submodel/LEVEL/
@@ -27,15 +28,19 @@ from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
 from rods.study.pipeline import run_study
 
 
-def _fe_costs(scene: Scene, ranks: int) -> list[cost.Cost]:
-    """The estimated costs of the FE stages the plan will run (the analytical model, milliseconds, gives the
-    contact phase that ends the contact-only stages)."""
-    summary = simulate(scene).summary
-    p = plan.make_plan(scene, plan.first_contact_end(summary))
+def _plan(scene: Scene) -> plan.Plan:
+    """The plan run_study will make (the analytical model, milliseconds, gives the contact phase that ends the
+    contact-only stages)."""
+    return plan.make_plan(scene, plan.first_contact_end(simulate(scene).summary))
+
+
+def _fe_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
+    """The estimated costs of the FE stages of plan ``p``."""
     costs = [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time)] if p.global_model else []
     if p.submodel_levels:
         driver = plan.submodel_driver(scene, p.contact_phase)
-        costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
+        if not plan.global_drives(p):  # else the global above records the cut: no second run
+            costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
         for lv in p.submodel_levels:
             h = SUBMODEL_LEVEL_SIZES[lv]
             costs.append(cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=h))
@@ -44,12 +49,14 @@ def _fe_costs(scene: Scene, ranks: int) -> list[cost.Cost]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    args = _cli.parser(__doc__.splitlines()[0]).parse_args(argv)
+    args = _cli.parser(__doc__.splitlines()[0], dry_run=True).parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
-    _cli.afford(args, cost.analytical_cost(scene), log=log)
-    _cli.afford(args, *_fe_costs(scene, comm.size), log=log)
+    p = _plan(scene)
+    if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
+        log(f"plan for scene '{scene.name}' -> {out}\n{p.describe()}")
+    _cli.afford(args, cost.analytical_cost(scene), *_fe_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log).summary  # a guard's stop: exit 1, Ctrl-C: 130 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
     return 0

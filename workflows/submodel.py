@@ -36,7 +36,7 @@ def _step(text: str) -> float | str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    ap = _cli.parser(__doc__.splitlines()[0])
+    ap = _cli.parser(__doc__.splitlines()[0], dry_run=True)
     ap.add_argument("--global", dest="global_dir", required=True, help="output folder of a global run with cut.h5")
     ap.add_argument("--level", default="fine", choices=SUBMODEL_LEVELS, help="mesh level (default %(default)s)")
     ap.add_argument("--size", type=_cli.positive, default=None, help="element size [m] (overrides --level)")

@@ -3,7 +3,8 @@
     study = run_study(scene, Path("output/run/paper"))        # collective on comm (mpirun -n N works)
 
 Folders under ``out``: ``analytical/`` (always), ``global/`` (the scene's global FE model to the planned end
-time), ``driver/`` (the submodels' driving global over the contact phase, with cut.h5), ``submodel/LEVEL/``
+time; with cut.h5 when it drives the submodels), ``driver/`` (a separate driving global over the contact phase, only
+when the driver's settings differ from the scene's: rods.plan.DRIVER_OVERRIDES, empty), ``submodel/LEVEL/``
 per planned level, ``compare/`` (Table 3, Figs. 5c/6), and ``summary.json``: the plan, the stage folders and
 the contract keys, each from the most refined stage that computed it (rods.plan.most_refined).
 """
@@ -33,7 +34,8 @@ class Study:
 def _compare(scene: Scene, done: dict[str, stages.Stage], out: Path) -> stages.Comparison:
     from rods.study.table3 import ModelRun
 
-    runs = [ModelRun("global-uniform", done["global"].summary)] if "global" in done else []
+    shared = done.get("global") is done["driver"]  # the scene's global drove the submodels: one row
+    runs = [ModelRun("global-uniform", done["global"].summary)] if "global" in done and not shared else []
     runs.append(ModelRun("global-driver", done["driver"].summary))
     runs += [ModelRun("submodel", s.summary, s.history) for k, s in done.items() if k.startswith("submodel/")]
     return stages.comparison(scene, done["analytical"].summary, runs, out)
@@ -55,11 +57,15 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     p = plan.make_plan(scene, plan.first_contact_end(done["analytical"].summary))
     if log is not None:
         log(f"plan for scene '{scene.name}' -> {out}\n{p.describe()}")
+    shared = plan.global_drives(p)
     if p.global_model:
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
-        done["global"] = stages.global_model(g, out / "global", comm, progress=progress, log=log)
+        cut = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
+        done["global"] = stages.global_model(
+            g, out / "global", comm, progress=progress, log=log, **cut if shared else {}
+        )
     if p.submodel_levels:
-        d = stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log)
+        d = done["global"] if shared else stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log)
         done["driver"] = d
         for level in p.submodel_levels:
             done[f"submodel/{level}"] = stages.submodel(
@@ -91,6 +97,8 @@ def _status(p: plan.Plan, done: dict[str, stages.Stage]) -> dict[str, Any]:
     (rods.plan.offers), so its warnings about them (two midpoint plateaus in 263 µs) stay in its own summary."""
     found = []
     for k, st in done.items():
+        if k == "driver" and st is done.get("global"):  # one run, its warnings once
+            continue
         unused = set(plan.WAVE_KEYS) - set(plan.offers(p, k))
         found += [f"{k}: {w}" for w in st.summary.get("warnings", []) if w.split(":", 1)[0] not in unused]
     return {"status": "warnings" if found else "ok", "warnings": found}

@@ -25,7 +25,7 @@ import numpy as np
 from rods import checks, io, plan
 from rods.scene import SUBMODEL_PHASES, Scene
 
-__all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "global_model", "submodel"]
+__all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "driver_keys", "global_model", "submodel"]
 
 Log = Callable[[str], None] | None
 Progress = Callable[[int, int, float], None] | None
@@ -134,8 +134,13 @@ def driver(
 
         contact_phase = plan.contact_phase(simulate(scene).summary, scene.end_time)
     sc = plan.submodel_driver(scene, contact_phase)
-    extra = {"contact_phase": contact_phase, "driver_overrides": list(plan.DRIVER_OVERRIDES)}
+    extra = driver_keys(contact_phase)
     return global_model(sc, out, comm, record_cut=True, progress=progress, log=log, name="driver", extra=extra)
+
+
+def driver_keys(contact_phase: float) -> dict[str, Any]:
+    """The keys a driving global adds to its summary: the submodels' end time [s] and the driver's settings."""
+    return {"contact_phase": contact_phase, "driver_overrides": list(plan.DRIVER_OVERRIDES)}
 
 
 def submodel(

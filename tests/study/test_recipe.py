@@ -14,6 +14,7 @@ from rods.plan import (
     DRIVER_OVERRIDES,
     contact_phase,
     first_contact_end,
+    global_drives,
     make_plan,
     most_refined,
     offers,
@@ -58,8 +59,10 @@ def test_submodel_driver_is_the_scene_itself_to_the_contact_phase(scene_with):
     assert submodel_driver(sc).end_time == sc.end_time
     p = make_plan(sc.with_overrides("effects=['contact_patch']"), 2e-4)
     assert p.driver_overrides == DRIVER_OVERRIDES
-    assert "submodel driver: global with the scene's own settings, recording" in p.describe()  # was "with , "
+    assert "submodel driver: the global above, recording the cut until t = 240.0 µs" in p.describe()
+    assert global_drives(p)  # the study runs the global once and drives the submodels with it
     assert make_plan(sc, 2e-4).driver_overrides == ()  # wave response only: no submodel, no driver
+    assert not global_drives(make_plan(sc, 2e-4))
 
 
 def _summary(F: float, a: float = 1e-3, speed: float = 1.1) -> dict:
