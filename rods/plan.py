@@ -157,6 +157,13 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
     levels = tuple(scene["submodel.levels"]) if contact else ()
     if contact:
         reasons.append("contact_patch/subsurface_stress: the submodel refines the contact region")
+    if levels and min(SUBMODEL_LEVEL_SIZES[lv] for lv in levels) >= scene.radial_size:
+        finest = min(levels, key=SUBMODEL_LEVEL_SIZES.__getitem__)
+        reasons.append(
+            f"no submodel level is finer than the global mesh across the contact (finest: {finest}, "
+            f"{SUBMODEL_LEVEL_SIZES[finest] * 1e3:.4g} mm; global {scene.radial_size * 1e3:.4g} mm): the submodels "
+            "add cost, not resolution (the ladder ends at ultra-fine); the global's contact values are as resolved"
+        )
     if wave:
         reasons.append("wave_response: the global run covers the whole end_time; no submodel needed for it")
     return Plan(

@@ -77,6 +77,22 @@ def _summary(F: float, a: float = 1e-3, speed: float = 1.1) -> dict:
     }
 
 
+def test_plan_says_when_no_submodel_level_is_finer_than_the_global(scene_with):
+    """The level ladder ends at ultra-fine (0.0156 mm); at 0.1 mm/s the auto global is finer across the patch (0.0097
+    mm), and the plan says that the submodels add cost, not resolution. On the paper scene (0.27 mm) it says nothing,
+    nor for coarse levels given by hand under a coarser global."""
+    slow = scene_with("impact.speed=1e-4", "effects=['contact_patch']")
+    assert slow["submodel.levels"] == ["fine", "extra-fine", "ultra-fine"] and slow.radial_size < 0.0156e-3
+    assert any("no submodel level is finer than the global mesh" in r for r in make_plan(slow, 2e-4).reasons)
+    paper = scene_with("effects=['contact_patch']")
+    assert not any("no submodel level" in r for r in make_plan(paper, 2e-4).reasons)
+    coarse = scene_with("effects=['contact_patch']", "submodel.levels=['coarse']", "fe.radial_size=1e-3")
+    assert not any("no submodel level" in r for r in make_plan(coarse, 2e-4).reasons)
+    assert any(
+        "no submodel level" in r for r in make_plan(coarse.with_overrides("fe.radial_size=0.2e-3"), 2e-4).reasons
+    )
+
+
 def test_most_refined_model_wins(scene_with):
     stages = {
         "submodel/fine": _summary(3.0),
