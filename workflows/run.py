@@ -4,8 +4,8 @@
     mpirun -n 2 python workflows/run.py --scene ... --set 'submodel.levels=["fine"]' --out DIR
     python workflows/run.py --scene ... --dry-run   # the plan and its cost estimate only; nothing runs
 
-The study pipeline (rods.study.pipeline.run_study): DIR/analytical/, DIR/global/ (to the planned end time),
-and for contact effects DIR/driver/ (the library's driving global over the contact phase), DIR/submodel/LEVEL/
+The study pipeline (rods.study.pipeline.run_study): DIR/analytical/, DIR/global/ (to the planned end time), and
+for contact effects its cut.h5 (the global drives the submodels: rods.plan.global_drives), DIR/submodel/LEVEL/
 and DIR/compare/ (Table 3, Figs. 5c/6). DIR/summary.json holds the plan, the stage folders and the contract
 keys, each from the most refined model that computed it. Default DIR: output/run/<scene>.
 """
