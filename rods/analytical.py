@@ -318,22 +318,9 @@ def contact_compliance(scene: Scene) -> float:
     return sum(hertz.rod_end_compliance(rod) for rod in scene.rods)
 
 
-def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
-    """Run the analytical model on a scene; histories on the scene's output grid plus summary.json keys."""
-    t0 = time.perf_counter()
-    rtol = scene["analytical.rtol"] if rtol is None else rtol
-
-    def solve(c: float) -> WaveModel:
-        return WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
-
-    c, law, law_warnings = contact_compliance(scene), scene["analytical.contact"], []
-    model = solve(c)
-    if (problem := model.rod_end_term_problem()) is not None:
-        # a patch as wide as the rods: the correction's range ends; the paper's law keeps the run (with a warning)
-        c, law, law_warnings = 0.0, "hertz", [problem]
-        model = solve(c)
-    wall = time.perf_counter() - t0
-
+def _histories(scene: Scene, model: WaveModel) -> tuple[dict[str, NDArray[np.float64]], dict[str, str]]:
+    """The histories on the scene's output grid (contact force, compression, Hertz radius and pressure at that
+    force, each station's velocity and strain) and their units."""
     t = np.arange(0.0, scene.end_time * (1 + 1e-12), scene.output_interval)
     P = model.force(t)
     a = hertz.contact_radius(P, model.E_star, model.R_star)
@@ -349,7 +336,26 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         v, ε = model.station(s.rod, s.position, t)
         hist[f"{s.name}_velocity"], hist[f"{s.name}_strain"] = v, ε
         units[f"{s.name}_velocity"], units[f"{s.name}_strain"] = "m/s", "-"
+    return hist, units
 
+
+def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
+    """Run the analytical model on a scene; histories on the scene's output grid plus summary.json keys."""
+    t0 = time.perf_counter()
+    rtol = scene["analytical.rtol"] if rtol is None else rtol
+
+    def solve(c: float) -> WaveModel:
+        return WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
+
+    c, law, law_warnings = contact_compliance(scene), scene["analytical.contact"], []
+    model = solve(c)
+    if (problem := model.rod_end_term_problem()) is not None:
+        # a patch as wide as the rods: the correction's range ends; the paper's law keeps the run (with a warning)
+        c, law, law_warnings = 0.0, "hertz", [problem]
+        model = solve(c)
+    wall = time.perf_counter() - t0
+    hist, units = _histories(scene, model)
+    t, P = hist["time"], hist["contact_force"]
     t_peak, P_peak = model.peak()
     a_peak = float(hertz.contact_radius(P_peak, model.E_star, model.R_star))
     p0 = float(hertz.peak_pressure(P_peak, a_peak))
