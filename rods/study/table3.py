@@ -101,7 +101,8 @@ def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu
     an, exp = ref["analytical"], ref["experiment"]
     err = compare.sigma_r_error(s["sigma_r_profile"], s["hertz_at_own_force"], nu) if "sigma_r_profile" in s else {}
     key = run.level if run.role == "submodel" else run.role
-    pp = ref["paper"].get(key, {"force": math.nan, "area": math.nan})
+    none = {"force": math.nan, "area": math.nan}
+    pp = ref["paper"].get(key, none) if ref["paper_scene"] else none
     h = s["element_size"] if run.role == "submodel" else s["mesh"]["radial_size"]
     row = {
         "model": model_name(run),
@@ -179,12 +180,14 @@ def _richardson(subs: Sequence[ModelRun], E_star: float, R_star: float) -> dict[
 def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]) -> dict[str, Any]:
     """The comparison data of ``runs`` (globals in the order given, then submodels coarse to fine) on
     ``scene``, against the analytical model's summary ``analytical`` (table3.json contract, NaN for none).
-    The experiment is Table 3's (the paper's FE trial), for a scene at its impact speed (else NaN columns)."""
+    The experiment and the paper's columns are Table 3's, for the paper's FE scene only (Table 1's rods at the FE
+    trial's speed, rods.paper_data.PaperData.is_fe_scene; else NaN columns): another scene's numbers are not the
+    paper's to compare with."""
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
     nu = scene.rod1.material.poisson_ratio
     pd = paper_data.load()
-    # Table 3's experiment (Table 2's trial at the paper's FE impact speed), only for a scene at that speed
-    trial = pd.fe_experiment if math.isclose(pd.fe_experiment.impact_speed, scene.speed, rel_tol=1e-9) else None
+    paper_scene = pd.is_fe_scene(scene)
+    trial = pd.fe_experiment if paper_scene else None  # Table 3's experiment: Table 2's trial at the FE speed
     a_exp = trial.experimental_radius if trial else math.nan
     ref = {
         "scene": scene.name,
@@ -198,6 +201,7 @@ def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]
             "source": f"Table 2, Spec. {trial.specimen} Trial {trial.trial}" if trial else None,
         },
         "paper": _paper(pd),
+        "paper_scene": paper_scene,
     }
     subs = sorted((r for r in runs if r.role == "submodel"), key=lambda r: -r.summary["element_size"])
     ordered = [r for r in runs if r.role != "submodel"] + subs
@@ -247,12 +251,16 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
             f"| {_f(r['paper_force_N'], 0)} | {_f(r['paper_area_mm2'], 2)} | {r['dofs']} | {r['wall_s']:.1f} |"
         )
     an, exp, pa = data["analytical"], data["experiment"], data["paper"]
+    paper = (
+        f"{pa['analytical']['force']:.0f} | {pa['analytical']['area'] * 1e6:.2f} / {pa['experiment']['area'] * 1e6:.2f}"
+        if data.get("paper_scene", True)  # a table3.json from before the key: the main job's, the paper's scene
+        else "– | –"
+    )
     L.append(
         f"| Analytical / Experimental | {an['peak_contact_force']:.0f} | {an['contact_area'] * 1e6:.3f} / "
         f"{_f(_num(exp['contact_area']) * 1e6)} | {an['contact_radius'] * 1e3:.4f} / "
         f"{_f(_num(exp['contact_radius']) * 1e3)} | "
-        f"{an['peak_contact_pressure'] / 1e9:.3f} | | | | | | | | | | {pa['analytical']['force']:.0f} | "
-        f"{pa['analytical']['area'] * 1e6:.2f} / {pa['experiment']['area'] * 1e6:.2f} | | |"
+        f"{an['peak_contact_pressure'] / 1e9:.3f} | | | | | | | | | | {paper} | | |"
     )
     return L
 
@@ -311,7 +319,7 @@ def render_markdown(data: Mapping[str, Any]) -> str:
             f"Experiment ({exp['source']}): a = {exp['contact_radius'] * 1e3:.3f} mm, area π a² = "
             f"{exp['contact_area'] * 1e6:.3f} mm² (Table 3 prints {pa['experiment']['area'] * 1e6:.2f} mm²). "
             if exp["source"]
-            else "No experiment at this impact speed (Table 2). "
+            else "No experiment for this scene (Table 3's is Table 1's rods at its speed). "
         )
         + "Hertz columns: closed form at the model's own peak force."
     )
@@ -320,8 +328,12 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         "",
         "σ_r err: max |σ_r,FE − σ_r,Hertz| / |σ_r,Hertz(0)| over the Gauss points nearest the surface with "
         f"|r − a| > {compare.SIGMA_EDGE_BAND:g} a (away from the contact edge); closed form at the surface (Johnson "
-        "Eq. 3.41) and at the Gauss-point depth (Johnson Eq. 3.44). Δ: relative differences. Paper Table 3: "
-        f"{paper}.",
+        "Eq. 3.41) and at the Gauss-point depth (Johnson Eq. 3.44). Δ: relative differences. "
+        + (
+            f"Paper Table 3: {paper}."
+            if data.get("paper_scene", True)
+            else "Paper columns: only for the paper's scene (Table 1's rods at the FE trial's speed); not this one."
+        ),
     ]
     if data.get("richardson"):
         L += _richardson_rows(data["richardson"])

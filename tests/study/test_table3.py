@@ -151,5 +151,19 @@ def test_no_experiment_at_another_impact_speed(runs):
     d = table3(sc.with_overrides("impact.speed=1.848"), an, models)
     assert d["experiment"]["source"] is None and all(math.isnan(r["d_area_vs_exp_pct"]) for r in d["rows"])
     md = render_markdown(d)
-    assert "No experiment at this impact speed" in md
+    assert "No experiment for this scene" in md
     assert render_markdown(json.loads(json.dumps(d).replace("NaN", "null"))) == md
+
+
+def test_the_papers_columns_only_for_the_papers_scene(runs):
+    """At the paper's speed but on other rods (a titanium Rod 2), neither the experiment nor the paper's Table 3
+    numbers are set beside the results: they belong to Table 1's rods."""
+    sc, models = runs
+    an = {"peak_contact_force": 4e3, "contact_radius": 1e-3, "contact_area": 3.1e-6, "peak_contact_pressure": 2e9}
+    assert table3(sc, an, models)["paper_scene"]  # the fixture is the paper's scene: its columns are there
+    assert not math.isnan(table3(sc, an, models)["rows"][-1]["paper_force_N"])
+    d = table3(sc.with_overrides("rod2.material.youngs_modulus=114e9", "rod2.material.density=4430.0"), an, models)
+    assert not d["paper_scene"] and d["experiment"]["source"] is None
+    assert all(math.isnan(r["paper_force_N"]) and math.isnan(r["d_area_vs_exp_pct"]) for r in d["rows"])
+    md = render_markdown(d)
+    assert "Paper columns: only for the paper's scene" in md and "Paper Table 3: global" not in md
