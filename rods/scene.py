@@ -671,8 +671,47 @@ def _cross_checks(v: dict[str, Any]) -> None:
         raise SceneError(
             "impact.offset", v["impact.offset"], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)"
         )
+    _misaligned_contact_on_the_tips(v)
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
+
+
+def first_contact_offsets(R1: float, R2: float, e: float, θ: float) -> tuple[float, float]:
+    """Distances [m] of the first contact point from Rod 1's and Rod 2's axes for tip radii R1, R2 [m] (inf:
+    flat; not both), Rod 1 offset by e [m] and tilted by θ [rad] about its apex (rods.fe.mesh3d.Placement: the
+    touching point of Rod 1's cap moves to x = e - R1 sin θ). The common normal n of the two spheres (centres
+    (e - R1 sin θ, -R1 cos θ) and (0, R2) in the x-z plane, touching) has n_x = (R1 sin θ - e)/(R1 + R2); the
+    contact lies R2 |n_x| off Rod 2's axis and R1 |sin(asin n_x - θ)| off Rod 1's; the flat limits are
+    (R1 sin θ, |R1 sin θ - e|) for a flat Rod 2 and ((e + R2 sin θ)/cos θ, R2 sin θ) for a flat Rod 1."""
+    if math.isinf(R2):
+        return R1 * math.sin(θ), abs(R1 * math.sin(θ) - e)
+    if math.isinf(R1):
+        return (e + R2 * math.sin(θ)) / math.cos(θ), R2 * math.sin(θ)
+    n_x = (R1 * math.sin(θ) - e) / (R1 + R2)
+    if abs(n_x) >= 1.0:  # the spheres' common normal lies across the rods: far beyond either face
+        return math.inf, math.inf
+    return R1 * abs(math.sin(math.asin(n_x) - θ)), R2 * abs(n_x)
+
+
+def _misaligned_contact_on_the_tips(v: dict[str, Any]) -> None:
+    """An offset or tilt must leave the first contact point on both tips (inside each face or cap rim): beyond a
+    rim the rods meet edge first, which neither the tip model nor Hertz describes (the 3D mesh would find out
+    only after its set-up)."""
+    e, θ = v["impact.offset"], v["impact.tilt"]
+    if e == 0.0 and θ == 0.0:
+        return
+    dists = first_contact_offsets(v["rod1.tip_radius"], v["rod2.tip_radius"], e, θ)
+    for k, dist in enumerate(dists, start=1):
+        R = v[f"rod{k}.diameter"] / 2
+        if not dist < R:
+            key = "impact.offset" if e > 0 else "impact.tilt"
+            raise SceneError(
+                key,
+                v[key],
+                f"puts the first contact {dist:.3g} m off Rod {k}'s axis, beyond its tip face (radius {R:g} m): an "
+                "edge impact, which the tip model does not describe",
+                "a smaller impact.offset or impact.tilt",
+            )
 
 
 def scene_from_summary(values: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:

@@ -23,7 +23,7 @@ import ufl
 from rods import io, metrics
 from rods.fe import mesh as mesh_module
 from rods.fe.mesh import BUTTERFLY_ANGLE, TAGS, butterfly
-from rods.fe.mesh3d import TAGS_3D, section_counts
+from rods.fe.mesh3d import TAGS_3D, Placement, section_counts
 from rods.fe.model import ExplicitModel
 from rods.scene import SceneError, load_scene
 
@@ -471,6 +471,55 @@ def test_tilt_impact():
     assert abs(s["rod1_placement_dz"]) < 2e-5  # rotation about the apex, then the gap closed
     p = r.history["momentum"]
     assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
+
+
+def _brute_force_contact(R1: float, R2: float, e: float, θ: float, half_width: float) -> tuple[float, float]:
+    """The first contact of the placed tips found by search: Rod 1's tip profile (x-z plane, body at z < 0) placed
+    by rods.fe.mesh3d.Placement, its point of least gap to Rod 2's tip (body at z > 0): the distances of that
+    point from Rod 1's axis (its reference x) and from Rod 2's (its placed x)."""
+    x = np.linspace(-half_width, half_width, 400_001)  # [m] 50 nm apart on a 20 mm face
+
+    def cap(r: float, ρ: np.ndarray) -> np.ndarray:
+        return np.zeros_like(ρ) if math.isinf(r) else r - np.sqrt(np.maximum(r * r - ρ * ρ, 0.0))
+
+    ref = np.stack([x, np.zeros_like(x), -cap(R1, np.abs(x))], axis=1)
+    placed = Placement(θ, e, 0.0).apply(ref)
+    i = int(np.argmin(cap(R2, np.abs(placed[:, 0])) - placed[:, 2]))
+    return abs(x[i]), abs(placed[i, 0])
+
+
+@pytest.mark.parametrize(
+    "R1, R2, e, θ",
+    [
+        (0.035, math.inf, 0.0, 0.05),  # the paper's tips tilted: x = -R1 sin θ
+        (0.035, math.inf, 3e-3, 0.05),  # tilt and offset partly cancel
+        (0.035, 0.035, 2e-3, 0.03),  # two spheres
+        (0.02, 0.05, 0.0, 0.08),
+        (math.inf, 0.035, 1e-3, 0.04),  # a flat, tilted Rod 1 on a curved Rod 2
+    ],
+)
+def test_first_contact_offsets_match_the_placed_mesh_geometry(R1, R2, e, θ):
+    """rods.scene.first_contact_offsets (the scene check that refuses an edge impact before any set-up) against a
+    search over the tips placed as the 3D mesh places them: to 2 µm (the search's grid, 50 nm, and the flat tip's
+    ill-conditioned minimum)."""
+    from rods.scene import first_contact_offsets
+
+    d1, d2 = first_contact_offsets(R1, R2, e, θ)
+    b1, b2 = _brute_force_contact(R1, R2, e, θ, 10e-3)
+    assert d1 == pytest.approx(b1, abs=2e-6) and d2 == pytest.approx(b2, abs=2e-6)
+
+
+def test_an_edge_impact_is_refused_with_the_scene():
+    """An offset or tilt that puts the first contact beyond a tip face is bad input, refused by the scene (before,
+    an offset beyond Rod 2's face passed and failed after the analytical model, in the 3D set-up; one short of it
+    ran an edge impact)."""
+    with pytest.raises(SceneError, match="impact.offset.*off Rod 2's axis, beyond its tip face"):
+        tiny("impact.offset=0.02")
+    with pytest.raises(SceneError, match="impact.offset.*off Rod 2's axis"):
+        tiny("impact.offset=6.5e-3")  # the cap's apex just past the flat face's rim (6.35 mm)
+    with pytest.raises(SceneError, match="impact.tilt.*off Rod 1's axis"):
+        tiny("rod1.tip_radius=1.0", "impact.tilt=0.01")  # a 1 m cap's rim is 6.35 mrad from its axis
+    assert tiny("impact.offset=5e-3")["impact.offset"] == 5e-3  # on the face: a misaligned impact
 
 
 def test_scene_files():
