@@ -104,6 +104,13 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "submodel levels: coarse, mid, fine" in p.stdout and "cost of the submodel fine" in p.stdout
     assert "dry run" in p.stdout and not out.exists()
+    for script in ("analytical.py", "global.py"):  # the single-model doors too
+        p = subprocess.run(
+            [sys.executable, str(ROOT / "workflows" / script), "--dry-run", "--out", str(out)],
+            capture_output=True, text=True, cwd=ROOT,
+        )  # fmt: skip
+        assert p.returncode == 0 and "cost of" in p.stdout and "dry run" in p.stdout, (script, p.stderr)
+        assert not out.exists()
 
 
 def test_fields_only_when_asked(tmp_path):
