@@ -161,6 +161,18 @@ def render_md(data: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _panel(a: Any, rows: list[dict], cost: list[float], err: np.ndarray, shown: np.ndarray, marker: dict) -> None:
+    """One log-log panel: the ``shown`` points per model and their Pareto front, labelled."""
+    for m, mk in marker.items():
+        idx = [i for i, r in enumerate(rows) if r["model"] == m and shown[i]]
+        a.loglog([cost[i] for i in idx], err[idx], mk, ls="none", label=m)
+    front_of = pareto(cost, list(err))
+    front = [i for i in np.argsort(cost) if front_of[i] and shown[i]]
+    a.loglog([cost[i] for i in front], err[front], "k--", lw=0.8, label="Pareto front")
+    for i in front:
+        a.annotate(rows[i]["label"], (cost[i], err[i]), fontsize=7, xytext=(3, 3), textcoords="offset points")
+
+
 def plot(data: dict[str, Any], path: Path) -> None:
     """Each error against wall time and against DOFs (log-log), one marker per model, Pareto fronts dashed."""
     rows = data["rows"]
@@ -172,14 +184,11 @@ def plot(data: dict[str, Any], path: Path) -> None:
         for a, (key, name) in zip(axes_row, ERRORS.items(), strict=True):
             scale = 1e6 if key == "strain_rms" else 1.0
             err = np.array([r[key] * scale for r in rows])
-            for m in models:
-                idx = [i for i, r in enumerate(rows) if r["model"] == m and math.isfinite(err[i])]
-                a.loglog([cost[i] for i in idx], err[idx], marker[m], ls="none", label=m)
-            front_of = pareto(cost, list(err))
-            front = [i for i in np.argsort(cost) if front_of[i]]
-            a.loglog([cost[i] for i in front], err[front], "k--", lw=0.8, label="Pareto front")
-            for i in front:
-                a.annotate(rows[i]["label"], (cost[i], err[i]), fontsize=7, xytext=(3, 3), textcoords="offset points")
+            shown = np.isfinite(err) & (err > 0)  # a log axis has no 0 (a run that is its own reference)
+            if shown.any():
+                _panel(a, rows, cost, err, shown, marker)
+            else:
+                a.text(0.5, 0.5, "no nonzero errors", ha="center", transform=a.transAxes)
             unit = " [µε]" if key == "strain_rms" else " (relative)"
             a.set(xlabel=cost_name, ylabel=name + unit, title=f"{name} vs {cost_name}")
             a.grid(alpha=0.3, which="both")
