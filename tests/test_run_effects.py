@@ -39,8 +39,15 @@ def run(tmp_path, effects: str, *extra: str) -> tuple[subprocess.CompletedProces
 def test_wave_response_runs_analytical_and_global_only(tmp_path):
     p, s = run(tmp_path, "['wave_response']")
     assert "plan for scene" in p.stdout and "submodel levels: none" in p.stdout
-    assert set(s["stages"]) == {"analytical", "global"}
+    assert set(s["stages"]) == {"analytical", "global", "compare"}
     assert not (tmp_path / "run" / "submodel").exists()
+    # the figure a researcher looks at: Fig. 4 of the scene, the global over the analytical model, with its table
+    compare = tmp_path / "run" / "compare"
+    assert sorted(f.name for f in compare.iterdir()) == ["fig4.json", "fig4.md", "fig4.png"]
+    fig4 = json.loads((compare / "fig4.json").read_text())
+    assert [r["label"] for r in fig4["runs"]] == ["global"]
+    assert fig4["runs"][0]["peak_contact_force"] == s["peak_contact_force"]  # the same run
+    assert abs(fig4["runs"][0]["force_vs_analytical"]) < 0.05  # a 4 mm x 1 mm mesh
     assert not list((tmp_path / "run").rglob("*.xdmf")) and not (tmp_path / "run" / "global" / "cut.h5").exists()
     assert read_history(tmp_path / "run" / "global" / "history.csv")["time"][-1] == pytest.approx(3e-4, rel=1e-3)
     assert s["sources"]["midpoint_peak_speed"] == "global" and s["plan"]["effects"] == ["wave_response"]

@@ -34,6 +34,16 @@ def _contact_overrides(run: Run, reference: dict[str, Any]) -> dict[str, Any]:
     return {k: fe[k] for k in CONTACT_SETTINGS if k in fe and fe[k] != reference.get(k)}
 
 
+def _difference(a: float | None, b: float | None) -> float | None:
+    """a - b, None where either is (a duration or speed a run could not measure)."""
+    return None if a is None or b is None else a - b
+
+
+def _f(v: float | None, fmt: str, scale: float = 1.0) -> str:
+    """``v * scale`` formatted, '–' for None or NaN."""
+    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v * scale, fmt)
+
+
 def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_fe: dict) -> dict[str, Any]:
     s, sa, h, ha = run.summary, analytical.summary, run.history, analytical.history
     return {
@@ -41,8 +51,8 @@ def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_
         "model": s.get("model", ""),
         "peak_contact_force": s["peak_contact_force"],
         "force_vs_analytical": percent(s["peak_contact_force"], sa["peak_contact_force"]) / 100,
-        "contact_duration": s["contact_duration"],
-        "duration_vs_analytical": s["contact_duration"] - sa["contact_duration"],
+        "contact_duration": s["contact_duration"],  # None: the contact had not ended (rods.checks)
+        "duration_vs_analytical": _difference(s["contact_duration"], sa["contact_duration"]),
         "midpoint_peak_speed": s["midpoint_peak_speed"],
         "strain_rms_difference": metrics.rms_difference(
             h["time"], h["rod2_mid_strain"], ha["time"], ha["rod2_mid_strain"], window
@@ -81,9 +91,9 @@ def validation_runs(data: dict[str, Any]) -> list[dict[str, Any]]:
 def render_table(data: dict[str, Any]) -> list[str]:
     rows = [
         f"| {r['label']} | {r['peak_contact_force']:.1f} | {100 * r['force_vs_analytical']:+.2f}% "
-        f"| {r['contact_duration'] * 1e6:.2f} | {r['duration_vs_analytical'] * 1e6:+.2f} "
-        f"| {r['midpoint_peak_speed']:.4f} | {r['strain_rms_difference'] * 1e6:.2f} | {r['energy_error']:.1e} "
-        f"| {r['wall_time']:.1f} |"
+        f"| {_f(r['contact_duration'], '.2f', 1e6)} | {_f(r['duration_vs_analytical'], '+.2f', 1e6)} "
+        f"| {_f(r['midpoint_peak_speed'], '.4f')} | {_f(r['strain_rms_difference'], '.2f', 1e6)} "
+        f"| {_f(r['energy_error'], '.1e')} | {_f(r['wall_time'], '.1f')} |"
         for r in data["runs"]
     ]
     return [
@@ -102,7 +112,7 @@ def render_md(data: dict[str, Any], png: str = "fig4.png") -> str:
         f"![Fig. 4]({png})",
         "",
         f"Analytical: peak force {a['peak_contact_force']:.1f} N, contact duration "
-        f"{a['contact_duration'] * 1e6:.2f} µs, average peak speed {a['midpoint_peak_speed']:.4f} m/s. "
+        f"{_f(a['contact_duration'], '.2f', 1e6)} µs, average peak speed {_f(a['midpoint_peak_speed'], '.4f')} m/s. "
         f"Strain RMS difference over the first {metrics.STRAIN_PERIODS} periods 2 L2/c2 "
         f"({data['strain_window'][1] * 1e6:.0f} µs). The force panel shows the first "
         f"{data['force_panel_end'] * 1e6:.0f} µs.",

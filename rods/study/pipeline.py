@@ -5,7 +5,8 @@
 Folders under ``out``: ``analytical/`` (always), ``global/`` (the scene's global FE model to the planned end
 time; with cut.h5 when it drives the submodels), ``driver/`` (a separate driving global over the contact phase, only
 when the driver's settings differ from the scene's: rods.plan.DRIVER_OVERRIDES, empty), ``submodel/LEVEL/``
-per planned level, ``compare/`` (Table 3, Figs. 5c/6), and ``summary.json``: the plan, the stage folders and
+per planned level, ``compare/`` (Table 3, Figs. 5c/6 for contact effects; Fig. 4, the global over the analytical
+model, for the wave response), and ``summary.json``: the plan, the stage folders and
 the contract keys, each from the most refined stage that computed it (rods.plan.most_refined).
 """
 
@@ -41,6 +42,16 @@ def _compare(scene: Scene, done: dict[str, stages.Stage], out: Path) -> stages.C
     return stages.comparison(scene, done["analytical"].summary, runs, out)
 
 
+def _wave_figure(done: dict[str, stages.Stage], out: Path) -> None:
+    """Fig. 4 of the scene (rods.paper.fig4): the global's Rod-2 midpoint speed and strain and its contact force
+    over the analytical model's, with the agreement table (fig4.png, fig4.md, fig4.json in ``out``)."""
+    from rods.paper import fig4
+    from rods.paper.data import Run
+
+    analytical, fe = (Run(k, done[k].history, done[k].summary) for k in ("analytical", "global"))
+    fig4.write(analytical, [fe], out / "fig4.png", out / "fig4.md")
+
+
 def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, log: Any = None) -> Study:
     """Run the plan of ``scene`` into ``out`` (collective on ``comm``, default MPI.COMM_WORLD) and return the
     stages' results; ``log`` (rank 0's printer) receives the plan first, ``progress`` drives FE progress bars.
@@ -72,8 +83,12 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
                 d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase, progress=progress
             )
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
+    waves = "wave_response" in p.effects and p.global_model
+    if waves and root:
+        _wave_figure(done, out / "compare")
     values, sources = plan.most_refined(p, {k: s.summary for k, s in done.items()})
-    folders = {k: str(s.folder) for k, s in done.items()} | ({"compare": str(comparison.folder)} if comparison else {})
+    folders = {k: str(s.folder) for k, s in done.items()}
+    folders |= {"compare": str(out / "compare")} if (waves or p.submodel_levels) else {}
     summary = {
         "model": "workflow",
         "scene": scene.name,

@@ -58,3 +58,15 @@ def test_table_renders_the_committed_rows():
     committed = (ROOT / "results" / "fig4.md").read_text()
     data = load(ROOT / "results" / "fig4.json")
     assert all(line in committed for line in fig4.render_table(data))
+
+
+def test_a_run_that_could_not_measure_duration_or_speed_renders(analytical, tmp_path):
+    """An FE run whose first contact had not ended and whose midpoint plateaus were missing (null in its summary,
+    rods.checks) is drawn and tabulated with '–' (was a TypeError, exit 1 of workflows/fig4.py)."""
+    _, a = analytical
+    short = perturbed(a, "short run")
+    short.summary.update(contact_duration=None, midpoint_peak_speed=None)
+    d = fig4.write(a, [short], tmp_path / "fig4.png", tmp_path / "fig4.md")
+    assert d["runs"][0]["duration_vs_analytical"] is None and (tmp_path / "fig4.png").exists()
+    row = next(line for line in (tmp_path / "fig4.md").read_text().splitlines() if line.startswith("| short run"))
+    assert row.count("| – ") == 3  # duration, its difference, the average peak speed
