@@ -131,6 +131,16 @@ def _interval(lo: float, hi: float, unit: str = "", closed_lo: bool = False, clo
     return check
 
 
+def _only(value: Any, why: str):
+    """A key with one supported value (kept in the schema so that scenes may state it)."""
+
+    def check(key: str, v: Any) -> None:
+        if v != value:
+            raise SceneError(key, v, f"must be {value} ({why})")
+
+    return check
+
+
 def _choice(options: Iterable[str]):
     opts = tuple(options)
 
@@ -216,7 +226,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1)),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_hi=True)),
-    "fe.degree": ("int", 1, _interval(1, 2, closed_lo=True, closed_hi=True)),
+    # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
+    # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
+    "fe.degree": ("int", 1, _only(1, "the explicit model is Q1: row-sum lumped Q2 masses vanish on the axis")),
     "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
     "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
     "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),

@@ -276,3 +276,11 @@ def test_energy_growth_limit_below_round_off_is_refused(v):
     with pytest.raises(SceneError, match=r"fe.energy_growth_limit.*\[1e-06, 10\)"):
         load_scene(SCENES / "paper.toml", [f"fe.energy_growth_limit={v!r}"])
     assert load_scene(SCENES / "paper.toml", ["fe.energy_growth_limit=1e-6"])["fe.energy_growth_limit"] == 1e-6
+
+
+def test_an_unsupported_element_degree_is_refused_with_the_scene(scene_with):
+    """fe.degree = 2 was in the schema's range but refused by the FE model's set-up, after a study's analytical
+    stage had written its folder; the scene refuses it now, naming why."""
+    with pytest.raises(SceneError, match=r"'fe.degree' = 2: must be 1 \(the explicit model is Q1"):
+        scene_with("fe.degree=2")
+    assert scene_with("fe.degree=1")["fe.degree"] == 1

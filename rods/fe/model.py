@@ -81,13 +81,6 @@ class ExplicitModel:
         self.kind = kind = scene["fe.kind"]
         if kind not in forms.KINDS:
             raise SceneError("fe.kind", kind, f"must be one of {forms.KINDS}")
-        if scene["fe.degree"] != 1:  # ∫ N_0 r dr = 0 for the P2 axis vertex: a zero (or negative) row sum
-            raise SceneError(
-                "fe.degree",
-                scene["fe.degree"],
-                "the explicit model supports 1 (row-sum lumped Q2 masses vanish on the axis; "
-                "3D contact pairs Q1 face quadrilaterals)",
-            )
         self.backend = backends.select(scene["fe.backend"], comm.size)  # refused early, before the mesh
         three_d = kind == "3d"
         self.axial = 2 if three_d else 1  # index of the axial (z) component
