@@ -43,7 +43,7 @@ import numpy as np
 
 from rods import hertz
 from rods.preflight import InputError
-from rods.scene import Scene
+from rods.scene import Scene, SceneError
 
 __all__ = [
     "STEP_BUDGET",
@@ -69,6 +69,9 @@ SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, 
 DOFS_PER_CELL = {"axisymmetric": 2.3, "3d": 3.35}  # [-]
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
+# a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to
+# 0.87 on the meshes measured; between the estimate and this, the set-up's exact limit decides)
+DT_REFUSE_FACTOR = 2.0  # [-]
 # axisymmetric global: Δt of a curved tip / the estimate above, against its rim angle asin(d/2r) [deg, -]: the cells
 # where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°). Measured on the
 # paper rods at the auto mesh (tip radius 35, 15, 10, 8, 7.2, 6.75, 6.5, 6.35 mm; 6.35 mm at 0.5 mm too: 0.69)
@@ -159,14 +162,18 @@ def fe_cost(
     cells = (_cells_3d if kind == "3d" else _cells_axisymmetric)(scene, h_r, h, g, lengths)
     dofs = DOFS_PER_CELL[kind] * cells
     end = scene.end_time if end_time is None else end_time
-    c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
-    h_min = H_MIN_FRACTION * min(h_r, g * h)
-    dt = scene["fe.dt"] if scene["fe.dt"] != "auto" else DT_PER_ELEMENT_STEP * scene["fe.dt_fraction"] * h_min / c_d
-    if scene["fe.dt"] == "auto" and kind != "3d" and size is None:
-        dt *= _cap_step_factor(scene)
-    if scene["fe.dt"] == "auto" and scene["fe.contact"] == "penalty":
-        factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
-        dt = min(dt, _switching_step(scene, factor, g * h))
+    stable, switching = _step_limits(scene, h_r, h, g, size)
+    limit = min(stable, switching)
+    # as rods.fe.timestep: fe.dt_fraction of the stable step, at most the switching limit
+    dt = scene["fe.dt"] if scene["fe.dt"] != "auto" else min(scene["fe.dt_fraction"] * stable, switching)
+    if size is None and scene["fe.dt"] != "auto" and scene["fe.dt"] > DT_REFUSE_FACTOR * limit:
+        raise SceneError(
+            "fe.dt",
+            scene["fe.dt"],
+            f"must be <= the stable limit, about {limit:.3g} s on this mesh (estimated from its smallest element; "
+            "the set-up computes it exactly)",
+            "fe.dt = 'auto' takes fe.dt_fraction of it",
+        )
     steps = math.ceil(end / dt)
     samples = math.floor(end / min(scene.output_interval, end)) + 1
     values = samples * (12 + 2 * len(scene.stations) + (4 if kind == "3d" else 0))
@@ -176,6 +183,21 @@ def fe_cost(
     setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
     loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
     return Cost(what, cells, dofs, steps, samples, values, memory, setup + loop, ranks, setup)
+
+
+def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | None) -> tuple[float, float]:
+    """(stable step, contact switching limit) [s] estimated: the first from the smallest element
+    (:data:`DT_PER_ELEMENT_STEP`, :data:`H_MIN_FRACTION`, the cap factor of a curved axisymmetric global's tips;
+    within 0.87 to 1 of the set-up's exact limit on the paper rods with 35 mm and 50 mm tips and a hemisphere),
+    the second under the penalty law only (inf for the kinematic contact)."""
+    c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
+    stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d
+    if scene["fe.kind"] != "3d" and size is None:
+        stable *= _cap_step_factor(scene)
+    if scene["fe.contact"] != "penalty":
+        return stable, math.inf
+    factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
+    return stable, _switching_step(scene, factor, g * h)
 
 
 def _cap_step_factor(scene: Scene) -> float:

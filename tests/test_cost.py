@@ -10,6 +10,7 @@ import pytest
 
 from rods import cost
 from rods.preflight import InputError
+from rods.scene import SceneError
 
 from .conftest import PY, ROOT, SCENES
 
@@ -50,6 +51,27 @@ def test_penalty_switching_limit_enters_the_steps(scene_with, factor):
     assert c.steps == pytest.approx(m.steps, rel=0.2)
     if factor >= 10:  # the switching limit is the step's
         assert m.dt == pytest.approx(m.dt_switching, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [(), ("rod1.tip_radius=0.00635", "fe.radial_size=0.5e-3"), ("fe.contact=penalty", "fe.penalty=40.0")],
+    ids=["paper", "hemisphere", "penalty"],
+)
+def test_a_step_far_above_the_stable_limit_is_refused_before_the_set_up(scene_with, extra):
+    """fe.dt above DT_REFUSE_FACTOR x the estimated limit is refused by the cost check (before the mesh; was found
+    only by the set-up's eigenvalue solve, after a study's analytical stage had written its folder); the estimate
+    lies below the set-up's exact limit (so a stable step is never refused) and within 2x of it."""
+    from rods.fe.model import ExplicitModel
+
+    sc = scene_with(*TINY, *extra)
+    m = ExplicitModel(sc)
+    exact = min(m.dt_critical, m.dt_switching)
+    estimate = min(cost._step_limits(sc, sc["fe.radial_size"], sc["fe.axial_size"], sc.tip_grading, None))
+    assert 0.5 * exact < estimate <= 1.05 * exact, (estimate, exact)
+    assert cost.fe_cost(sc.with_overrides(f"fe.dt={0.99 * exact!r}")).steps > 0  # a stable step passes
+    with pytest.raises(SceneError, match="'fe.dt'.*must be <= the stable limit, about"):
+        cost.fe_cost(sc.with_overrides(f"fe.dt={2.1 * estimate!r}"))
 
 
 def test_time_estimate_is_the_measured_order(scene_with):

@@ -284,3 +284,11 @@ def test_an_unsupported_element_degree_is_refused_with_the_scene(scene_with):
     with pytest.raises(SceneError, match=r"'fe.degree' = 2: must be 1 \(the explicit model is Q1"):
         scene_with("fe.degree=2")
     assert scene_with("fe.degree=1")["fe.degree"] == 1
+
+
+def test_quarter_symmetry_of_a_misaligned_impact_is_refused_with_the_scene(scene_with):
+    """Refused by the scene (before: by the 3D mesh, after a study's analytical stage had written its folder)."""
+    for e in ("impact.offset=1e-3", "impact.tilt=0.01"):
+        with pytest.raises(SceneError, match="quarter symmetry needs impact.offset = 0"):
+            scene_with("fe.kind='3d'", "fe.symmetry='quarter'", e)
+    assert scene_with("fe.kind='3d'", "fe.symmetry='half'", "impact.offset=1e-3")["fe.symmetry"] == "half"
