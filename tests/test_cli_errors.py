@@ -4,6 +4,7 @@ is named with its file; an interrupt under MPI stops every rank within seconds, 
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import signal
@@ -65,8 +66,15 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "compare missing": ("compare.py", ["--global", "missing", "--out", "o"], ["--global", "missing"]),
     "restart without checkpoint": ("global.py", ["--restart", "--out", "o"], ["--restart", "checkpoint.json"]),
     "200k effects": ("analytical.py", ["--scene", "many.toml", "--out", "o"], ["effects", "characters"]),
+    # refused by the model's set-up before, after the study's analytical stage had written its folder
+    "study fe.degree 2": ("run.py", ["--set", "fe.degree=2", "--out", "o"], ["fe.degree", "2", "Q1"]),
+    "study fe.dt unstable": ("run.py", ["--set", "fe.dt=1e-6", "--out", "o"], ["fe.dt", "stable limit"]),
     "fig4 missing run": ("fig4.py", ["--analytical", "missing", "--fe", "missing2", "--png", "o/f.png"], ["missing"]),
 }
+
+
+if importlib.util.find_spec("cupy") is None:  # where CuPy is there, this study would run
+    CASES["study without CuPy"] = ("run.py", ["--set", "fe.backend='cupy'", "--out", "o"], ["fe.backend", "cupy"])
 
 
 @pytest.mark.parametrize("case", list(CASES))

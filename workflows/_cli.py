@@ -90,6 +90,15 @@ def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = pri
         raise SystemExit(0)
 
 
+def backend(scene: Scene, ranks: int) -> None:
+    """The scene's fe.backend can run on ``ranks`` ranks (rods.fe.backend.select: serial only for numpy/cupy, CuPy
+    importable): refused, exit 2, before any stage (the model's set-up would find it after a study's analytical
+    stage had written its folder)."""
+    from rods.fe.backend import select
+
+    select(scene["fe.backend"], ranks)
+
+
 def status(summary: Mapping[str, Any], rank: int = 0) -> None:
     """Rank 0 ends a run's console output with its warnings (stderr) and its status line (rods.checks)."""
     if rank != 0:

@@ -46,6 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
     sc = plan.submodel_driver(scene) if args.driver else scene  # the driver: to the scene's end at most
+    _cli.backend(scene, comm.size)
     _cli.afford(args, cost.fe_cost(sc, comm.size, what="the driving global" if args.driver else "the global"), log=log)
     if args.driver:
         s = stages.driver(scene, out, comm, progress=progress, log=log).summary

@@ -74,6 +74,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
     h = args.size or plan.submodel_size(scene, args.level, args.phase)
     c = cost.fe_cost(scene, comm.size, what=f"the submodel {level}", size=h, axial_size=args.axial_size, end_time=end)
+    _cli.backend(scene, comm.size)
     _cli.afford(args, c, log=log)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
