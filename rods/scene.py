@@ -543,9 +543,13 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
         if isinstance(rod, bool) or not isinstance(rod, int) or rod not in (1, 2):  # 1.0 is no rod index
             raise SceneError(f"{key}.rod", rod, "must be 1 or 2")
         pos = _type_check(f"{key}.position", "float", s["position"])
-        L = rods[rod - 1].length
-        if not 0.0 <= pos <= L:
-            raise SceneError(f"{key}.position", pos, f"must be in [0, {L:g}] m (distance from the tip of rod {rod})")
+        L, cap = rods[rod - 1].length, rods[rod - 1].cap_height
+        if not cap <= pos <= L:
+            # a station sits on the surface r = d/2 (gauge, vibrometer): on the cylinder, not inside a curved cap
+            where = f"; the tip's spherical cap ends at {cap:g} m" if cap > 0 else ""
+            raise SceneError(
+                f"{key}.position", pos, f"must be in [{cap:g}, {L:g}] m (distance from the tip of rod {rod}{where})"
+            )
         name = s.get("name", f"rod{rod}_x{pos * 1e3:g}mm")
         if not isinstance(name, str) or not name.isidentifier():
             raise SceneError(f"{key}.name", name, "must be an identifier (letters, digits, _)")

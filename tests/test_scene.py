@@ -292,3 +292,15 @@ def test_quarter_symmetry_of_a_misaligned_impact_is_refused_with_the_scene(scene
         with pytest.raises(SceneError, match="quarter symmetry needs impact.offset = 0"):
             scene_with("fe.kind='3d'", "fe.symmetry='quarter'", e)
     assert scene_with("fe.kind='3d'", "fe.symmetry='half'", "impact.offset=1e-3")["fe.symmetry"] == "half"
+
+
+def test_a_station_inside_a_curved_cap_is_refused(paper_dict):
+    """A station is a surface point (r = d/2): on a curved tip it must lie on the cylinder, at or beyond the cap
+    height (0.58 mm for the paper's 35 mm tip); before, position 0 on Rod 1 passed and the 3D model's probe of a
+    tilted Rod 1 fell outside the mesh (exit 1, after the set-up). A flat tip takes position 0."""
+    cap = 0.035 - math.sqrt(0.035**2 - 0.00635**2)
+    with pytest.raises(SceneError, match=r"station\[0\].position.*spherical cap ends at"):
+        scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": 0.0, "name": "tip1"}]})
+    s = scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": cap * 1.001, "name": "tip1"}]})
+    assert s.stations[0].position > cap
+    assert scene_from_dict({**paper_dict, "station": [{"rod": 2, "position": 0.0, "name": "tip2"}]}).stations
