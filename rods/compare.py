@@ -30,6 +30,7 @@ from rods import hertz
 __all__ = [
     "SIGMA_EDGE_BAND",
     "Richardson",
+    "cell",
     "hertz_stresses",
     "percent",
     "plateau_radius_error",
@@ -44,6 +45,12 @@ SAFETY_FACTOR = 1.25  # GCI factor of safety for three-grid studies (Roache) [-]
 def percent(x: float, ref: float) -> float:
     """Relative difference 100 (x - ref)/ref [%]."""
     return 100.0 * (x - ref) / ref
+
+
+def cell(x: Any, spec: str, unit: str = "", scale: float = 1.0) -> str:
+    """A table cell: ``x * scale`` formatted by ``spec`` plus ``unit``; '–' where the value is missing (None) or
+    not finite (NaN from JSON null, a quantity a run could not measure)."""
+    return "–" if x is None or not math.isfinite(x) else format(x * scale, spec) + unit
 
 
 def hertz_stresses(

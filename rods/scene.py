@@ -690,9 +690,11 @@ def _cross_checks(v: dict[str, Any]) -> None:
     _misaligned_contact_on_the_tips(v)
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
+    # the 3D model's mirrors: half (y -> -y) holds for an offset along x and a tilt about y; quarter (x and y)
+    # needs a centric, aligned impact
     if v["fe.symmetry"] == "quarter" and (v["impact.offset"] > 0 or v["impact.tilt"] > 0):
         need = "quarter symmetry needs impact.offset = 0 and impact.tilt = 0 (use 'half' or 'full')"
-        raise SceneError("fe.symmetry", "quarter", need)  # also rods.fe.mesh3d.check_symmetry, after a stage ran
+        raise SceneError("fe.symmetry", "quarter", need)
 
 
 def first_contact_offsets(R1: float, R2: float, e: float, θ: float) -> tuple[float, float]:

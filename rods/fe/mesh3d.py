@@ -216,22 +216,9 @@ def _rod_nodes(msh: dolfinx.mesh.Mesh, cell_tags: dolfinx.mesh.MeshTags, tag: in
     return np.unique(msh.geometry.dofmaps[0][cells].ravel())
 
 
-def check_symmetry(scene: Scene) -> str:
-    """fe.symmetry, refused where the impact is not symmetric (SceneError: key, value, allowed).
-
-    Half symmetry (mirror y -> -y, model y >= 0) holds for an offset along x and a tilt about y;
-    quarter symmetry (mirrors in x and y) needs a centric, aligned impact."""
-    sym = scene["fe.symmetry"]
-    if sym == "quarter" and (scene["impact.offset"] != 0 or scene["impact.tilt"] != 0):
-        raise SceneError(
-            "fe.symmetry", sym, "quarter symmetry needs impact.offset = 0 and impact.tilt = 0 (use 'half' or 'full')"
-        )
-    return sym
-
-
 def build_mesh_3d(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh3D:
     """Mesh both rods in 3D (gmsh on rank 0), distribute, map the tips and place Rod 1 (module docstring)."""
-    symmetry = check_symmetry(scene)
+    symmetry = scene["fe.symmetry"]  # quarter only for a centric, aligned impact (checked by the scene)
     data, info = gmsh_to_dolfinx(lambda: _build_gmsh_model(scene, symmetry), comm, gdim=3)
     msh = data.mesh
     x = msh.geometry.x  # (n, 3), writable view

@@ -40,7 +40,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from rods import hertz, io
-from rods.compare import percent
+from rods.compare import cell, percent
 from rods.convergence import estimate
 from rods.paper.data import write_json
 
@@ -267,11 +267,6 @@ def _num(v: Any) -> float:
     return math.nan if v is None else float(v)
 
 
-def _f(v: Any, fmt: str) -> str:
-    v = _num(v)
-    return "–" if not math.isfinite(v) else format(v, fmt)
-
-
 def _mono(e: Mapping[str, Any]) -> str:
     turns = ", ".join(e["nonmonotone_levels"])
     return f"{'yes' if e['monotone'] else f'no ({turns})'} / {'yes' if e['monotone_last3'] else 'no'}"
@@ -281,10 +276,10 @@ def _last3(t: Mapping[str, Any], k: float, digits: str) -> str:
     """The three-finest estimate in one cell: p, extrapolated ± U (Richardson/GCI), or why there is none."""
     if math.isfinite(_num(t["extrapolated"])):
         return (
-            f"p = {_f(t['order'], '.2f')}: {_f(_num(t['extrapolated']) * k, digits)} ± "
-            f"{_f(_num(t['uncertainty']) * k, '.3g')} ({t['branch']}, Fs = {t['safety_factor']:g})"
+            f"p = {cell(t['order'], '.2f')}: {cell(_num(t['extrapolated']) * k, digits)} ± "
+            f"{cell(_num(t['uncertainty']) * k, '.3g')} ({t['branch']}, Fs = {t['safety_factor']:g})"
         )
-    return f"p = {_f(t['order'], '.2f')}: {t['branch']}, no extrapolation"
+    return f"p = {cell(t['order'], '.2f')}: {t['branch']}, no extrapolation"
 
 
 def _error_rows(fam: Mapping[str, Any]) -> list[str]:
@@ -297,14 +292,14 @@ def _error_rows(fam: Mapping[str, Any]) -> list[str]:
     ]
     for q, (label, *_rest, hk) in QUANTITIES.items():
         vs = "analytical force" if hk is None else "Hertz at own force"
-        cells = " | ".join(_f(lv["error_pct"][q], "+.3f") for lv in levels)
+        cells = " | ".join(cell(lv["error_pct"][q], "+.3f") for lv in levels)
         if est is None or q not in est:
             L.append(f"| {label} vs {vs} | {cells} | | | | | | |")
             continue
         a, t = est[q]["error_pct"], est[q]["error_pct_last3"]
         L.append(
-            f"| {label} vs {vs} | {cells} | {_f(a['order'], '.2f')} | {_f(a['extrapolated'], '+.3f')} "
-            f"| ±{_f(a['uncertainty'], '.3f')} | {a['branch']} | {_mono(a)} "
+            f"| {label} vs {vs} | {cells} | {cell(a['order'], '.2f')} | {cell(a['extrapolated'], '+.3f')} "
+            f"| ±{cell(a['uncertainty'], '.3f')} | {a['branch']} | {_mono(a)} "
             f"| {_last3(t, 1.0, '+.3f')} |"
         )
     return L
@@ -321,9 +316,9 @@ def _value_rows(fam: Mapping[str, Any]) -> list[str]:
             continue
         a, t = fam["estimates"][q]["value"], fam["estimates"][q]["value_last3"]
         L.append(
-            f"| {label} [{unit}] | {a['f'][-1] * k:.5g} | {_f(a['order'], '.2f')} "
-            f"| {_f(_num(a['extrapolated']) * k, '.5g')} ± {_f(_num(a['uncertainty']) * k, '.3g')} "
-            f"| {_f(100 * _num(a['relative_uncertainty']), '.2f')}% | {_last3(t, k, '.5g')} | {_gci(t)} |"
+            f"| {label} [{unit}] | {a['f'][-1] * k:.5g} | {cell(a['order'], '.2f')} "
+            f"| {cell(_num(a['extrapolated']) * k, '.5g')} ± {cell(_num(a['uncertainty']) * k, '.3g')} "
+            f"| {cell(100 * _num(a['relative_uncertainty']), '.2f')}% | {_last3(t, k, '.5g')} | {_gci(t)} |"
         )
     return L
 
@@ -339,8 +334,8 @@ def _member_rows(fam: Mapping[str, Any]) -> list[str]:
     for lv in fam["levels"]:
         hs = ", ".join(f"{h * 1e3:.4g}" for h in lv["member_h"])
         cells = " | ".join(
-            f"{_f(lv['spread_pct'][q][0], '+.3f')} .. {_f(lv['spread_pct'][q][1], '+.3f')} "
-            f"({_f(lv['standard_error_pct'][q], '.3f')})"
+            f"{cell(lv['spread_pct'][q][0], '+.3f')} .. {cell(lv['spread_pct'][q][1], '+.3f')} "
+            f"({cell(lv['standard_error_pct'][q], '.3f')})"
             for q in QUANTITIES
         )
         L.append(f"| {lv['level']} | {lv['members']} | {hs} | {cells} |")

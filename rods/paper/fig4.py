@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from rods import io, metrics
-from rods.compare import percent
+from rods.compare import cell, percent
 from rods.paper.data import Run, write_json
 from rods.scene import scene_from_summary
 
@@ -37,11 +37,6 @@ def _contact_overrides(run: Run, reference: dict[str, Any]) -> dict[str, Any]:
 def _difference(a: float | None, b: float | None) -> float | None:
     """a - b, None where either is (a duration or speed a run could not measure)."""
     return None if a is None or b is None else a - b
-
-
-def _f(v: float | None, fmt: str, scale: float = 1.0) -> str:
-    """``v * scale`` formatted, '–' for None or NaN."""
-    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v * scale, fmt)
 
 
 def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_fe: dict) -> dict[str, Any]:
@@ -91,9 +86,9 @@ def validation_runs(data: dict[str, Any]) -> list[dict[str, Any]]:
 def render_table(data: dict[str, Any]) -> list[str]:
     rows = [
         f"| {r['label']} | {r['peak_contact_force']:.1f} | {100 * r['force_vs_analytical']:+.2f}% "
-        f"| {_f(r['contact_duration'], '.2f', 1e6)} | {_f(r['duration_vs_analytical'], '+.2f', 1e6)} "
-        f"| {_f(r['midpoint_peak_speed'], '.4f')} | {_f(r['strain_rms_difference'], '.2f', 1e6)} "
-        f"| {_f(r['energy_error'], '.1e')} | {_f(r['wall_time'], '.1f')} |"
+        f"| {cell(r['contact_duration'], '.2f', scale=1e6)} | {cell(r['duration_vs_analytical'], '+.2f', scale=1e6)} "
+        f"| {cell(r['midpoint_peak_speed'], '.4f')} | {cell(r['strain_rms_difference'], '.2f', scale=1e6)} "
+        f"| {cell(r['energy_error'], '.1e')} | {cell(r['wall_time'], '.1f')} |"
         for r in data["runs"]
     ]
     return [
@@ -112,7 +107,8 @@ def render_md(data: dict[str, Any], png: str = "fig4.png") -> str:
         f"![Fig. 4]({png})",
         "",
         f"Analytical: peak force {a['peak_contact_force']:.1f} N, contact duration "
-        f"{_f(a['contact_duration'], '.2f', 1e6)} µs, average peak speed {_f(a['midpoint_peak_speed'], '.4f')} m/s. "
+        f"{cell(a['contact_duration'], '.2f', scale=1e6)} µs, average peak speed "
+        f"{cell(a['midpoint_peak_speed'], '.4f')} m/s. "
         f"Strain RMS difference over the first {metrics.STRAIN_PERIODS} periods 2 L2/c2 "
         f"({data['strain_window'][1] * 1e6:.0f} µs). The force panel shows the first "
         f"{data['force_panel_end'] * 1e6:.0f} µs.",

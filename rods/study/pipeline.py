@@ -71,10 +71,9 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     shared = plan.global_drives(p)
     if p.global_model:
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
-        cut = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
-        done["global"] = stages.global_model(
-            g, out / "global", comm, progress=progress, log=log, **cut if shared else {}
-        )
+        drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
+        kw = drives if shared else {}
+        done["global"] = stages.global_model(g, out / "global", comm, progress=progress, log=log, **kw)
     if p.submodel_levels:
         d = done["global"] if shared else stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log)
         done["driver"] = d

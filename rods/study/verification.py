@@ -44,7 +44,7 @@ from typing import Any
 
 from rods import io, metrics, plan
 from rods.analytical import PAPER_LAW
-from rods.compare import percent
+from rods.compare import cell, percent
 from rods.scene import Scene
 
 __all__ = [
@@ -267,11 +267,11 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         p = r["passes"]
         lines.append(
             f"| {r['description']} | {r['peak_force_fe']:.1f} | {r['peak_force_pct']:+.3f}%{_mark(p['peak_force'])} "
-            f"| {_num(r.get('peak_force_mesh_change_pct'), '+.3f', '%')} "
+            f"| {cell(r.get('peak_force_mesh_change_pct'), '+.3f', '%')} "
             f"| {r['duration_fe'] * 1e6:.2f} | {r['duration_difference'] * 1e6:+.2f}{_mark(p['duration'])} "
-            f"| {_num(r.get('duration_mesh_change', math.nan) * 1e6, '+.2f')} "
-            f"| {r['peak_speed_pct']:+.2f}% | {_num(r['strain_rms'] * 1e6, '.2f')} "
-            f"| {_num(r.get('strain_lag', math.nan) * 1e6, '+.2f')} "
+            f"| {cell(r.get('duration_mesh_change', math.nan) * 1e6, '+.2f')} "
+            f"| {r['peak_speed_pct']:+.2f}% | {cell(r['strain_rms'] * 1e6, '.2f')} "
+            f"| {cell(r.get('strain_lag', math.nan) * 1e6, '+.2f')} "
             f"| {r['energy_error']:.1e}{_mark(p['energy'])} | {r['dofs']:,} | {r['steps']:,} | {r['wall_time']:.1f} |"
         )
     n_pass = sum(all(r["passes"].values()) for r in data["rows"])
@@ -321,13 +321,9 @@ def _paper_law_table(rows: Sequence[Mapping[str, Any]]) -> list[str]:
             f"| {r['description']} "
             f"| {e['duration_analytical'] * 1e6:.2f} | {e['duration_difference'] * 1e6:+.2f}{_mark(p['duration'])} "
             f"| {e['peak_force_pct']:+.3f}%{_mark(p['peak_force'])} | {e['peak_speed_pct']:+.2f}% "
-            f"| {_num(e['strain_rms'] * 1e6, '.2f')} | {_num(e['strain_lag'] * 1e6, '+.2f')} |"
+            f"| {cell(e['strain_rms'] * 1e6, '.2f')} | {cell(e['strain_lag'] * 1e6, '+.2f')} |"
         )
     n_pass = sum(all(r["paper_law"]["passes"].values()) for r in rows)
     worst = max(abs(r["paper_law"]["duration_difference"]) for r in rows) * 1e6
     lines += ["", f"{n_pass} of {len(rows)} cases meet every target; durations within {worst:.2f} µs."]
     return lines
-
-
-def _num(x: float | None, fmt: str, unit: str = "") -> str:
-    return "–" if x is None or not math.isfinite(x) else format(x, fmt) + unit
