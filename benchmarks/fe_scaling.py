@@ -111,7 +111,7 @@ def paper_size() -> tuple[int, int]:
     n_c, n_r, _ = section_counts(sc.rod1.diameter / 2, sc["fe.radial_size"])
     cells_sec = n_c * n_c + 4 * n_c * n_r
     nodes_sec = (n_c + 1) ** 2 + 4 * n_c * n_r
-    layers = [axial_spacing(rod, sc["fe.axial_size"], sc["fe.tip_grading"]) for rod in sc.rods]
+    layers = [axial_spacing(rod, sc["fe.axial_size"], sc.tip_grading) for rod in sc.rods]
     n_layers = [sp.n_graded + sp.n_uniform for sp in layers]
     cells = cells_sec * sum(n_layers)
     dofs = 3 * nodes_sec * sum(n + 1 for n in n_layers)

@@ -29,7 +29,9 @@ goes wrong"):
   DOFs on 2 ranks; 3D 11.4 s at 132k, 148 s at 983k). Cache-resident small meshes run faster than the rate, so
   the estimate errs high there: time loop 2.1x at 48k DOFs, 1.2x at 199k axisymmetric, 1.7x in 3D (measured);
 * cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
-  per cell axisymmetric, 3.35 in 3D (measured on the same meshes; 2.3 tends to 2 on finer ones).
+  per cell axisymmetric (measured; it tends to 2 on finer meshes), in 3D 3 per node of the O-grid's count
+  (exact: tests/test_cost.py); a 3D cell's step is :func:`_third_dimension` of the quadrilateral's (the
+  estimate was 0.72 of the paper mesh's step without it, 0.88 with it; 3D coarse 1.05).
 """
 
 from __future__ import annotations
@@ -66,7 +68,7 @@ BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
 DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
-DOFS_PER_CELL = {"axisymmetric": 2.3, "3d": 3.35}  # [-]
+DOFS_PER_CELL = 2.3  # axisymmetric [-] (3D: counted from the O-grid's nodes)
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to
@@ -122,17 +124,19 @@ def _cells_axisymmetric(scene: Scene, h_r: float, h: float, g: float, lengths: t
     return float(sum(cell_count(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)))
 
 
-def _cells_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> float:
+def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> tuple[float, float]:
+    """(cells, DOFs) of the 3D mesh: each rod's O-grid section (rods.fe.mesh3d.section_size) extruded in its
+    axial layers, 3 DOFs per node."""
     from rods.fe.mesh import axial_spacing
-    from rods.fe.mesh3d import section_counts
+    from rods.fe.mesh3d import section_size
 
-    share = {"full": 1.0, "half": 0.5, "quarter": 0.25}[scene["fe.symmetry"]]
-    cells = 0.0
+    cells = dofs = 0.0
     for rod, L in zip(scene.rods, lengths, strict=True):
-        n_c, n_r, _ = section_counts(rod.diameter / 2, h_r)
+        sec_cells, sec_nodes = section_size(rod.diameter / 2, h_r, scene["fe.symmetry"])
         sp = axial_spacing(_with_length(rod, L), h, g)
-        cells += share * (n_c * n_c + 4 * n_c * n_r) * (sp.n_graded + sp.n_uniform)
-    return cells
+        layers = sp.n_graded + sp.n_uniform
+        cells, dofs = cells + sec_cells * layers, dofs + 3 * sec_nodes * (layers + 1)
+    return cells, dofs
 
 
 def _with_length(rod: Any, L: float) -> Any:
@@ -159,8 +163,11 @@ def fe_cost(
     else:
         h_r, h, g = size, axial_size or size, 1.0
         lengths = (scene["fe.submodel_length"],) * 2
-    cells = (_cells_3d if kind == "3d" else _cells_axisymmetric)(scene, h_r, h, g, lengths)
-    dofs = DOFS_PER_CELL[kind] * cells
+    if kind == "3d":
+        cells, dofs = _mesh_3d(scene, h_r, h, g, lengths)
+    else:
+        cells = _cells_axisymmetric(scene, h_r, h, g, lengths)
+        dofs = DOFS_PER_CELL * cells
     end = scene.end_time if end_time is None else end_time
     stable, switching = _step_limits(scene, h_r, h, g, size)
     limit = min(stable, switching)
@@ -192,12 +199,20 @@ def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | Non
     the second under the penalty law only (inf for the kinematic contact)."""
     c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
     stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d
-    if scene["fe.kind"] != "3d" and size is None:
+    if scene["fe.kind"] == "3d":
+        stable *= _third_dimension(h_r, g * h)
+    elif size is None:
         stable *= _cap_step_factor(scene)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
     factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
     return stable, _switching_step(scene, factor, g * h)
+
+
+def _third_dimension(a: float, b: float) -> float:
+    """Step of a hexahedron (a x a across, b along) over that of the quadrilateral a x b: a cell's highest mode
+    scales as ω² ∝ Σ 1/h_i² (a cube: sqrt(2/3) of a square's step). Measured: see :data:`DT_PER_ELEMENT_STEP`."""
+    return math.sqrt((1 / a**2 + 1 / b**2) / (2 / a**2 + 1 / b**2))
 
 
 def _cap_step_factor(scene: Scene) -> float:

@@ -40,6 +40,7 @@ __all__ = [
     "WAVE_KEYS",
     "Plan",
     "contact_phase",
+    "fe_stage",
     "first_contact_end",
     "global_drives",
     "make_plan",
@@ -105,6 +106,26 @@ def submodel_driver(scene: Scene, end_time: float | None = None) -> Scene:
     ``end_time`` [s] (the contact phase; default the scene's end time)."""
     extra = () if end_time is None else (f"simulation.end_time={end_time!r}",)
     return scene.with_overrides(*DRIVER_OVERRIDES, *extra)
+
+
+def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float | None = None) -> str:
+    """One line saying what an FE stage of ``scene`` will run, from the scene alone (before the mesh: what a
+    --dry-run prints; the set-up's own plan, with cells and the stable step, follows in a real run).
+    ``size``: the submodel's element size [m] (default: the scene's resolved global mesh)."""
+    sym = "" if scene["fe.symmetry"] == "full" else f", {scene['fe.symmetry']} symmetry"
+    if size is None:
+        mesh = f"mesh {scene.axial_size * 1e3:.4g} mm axial x {scene.radial_size * 1e3:.4g} mm radial"
+    else:
+        mesh = f"mesh {size * 1e3:.4g} mm at the contact"
+    law = scene["fe.contact"]
+    if law == "penalty":
+        law += f" ({scene['fe.penalty']:g} x element stiffness)"
+    t_end = scene.end_time if end_time is None else end_time
+    fields = "fields" if "fields" in scene.effects or scene["fe.field_interval"] > 0 else "no fields"
+    return (
+        f"plan: {what} ({scene['fe.kind']}{sym}, {mesh}, {law} contact, backend {scene['fe.backend']}, {fields}), "
+        f"scene '{scene.name}', s1 = {scene.speed:g} m/s, t_end = {t_end:g} s every {scene.output_interval:g} s"
+    )
 
 
 @dataclass(frozen=True)

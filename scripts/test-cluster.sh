@@ -30,9 +30,9 @@ mkdir -p "$work/local" && cp results/sweep-speed.csv results/sweep-dt.csv "$work
 # the same sweep again from scratch, through SLURM
 rm -rf output .snakemake && git checkout -q -- results/
 start=$(date '+%Y-%m-%dT%H:%M:%S')
-"$snake" -s workflows/Snakefile --workflow-profile workflows/profiles/slurm --jobs 4 "${targets[@]}" "${config[@]}" \
+"$snake" -s workflows/Snakefile --workflow-profile workflows/profiles/slurm --jobs 4 "${targets[@]}" \
   --default-resources slurm_partition=debug runtime=10 mem_mb=2000 --slurm-no-account \
-  --set-resources 'global_fe:mpi="srun --mpi=pmi2"' > "$work/slurm.log" 2>&1 || { tail -40 "$work/slurm.log"; exit 1; }
+  "${config[@]}" 'mpi=srun --mpi=pmi2' > "$work/slurm.log" 2>&1 || { tail -40 "$work/slurm.log"; exit 1; }
 t2=$(date +%s)
 
 echo "sacct (jobs of this run and their steps):"

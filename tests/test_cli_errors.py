@@ -207,10 +207,13 @@ def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(t
         time.sleep(0.5)
         proc.send_signal(signal.SIGINT)
         assert proc.wait(timeout=30) == 130, err.read_text()[-2000:]
-    stop = json.loads((cut / "summary.json").read_text())["failed_step"]
+    partial = json.loads((cut / "summary.json").read_text())
+    stop = partial["failed_step"]
     assert json.loads((cut / "checkpoint.json").read_text())["step"] == stop  # saved at the stop itself
+    assert partial["steps"] == stop  # steps 1..stop ran (was one short)
     r = subprocess.run([*cmd, "--restart", "--out", str(cut)], cwd=tmp_path, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr[-2000:]
+    assert f"restart from the checkpoint of step {stop} " in r.stderr and f"on from step {stop + 1}" in r.stderr
     a, b = read_history(ref / "history.csv"), read_history(cut / "history.csv")
     for key in a:
         np.testing.assert_allclose(b[key], a[key], rtol=1e-12, atol=1e-14 * np.abs(a[key]).max(), err_msg=key)
@@ -248,3 +251,12 @@ def test_a_run_outside_a_laws_range_ends_with_its_warning_and_status(tmp_path):
     assert s["status"] == "warnings" and s["contact_law"] == "hertz"
     assert "warning: analytical.contact: the Hertz radius" in p.stderr
     assert p.stdout.rstrip().endswith("status: warnings")
+
+
+def test_view_refuses_a_missing_run_and_a_python_without_paraview(tmp_path):
+    """workflows/view.py (a pvpython script): a folder without fields.xdmf, or the venv's python (no ParaView),
+    exit 2 with one line naming the remedy (was: a ModuleNotFoundError traceback, exit 1)."""
+    refused(run("view.py", str(tmp_path / "nothing"), cwd=tmp_path), "no such file", "Looking at fields")
+    if importlib.util.find_spec("paraview") is None:
+        (tmp_path / "fields.xdmf").write_text("<Xdmf/>")
+        refused(run("view.py", str(tmp_path), cwd=tmp_path), "ParaView", "pvpython")

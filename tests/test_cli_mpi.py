@@ -37,3 +37,17 @@ def test_failure_on_one_rank_aborts_all(tmp_path):
     )
     assert p.returncode != 0
     assert "error on rank 1: RuntimeError: mesh inverted on rank 1" in p.stderr
+
+
+@pytest.mark.mpi
+def test_analytical_under_mpirun_prints_and_writes_once(tmp_path):
+    """mpirun -n 2 workflows/analytical.py: every rank computes (milliseconds), rank 0 alone prints and writes
+    (was: the plan, the summary and the files twice)."""
+    out = tmp_path / "a"
+    p = subprocess.run(
+        [str(MPIRUN), "-n", "2", sys.executable, str(ROOT / "workflows" / "analytical.py"), "--out", str(out)],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert p.stdout.count("plan: analytical model") == 1 and p.stdout.count("status: ok") == 1
+    assert sorted(f.name for f in out.iterdir()) == ["history.csv", "summary.json"]

@@ -117,7 +117,12 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
             capture_output=True, text=True, cwd=ROOT,
         )  # fmt: skip
         assert p.returncode == 0 and "cost of" in p.stdout and "dry run" in p.stdout, (script, p.stderr)
-        assert not out.exists()
+        assert p.stdout.startswith("plan: ") and not out.exists()  # what would run, then what it costs
+    p = subprocess.run(
+        [sys.executable, str(ROOT / "workflows" / "global.py"), "--driver", "--dry-run", "--out", str(out)],
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    assert "plan: the driving global (axisymmetric" in p.stdout and "t_end = 0.000244" in p.stdout  # the contact phase
 
 
 def test_fields_only_when_asked(tmp_path):

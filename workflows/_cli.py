@@ -51,8 +51,9 @@ count = _number(int, 1, True, "")  # a step stride
 
 
 def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = False) -> argparse.ArgumentParser:
-    """The scene options (--scene, --set, --out, --force); ``dry_run``: also --dry-run (see :func:`afford`)."""
-    p = _Parser(description=description)
+    """The scene options (--scene, --set, --out, --force); ``dry_run``: also --dry-run (see :func:`afford`).
+    ``description``: the script's docstring, shown as written (its usage lines included)."""
+    p = _Parser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", default=str(SCENES / default_scene), help="scene TOML file (default: %(default)s)")
     p.add_argument(
         "--set",
@@ -199,4 +200,4 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
 
 def bare_parser(description: str) -> argparse.ArgumentParser:
     """A parser without the scene options (the paper's rendering scripts), with the one-line errors."""
-    return _Parser(description=description)
+    return _Parser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)

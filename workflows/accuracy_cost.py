@@ -1,4 +1,4 @@
-"""What accuracy costs in time: every model and resolution against its reference, with the Pareto front
+r"""What accuracy costs in time: every model and resolution against its reference, with the Pareto front
 (rods.paper.accuracy_cost).
 
     python workflows/accuracy_cost.py --run "global 1.0 mm=output/paper/global" [--run LABEL=DIR ...] \
@@ -19,7 +19,7 @@ from rods.paper.data import parse_run, read_run
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.parser(__doc__.splitlines()[0])
+    ap = _cli.parser(__doc__)
     ap.add_argument("--run", action="append", default=[], help="LABEL=DIR of a run with summary.json, history.csv")
     ap.set_defaults(out="output/paper/accuracy-cost")
     args = ap.parse_args(argv)

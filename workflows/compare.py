@@ -1,4 +1,4 @@
-"""Comparison stage (paper Table 3, Figs. 5c and 6): global and submodel levels against Hertz and experiment.
+r"""Comparison stage (paper Table 3, Figs. 5c and 6): global and submodel levels against Hertz and experiment.
 
     python workflows/compare.py --global output/paper/driver --global-uniform output/paper/global-paper \
         --submodel output/paper/submodel/coarse --submodel output/paper/submodel/mid ... [--out DIR]
@@ -37,7 +37,7 @@ def _run(role: str, folder: str) -> ModelRun:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    ap = _cli.parser(__doc__.splitlines()[0])
+    ap = _cli.parser(__doc__)
     ap.add_argument("--global", dest="global_dir", required=True, help="the driving global run (global.py --driver)")
     ap.add_argument("--global-uniform", default=None, help="optional: the scene's own global run")
     ap.add_argument("--submodel", action="append", default=[], help="submodel level folder (repeatable)")

@@ -17,7 +17,7 @@ from rods import io
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__)
     ap.add_argument("--fields", required=True, help="a run folder with fields.xdmf and summary.json")
     ap.add_argument("--out", required=True, help="output path without suffix (.png and .json are written)")
     args = ap.parse_args(argv)

@@ -1,4 +1,4 @@
-"""Mesh convergence of the contact: submodel levels and global meshes against Hertz at their own force and the
+r"""Mesh convergence of the contact: submodel levels and global meshes against Hertz at their own force and the
 analytical force, least-squares order, extrapolation and band (rods.paper.convergence).
 
     python workflows/convergence.py --run output/paper/submodel/fine [--run DIR ...] \
@@ -20,7 +20,7 @@ from rods.paper.data import parse_run
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.parser(__doc__.splitlines()[0])
+    ap = _cli.parser(__doc__)
     ap.add_argument("--run", action="append", default=[], help="[LABEL=]DIR of a run with summary.json")
     ap.set_defaults(out="output/paper/convergence")
     args = ap.parse_args(argv)

@@ -1,4 +1,4 @@
-"""Fig. 4 with both models: Rod-2 midpoint speed, strain and contact force, FE over analytical (rods.paper.fig4).
+r"""Fig. 4 with both models: Rod-2 midpoint speed, strain and contact force, FE over analytical (rods.paper.fig4).
 
     python workflows/fig4.py --analytical output/paper/analytical/trial-1-3 --fe output/paper/global-paper \
         [--fe LABEL=DIR ...] [--png output/paper/fig4.png] [--md output/paper/fig4.md]
@@ -18,11 +18,11 @@ from rods.paper.data import parse_run, read_run
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__)
     ap.add_argument("--analytical", required=True, help="the analytical run's folder")
     ap.add_argument("--fe", action="append", required=True, help="FE run folder, or LABEL=FOLDER (repeatable)")
-    ap.add_argument("--png", default="output/paper/fig4.png")
-    ap.add_argument("--md", default="output/paper/fig4.md")
+    ap.add_argument("--png", default="output/paper/fig4.png", help="the figure (default %(default)s)")
+    ap.add_argument("--md", default="output/paper/fig4.md", help="the table of its numbers (default %(default)s)")
     args = ap.parse_args(argv)
     for flag, f in (("--png", args.png), ("--md", args.md)):
         _cli.output_dir(Path(f).parent, flag)  # before any run is read: a refused call writes nothing

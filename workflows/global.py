@@ -23,6 +23,7 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, io, plan
+from rods.analytical import simulate
 from rods.fe import checkpoint
 from rods.study import stages
 
@@ -31,7 +32,7 @@ SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_er
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    ap = _cli.parser(__doc__.splitlines()[0], dry_run=True)
+    ap = _cli.parser(__doc__, dry_run=True)
     ap.add_argument("--driver", action="store_true", help="the submodels' driving global, recorded (rods.plan)")
     ap.add_argument("--record-cut", action="store_true", help="write DIR/cut.h5, the band around the submodel cut")
     ap.add_argument("--record-until", type=_cli.non_negative, help="last recorded time [s] (default end time)")
@@ -45,11 +46,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.restart:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
-    sc = plan.submodel_driver(scene) if args.driver else scene  # the driver: to the scene's end at most
+    phase = plan.contact_phase(simulate(scene).summary, scene.end_time) if args.driver else None  # [s] (ms)
+    sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
+    what = "the driving global" if args.driver else "the global"
+    log(f"{plan.fe_stage(sc, what)} -> {out}")
     _cli.backend(scene, comm.size)
-    _cli.afford(args, cost.fe_cost(sc, comm.size, what="the driving global" if args.driver else "the global"), log=log)
+    _cli.afford(args, cost.fe_cost(sc, comm.size, what=what), log=log)
     if args.driver:
-        s = stages.driver(scene, out, comm, progress=progress, log=log).summary
+        s = stages.driver(scene, out, comm, phase, progress=progress, log=log).summary
     else:
         kw = {"record_until": args.record_until, "record_every": args.record_every, "restart": args.restart}
         s = stages.global_model(scene, out, comm, record_cut=args.record_cut, progress=progress, log=log, **kw)

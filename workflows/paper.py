@@ -19,7 +19,7 @@ SCENES = Path(__file__).resolve().parent / "scenes"
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__)
     ap.add_argument("--out", default="output/paper", help="folder for per-run histories and summaries")
     ap.add_argument("--results", default=None, help="folder for tables and figures (default: --out)")
     args = ap.parse_args(argv)

@@ -1,4 +1,4 @@
-"""REPORT.md: every table and figure of the paper job, with what agrees and what does not (rods.paper.report).
+r"""REPORT.md: every table and figure of the paper job, with what agrees and what does not (rods.paper.report).
 
     python workflows/report.py [--results DIR] [--out output/paper/REPORT.md] \
         [--contact-study results/contact-study.json]
@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__)
     ap.add_argument("--results", default=None, help="folder of the stage JSON files (default: the folder of --out)")
     ap.add_argument("--out", default="output/paper/REPORT.md")
     ap.add_argument("--contact-study", default=str(ROOT / "results" / "contact-study.json"))

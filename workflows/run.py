@@ -49,7 +49,7 @@ def _fe_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    args = _cli.parser(__doc__.splitlines()[0], dry_run=True).parse_args(argv)
+    args = _cli.parser(__doc__, dry_run=True).parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
@@ -60,6 +60,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _cli.afford(args, cost.analytical_cost(scene), *_fe_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log).summary  # a guard's stop: exit 1, Ctrl-C: 130 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
+    _cli.status(s, comm.rank)
     return 0
 
 

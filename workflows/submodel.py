@@ -36,7 +36,7 @@ def _step(text: str) -> float | str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    ap = _cli.parser(__doc__.splitlines()[0], dry_run=True)
+    ap = _cli.parser(__doc__, dry_run=True)
     ap.add_argument("--global", dest="global_dir", required=True, help="output folder of a global run with cut.h5")
     ap.add_argument("--level", default="fine", choices=SUBMODEL_LEVELS, help="mesh level (default %(default)s)")
     ap.add_argument("--size", type=_cli.positive, default=None, help="element size [m] (overrides --level)")
@@ -74,6 +74,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
     h = args.size or plan.submodel_size(scene, args.level, args.phase)
     c = cost.fe_cost(scene, comm.size, what=f"the submodel {level}", size=h, axial_size=args.axial_size, end_time=end)
+    log(f"{plan.fe_stage(scene, f'the submodel {level}', end_time=end, size=h)} -> {out}")
+    if scene["fe.checkpoint_interval"] > 0:
+        log("note: fe.checkpoint_interval is the global model's; the submodel does not checkpoint")
     _cli.backend(scene, comm.size)
     _cli.afford(args, c, log=log)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)

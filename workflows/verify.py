@@ -24,7 +24,7 @@ from rods.study import verification
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    ap = _cli.parser(__doc__.splitlines()[0])
+    ap = _cli.parser(__doc__)
     ap.add_argument("--case", action="append", choices=list(verification.CASES), help="case (repeatable; default all)")
     ap.add_argument("--tables", default=None, help="folder for verification.json/.md (default: the output folder)")
     args = ap.parse_args(argv)

@@ -68,8 +68,14 @@ def render(reader, t: float, scale: float, png: str) -> None:
     pv.SaveScreenshot(png, view, ImageResolution=[1200, 800])
 
 
+def _bad(message: str) -> int:
+    """Bad input: one line, exit 2 (the entry points' convention, workflows/_cli.py)."""
+    print(f"error: {message}", file=sys.stderr)
+    return 2
+
+
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", type=Path, help="run folder (with fields.xdmf) or the .xdmf file")
     ap.add_argument("--reader", choices=("xdmf3", "legacy"), default="xdmf3")
     ap.add_argument("--time", type=float, help="frame time [s] (default: the largest contact pressure)")
@@ -77,6 +83,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--png", help="save a screenshot (needs a display: xvfb-run -a pvpython ...)")
     ap.add_argument("--check", action="store_true", help="exit 1 unless every frame has every field")
     a = ap.parse_args(argv)
+    xdmf = a.run / "fields.xdmf" if a.run.is_dir() else a.run
+    if not xdmf.is_file():
+        return _bad(f"{xdmf}: no such file (a run writes fields.xdmf when its scene asks for fields; README "
+                    "'Looking at fields')")  # fmt: skip
+    try:
+        import paraview.simple  # noqa: F401
+    except ImportError as e:
+        return _bad(f"ParaView's Python is not importable ({e}); run this script with pvpython, not the venv's python")
     reader = open_fields(a.run, a.reader == "legacy")
     series = frames(reader)
     for t, names, p in series:

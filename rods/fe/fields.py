@@ -1,7 +1,7 @@
 """Field output of an explicit run: every field on one dataset per frame, at exactly the requested times.
 
 Frames: t_k = k x ``fe.field_interval`` for every t_k within the run, plus the final state (t = steps Δt,
-unless it is a requested time already). Frame k is formed at the nearest step n = round(t_k/Δt), with
+unless it is within a step of the last requested time). Frame k is formed at the nearest step n = round(t_k/Δt), with
 τ = t_k - t_n in [-Δt/2, Δt/2], on the scheme's own trajectory (:mod:`rods.fe.explicit`): u is piecewise
 linear between steps with slope v_{n±½}, so u(t_k) = u_n + τ v_{n+½} (τ >= 0) or u_n + τ v_{n-½} (τ < 0),
 exact; v(t_k) is the linear interpolation of v_{n-½} and v_{n+½} at their half-step times (at t = 0: v_0).
@@ -51,14 +51,15 @@ FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "
 
 def frame_schedule(interval: float, dt: float, steps: int) -> dict[int, list[tuple[int, float]]]:
     """Step n -> [(frame index k, time t_k [s])]: t_k = k x ``interval`` <= steps Δt at n = round(t_k/Δt),
-    then the final state (k = last + 1, t = steps Δt) unless it is the last requested time."""
+    then the final state (k = last + 1, t = steps Δt) unless it lies within a step of the last requested time
+    (a run ends at the first step at or past its end time: that frame would repeat the last one)."""
     end = steps * dt
     n_req = int(math.floor(end / interval * (1 + 1e-12)))
     sched: dict[int, list[tuple[int, float]]] = {}
     for k in range(n_req + 1):
         t = k * interval
         sched.setdefault(min(steps, round(t / dt)), []).append((k, t))
-    if abs(n_req * interval - end) > 1e-9 * dt:
+    if end - n_req * interval >= dt * (1 - 1e-9):
         sched.setdefault(steps, []).append((n_req + 1, end))
     return sched
 
@@ -318,7 +319,8 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800))
     for col, (name, title) in enumerate((("von Mises [MPa]", "von Mises"), ("p [MPa]", "contact pressure"))):
         pl.subplot(0, col)
-        pl.add_mesh(grid, scalars=name, cmap="turbo", show_edges=col == 0, edge_color="gray")
+        bar = dict(title=name, vertical=True, position_x=0.84, position_y=0.15, width=0.06, height=0.7, fmt="%.0f")
+        pl.add_mesh(grid, scalars=name, cmap="turbo", show_edges=col == 0, edge_color="gray", scalar_bar_args=bar)
         pl.add_text(f"{title}, t = {t * 1e6:.2f} µs, deformation x {factor:.3g}", font_size=10)
         pl.view_xy()
         pl.camera.parallel_projection = True

@@ -41,7 +41,16 @@ from mpi4py import MPI
 from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, gmsh_to_dolfinx
 from rods.scene import Rod, Scene, SceneError
 
-__all__ = ["CORE", "TAGS_3D", "Placement", "RodsMesh3D", "build_mesh_3d", "cell_sizes_3d", "section_counts"]
+__all__ = [
+    "CORE",
+    "TAGS_3D",
+    "Placement",
+    "RodsMesh3D",
+    "build_mesh_3d",
+    "cell_sizes_3d",
+    "section_counts",
+    "section_size",
+]
 
 TAGS_3D = {**TAGS, "sym_x": 51, "sym_y": 52}
 CORE = 0.45  # core square half-side / radius [-]
@@ -89,6 +98,18 @@ def section_counts(R: float, h: float) -> tuple[int, int, float]:
     n_c = 2 * max(1, math.ceil((2 * s + math.pi * R / 2) / (4 * h) - 1e-9))
     n_r = max(1, math.ceil((R - s * (1 + math.sqrt(2)) / 2) / h - 1e-9))
     return n_c, n_r, s
+
+
+def section_size(R: float, h: float, symmetry: str = "full") -> tuple[int, int]:
+    """(cells, nodes) of one O-grid cross-section (``symmetry``: the modelled part, cut along mesh lines): the
+    core n_c x n_c and four n_c x n_r ring blocks, whose n_r node rings hold 4 n_c nodes each (full), 2 n_c + 1
+    (half), n_c + 1 (quarter)."""
+    n_c, n_r, _ = section_counts(R, h)
+    m = n_c // 2
+    core = {"full": (n_c + 1) ** 2, "half": (n_c + 1) * (m + 1), "quarter": (m + 1) ** 2}[symmetry]
+    ring = {"full": 4 * n_c, "half": 2 * n_c + 1, "quarter": n_c + 1}[symmetry]
+    share = {"full": 1, "half": 2, "quarter": 4}[symmetry]
+    return (n_c * n_c + 4 * n_c * n_r) // share, core + n_r * ring
 
 
 def _layers(rod: Rod, h: float, grading: float) -> tuple[list[int], list[float], float]:

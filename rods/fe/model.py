@@ -49,7 +49,7 @@ from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import CentralDifference
 from rods.fe.fields import DEFAULT_FIELD_INTERVAL, FieldOutput
-from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, RunGuard
+from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, Interrupted, RunGuard
 from rods.fe.kinematic import KinematicContact
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d
@@ -264,9 +264,11 @@ class ExplicitModel:
         stepper.destroy()
         if failure is not None:  # keep what was recorded up to the failure, readable
             k = recorder.k
-            n_ok = k - 1 if k > 1 else k  # the last record is the one the guard refused
+            # an interrupt stops after step n (done and checkpointed: n steps run); a guard refused step n's record
+            done = isinstance(failure, Interrupted)
+            n_ok = k if done or k <= 1 else k - 1
             try:
-                failure.partial = fe_result(self, recorder, n_ok, failure.step, wall_loop)
+                failure.partial = fe_result(self, recorder, n_ok, failure.step + done, wall_loop)
                 failure.partial.summary.update(status=failure.status, error=str(failure), failed_step=failure.step)
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
@@ -331,7 +333,8 @@ class ExplicitModel:
         recorder.restore(state)
         step0 = stepper.n + 1
         if progress is not None:
-            sys.stderr.write(f"restart from checkpoint at step {step0} (t = {step0 * self.dt:.6g} s)\n")
+            t = stepper.n * self.dt
+            sys.stderr.write(f"restart from the checkpoint of step {stepper.n} (t = {t:.6g} s): on from step {step0}\n")
         return step0
 
     def initial_velocity(self) -> np.ndarray:

@@ -1,8 +1,9 @@
 """The stages of a study, each a function: run one model on a scene, write its files, return typed results.
 
 Every stage writes ``summary.json`` and ``history.csv`` (plus its own extras) under its folder, on rank 0,
-atomically; FE stages are collective on ``comm``. ``log`` (rank 0's printer, or None) receives the plan of
-each FE model before it runs; ``progress(step, total, elapsed)`` is passed to the FE time loop.
+atomically; FE stages are collective on ``comm`` (None: MPI.COMM_WORLD). ``log`` (rank 0's printer, or None)
+receives the plan of each FE model before it runs; ``progress(step, total, elapsed)`` is passed to the FE time
+loop.
 
 * :func:`analytical` — the paper's analytical model (every rank computes it: milliseconds).
 * :func:`global_model` — the global FE model; optionally records the submodel cut (cut.h5).
@@ -55,6 +56,15 @@ def _root(comm: Any) -> bool:
     return comm is None or comm.rank == 0
 
 
+def _world(comm: Any) -> Any:
+    """``comm``, or MPI.COMM_WORLD for None (a library caller need not build one)."""
+    if comm is not None:
+        return comm
+    from mpi4py import MPI
+
+    return MPI.COMM_WORLD
+
+
 def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
     """The analytical model (paper Sec. 2.1); Hertz yield warnings are kept in the summary."""
     from rods.analytical import simulate
@@ -104,6 +114,7 @@ def global_model(
 
     if restart and record_cut:
         raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
+    comm = _world(comm)
     model = ExplicitModel(scene, comm)
     if log is not None:
         log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
@@ -166,6 +177,7 @@ def submodel(
     from rods.analytical import simulate
     from rods.fe.submodel import run_submodel
 
+    comm = _world(comm)
     resolve = size is None and phase is not None
     analytical = simulate(scene).summary if (resolve or end_time is None) else None
     h = size or plan.submodel_size(scene, level, phase, analytical)

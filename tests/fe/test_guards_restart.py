@@ -83,7 +83,7 @@ def test_killed_run_resumes_from_its_checkpoint_with_the_same_histories(tmp_path
         run_global(cut, "--set", "fe.checkpoint_interval=1e-4", "--restart"), capture_output=True, text=True, cwd=ROOT
     )
     assert r.returncode == 0, r.stderr[-2000:]
-    assert "restart from checkpoint" in r.stderr
+    assert "restart from the checkpoint of step" in r.stderr
     a, b = read_history(ref / "history.csv"), read_history(cut / "history.csv")
     assert set(a) == set(b)
     for key in a:
