@@ -48,6 +48,7 @@ from rods.preflight import InputError
 from rods.scene import Scene, SceneError
 
 __all__ = [
+    "FRAME_BUDGET",
     "STEP_BUDGET",
     "VALUE_BUDGET",
     "WORK_BUDGET",
@@ -61,6 +62,9 @@ __all__ = [
 STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
 WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 3 h on one rank, 14 h in 3D) [-]
 VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
+# analytical model: integration time per transit L/c of the shorter rod [s] (measured: paper rods 1.5 and 15 ms, 6 and
+# 8.6 ms per transit; 50 mm rods 15 ms, 12 ms per transit)
+SECONDS_PER_TRANSIT = 1e-2
 BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
@@ -69,6 +73,11 @@ DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound 
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
 DOFS_PER_CELL = 2.3  # axisymmetric [-] (3D: counted from the O-grid's nodes)
+FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
+# a frame's files: 7 fields (2 vectors, 5 scalars) of float64 on the nodes, 1 to 3 DOFs per node; its time:
+# projections and HDF5 writes, measured 0.5 s per frame at 48k DOFs
+FIELD_BYTES_PER_DOF = 40.0  # [B]
+FIELD_SECONDS_PER_DOF = 1e-5  # [s]
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to
@@ -102,12 +111,15 @@ class Cost:
     wall_time: float  # [s] set-up and time loop
     ranks: int = 1
     setup_time: float = 0.0  # [s] the part of wall_time before the time loop
+    frames: float = 0.0  # field frames written [-]
+    field_bytes: float = 0.0  # [B] their files
 
     def describe(self) -> str:
+        fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
         return (
             f"cost of {self.what}: {self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps, "
-            f"{self.samples:.3g} samples ({self.values:.3g} history values), memory {self.memory / 1e9:.3g} GB "
-            f"on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}"
+            f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, memory "
+            f"{self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}"
         )
 
     def as_dict(self) -> dict[str, Any]:
@@ -153,9 +165,11 @@ def fe_cost(
     size: float | None = None,
     axial_size: float | None = None,
     end_time: float | None = None,
+    dt: float | str = "auto",
 ) -> Cost:
     """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] (uniform
-    across, ``axial_size`` along, no grading, rods cut to fe.submodel_length) to ``end_time`` [s]."""
+    across, ``axial_size`` along, no grading, rods cut to fe.submodel_length) to ``end_time`` [s] at its own
+    step ``dt`` [s] ("auto": the stable one; the global's is fe.dt)."""
     kind = scene["fe.kind"]
     if size is None:
         h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
@@ -172,11 +186,12 @@ def fe_cost(
     stable, switching = _step_limits(scene, h_r, h, g, size)
     limit = min(stable, switching)
     # as rods.fe.timestep: fe.dt_fraction of the stable step, at most the switching limit
-    dt = scene["fe.dt"] if scene["fe.dt"] != "auto" else min(scene["fe.dt_fraction"] * stable, switching)
-    if size is None and scene["fe.dt"] != "auto" and scene["fe.dt"] > DT_REFUSE_FACTOR * limit:
+    key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
+    dt = given if given != "auto" else min(scene["fe.dt_fraction"] * stable, switching)
+    if given != "auto" and given > DT_REFUSE_FACTOR * limit:
         raise SceneError(
-            "fe.dt",
-            scene["fe.dt"],
+            key,
+            given,
             f"must be <= the stable limit, about {limit:.3g} s on this mesh (estimated from its smallest element; "
             "the set-up computes it exactly)",
             "fe.dt = 'auto' takes fe.dt_fraction of it",
@@ -189,7 +204,10 @@ def fe_cost(
     )
     setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
     loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
-    return Cost(what, cells, dofs, steps, samples, values, memory, setup + loop, ranks, setup)
+    frames = math.floor(end / scene.field_interval) + 2 if size is None and scene.field_interval > 0 else 0
+    field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
+    wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
+    return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
 
 
 def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | None) -> tuple[float, float]:
@@ -231,10 +249,13 @@ def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
 
 
 def analytical_cost(scene: Scene) -> Cost:
-    """The analytical model's recorded samples and memory (its integration itself costs milliseconds)."""
+    """The analytical model's recorded samples, memory and time: :data:`SECONDS_PER_TRANSIT` per wave transit of
+    the shorter rod (each reflection restarts the delay equation's integration) plus 1 µs per history value."""
     samples = math.floor(scene.end_time / scene.output_interval) + 1
     values = samples * (5 + 2 * len(scene.stations))
-    return Cost("analytical model", 0, 0, 0, samples, values, 60e6 + 3 * BYTES_PER_VALUE * values, 1e-6 * values)
+    transits = scene.end_time * max(r.material.wave_speed for r in scene.rods) / min(r.length for r in scene.rods)
+    wall = SECONDS_PER_TRANSIT * transits + 1e-6 * values
+    return Cost("analytical model", 0, 0, 0, samples, values, 60e6 + 3 * BYTES_PER_VALUE * values, wall)
 
 
 def available_memory() -> float:
@@ -266,6 +287,11 @@ def check(cost: Cost, force: bool = False) -> Cost:
         raise InputError(
             cost.what, f"{cost.dofs * cost.steps:.3g} DOF-steps", f"above the budget {WORK_BUDGET:g} (about "
             f"{_duration(cost.wall_time)} on {cost.ranks} rank(s))", "coarser sizes, a shorter end_time, or --force",
+        )  # fmt: skip
+    if not force and cost.frames > FRAME_BUDGET:
+        raise InputError(
+            cost.what, f"{cost.frames:.3g} field frames", f"above the budget {FRAME_BUDGET:g} "
+            f"({cost.field_bytes / 1e9:.3g} GB of files)", "a larger fe.field_interval, a shorter end_time, or --force",
         )  # fmt: skip
     if not force and cost.values > VALUE_BUDGET:
         raise InputError(

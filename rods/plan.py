@@ -31,7 +31,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, Scene, submodel_phase_size
+from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, Scene, SceneError, submodel_phase_size
 
 __all__ = [
     "CONTACT_KEYS",
@@ -39,9 +39,11 @@ __all__ = [
     "DRIVER_OVERRIDES",
     "WAVE_KEYS",
     "Plan",
+    "check_driven_scene",
     "contact_phase",
     "fe_stage",
     "first_contact_end",
+    "first_contact_summary",
     "global_drives",
     "make_plan",
     "most_refined",
@@ -65,6 +67,24 @@ def first_contact_end(analytical_summary: Mapping[str, Any]) -> float | None:
     """End [s] of the analytical model's first contact episode (None: no contact)."""
     episodes = analytical_summary["contact_episodes"]
     return float(episodes[0][1]) if episodes else None
+
+
+FIRST_CONTACT_TRANSITS = 8  # window of first_contact_summary: this x the slower rod's round trip 2L/c [-]
+
+
+def first_contact_summary(scene: Scene) -> dict[str, Any]:
+    """The analytical model's summary over a window that holds the first contact (what the contact phase needs):
+    :data:`FIRST_CONTACT_TRANSITS` x the slower rod's round trip 2L/c, or the whole run where that is shorter or
+    the first contact outlasts the window. A 1 s scene plans in milliseconds instead of minutes."""
+    from rods.analytical import simulate
+
+    window = FIRST_CONTACT_TRANSITS * max(2 * r.length / r.material.wave_speed for r in scene.rods)  # [s]
+    if window < scene.end_time:
+        over = (f"simulation.end_time={window!r}", f"simulation.output_interval={min(scene.output_interval, window)!r}")
+        s = simulate(scene.with_overrides(*over)).summary
+        if s["contact_episodes"] and s["contact_episodes"][0][1] < window:
+            return s
+    return simulate(scene).summary
 
 
 def contact_phase(analytical_summary: Mapping[str, Any], end_time: float) -> float:
@@ -121,11 +141,31 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
     if law == "penalty":
         law += f" ({scene['fe.penalty']:g} x element stiffness)"
     t_end = scene.end_time if end_time is None else end_time
-    fields = "fields" if "fields" in scene.effects or scene["fe.field_interval"] > 0 else "no fields"
+    fields = f"fields every {scene.field_interval:g} s" if scene.field_interval > 0 else "no fields"
     return (
         f"plan: {what} ({scene['fe.kind']}{sym}, {mesh}, {law} contact, backend {scene['fe.backend']}, {fields}), "
         f"scene '{scene.name}', s1 = {scene.speed:g} m/s, t_end = {t_end:g} s every {scene.output_interval:g} s"
     )
+
+
+# what a submodel shares with its driving global: the bodies, the impact and the cut (the cut record carries that
+# global's motion at L_s; the rest, e.g. the contact law, the output interval, is the submodel's own)
+DRIVEN_PREFIXES = ("rod1.", "rod2.", "impact.")
+DRIVEN_KEYS = ("fe.kind", "fe.symmetry", "fe.submodel_length")
+
+
+def check_driven_scene(scene: Scene, driver: Scene) -> None:
+    """Refuse (SceneError) a submodel scene whose bodies, impact or cut differ from its driving global's: such a
+    run ends "ok" with another scene's motion at its cuts, or fails after the set-up when the cut nodes miss the
+    recorded band."""
+    for key, value in scene.values.items():
+        if key.startswith(DRIVEN_PREFIXES) or key in DRIVEN_KEYS:
+            theirs = driver.values.get(key)
+            if value != theirs:
+                raise SceneError(
+                    key, value, f"differs from the driving global's {theirs!r} (its cut record carries that scene's "
+                    "motion)", "drive it from a global run of this scene: workflows/global.py --driver --scene ...",
+                )  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -168,7 +208,7 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
     reasons = []
     wave = "wave_response" in fx
     contact = bool(fx & set(SUBMODEL_EFFECTS))
-    fields = "fields" in fx or scene["fe.field_interval"] > 0
+    fields = scene.field_interval > 0
     global_model = wave or contact or fields or "misalignment" in fx
     phase = _phase(contact_end, scene.end_time)
     end = scene.end_time

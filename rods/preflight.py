@@ -9,11 +9,12 @@ into exit code 2 and one line on stderr that names the argument or file, the val
   folder (nothing is created here: a refused run leaves no folder);
 * :func:`input_dir` — a folder a stage reads: it exists and holds the files named;
 * :func:`safe_name` — a scene name as a folder name: no separators, no leading dots (``../../x`` stays
-  under ``output/``).
+  under ``output/``), at most :data:`MAX_FOLDER_NAME` characters.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import tempfile
@@ -24,6 +25,8 @@ __all__ = ["MAX_VALUE", "InputError", "input_dir", "one_line", "output_dir", "sa
 
 MAX_VALUE = 120  # characters of a value shown in a message [-]
 MAX_MESSAGE = 1000  # characters of a whole message line [-]
+MAX_FOLDER_NAME = 100  # characters of a folder named after a scene [-]
+NAME_MAX = 255  # bytes of one file or folder name [-]
 
 
 def short(value: Any, limit: int = MAX_VALUE) -> str:
@@ -53,7 +56,10 @@ class InputError(ValueError):
 def output_dir(path: str | Path, what: str = "--out") -> Path:
     """``path`` as an output folder, checked without creating anything: not an existing file, and the
     folder itself (if it exists) or its nearest existing ancestor a writable, searchable folder."""
+    if str(path) == "":
+        raise InputError(what, "", "is empty", "give a folder path")
     p = Path(path)
+    _name_lengths(p, what)  # before exists(), which raises on such a name
     if p.exists() and not p.is_dir():
         raise InputError(what, p, "is an existing file, not a folder", "give a folder path")
     probe = p
@@ -64,6 +70,15 @@ def output_dir(path: str | Path, what: str = "--out") -> Path:
     if not (os.access(probe, os.W_OK | os.X_OK) and _can_create(probe)):
         raise InputError(what, p, f"folder {probe} is not writable", "give a folder you can write to")
     return p
+
+
+def _name_lengths(p: Path, what: str) -> None:
+    """Each name in ``p`` within NAME_MAX (255 bytes on Linux and macOS file systems): a longer one fails when the
+    first file is written, after the run."""
+    for part in p.parts:
+        if len(os.fsencode(part)) > NAME_MAX:
+            raise InputError(what, p, f"a folder name of {len(os.fsencode(part))} bytes exceeds the file system's "
+                             f"{NAME_MAX}", "give shorter names (a long scene name: --out DIR)")  # fmt: skip
 
 
 def _can_create(folder: Path) -> bool:
@@ -90,6 +105,9 @@ def input_dir(path: str | Path, files: tuple[str, ...], what: str, remedy: str) 
 
 def safe_name(name: str) -> str:
     """A scene name usable as one folder name: characters outside [A-Za-z0-9._=-] become '_', leading
-    dots are dropped (no '..', no hidden folder); empty -> 'scene'."""
+    dots are dropped (no '..', no hidden folder), a name above MAX_FOLDER_NAME characters is cut and marked with
+    its hash; empty -> 'scene'."""
     text = re.sub(r"[^A-Za-z0-9._=-]", "_", name).lstrip(".")
+    if len(text) > MAX_FOLDER_NAME:  # a long name is cut, its hash keeps it apart from others cut alike
+        text = f"{text[: MAX_FOLDER_NAME - 9]}-{hashlib.sha1(name.encode()).hexdigest()[:8]}"
     return text or "scene"

@@ -94,7 +94,8 @@ class SceneError(ValueError):
 
     def __init__(self, key: str, value: Any, allowed: str, hint: str = ""):
         self.key, self.value, self.allowed, self.hint = key, value, allowed, hint
-        msg = f"scene key '{key}' = {short(value)}: {allowed}"  # a 200k-entry list stays one short line
+        what = key if key.startswith("--") else f"scene key '{key}'"  # a command-line argument is no scene key
+        msg = f"{what} = {short(value)}: {allowed}"  # a 200k-entry list stays one short line
         if hint:
             msg += f" ({hint})"
         super().__init__(msg)
@@ -113,7 +114,7 @@ def _positive(unit: str, hi: float = math.inf, hint_hi: str = ""):
     def check(key: str, v: float) -> None:
         lo = 0.0
         if not v > lo:
-            raise SceneError(key, v, f"must be > 0 {unit}")
+            raise SceneError(key, v, f"must be > 0 {unit}" if hi == math.inf else f"must be in (0, {hi:g}] {unit}")
         if v > hi:
             raise SceneError(key, v, f"must be in ({lo:g}, {hi:g}] {unit}", hint_hi)
 
@@ -196,6 +197,7 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
     }
 
 
+DEFAULT_FIELD_INTERVAL = 10e-6  # [s] field frames when the "fields" effect asks without fe.field_interval
 PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected contact radius [-] (Scene.radial_size)
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
 AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's diameter / this (the paper's 1 mm) [-]
@@ -225,7 +227,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # resolved (the paper's mesh, 0.25 mm, is what auto gives there, 0.27 mm; at 0.05 m/s it gives 0.077 mm)
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1)),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
-    "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_hi=True)),
+    "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
     # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
     # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
     "fe.degree": ("int", 1, _only(1, "the explicit model is Q1: row-sum lumped Q2 masses vanish on the axis")),
@@ -290,7 +292,11 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
     if isinstance(v, bool) or not isinstance(v, int | float):
         extra = {"float|auto": " or 'auto'", "float|none": " or 'none' (not stated)"}.get(kind, "")
         raise SceneError(key, v, f"must be a number{extra}")
-    v = float(v)
+    try:
+        v = float(v)
+    except OverflowError:  # an integer beyond float64
+        big = f"<an integer of {v.bit_length()} bits>"
+        raise SceneError(key, big, "must be a number a float64 holds (below 1.8e308)") from None
     if math.isnan(v):
         raise SceneError(key, v, "must not be NaN")
     if math.isinf(v) and kind != "float|inf":
@@ -430,6 +436,14 @@ class Scene:
         v = self.values[key]
         return getattr(self, _RESOLVED[key]) if v == "auto" and key in _RESOLVED else v
 
+    @property
+    def field_interval(self) -> float:
+        """Interval of the field frames [s]: ``fe.field_interval``, :data:`DEFAULT_FIELD_INTERVAL` where the
+        "fields" effect asks without one, 0 where no fields are written."""
+        if self.values["fe.field_interval"] > 0:
+            return float(self.values["fe.field_interval"])
+        return DEFAULT_FIELD_INTERVAL if "fields" in self.effects else 0.0
+
     @cached_property
     def _impedance_patch(self) -> tuple[float, float, float]:
         """(P [N], a_P [m], δ_P [m]): the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), Hertz's
@@ -538,7 +552,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
             )
         for k in ("rod", "position"):
             if k not in s:
-                raise SceneError(f"{key}.{k}", None, "missing required key")
+                raise SceneError(f"{key}.{k}", None, "missing required key", "each [[station]] needs rod and position")
         rod = s["rod"]
         if isinstance(rod, bool) or not isinstance(rod, int) or rod not in (1, 2):  # 1.0 is no rod index
             raise SceneError(f"{key}.rod", rod, "must be 1 or 2")
@@ -574,7 +588,7 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
     for key, (kind, default, check) in SCHEMA.items():
         if key not in flat:
             if default is REQUIRED:
-                raise SceneError(key, None, "missing required key")
+                raise SceneError(key, None, "missing required key", "state it in the scene file or its base")
             values[key] = copy.copy(default)
             continue
         v = _type_check(key, kind, flat[key])
@@ -684,9 +698,8 @@ def _cross_checks(v: dict[str, Any]) -> None:
     if "misalignment" in v["effects"] and v["fe.kind"] != "3d":
         raise SceneError("effects", v["effects"], "'misalignment' needs fe.kind = '3d'")
     if (v["impact.offset"] > 0 or v["impact.tilt"] > 0) and v["fe.kind"] != "3d":
-        raise SceneError(
-            "impact.offset", v["impact.offset"], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)"
-        )
+        key = "impact.offset" if v["impact.offset"] > 0 else "impact.tilt"
+        raise SceneError(key, v[key], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)")
     _misaligned_contact_on_the_tips(v)
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
@@ -767,6 +780,9 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
         raise SceneError("--scene", str(p), f"malformed TOML: {e}") from None
     except UnicodeDecodeError:
         raise SceneError("--scene", str(p), "not a text (UTF-8) TOML file") from None
+    except OSError as e:  # unreadable: permissions, a device, an I/O error
+        why = f"cannot be read ({e.strerror or e})"
+        raise SceneError("--scene", str(p), why, "give a readable TOML file") from None
     base = data.pop("base", None)
     if base is None:
         return data

@@ -43,6 +43,15 @@ def here(tmp_path) -> Path:
     (tmp_path / "station.toml").write_text(
         f'base = "{SCENES / "paper.toml"}"\n[[station]]\nrod = 1.0\nposition = 0.1\n'
     )
+    (tmp_path / "driver").mkdir()  # a driver's summary and a cut record's times: submodel.py's own checks
+    from rods.scene import load_scene
+
+    summary = {"scene_values": load_scene(SCENES / "paper.toml").as_dict(), "dt": 3e-8, "contact_phase": 2.4e-4}
+    (tmp_path / "driver" / "summary.json").write_text(json.dumps(summary))
+    import h5py
+
+    with h5py.File(tmp_path / "driver" / "cut.h5", "w") as f:
+        f["times"] = [0.0, 2.4e-4]
     many = ",".join(['"wave_response"'] * 200_000)
     (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
     return tmp_path
@@ -69,6 +78,49 @@ CASES = {  # name -> (script, arguments, words the line must name)
     # refused by the model's set-up before, after the study's analytical stage had written its folder
     "study fe.degree 2": ("run.py", ["--set", "fe.degree=2", "--out", "o"], ["fe.degree", "2", "Q1"]),
     "study fe.dt unstable": ("run.py", ["--set", "fe.dt=1e-6", "--out", "o"], ["fe.dt", "stable limit"]),
+    # found by a bad-input probe (2026-11-24): each ran, crashed late or named the wrong key before
+    "submodel speed differs": (
+        "submodel.py",
+        ["--global", "driver", "--set", "impact.speed=1.0", "--out", "o"],
+        ["impact.speed", "driving global's 2.197"],
+    ),
+    "submodel 3D scene, axisymmetric driver": (
+        "submodel.py",
+        ["--global", "driver", "--scene", str(SCENES / "paper-3d-coarse.toml"), "--out", "o"],
+        ["fe.kind"],
+    ),
+    "submodel size above the range": (
+        "submodel.py",
+        ["--global", "driver", "--size", "1", "--out", "o"],
+        ["--size", "(0, 0.1]"],
+    ),
+    "submodel dt unstable": ("submodel.py", ["--global", "driver", "--dt", "1e-3", "--out", "o"], ["--dt", "stable"]),
+    "submodel end beyond the record": (
+        "submodel.py",
+        ["--global", "driver", "--end-time", "1e-3", "--out", "o"],
+        ["--end-time", "cut record"],
+    ),
+    "abbreviated option": ("submodel.py", ["--global", "driver", "--sce", "x.toml", "--out", "o"], ["--sce"]),
+    "record-every without record-cut": ("global.py", ["--record-every", "2", "--out", "o"], ["--record-cut"]),
+    "empty out": ("analytical.py", ["--out", ""], ["--out", "empty"]),
+    "out name too long": ("analytical.py", ["--out", "o" * 300], ["--out", "exceeds"]),
+    "400-digit speed": (
+        "analytical.py",
+        ["--set", f"impact.speed={9**420}", "--out", "o"],
+        ["impact.speed", "float64"],
+    ),
+    "tilt on axisymmetric": ("global.py", ["--set", "impact.tilt=0.01", "--out", "o"], ["impact.tilt", "'3d'"]),
+    "field frames above the budget": (
+        "global.py",
+        ["--set", "fe.field_interval=1e-9", "--out", "o"],
+        ["field frames", "fe.field_interval"],
+    ),
+    "analytical history above the budget, before the plan": (
+        "run.py",
+        ["--set", "simulation.end_time=0.01", "--set", "simulation.output_interval=1e-9", "--out", "o"],
+        ["history values"],
+    ),
+    "unreadable scene": ("analytical.py", ["--scene", "/proc/self/mem", "--out", "o"], ["--scene", "cannot be read"]),
     "fig4 missing run": ("fig4.py", ["--analytical", "missing", "--fe", "missing2", "--png", "o/f.png"], ["missing"]),
 }
 
@@ -260,3 +312,13 @@ def test_view_refuses_a_missing_run_and_a_python_without_paraview(tmp_path):
     if importlib.util.find_spec("paraview") is None:
         (tmp_path / "fields.xdmf").write_text("<Xdmf/>")
         refused(run("view.py", str(tmp_path), cwd=tmp_path), "ParaView", "pvpython")
+
+
+def test_a_long_scene_name_is_cut_to_a_folder_name_with_its_hash():
+    """A 300-character scene name ran the whole model, then failed writing (File name too long, exit 1); cut to
+    MAX_FOLDER_NAME characters, two long names that share the cut part stay apart."""
+    from rods.preflight import MAX_FOLDER_NAME, safe_name
+
+    a, b = safe_name("n" * 300), safe_name("n" * 299 + "m")
+    assert len(a) == len(b) == MAX_FOLDER_NAME and a != b and a[:80] == b[:80]
+    assert safe_name("paper") == "paper"

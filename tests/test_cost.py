@@ -115,12 +115,15 @@ def test_budgets_and_force(scene_with):
 
 @pytest.fixture
 def fake_driver(tmp_path, scene_with):
-    """A folder that passes submodel.py's input checks (summary.json of a driver, an empty cut.h5)."""
+    """A folder that passes submodel.py's input checks (summary.json of a driver, a cut.h5 with its times only)."""
+    import h5py
+
     d = tmp_path / "driver"
     d.mkdir()
     s = {"scene_values": scene_with().as_dict(), "dt": 3e-8, "contact_phase": 1.2e-4}
     (d / "summary.json").write_text(json.dumps(s))
-    (d / "cut.h5").write_text("")
+    with h5py.File(d / "cut.h5", "w") as f:
+        f["times"] = [0.0, 1.2e-4]
     return d
 
 

@@ -53,3 +53,29 @@ def test_phase_radius_is_the_analytical_models_contact_radius(overrides):
     s = simulate(sc).summary
     assert plan.phase_radius(sc) == pytest.approx(s["contact_radius"], rel=1e-12)
     assert plan.phase_radius(sc, s) == plan.phase_radius(sc)
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [(), ("rod1.length=0.05", "rod2.length=0.05"), ("rod2.tip_radius=0.035", "impact.speed=0.1")],
+    ids=["paper", "short-rods", "slow-two-tips"],
+)
+def test_first_contact_summary_ends_the_first_contact_like_the_whole_run(scene_with, extra):
+    """The plan's analytical run over a window of 8 round trips: the first contact's end is the whole run's to the
+    last bit (its integration is the same up to the window), on scenes 10 ms long that it plans without running
+    the whole (a 1 s scene took minutes before the plan: run.py --dry-run, global.py --driver)."""
+    from rods.analytical import simulate
+
+    sc = scene_with("simulation.end_time=0.01", *extra)
+    s = plan.first_contact_summary(sc)
+    assert plan.first_contact_end(s) == plan.first_contact_end(simulate(sc).summary)
+    assert s["contact_episodes"][-1][1] < 0.01 * 0.5  # the window, not the whole run
+
+
+def test_first_contact_summary_runs_the_whole_scene_when_the_contact_outlasts_the_window(scene_with, monkeypatch):
+    """A first contact still open at the window's end (a window of 0.2 round trips here): the whole run decides."""
+    from rods.analytical import simulate
+
+    monkeypatch.setattr(plan, "FIRST_CONTACT_TRANSITS", 0.2)
+    sc = scene_with("simulation.end_time=1e-3")
+    assert plan.first_contact_summary(sc)["contact_episodes"] == simulate(sc).summary["contact_episodes"]

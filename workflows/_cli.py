@@ -26,8 +26,16 @@ EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED = 2, 1, 130
 
 
 class _Parser(argparse.ArgumentParser):
+    """argparse with whole option names only (an abbreviation such as --sce would pass unseen by code that looks
+    for --scene) and one error line, rank 0's under MPI."""
+
+    def __init__(self, **kw: Any):
+        super().__init__(allow_abbrev=False, formatter_class=argparse.RawDescriptionHelpFormatter, **kw)
+
     def error(self, message: str) -> NoReturn:  # argparse exits 2 already; keep one line, one style
-        self.exit(EXIT_BAD_INPUT, f"error: {one_line(message)} (see {self.prog} --help)\n")
+        mpi = _mpi()
+        quiet = mpi is not None and mpi.COMM_WORLD.rank != 0
+        self.exit(EXIT_BAD_INPUT, None if quiet else f"error: {one_line(message)} (see {self.prog} --help)\n")
 
 
 def _number(kind: type, lo: float, closed: bool, unit: str) -> Callable[[str], float]:
@@ -53,7 +61,7 @@ count = _number(int, 1, True, "")  # a step stride
 def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = False) -> argparse.ArgumentParser:
     """The scene options (--scene, --set, --out, --force); ``dry_run``: also --dry-run (see :func:`afford`).
     ``description``: the script's docstring, shown as written (its usage lines included)."""
-    p = _Parser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = _Parser(description=description)
     p.add_argument("--scene", default=str(SCENES / default_scene), help="scene TOML file (default: %(default)s)")
     p.add_argument(
         "--set",
@@ -127,7 +135,7 @@ def load(args: argparse.Namespace) -> Scene:
 
 def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
     """--out, or output/<model>/<scene name made a safe folder name>; checked usable (rods.preflight)."""
-    return output_dir(Path(args.out) if args.out else Path("output") / model / safe_name(scene.name))
+    return output_dir(args.out if args.out is not None else Path("output") / model / safe_name(scene.name))
 
 
 def _mpi():
@@ -200,4 +208,4 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
 
 def bare_parser(description: str) -> argparse.ArgumentParser:
     """A parser without the scene options (the paper's rendering scripts), with the one-line errors."""
-    return _Parser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
+    return _Parser(description=description)

@@ -23,7 +23,6 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, io, plan
-from rods.analytical import simulate
 from rods.fe import checkpoint
 from rods.study import stages
 
@@ -41,12 +40,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "driver" if args.driver else "global", scene)
+    if (args.record_until is not None or args.record_every != 1) and not args.record_cut:
+        why = "the driver records the contact phase, every step" if args.driver else "nothing is recorded without it"
+        _cli.fail(f"--record-until/--record-every go with --record-cut ({why})")
     if args.restart and (args.record_cut or args.driver):
         _cli.fail("--restart cannot be combined with --record-cut/--driver (the cut record is not checkpointed)")
     if args.restart:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
-    phase = plan.contact_phase(simulate(scene).summary, scene.end_time) if args.driver else None  # [s] (ms)
+    phase = plan.contact_phase(plan.first_contact_summary(scene), scene.end_time) if args.driver else None  # [s]
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     what = "the driving global" if args.driver else "the global"
     log(f"{plan.fe_stage(sc, what)} -> {out}")

@@ -23,7 +23,6 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, plan
-from rods.analytical import simulate
 from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
 from rods.study.pipeline import run_study
 
@@ -31,7 +30,7 @@ from rods.study.pipeline import run_study
 def _plan(scene: Scene) -> plan.Plan:
     """The plan run_study will make (the analytical model, milliseconds, gives the contact phase that ends the
     contact-only stages)."""
-    return plan.make_plan(scene, plan.first_contact_end(simulate(scene).summary))
+    return plan.make_plan(scene, plan.first_contact_end(plan.first_contact_summary(scene)))
 
 
 def _fe_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:

@@ -11,6 +11,7 @@ pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR o
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from collections.abc import Sequence
@@ -22,8 +23,9 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, plan
+from rods.fe.submodel import recorded_until, submodel_scene
 from rods.preflight import InputError, input_dir
-from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, scene_from_summary
+from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, scene_from_summary
 from rods.study import stages
 
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
@@ -32,6 +34,22 @@ SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_
 def _step(text: str) -> float | str:
     """--dt: 'auto', 'global' or a time step > 0 [s]."""
     return text if text in ("auto", "global") else _cli.positive(text)
+
+
+def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> None:
+    """The submodel scene (rods.fe.submodel.submodel_scene) validated before anything runs; a refused size or step
+    named by its option (--size, --axial-size, --dt), not by the scene key it becomes."""
+    flags = {
+        "fe.radial_size": "--size",
+        "fe.axial_size": "--axial-size" if args.axial_size else "--size",
+        "fe.dt": "--dt",
+    }
+    try:
+        submodel_scene(scene, h, args.axial_size, end, dt)
+    except SceneError as e:
+        if e.key not in flags:
+            raise
+        raise InputError(flags[e.key], e.value, e.allowed, e.hint or "a smaller value") from None
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -65,6 +83,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         raise InputError("--global", gdir, f"summary.json unreadable or not a global run's ({e})", remedy) from None
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
+    plan.check_driven_scene(scene, scene_from_summary(gsum["scene_values"], (), str(gdir)))
+    try:
+        recorded = recorded_until(gdir / "cut.h5")  # [s]
+    except (OSError, KeyError, IndexError) as e:
+        raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
+    if args.end_time is not None and args.end_time > recorded * (1 + 1e-9):
+        why = f"beyond the driving global's cut record (to {recorded:.6g} s)"
+        raise InputError("--end-time", args.end_time, why, "a smaller --end-time, or a driver recorded longer")
     dt = gsum["dt"] if args.dt == "global" else args.dt
     level = args.level if args.size is None else f"h={args.size:g}"
     if args.phase is not None:
@@ -73,7 +99,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, progress = _cli.rank0(comm)
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
     h = args.size or plan.submodel_size(scene, args.level, args.phase)
-    c = cost.fe_cost(scene, comm.size, what=f"the submodel {level}", size=h, axial_size=args.axial_size, end_time=end)
+    _own_settings(scene, h, args, end, dt)
+    what = f"the submodel {level}"
+    c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt)
     log(f"{plan.fe_stage(scene, f'the submodel {level}', end_time=end, size=h)} -> {out}")
     if scene["fe.checkpoint_interval"] > 0:
         log("note: fe.checkpoint_interval is the global model's; the submodel does not checkpoint")

@@ -43,9 +43,8 @@ from rods import io
 from rods.fe import forms
 from rods.fe.explicit import CentralDifference
 
-__all__ = ["DEFAULT_FIELD_INTERVAL", "FIELD_NAMES", "FieldOutput", "XdmfSeries", "frame_schedule"]
+__all__ = ["FIELD_NAMES", "FieldOutput", "XdmfSeries", "frame_schedule"]
 
-DEFAULT_FIELD_INTERVAL = 10e-6  # [s] when "fields" is requested without fe.field_interval
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
 
 

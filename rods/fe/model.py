@@ -48,7 +48,7 @@ from rods.fe import backend as backends
 from rods.fe import checkpoint, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import CentralDifference
-from rods.fe.fields import DEFAULT_FIELD_INTERVAL, FieldOutput
+from rods.fe.fields import FieldOutput
 from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, Interrupted, RunGuard
 from rods.fe.kinematic import KinematicContact
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh
@@ -235,7 +235,7 @@ class ExplicitModel:
         return "fe-3d" if self.kind == "3d" else "fe-axisymmetric"
 
     def wants_fields(self) -> bool:
-        return "fields" in self.scene.effects or self.scene["fe.field_interval"] > 0
+        return self.scene.field_interval > 0
 
     # ------------------------------------------------------------------------------------------
     def run(
@@ -309,7 +309,7 @@ class ExplicitModel:
         own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm)]
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
             view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
-            own.append(FieldOutput(self, out, sc["fe.field_interval"] or DEFAULT_FIELD_INTERVAL, view, step0))
+            own.append(FieldOutput(self, out, sc.field_interval, view, step0))
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = max(1, int(round(sc["fe.checkpoint_interval"] / dt)))  # an interval below Δt: every step

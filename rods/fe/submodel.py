@@ -71,6 +71,7 @@ __all__ = [
     "CutRecorder",
     "PeakField",
     "SubmodelResult",
+    "recorded_until",
     "run_submodel",
     "submodel_scene",
     "surface_gauss_stress",
@@ -255,6 +256,14 @@ class CutRecorder:
 # ----------------------------------------------------------------------------------------------
 # driving (submodel run)
 # ----------------------------------------------------------------------------------------------
+def recorded_until(path: str | Path) -> float:
+    """The last time [s] of a cut record (the submodels it drives can run to it)."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        return float(f["times"][-1])
+
+
 def _read_cut(path: Path) -> dict[str, Any]:
     import h5py
 
