@@ -128,3 +128,46 @@ def test_a_force_rising_within_two_diameter_transits_is_beyond_bar_theory(scene_
     assert w is not None and w.startswith("peak_contact_force") and "transits" in w
     fe_like = dict(rw.summary, model="fe-axisymmetric")
     assert checks.bar_theory_warning(fe_like, rw.history, wide) is None
+
+
+def test_a_thick_striker_on_a_thin_rod_warns_by_the_thicker_rods_transit(scene_with):
+    """25 mm striker with a 0.5 m tip on a 6 mm flat rod: the force rises in 3.5 µs, 3 transits of the thin rod
+    but 0.7 of the thick one (FE peak +2.46% against it, measured): beyond bar theory, and the patch (0.66 of the
+    thin rod's radius) reaches its rim. Before, status "ok"."""
+    sc = scene_with("rod1.diameter=0.025", "rod1.tip_radius=0.5", "rod2.diameter=0.006")
+    r = simulate(sc)
+    s = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    assert s["status"] == "warnings"
+    assert any("diameter transits" in w for w in s["warnings"]) and any("reaches the rim" in w for w in s["warnings"])
+
+
+def test_a_patch_at_the_rim_and_a_near_incompressible_fe_run_are_not_ok(scene_with):
+    """The rim and locking checks on a summary alone: a = 0.6 b warns (0.5 b does not), and an FE run at
+    ν = 0.499 warns (0.49 does not; the analytical model has no elements to lock)."""
+    sc = scene_with()
+    b = sc.rod1.diameter / 2
+    assert checks.rim_warning({"contact_radius": 0.5 * b}, sc) is None
+    assert "rim" in checks.rim_warning({"contact_radius": 0.6 * b}, sc)
+    soft = scene_with(*(f"rod{n}.material.{k}" for n in (1, 2) for k in ("poisson_ratio=0.499", "yield_strength=none")))
+    assert "lock" in checks.locking_warning({"model": "fe-axisymmetric"}, soft)
+    assert checks.locking_warning({"model": "analytical"}, soft) is None
+    assert checks.locking_warning({"model": "fe-3d"}, scene_with("rod2.material.poisson_ratio=0.49")) is None
+
+
+def test_a_contact_ended_by_the_duration_threshold_is_ended_in_every_model(scene_with):
+    """Thin 1 m / 1.5 m rods to 0.5 ms: the analytical force falls below the contact threshold at 470 µs (as in a
+    1.5 ms run) but its raw episode is still open; judged by the threshold, as the FE's is, the duration is 470 µs,
+    not null (the two models disagreed on whether the contact had ended)."""
+    sc = scene_with("rod1.length=1.0", "rod2.length=1.5", "rod1.diameter=0.005", "rod2.diameter=0.005",
+                    "simulation.end_time=0.5e-3")  # fmt: skip
+    r = simulate(sc)
+    s = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    longer = simulate(sc.with_overrides("simulation.end_time=1.5e-3")).summary["contact_duration"]
+    assert s["contact_duration"] == pytest.approx(longer, rel=1e-6)
+
+
+def test_too_few_plateaus_over_many_periods_says_a_longer_run_will_not_help():
+    t = np.linspace(0, 1, 2001)
+    square = (np.sin(2 * np.pi * 6 * t) > 0).astype(float) * (t < 0.3)  # 2 plateaus
+    assert "within end_time" in checks.plateau_warning(t, square, period=0.5)  # 2 periods: lengthen the run
+    assert "will not help" in checks.plateau_warning(t, square, period=0.05)  # 20 periods: no plateaus to find
