@@ -182,7 +182,7 @@ class Plan:
     reasons: tuple[str, ...] = field(default=())
 
     def describe(self) -> str:
-        lines = [f"effects: {', '.join(self.effects)}"]
+        lines = [f"effects: {', '.join(self.effects) or 'none (the analytical model only)'}"]
         lines.append("  analytical model: yes")
         if self.global_model:
             lines.append(f"  global FE model ({self.global_kind}): until t = {self.global_end_time * 1e6:.1f} µs")

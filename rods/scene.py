@@ -331,6 +331,9 @@ def parse_override(text: str) -> tuple[str, Any]:
 
 def _apply_override(data: dict[str, Any], key: str, value: Any) -> None:
     # stations are a list of tables and are set in the file, not on the command line
+    if key.split(".")[0] == "station":
+        why = "stations are a list of tables: [[station]] with rod, position and name, in a scene file"
+        raise SceneError(key, value, why, "write a scene file with base = 'paper.toml' and its [[station]] tables")
     if key not in SCHEMA:
         raise SceneError(key, value, _unknown_msg(key))
     *parents, leaf = key.split(".")
@@ -697,6 +700,9 @@ def _cross_checks(v: dict[str, Any]) -> None:
     _mesh_fits_rods(v)
     if "misalignment" in v["effects"] and v["fe.kind"] != "3d":
         raise SceneError("effects", v["effects"], "'misalignment' needs fe.kind = '3d'")
+    if v["submodel.levels"] == [] and set(v["effects"]) & set(SUBMODEL_EFFECTS):
+        why = f"must name a level where effects ask for the contact region ({', '.join(SUBMODEL_EFFECTS)})"
+        raise SceneError("submodel.levels", [], why, "'auto', or e.g. ['fine']")
     if (v["impact.offset"] > 0 or v["impact.tilt"] > 0) and v["fe.kind"] != "3d":
         key = "impact.offset" if v["impact.offset"] > 0 else "impact.tilt"
         raise SceneError(key, v[key], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)")

@@ -94,6 +94,7 @@ BAD = [
     ("fe.dt=-1e-9", "fe.dt", "(0, "),
     ("fe.dt='fast'", "fe.dt", "'auto'"),
     ("simulation.end_time=1e-7", "simulation.output_interval", "end_time"),
+    ("station.rod=1", "station.rod", "[[station]]"),  # listed 44 keys as unknown before
 ]
 
 
@@ -304,3 +305,11 @@ def test_a_station_inside_a_curved_cap_is_refused(paper_dict):
     s = scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": cap * 1.001, "name": "tip1"}]})
     assert s.stations[0].position > cap
     assert scene_from_dict({**paper_dict, "station": [{"rod": 2, "position": 0.0, "name": "tip2"}]}).stations
+
+
+def test_no_submodel_level_for_a_contact_effect_is_refused(scene_with):
+    """effects = ['contact_patch'] with submodel.levels = []: the plan said the submodel refines the contact and
+    listed no level; refused, naming the remedy. Without a contact effect an empty list is allowed."""
+    with pytest.raises(SceneError, match="submodel.levels.*must name a level"):
+        scene_with("effects=['contact_patch']", "submodel.levels=[]")
+    assert scene_with("effects=['wave_response']", "submodel.levels=[]")["submodel.levels"] == []

@@ -17,8 +17,20 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from rods import io
+from rods.preflight import short
 
-__all__ = ["FIELDS", "code_key", "point_key", "read_record", "scene_key", "sync_text", "write_sweep_table"]
+__all__ = [
+    "CONFIG_KEYS",
+    "FIELDS",
+    "ConfigError",
+    "check_config",
+    "code_key",
+    "point_key",
+    "read_record",
+    "scene_key",
+    "sync_text",
+    "write_sweep_table",
+]
 
 # the columns of results/sweep-*.csv (after "path", before "key"): summary keys, SI units
 FIELDS = (
@@ -34,6 +46,77 @@ FIELDS = (
     "dt",
     "energy_error",
 )
+
+
+CONFIG_KEYS = (
+    "scene", "speeds", "mesh_levels", "dt_fractions", "kinds", "fe_speed", "ranks", "mpi",
+    "paper_levels", "paper_phase_levels", "paper_global_meshes",
+)  # fmt: skip
+
+
+class ConfigError(ValueError):
+    """A Snakemake config value (workflows/sweep.yaml or --config) that the sweeps cannot run."""
+
+    def __init__(self, key: str, value: object, why: str):
+        super().__init__(
+            f"config '{key}' = {short(value)}: {why} (workflows/sweep.yaml; override with --config {key}=...)"
+        )
+
+
+def check_config(config: Mapping[str, object]) -> None:
+    """Refuse, before any job, a config the sweeps cannot run: unknown keys, a scene that does not load, speeds,
+    mesh sizes, time-step fractions, model kinds, ranks and levels outside the scene schema's ranges (each value
+    is checked as the scene override it becomes)."""
+    from rods.scene import SUBMODEL_LEVELS, SceneError, load_scene
+
+    unknown = sorted(set(config) - set(CONFIG_KEYS))
+    if unknown:
+        raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; known: {', '.join(CONFIG_KEYS)}")
+    try:
+        load_scene(str(config["scene"]))
+    except SceneError as e:
+        raise ConfigError("scene", config["scene"], str(e)) from None
+
+    def each(key: str, kind: type, overrides) -> None:
+        values = config[key]
+        if not isinstance(values, kind) or not values:
+            raise ConfigError(key, values, f"must be a non-empty {'list' if kind is list else 'mapping'}")
+        for v in values:
+            try:
+                load_scene(str(config["scene"]), overrides(v))
+            except (SceneError, TypeError, ValueError) as e:
+                raise ConfigError(key, values, f"entry {short(v)}: {e}") from None
+
+    each("speeds", list, lambda v: [f"impact.speed={_number(v)!r}"])
+    each("mesh_levels", dict, lambda k: [f"fe.axial_size={_number(config['mesh_levels'][k][0])!r}",
+                                         f"fe.radial_size={_number(config['mesh_levels'][k][1])!r}"])  # fmt: skip
+    each("dt_fractions", list, lambda v: [f"fe.dt_fraction={_number(v)!r}"])
+    each("kinds", list, lambda v: [f"fe.kind={v!r}"])
+    each("paper_global_meshes", dict, lambda k: list(config["paper_global_meshes"][k]))
+    if "coarse" not in config["mesh_levels"]:
+        raise ConfigError("mesh_levels", config["mesh_levels"], "must hold 'coarse' (the time-step sweep's mesh)")
+    try:
+        load_scene(str(config["scene"]), [f"impact.speed={_number(config['fe_speed'])!r}"])
+    except (SceneError, TypeError, ValueError) as e:
+        raise ConfigError("fe_speed", config["fe_speed"], str(e)) from None
+    if isinstance(config["ranks"], bool) or not isinstance(config["ranks"], int) or config["ranks"] < 1:
+        raise ConfigError("ranks", config["ranks"], "must be an integer >= 1 (MPI ranks per FE run)")
+    if not isinstance(config["mpi"], str):
+        raise ConfigError("mpi", config["mpi"], "must be a launcher command ('' = the venv's mpirun)")
+    for key in ("paper_levels", "paper_phase_levels"):
+        levels = config[key]
+        if not isinstance(levels, list) or not set(levels) <= set(SUBMODEL_LEVELS):
+            raise ConfigError(key, levels, f"must be a list of submodel levels: {', '.join(SUBMODEL_LEVELS)}")
+
+
+def _number(v: object) -> float:
+    """A config number: a YAML int or float, or a numeric string (--config 'speeds=[1.0,2.0]' gives strings)."""
+    if isinstance(v, bool) or not isinstance(v, int | float | str):
+        raise TypeError(f"{short(v)} is not a number")
+    try:
+        return float(v)
+    except ValueError:
+        raise TypeError(f"{short(v)} is not a number") from None
 
 
 def _sha(text: str) -> str:
