@@ -99,23 +99,16 @@ def run_worker(ranks: int, mesh: str, steps: int) -> dict:
 
 
 def paper_size() -> tuple[int, int]:
-    """(hexahedra, DOFs) of workflows/scenes/paper-3d.toml from the O-grid counts (no meshing)."""
+    """(hexahedra, DOFs) of workflows/scenes/paper-3d.toml from the O-grid counts (no meshing): the plan's own
+    count (rods.cost.fe_cost, exact against built meshes: tests/test_cost.py)."""
     import rods.fe  # noqa: F401
 
     # isort: split
-    from rods.fe.mesh import axial_spacing
-    from rods.fe.mesh3d import section_counts
+    from rods.cost import fe_cost
     from rods.scene import load_scene
 
-    sc = load_scene(ROOT / "workflows" / "scenes" / "paper-3d.toml")
-    n_c, n_r, _ = section_counts(sc.rod1.diameter / 2, sc["fe.radial_size"])
-    cells_sec = n_c * n_c + 4 * n_c * n_r
-    nodes_sec = (n_c + 1) ** 2 + 4 * n_c * n_r
-    layers = [axial_spacing(rod, sc["fe.axial_size"], sc.tip_grading) for rod in sc.rods]
-    n_layers = [sp.n_graded + sp.n_uniform for sp in layers]
-    cells = cells_sec * sum(n_layers)
-    dofs = 3 * nodes_sec * sum(n + 1 for n in n_layers)
-    return cells, dofs
+    c = fe_cost(load_scene(ROOT / "workflows" / "scenes" / "paper-3d.toml"))
+    return int(c.cells), int(c.dofs)
 
 
 def main() -> int:

@@ -62,9 +62,10 @@ __all__ = [
 STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
 WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 3 h on one rank, 14 h in 3D) [-]
 VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
-# analytical model: integration time per transit L/c of the shorter rod [s] (measured: paper rods 1.5 and 15 ms, 6 and
-# 8.6 ms per transit; 50 mm rods 15 ms, 12 ms per transit)
-SECONDS_PER_TRANSIT = 1e-2
+# analytical model: integration time per one-way pass L/c of a wave in the rod with the most (measured: paper rods
+# to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass), and per history value
+SECONDS_PER_PASS = 1e-2  # [s]
+SECONDS_PER_VALUE = 1e-6  # [s]
 BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
@@ -77,7 +78,7 @@ FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) 
 # a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes) and its time
 # (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs, 2 ranks):
 # 221 MB, 0.82 s more than the same run without fields
-FIELD_BYTES_PER_DOF = 80.0  # [B]
+FIELD_BYTES_PER_DOF = 80.0  # [B] (axisymmetric: 2 DOFs per node; 3D nodes carry 3, so it errs high there)
 FIELD_SECONDS_PER_DOF = 3e-7  # [s]
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
@@ -190,7 +191,7 @@ def fe_cost(
     key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
     dt = given if given != "auto" else min(scene["fe.dt_fraction"] * stable, switching)
     if given != "auto" and given > DT_REFUSE_FACTOR * limit:
-        raise SceneError(
+        raise (SceneError if size is None else InputError)(  # a scene key, or the submodel's --dt
             key,
             given,
             f"must be <= the stable limit, about {limit:.3g} s on this mesh (estimated from its smallest element; "
@@ -205,7 +206,11 @@ def fe_cost(
     )
     setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
     loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
-    frames = math.floor(end / scene.field_interval) + 2 if size is None and scene.field_interval > 0 else 0
+    frames = 0
+    if size is None and scene.field_interval > 0:  # the submodel writes none
+        from rods.fe.fields import frame_count
+
+        frames = frame_count(scene.field_interval, dt, steps)
     field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
     return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
@@ -250,12 +255,13 @@ def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
 
 
 def analytical_cost(scene: Scene) -> Cost:
-    """The analytical model's recorded samples, memory and time: :data:`SECONDS_PER_TRANSIT` per wave transit of
-    the shorter rod (each reflection restarts the delay equation's integration) plus 1 µs per history value."""
+    """The analytical model's recorded samples, memory and time: :data:`SECONDS_PER_PASS` per one-way wave pass
+    L/c of the rod with the most (each reflection restarts the delay equation's integration) plus
+    :data:`SECONDS_PER_VALUE` per history value."""
     samples = math.floor(scene.end_time / scene.output_interval) + 1
     values = samples * (5 + 2 * len(scene.stations))
-    transits = scene.end_time * max(r.material.wave_speed for r in scene.rods) / min(r.length for r in scene.rods)
-    wall = SECONDS_PER_TRANSIT * transits + 1e-6 * values
+    passes = scene.end_time * max(r.material.wave_speed / r.length for r in scene.rods)  # [-]
+    wall = SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values
     return Cost("analytical model", 0, 0, 0, samples, values, 60e6 + 3 * BYTES_PER_VALUE * values, wall)
 
 

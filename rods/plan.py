@@ -41,6 +41,7 @@ __all__ = [
     "Plan",
     "check_driven_scene",
     "contact_phase",
+    "driver_phase",
     "fe_stage",
     "first_contact_end",
     "first_contact_summary",
@@ -69,22 +70,28 @@ def first_contact_end(analytical_summary: Mapping[str, Any]) -> float | None:
     return float(episodes[0][1]) if episodes else None
 
 
-FIRST_CONTACT_TRANSITS = 8  # window of first_contact_summary: this x the slower rod's round trip 2L/c [-]
+FIRST_CONTACT_ROUND_TRIPS = 8  # window of first_contact_summary: this x the slower rod's round trip 2L/c [-]
 
 
 def first_contact_summary(scene: Scene) -> dict[str, Any]:
     """The analytical model's summary over a window that holds the first contact (what the contact phase needs):
-    :data:`FIRST_CONTACT_TRANSITS` x the slower rod's round trip 2L/c, or the whole run where that is shorter or
-    the first contact outlasts the window. A 1 s scene plans in milliseconds instead of minutes."""
+    :data:`FIRST_CONTACT_ROUND_TRIPS` x the slower rod's round trip 2L/c, or the whole run where that is shorter or
+    the first contact outlasts the window (a 1 s paper scene: 0.34 s instead of minutes)."""
     from rods.analytical import simulate
 
-    window = FIRST_CONTACT_TRANSITS * max(2 * r.length / r.material.wave_speed for r in scene.rods)  # [s]
+    window = FIRST_CONTACT_ROUND_TRIPS * max(r.transit_time for r in scene.rods)  # [s]
     if window < scene.end_time:
         over = (f"simulation.end_time={window!r}", f"simulation.output_interval={min(scene.output_interval, window)!r}")
         s = simulate(scene.with_overrides(*over)).summary
         if s["contact_episodes"] and s["contact_episodes"][0][1] < window:
             return s
     return simulate(scene).summary
+
+
+def driver_phase(scene: Scene) -> float:
+    """The contact phase [s] a driving global of ``scene`` runs and records (its submodels' end time), from the
+    analytical model's first contact (:func:`first_contact_summary`)."""
+    return contact_phase(first_contact_summary(scene), scene.end_time)
 
 
 def contact_phase(analytical_summary: Mapping[str, Any], end_time: float) -> float:

@@ -26,7 +26,7 @@ __all__ = ["MAX_VALUE", "InputError", "input_dir", "one_line", "output_dir", "sa
 MAX_VALUE = 120  # characters of a value shown in a message [-]
 MAX_MESSAGE = 1000  # characters of a whole message line [-]
 MAX_FOLDER_NAME = 100  # characters of a folder named after a scene [-]
-NAME_MAX = 255  # bytes of one file or folder name [-]
+NAME_MAX = 255  # [B] of one file or folder name
 
 
 def short(value: Any, limit: int = MAX_VALUE) -> str:

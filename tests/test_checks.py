@@ -28,6 +28,15 @@ def test_contact_open_at_end_time_is_null_with_a_warning(scene_with):
     assert any(w.startswith("contact_duration") and "end_time" in w for w in s["warnings"])
 
 
+def test_a_contact_open_at_the_last_sample_warns_when_end_time_is_no_sample(scene_with):
+    """end_time 1e-4 s, output every 3e-6 s: the last sample (99 µs) precedes end_time, and the contact open there
+    is open at the run's end (found by review: judged against end_time, it read as ended, duration 99 µs)."""
+    sc = scene_with("simulation.end_time=1e-4", "simulation.output_interval=3e-6")
+    r = simulate(sc)
+    s = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    assert s["contact_duration"] is None and any("has not ended" in w for w in s["warnings"])
+
+
 def test_plateau_assumptions():
     t = np.linspace(0, 1, 2001)
     square = (np.sin(2 * np.pi * 6 * t) > 0).astype(float)  # six flat plateaus at 1.0

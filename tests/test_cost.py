@@ -40,7 +40,7 @@ def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
     assert c.cells == m.plan()["cells"] and c.steps == pytest.approx(m.steps, rel=0.15)
 
 
-@pytest.mark.parametrize("symmetry", ["quarter", "full"])
+@pytest.mark.parametrize("symmetry", ["quarter", "half", "full"])
 def test_estimate_matches_the_built_3d_model(scene_with, symmetry):
     """3D: cells and DOFs exactly (the O-grid's own counts, rods.fe.mesh3d.section_size), the steps within 15% of
     the set-up's (a hexahedron's step is sqrt(2/3) of a square's: the estimate was 0.72 of the paper mesh's)."""

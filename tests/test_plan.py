@@ -76,6 +76,6 @@ def test_first_contact_summary_runs_the_whole_scene_when_the_contact_outlasts_th
     """A first contact still open at the window's end (a window of 0.2 round trips here): the whole run decides."""
     from rods.analytical import simulate
 
-    monkeypatch.setattr(plan, "FIRST_CONTACT_TRANSITS", 0.2)
+    monkeypatch.setattr(plan, "FIRST_CONTACT_ROUND_TRIPS", 0.2)
     sc = scene_with("simulation.end_time=1e-3")
     assert plan.first_contact_summary(sc)["contact_episodes"] == simulate(sc).summary["contact_episodes"]

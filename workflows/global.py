@@ -40,7 +40,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "driver" if args.driver else "global", scene)
-    if (args.record_until is not None or args.record_every != 1) and not args.record_cut:
+    if (args.record_until is not None or args.record_every != 1) and (args.driver or not args.record_cut):
         why = "the driver records the contact phase, every step" if args.driver else "nothing is recorded without it"
         _cli.fail(f"--record-until/--record-every go with --record-cut ({why})")
     if args.restart and (args.record_cut or args.driver):
@@ -48,7 +48,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.restart:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
-    phase = plan.contact_phase(plan.first_contact_summary(scene), scene.end_time) if args.driver else None  # [s]
+    phase = plan.driver_phase(scene) if args.driver else None  # [s] the driver's record, the submodels' end
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     what = "the driving global" if args.driver else "the global"
     log(f"{plan.fe_stage(sc, what)} -> {out}")

@@ -15,6 +15,7 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
 
@@ -36,8 +37,32 @@ def _step(text: str) -> float | str:
     return text if text in ("auto", "global") else _cli.positive(text)
 
 
-def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> None:
-    """The submodel scene (rods.fe.submodel.submodel_scene) validated before anything runs; a refused size or step
+def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path, dict, Scene]:
+    """(folder, summary, the submodel's scene) of the driving global --global, checked before anything runs: its
+    files readable, the scene's rods, impact and cut its own (rods.plan.check_driven_scene), --end-time within
+    its cut record."""
+    remedy = f"run workflows/global.py --driver --out {args.global_dir} first"
+    gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
+    try:
+        gsum = json.loads((gdir / "summary.json").read_text())
+        gsum["scene_values"], gsum["dt"]
+    except (ValueError, KeyError, TypeError) as e:
+        raise InputError("--global", gdir, f"summary.json unreadable or not a global run's ({e})", remedy) from None
+    given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
+    scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
+    plan.check_driven_scene(scene, scene_from_summary(gsum["scene_values"], (), str(gdir)))
+    try:
+        recorded = recorded_until(gdir / "cut.h5")  # [s]
+    except (OSError, KeyError, IndexError, ValueError, TypeError) as e:
+        raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
+    if args.end_time is not None and args.end_time > recorded * (1 + 1e-9):
+        why = f"beyond the driving global's cut record (to {recorded:.6g} s)"
+        raise InputError("--end-time", args.end_time, why, "a smaller --end-time, or a driver recorded longer")
+    return gdir, gsum, scene
+
+
+def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
+    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size or step
     named by its option (--size, --axial-size, --dt), not by the scene key it becomes."""
     flags = {
         "fe.radial_size": "--size",
@@ -45,7 +70,7 @@ def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float |
         "fe.dt": "--dt",
     }
     try:
-        submodel_scene(scene, h, args.axial_size, end, dt)
+        return submodel_scene(scene, h, args.axial_size, end, dt)
     except SceneError as e:
         if e.key not in flags:
             raise
@@ -74,23 +99,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
-    remedy = f"run workflows/global.py --driver --out {args.global_dir} first"
-    gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
-    try:
-        gsum = json.loads((gdir / "summary.json").read_text())
-        gsum["scene_values"], gsum["dt"]
-    except (ValueError, KeyError, TypeError) as e:
-        raise InputError("--global", gdir, f"summary.json unreadable or not a global run's ({e})", remedy) from None
-    given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
-    scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
-    plan.check_driven_scene(scene, scene_from_summary(gsum["scene_values"], (), str(gdir)))
-    try:
-        recorded = recorded_until(gdir / "cut.h5")  # [s]
-    except (OSError, KeyError, IndexError) as e:
-        raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
-    if args.end_time is not None and args.end_time > recorded * (1 + 1e-9):
-        why = f"beyond the driving global's cut record (to {recorded:.6g} s)"
-        raise InputError("--end-time", args.end_time, why, "a smaller --end-time, or a driver recorded longer")
+    gdir, gsum, scene = _driver(args, argv)
     dt = gsum["dt"] if args.dt == "global" else args.dt
     level = args.level if args.size is None else f"h={args.size:g}"
     if args.phase is not None:
@@ -99,10 +108,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, progress = _cli.rank0(comm)
     end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
     h = args.size or plan.submodel_size(scene, args.level, args.phase)
-    _own_settings(scene, h, args, end, dt)
     what = f"the submodel {level}"
+    own = _own_settings(scene, h, args, end, dt)  # its contact law and outputs, as it will run
     c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt)
-    log(f"{plan.fe_stage(scene, f'the submodel {level}', end_time=end, size=h)} -> {out}")
+    log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
     if scene["fe.checkpoint_interval"] > 0:
         log("note: fe.checkpoint_interval is the global model's; the submodel does not checkpoint")
     _cli.backend(scene, comm.size)

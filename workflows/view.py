@@ -75,6 +75,7 @@ def _bad(message: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    # plain argparse: this runs under ParaView's pvpython, without the venv's workflows/_cli.py helpers
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", type=Path, help="run folder (with fields.xdmf) or the .xdmf file")
     ap.add_argument("--reader", choices=("xdmf3", "legacy"), default="xdmf3")

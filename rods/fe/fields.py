@@ -43,23 +43,36 @@ from rods import io
 from rods.fe import forms
 from rods.fe.explicit import CentralDifference
 
-__all__ = ["FIELD_NAMES", "FieldOutput", "XdmfSeries", "frame_schedule"]
+__all__ = ["FIELD_NAMES", "frame_count", "FieldOutput", "XdmfSeries", "frame_schedule"]
 
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
 
 
-def frame_schedule(interval: float, dt: float, steps: int) -> dict[int, list[tuple[int, float]]]:
-    """Step n -> [(frame index k, time t_k [s])]: t_k = k x ``interval`` <= steps Δt at n = round(t_k/Δt),
-    then the final state (k = last + 1, t = steps Δt) unless it lies within a step of the last requested time
-    (a run ends at the first step at or past its end time: that frame would repeat the last one)."""
+def _requested(interval: float, dt: float, steps: int) -> tuple[int, bool]:
+    """(index of the last requested frame, whether the final state is a frame of its own: it lies a step or more
+    past the last requested time; a run ends at the first step at or past its end time, and a frame closer than
+    that would repeat the last one)."""
     end = steps * dt
     n_req = int(math.floor(end / interval * (1 + 1e-12)))
+    return n_req, end - n_req * interval >= dt * (1 - 1e-9)
+
+
+def frame_count(interval: float, dt: float, steps: int) -> int:
+    """The number of frames :func:`frame_schedule` makes, without building it (rods.cost counts them)."""
+    n_req, final = _requested(interval, dt, steps)
+    return n_req + 1 + final
+
+
+def frame_schedule(interval: float, dt: float, steps: int) -> dict[int, list[tuple[int, float]]]:
+    """Step n -> [(frame index k, time t_k [s])]: t_k = k x ``interval`` <= steps Δt at n = round(t_k/Δt),
+    then the final state (k = last + 1, t = steps Δt) where :func:`_requested` says so."""
+    n_req, final = _requested(interval, dt, steps)
     sched: dict[int, list[tuple[int, float]]] = {}
     for k in range(n_req + 1):
         t = k * interval
         sched.setdefault(min(steps, round(t / dt)), []).append((k, t))
-    if end - n_req * interval >= dt * (1 - 1e-9):
-        sched.setdefault(steps, []).append((n_req + 1, end))
+    if final:
+        sched.setdefault(steps, []).append((n_req + 1, steps * dt))
     return sched
 
 

@@ -108,8 +108,7 @@ def section_size(R: float, h: float, symmetry: str = "full") -> tuple[int, int]:
     m = n_c // 2
     core = {"full": (n_c + 1) ** 2, "half": (n_c + 1) * (m + 1), "quarter": (m + 1) ** 2}[symmetry]
     ring = {"full": 4 * n_c, "half": 2 * n_c + 1, "quarter": n_c + 1}[symmetry]
-    share = {"full": 1, "half": 2, "quarter": 4}[symmetry]
-    return (n_c * n_c + 4 * n_c * n_r) // share, core + n_r * ring
+    return (n_c * n_c + 4 * n_c * n_r) // MULTIPLICITY[symmetry], core + n_r * ring
 
 
 def _layers(rod: Rod, h: float, grading: float) -> tuple[list[int], list[float], float]:

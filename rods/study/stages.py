@@ -141,7 +141,7 @@ def driver(
     run and recorded over the contact phase [s] only (default: from the analytical model of ``scene``). Its
     summary carries ``contact_phase``, the end time of the submodels it drives."""
     if contact_phase is None:
-        contact_phase = plan.contact_phase(plan.first_contact_summary(scene), scene.end_time)
+        contact_phase = plan.driver_phase(scene)
     sc = plan.submodel_driver(scene, contact_phase)
     extra = driver_keys(contact_phase)
     return global_model(sc, out, comm, record_cut=True, progress=progress, log=log, name="driver", extra=extra)

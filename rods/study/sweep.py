@@ -72,6 +72,9 @@ def check_config(config: Mapping[str, object]) -> None:
     unknown = sorted(set(config) - set(CONFIG_KEYS))
     if unknown:
         raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; known: {', '.join(CONFIG_KEYS)}")
+    missing = [k for k in CONFIG_KEYS if k not in config]
+    if missing:
+        raise ConfigError(missing[0], None, "missing (workflows/sweep.yaml states every key)")
     try:
         load_scene(str(config["scene"]))
     except SceneError as e:
@@ -84,12 +87,11 @@ def check_config(config: Mapping[str, object]) -> None:
         for v in values:
             try:
                 load_scene(str(config["scene"]), overrides(v))
-            except (SceneError, TypeError, ValueError) as e:
+            except (SceneError, TypeError, ValueError, KeyError, IndexError) as e:
                 raise ConfigError(key, values, f"entry {short(v)}: {e}") from None
 
     each("speeds", list, lambda v: [f"impact.speed={_number(v)!r}"])
-    each("mesh_levels", dict, lambda k: [f"fe.axial_size={_number(config['mesh_levels'][k][0])!r}",
-                                         f"fe.radial_size={_number(config['mesh_levels'][k][1])!r}"])  # fmt: skip
+    each("mesh_levels", dict, lambda k: _mesh_level(config["mesh_levels"][k]))
     each("dt_fractions", list, lambda v: [f"fe.dt_fraction={_number(v)!r}"])
     each("kinds", list, lambda v: [f"fe.kind={v!r}"])
     each("paper_global_meshes", dict, lambda k: list(config["paper_global_meshes"][k]))
@@ -105,8 +107,15 @@ def check_config(config: Mapping[str, object]) -> None:
         raise ConfigError("mpi", config["mpi"], "must be a launcher command ('' = the venv's mpirun)")
     for key in ("paper_levels", "paper_phase_levels"):
         levels = config[key]
-        if not isinstance(levels, list) or not set(levels) <= set(SUBMODEL_LEVELS):
+        if not isinstance(levels, list) or not all(isinstance(v, str) and v in SUBMODEL_LEVELS for v in levels):
             raise ConfigError(key, levels, f"must be a list of submodel levels: {', '.join(SUBMODEL_LEVELS)}")
+
+
+def _mesh_level(sizes: object) -> list[str]:
+    """A mesh level's [axial, radial] sizes [m] as scene overrides."""
+    if not isinstance(sizes, list) or len(sizes) != 2:
+        raise TypeError(f"{short(sizes)} is not [axial size, radial size] in metres")
+    return [f"fe.axial_size={_number(sizes[0])!r}", f"fe.radial_size={_number(sizes[1])!r}"]
 
 
 def _number(v: object) -> float:

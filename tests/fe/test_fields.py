@@ -15,7 +15,7 @@ import meshio
 import numpy as np
 import pytest
 
-from rods.fe.fields import FIELD_NAMES, frame_schedule
+from rods.fe.fields import FIELD_NAMES, frame_count, frame_schedule
 
 from ..conftest import MPIRUN, ROOT, run_workflow, set_args
 
@@ -44,6 +44,8 @@ def test_schedule_requested_times_at_the_nearest_step_and_the_final_state():
     assert sched[11] == [(4, pytest.approx(3.3e-6))]
     sched = frame_schedule(1e-6, 0.301e-6, 10)  # end 3.01 µs, a fraction of a step past 3 µs: no repeat frame
     assert [(n, k) for n, fr in sorted(sched.items()) for k, _ in fr] == [(0, 0), (3, 1), (7, 2), (10, 3)]
+    for args in [(1e-6, 0.3e-6, 10), (1e-6, 0.3e-6, 11), (1e-6, 0.301e-6, 10), (5e-6, 3.3e-8, 7607), (1e-9, 1e-7, 5)]:
+        assert frame_count(*args) == sum(map(len, frame_schedule(*args).values())), args  # what rods.cost counts
 
 
 def test_every_field_on_one_grid_at_the_requested_times(tmp_path):

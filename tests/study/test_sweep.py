@@ -44,9 +44,14 @@ def test_the_shipped_config_passes(config):
         ({"paper_global_meshes": {"x": ["fe.kind=2d"]}}, ["'paper_global_meshes'", "fe.kind"]),
         ({"scene": "nope.toml"}, ["'scene'", "no such scene file"]),
         ({"sceen": "x"}, ["'sceen'", "unknown key"]),
+        ({"mesh_levels": {"coarse": [1e-3]}}, ["'mesh_levels'", "[axial size, radial size]"]),
+        ({"mesh_levels": {"coarse": {"a": 1}}}, ["'mesh_levels'", "[axial size, radial size]"]),
+        ({"paper_levels": [["fine"]]}, ["'paper_levels'", "submodel levels"]),
     ],
 )
 def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
+    """Each a one-line ConfigError (found by review: a one-entry mesh level, a nested level list escaped as
+    IndexError/TypeError tracebacks)."""
     with pytest.raises(ConfigError) as e:
         check_config(config | change)
     for w in words:
