@@ -322,3 +322,16 @@ def test_a_long_scene_name_is_cut_to_a_folder_name_with_its_hash():
     a, b = safe_name("n" * 300), safe_name("n" * 299 + "m")
     assert len(a) == len(b) == MAX_FOLDER_NAME and a != b and a[:80] == b[:80]
     assert safe_name("paper") == "paper"
+
+
+def test_a_closed_reader_ends_an_fe_entry_point_quietly(tmp_path):
+    """`global.py ... | head -1`: the closed pipe ends the run like any command-line tool (SIGPIPE), without
+    PETSc's 'Caught signal number 13 Broken Pipe' error block and MPI_Abort (found by a client probe)."""
+    p = subprocess.Popen(
+        [str(PY), str(W / "global.py"), "--driver", "--dry-run", "--out", str(tmp_path / "o")],
+        cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    )  # fmt: skip
+    assert p.stdout.readline().startswith(b"plan: ")
+    p.stdout.close()  # the reader goes away before the rest is written
+    _, err = p.communicate(timeout=120)
+    assert b"PETSC ERROR" not in err and b"MPI_Abort" not in err, err.decode()[-2000:]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -185,6 +186,12 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
 
     def run(argv: Sequence[str] | None = None) -> int:
         previous = interrupt.install()
+        # a closed reader (`| head`) ends the process quietly, as for any command-line tool (PETSc's handler
+        # printed a "Caught signal number 13 Broken Pipe" error block and called MPI_Abort); PETSc installs its
+        # handlers when it initialises, so an FE entry point (rods.fe loaded) initialises it first
+        if "rods.fe" in sys.modules:
+            from petsc4py import PETSc  # noqa: F401
+        pipe = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
         try:
             return main(argv)
         except (SceneError, InputError) as e:
@@ -202,6 +209,7 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
             return _abort(f"{type(e).__name__}: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
         finally:
             interrupt.uninstall(previous)
+            signal.signal(signal.SIGPIPE, pipe)
 
     return run
 
