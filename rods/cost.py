@@ -285,24 +285,18 @@ def check(cost: Cost, force: bool = False) -> Cost:
             f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
             "coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time",
         )  # fmt: skip
-    if not force and cost.steps > STEP_BUDGET:
-        raise InputError(
-            cost.what, f"{cost.steps:.3g} steps", f"above the step budget {STEP_BUDGET:g} (about "
-            f"{_duration(cost.wall_time)})", "a larger fe.dt, coarser sizes, a shorter end_time, or --force",
-        )  # fmt: skip
-    if not force and cost.dofs * cost.steps > WORK_BUDGET:
-        raise InputError(
-            cost.what, f"{cost.dofs * cost.steps:.3g} DOF-steps", f"above the budget {WORK_BUDGET:g} (about "
-            f"{_duration(cost.wall_time)} on {cost.ranks} rank(s))", "coarser sizes, a shorter end_time, or --force",
-        )  # fmt: skip
-    if not force and cost.frames > FRAME_BUDGET:
-        raise InputError(
-            cost.what, f"{cost.frames:.3g} field frames", f"above the budget {FRAME_BUDGET:g} "
-            f"({cost.field_bytes / 1e9:.3g} GB of files)", "a larger fe.field_interval, a shorter end_time, or --force",
-        )  # fmt: skip
-    if not force and cost.values > VALUE_BUDGET:
-        raise InputError(
-            cost.what, f"{cost.values:.3g} history values", f"above the budget {VALUE_BUDGET:g} "
-            f"({cost.samples:.3g} samples)", "a larger simulation.output_interval, fewer stations, or --force",
-        )  # fmt: skip
+    budgets = (  # (budget's name, amount, budget, the amount as said, what it would mean, remedy)
+        ("step", cost.steps, STEP_BUDGET, f"{cost.steps:.3g} steps", f"about {_duration(cost.wall_time)}",
+         "a larger fe.dt, coarser sizes, a shorter end_time"),
+        ("work", cost.dofs * cost.steps, WORK_BUDGET, f"{cost.dofs * cost.steps:.3g} DOF-steps",
+         f"about {_duration(cost.wall_time)} on {cost.ranks} rank(s)", "coarser sizes, a shorter end_time"),
+        ("frame", cost.frames, FRAME_BUDGET, f"{cost.frames:.3g} field frames",
+         f"{cost.field_bytes / 1e9:.3g} GB of files", "a larger fe.field_interval, a shorter end_time"),
+        ("history", cost.values, VALUE_BUDGET, f"{cost.values:.3g} history values", f"{cost.samples:.3g} samples",
+         "a larger simulation.output_interval, fewer stations"),
+    )  # fmt: skip
+    for name, amount, budget, said, meaning, remedy in budgets:
+        if not force and amount > budget:
+            why = f"above the {name} budget {budget:g} ({meaning})"
+            raise InputError(cost.what, said, why, f"{remedy}, or --force")
     return cost
