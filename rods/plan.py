@@ -45,6 +45,7 @@ __all__ = [
     "fe_stage",
     "first_contact_end",
     "first_contact_summary",
+    "planning_summary",
     "global_drives",
     "make_plan",
     "most_refined",
@@ -70,6 +71,20 @@ def first_contact_end(analytical_summary: Mapping[str, Any]) -> float | None:
     return float(episodes[0][1]) if episodes else None
 
 
+def planning_summary(scene: Scene) -> dict[str, Any]:
+    """The analytical model's summary where a plan needs it (a contact phase, a phase radius), its yield warnings
+    kept quiet: the analytical stage reports them in its own summary (they printed as raw Python warnings in a
+    --dry-run)."""
+    import warnings
+
+    from rods.analytical import simulate
+    from rods.hertz import YieldWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", YieldWarning)
+        return simulate(scene).summary
+
+
 FIRST_CONTACT_ROUND_TRIPS = 8  # window of first_contact_summary: this x the slower rod's round trip 2L/c [-]
 
 
@@ -77,15 +92,13 @@ def first_contact_summary(scene: Scene) -> dict[str, Any]:
     """The analytical model's summary over a window that holds the first contact (what the contact phase needs):
     :data:`FIRST_CONTACT_ROUND_TRIPS` x the slower rod's round trip 2L/c, or the whole run where that is shorter or
     the first contact outlasts the window (a 1 s paper scene: 0.34 s instead of minutes)."""
-    from rods.analytical import simulate
-
     window = FIRST_CONTACT_ROUND_TRIPS * max(r.transit_time for r in scene.rods)  # [s]
     if window < scene.end_time:
         over = (f"simulation.end_time={window!r}", f"simulation.output_interval={min(scene.output_interval, window)!r}")
-        s = simulate(scene.with_overrides(*over)).summary
+        s = planning_summary(scene.with_overrides(*over))
         if s["contact_episodes"] and s["contact_episodes"][0][1] < window:
             return s
-    return simulate(scene).summary
+    return planning_summary(scene)
 
 
 def driver_phase(scene: Scene) -> float:
@@ -108,9 +121,7 @@ def phase_radius(scene: Scene, analytical_summary: Mapping[str, Any] | None = No
     from rods import hertz
 
     if analytical_summary is None:
-        from rods.analytical import simulate
-
-        analytical_summary = simulate(scene).summary
+        analytical_summary = planning_summary(scene)
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
     return float(hertz.at_force(analytical_summary["peak_contact_force"], E_star, R_star)["contact_radius"])
 

@@ -70,6 +70,19 @@ def test_an_unresolved_patch_is_not_ok():
     assert checks.patch_warning({"contact_radius": 1.09e-3}) is None
 
 
+def test_an_unresolved_patch_cannot_certify_itself_and_3d_counts_node_rings(scene_with):
+    """10 mm rods, 10 mm tip, 1 m/s, coarse submodel (h = 0.25 mm): its own radius 0.518 mm (2.07 h, area +20.7%)
+    passed; Hertz's at its force, 0.471 mm (1.88 h), is the one judged. A 3D quarter submodel at a = 4.4 h (area
+    +9.9%, measured): one node ring is 46% of the area, not 'ok'; the axisymmetric model at that mesh is."""
+    thin = scene_with("rod1.diameter=0.01", "rod2.diameter=0.01", "rod1.tip_radius=0.01", "impact.speed=1.0")
+    coarse = {"model": "fe-submodel-coarse", "contact_radius": 0.518e-3, "peak_contact_force": 1567.2,
+              "mesh": {"radial_size": 0.25e-3}}  # fmt: skip
+    assert "1.9 elements" in checks.patch_warning(coarse, thin)
+    paper = {"contact_radius": 1.09e-3, "peak_contact_force": 5559.0, "mesh": {"radial_size": 0.25e-3}}
+    assert checks.patch_warning(paper, scene_with()) is None
+    assert "node rings" in checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=quarter"))
+
+
 def test_a_rattling_peak_is_not_ok():
     """A raw peak 20% above a smooth 200 µs pulse (one spiky sample, as a stiff penalty rattles) is flagged; the
     smooth pulse itself, sampled every 0.25 µs, is not (its 2 µs average sits 0.01% below its top)."""

@@ -172,12 +172,11 @@ def submodel(
     phase-averaged study instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
     summary."""
-    from rods.analytical import simulate
     from rods.fe.submodel import run_submodel
 
     comm = _world(comm)
     resolve = size is None and phase is not None
-    analytical = simulate(scene).summary if (resolve or end_time is None) else None
+    analytical = plan.planning_summary(scene) if (resolve or end_time is None) else None
     h = size or plan.submodel_size(scene, level, phase, analytical)
     name = f"h={h:g}" if size is not None and phase is None else level
     if end_time is None:
