@@ -73,6 +73,9 @@ BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
 DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
+# the submodel's cut driver: locating the global's recorded band at each cut node [s] (measured, paper scene: 0.22 s
+# for 54 nodes and 0.35 s for 104 axisymmetric, 57 s for 1370 in a 3D quarter model)
+CUT_SECONDS_PER_NODE = {"axisymmetric": 4e-3, "3d": 4.2e-2}
 DOFS_PER_CELL = 2.3  # axisymmetric [-] (3D: counted from the O-grid's nodes)
 FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
 # a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes) and its time
@@ -153,6 +156,16 @@ def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float,
     return cells, dofs
 
 
+def _cut_nodes(scene: Scene, h: float) -> int:
+    """Nodes on the submodel's two cut planes at size ``h`` [m]: a row across each rod's radius (axisymmetric) or
+    each O-grid section (3D)."""
+    if scene["fe.kind"] == "3d":
+        from rods.fe.mesh3d import section_size
+
+        return sum(section_size(r.diameter / 2, h, scene["fe.symmetry"])[1] for r in scene.rods)
+    return sum(math.ceil(r.diameter / 2 / h - 1e-9) + 1 for r in scene.rods)
+
+
 def _with_length(rod: Any, L: float) -> Any:
     from dataclasses import replace
 
@@ -205,6 +218,8 @@ def fe_cost(
         ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
     )
     setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
+    if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
+        setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
     loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
     frames = 0
     if size is None and scene.field_interval > 0:  # the submodel writes none
