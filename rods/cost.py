@@ -225,6 +225,12 @@ def fe_cost(
     if size is None and scene.field_interval > 0:  # the submodel writes none
         from rods.fe.fields import frame_count
 
+        if scene.field_interval < 0.5 * dt:  # frames between two steps interpolate the same two states
+            raise SceneError(
+                "fe.field_interval", scene.field_interval, f"below half the time step (about {dt:.3g} s here): "
+                "frames between two steps are interpolations of the same two states", "an interval of a step or more",
+            )  # fmt: skip
+
         frames = frame_count(scene.field_interval, dt, steps)
     field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF

@@ -21,12 +21,13 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-__all__ = ["MAX_VALUE", "InputError", "input_dir", "one_line", "output_dir", "safe_name", "short"]
+__all__ = ["MAX_VALUE", "InputError", "input_dir", "one_line", "output_dir", "output_file", "safe_name", "short"]
 
 MAX_VALUE = 120  # characters of a value shown in a message [-]
 MAX_MESSAGE = 1000  # characters of a whole message line [-]
 MAX_FOLDER_NAME = 100  # characters of a folder named after a scene [-]
 NAME_MAX = 255  # [B] of one file or folder name
+PATH_MAX = 4000  # [B] of a whole path (Linux: 4096, less the file names a run adds)
 
 
 def short(value: Any, limit: int = MAX_VALUE) -> str:
@@ -72,9 +73,23 @@ def output_dir(path: str | Path, what: str = "--out") -> Path:
     return p
 
 
+def output_file(path: str | Path, what: str = "--out") -> Path:
+    """``path`` as a file to write (or a prefix of files): not empty, not an existing folder, its folder usable
+    (:func:`output_dir`)."""
+    if str(path) == "":
+        raise InputError(what, "", "is empty", "give a file path")
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(what, p, "is an existing folder, not a file", "give a file path inside it")
+    output_dir(p.parent, what)
+    return p
+
+
 def _name_lengths(p: Path, what: str) -> None:
     """Each name in ``p`` within NAME_MAX (255 bytes on Linux and macOS file systems): a longer one fails when the
     first file is written, after the run."""
+    if len(os.fsencode(str(p.absolute()))) > PATH_MAX:
+        raise InputError(what, p, f"a path over the file system's {PATH_MAX} bytes", "give a shorter path")
     for part in p.parts:
         if len(os.fsencode(part)) > NAME_MAX:
             raise InputError(what, p, f"a folder name of {len(os.fsencode(part))} bytes exceeds the file system's "

@@ -52,6 +52,10 @@ def here(tmp_path) -> Path:
 
     with h5py.File(tmp_path / "driver" / "cut.h5", "w") as f:
         f["times"] = [0.0, 2.4e-4]
+    (tmp_path / "short").mkdir()  # a cut recorded to 10 µs only, its summary the driver's (contact phase 240 µs)
+    (tmp_path / "short" / "summary.json").write_text(json.dumps(summary))
+    with h5py.File(tmp_path / "short" / "cut.h5", "w") as f:
+        f["times"] = [0.0, 1e-5]
     many = ",".join(['"wave_response"'] * 200_000)
     (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
     return tmp_path
@@ -112,13 +116,39 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "tilt on axisymmetric": ("global.py", ["--set", "impact.tilt=0.01", "--out", "o"], ["impact.tilt", "'3d'"]),
     "field frames above the budget": (
         "global.py",
-        ["--set", "fe.field_interval=1e-9", "--out", "o"],
+        ["--set", "fe.field_interval=1e-7", "--out", "o"],
         ["field frames", "fe.field_interval"],
     ),
     "analytical history above the budget, before the plan": (
         "run.py",
         ["--set", "simulation.end_time=0.01", "--set", "simulation.output_interval=1e-9", "--out", "o"],
         ["history values"],
+    ),
+    # found by a regression probe of the above (2026-11-24)
+    "verify frames above the budget": (
+        "verify.py",
+        ["--set", "fe.field_interval=1e-7", "--out", "o"],
+        ["field frames"],
+    ),
+    "verify unstable step": ("verify.py", ["--set", "fe.dt=1e-3", "--out", "o"], ["fe.dt", "stable"]),
+    "submodel default end beyond the record": (
+        "submodel.py",
+        ["--global", "short", "--out", "o"],
+        ["--end-time", "cut record"],
+    ),
+    "submodel axial size beyond the submodel": (
+        "submodel.py",
+        ["--global", "driver", "--axial-size", "0.05", "--out", "o"],
+        ["--axial-size", "fe.submodel_length"],
+    ),
+    "convergence empty out": ("convergence.py", ["--out", ""], ["--out", "empty"]),
+    "report out a folder": ("report.py", ["--out", "driver"], ["--out", "existing folder"]),
+    "paper empty results": ("paper.py", ["--out", "o", "--results", ""], ["--results", "empty"]),
+    "path beyond PATH_MAX": ("analytical.py", ["--out", "/".join(["d" * 200] * 25)], ["--out", "path over"]),
+    "field interval below the step": (
+        "global.py",
+        ["--set", "fe.field_interval=1e-8", "--out", "o"],
+        ["fe.field_interval", "time step"],
     ),
     "unreadable scene": ("analytical.py", ["--scene", "/proc/self/mem", "--out", "o"], ["--scene", "cannot be read"]),
     "fig4 missing run": ("fig4.py", ["--analytical", "missing", "--fe", "missing2", "--png", "o/f.png"], ["missing"]),

@@ -72,6 +72,20 @@ def test_first_contact_summary_ends_the_first_contact_like_the_whole_run(scene_w
     assert s["contact_episodes"][-1][1] < 3e-3 * 0.75  # the window, not the whole run
 
 
+def test_a_submodel_shares_its_drivers_bodies_impact_and_cut_only(scene_with):
+    """check_driven_scene: the speed, a modulus, the cut length and the model kind must be the driver's (its cut
+    record carries that scene's motion); the contact law, the output and a yield strength (the yield check's, not
+    the motion's: found refused by a probe) may differ."""
+    driver = scene_with()
+    for own in ("fe.contact=penalty", "simulation.output_interval=1e-6", "rod1.material.yield_strength=3e9",
+                "effects=['contact_patch']", "fe.backend=numpy"):  # fmt: skip
+        plan.check_driven_scene(scene_with(own), driver)
+    for key, other in (("impact.speed", "1.0"), ("rod2.material.youngs_modulus", "70e9"),
+                       ("fe.submodel_length", "0.01"), ("fe.kind", "'3d'")):  # fmt: skip
+        with pytest.raises(SceneError, match=f"'{key}'.*driving global"):
+            plan.check_driven_scene(scene_with(f"{key}={other}"), driver)
+
+
 def test_first_contact_summary_runs_the_whole_scene_when_the_contact_outlasts_the_window(scene_with, monkeypatch):
     """A first contact still open at the window's end (a window of 0.2 round trips here): the whole run decides."""
     from rods.analytical import simulate

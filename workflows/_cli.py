@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from rods import interrupt
-from rods.preflight import InputError, one_line, output_dir, safe_name  # noqa: F401  (output_dir: scripts)
+from rods.preflight import InputError, one_line, output_dir, output_file, safe_name  # noqa: F401  (for scripts)
 from rods.scene import Scene, SceneError, load_scene
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
@@ -32,6 +32,11 @@ class _Parser(argparse.ArgumentParser):
 
     def __init__(self, **kw: Any):
         super().__init__(allow_abbrev=False, formatter_class=argparse.RawDescriptionHelpFormatter, **kw)
+
+    def print_help(self, file: Any = None) -> None:  # rank 0's only under MPI
+        mpi = _mpi()
+        if mpi is None or mpi.COMM_WORLD.rank == 0:
+            super().print_help(file)
 
     def error(self, message: str) -> NoReturn:  # argparse exits 2 already; keep one line, one style
         mpi = _mpi()

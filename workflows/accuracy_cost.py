@@ -11,7 +11,6 @@ summary.json are skipped with a note.
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import _cli
 from rods.paper import accuracy_cost
@@ -23,7 +22,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--run", action="append", default=[], help="LABEL=DIR of a run with summary.json, history.csv")
     ap.set_defaults(out="output/paper/accuracy-cost")
     args = ap.parse_args(argv)
-    _cli.output_dir(Path(args.out).parent, "--out")  # --out is a prefix: OUT.json, OUT.md, OUT.png
+    _cli.output_file(args.out, "--out")  # --out is a prefix: OUT.json, OUT.md, OUT.png
     scene = _cli.load(args)
     runs = []
     for label, folder in map(parse_run, args.run):

@@ -21,8 +21,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--fields", required=True, help="a run folder with fields.xdmf and summary.json")
     ap.add_argument("--out", required=True, help="output path without suffix (.png and .json are written)")
     args = ap.parse_args(argv)
-    run, out = Path(args.fields), Path(args.out)
-    _cli.output_dir(out.parent, "--out")
+    run, out = Path(args.fields), _cli.output_file(args.out, "--out")  # a prefix: OUT.png, OUT.json
     out.parent.mkdir(parents=True, exist_ok=True)
     from rods.fe.fields import read_fields, render_contact
 

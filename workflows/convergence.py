@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import sys
-from pathlib import Path
 
 import _cli
 from rods.paper import convergence
@@ -24,7 +23,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--run", action="append", default=[], help="[LABEL=]DIR of a run with summary.json")
     ap.set_defaults(out="output/paper/convergence")
     args = ap.parse_args(argv)
-    out = _cli.output_dir(Path(args.out), "--out")
+    out = _cli.output_dir(args.out, "--out")
     scene = _cli.load(args)
     runs = []
     for label, folder in map(parse_run, args.run):

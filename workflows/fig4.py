@@ -10,7 +10,6 @@ its data (fig4.json next to --md). The main job passes --png results/fig4.png --
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import _cli
 from rods.paper import fig4
@@ -25,7 +24,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--md", default="output/paper/fig4.md", help="the table of its numbers (default %(default)s)")
     args = ap.parse_args(argv)
     for flag, f in (("--png", args.png), ("--md", args.md)):
-        _cli.output_dir(Path(f).parent, flag)  # before any run is read: a refused call writes nothing
+        _cli.output_file(f, flag)  # before any run is read: a refused call writes nothing
     fe = [read_run(folder, label) for label, folder in map(parse_run, args.fe)]
     data = fig4.write(read_run(args.analytical, "analytical"), fe, args.png, args.md)
     print(fig4.render_md(data, args.png))

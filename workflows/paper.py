@@ -23,10 +23,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default="output/paper", help="folder for per-run histories and summaries")
     ap.add_argument("--results", default=None, help="folder for tables and figures (default: --out)")
     args = ap.parse_args(argv)
-    for flag, f in (("--out", args.out), ("--results", args.results or args.out)):
+    results = args.out if args.results is None else args.results
+    for flag, f in (("--out", args.out), ("--results", results)):
         _cli.output_dir(f, flag)
-    out = Path(args.out)
-    results = Path(args.results) if args.results else out
+    out, results = Path(args.out), Path(results)
     print(f"plan: analytical model on the Table-2 trials -> {out}/analytical/<trial>; tables -> {results}")
     data = table2.write(SCENES, out, results)
     for r in data["trials"]:

@@ -37,10 +37,10 @@ def _step(text: str) -> float | str:
     return text if text in ("auto", "global") else _cli.positive(text)
 
 
-def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path, dict, Scene]:
-    """(folder, summary, the submodel's scene) of the driving global --global, checked before anything runs: its
-    files readable, the scene's rods, impact and cut its own (rods.plan.check_driven_scene), --end-time within
-    its cut record."""
+def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path, dict, Scene, float]:
+    """(folder, summary, the submodel's scene, its end time [s]) of the driving global --global, checked before
+    anything runs: its files readable, the scene's rods, impact and cut its own (rods.plan.check_driven_scene),
+    the end (--end-time, else the driver's contact phase) within its cut record."""
     remedy = f"run workflows/global.py --driver --out {args.global_dir} first"
     gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
     try:
@@ -55,10 +55,12 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
         recorded = recorded_until(gdir / "cut.h5")  # [s]
     except (OSError, KeyError, IndexError, ValueError, TypeError) as e:
         raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
-    if args.end_time is not None and args.end_time > recorded * (1 + 1e-9):
-        why = f"beyond the driving global's cut record (to {recorded:.6g} s)"
-        raise InputError("--end-time", args.end_time, why, "a smaller --end-time, or a driver recorded longer")
-    return gdir, gsum, scene
+    end = args.end_time if args.end_time is not None else gsum.get("contact_phase") or plan.driver_phase(scene)
+    end = min(end, scene.end_time)
+    if end > recorded * (1 + 1e-9):
+        why = f"the submodel's end {end:.6g} s is beyond the driving global's cut record (to {recorded:.6g} s)"
+        raise InputError("--end-time", end, why, f"--end-time {recorded:.6g} or less, or a driver recorded longer")
+    return gdir, gsum, scene, end
 
 
 def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
@@ -69,6 +71,9 @@ def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float |
         "fe.axial_size": "--axial-size" if args.axial_size else "--size",
         "fe.dt": "--dt",
     }
+    if args.axial_size is not None and args.axial_size > scene["fe.submodel_length"]:
+        why = f"longer than the submodel (fe.submodel_length = {scene['fe.submodel_length']:g} m)"
+        raise InputError("--axial-size", args.axial_size, why, "a smaller --axial-size")
     try:
         return submodel_scene(scene, h, args.axial_size, end, dt)
     except SceneError as e:
@@ -99,14 +104,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
-    gdir, gsum, scene = _driver(args, argv)
+    gdir, gsum, scene, end = _driver(args, argv)
     dt = gsum["dt"] if args.dt == "global" else args.dt
     level = args.level if args.size is None else f"h={args.size:g}"
     if args.phase is not None:
         level = f"{args.level}-phase-{args.phase}"
     out = _cli.out_dir(args, f"submodel/{level}", scene)
     log, progress = _cli.rank0(comm)
-    end = args.end_time if args.end_time is not None else gsum.get("contact_phase")
     h = args.size or plan.submodel_size(scene, args.level, args.phase)
     what = f"the submodel {level}"
     own = _own_settings(scene, h, args, end, dt)  # its contact law and outputs, as it will run

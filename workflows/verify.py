@@ -24,15 +24,21 @@ from rods.study import verification
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    ap = _cli.parser(__doc__)
+    ap = _cli.parser(__doc__, dry_run=True)
     ap.add_argument("--case", action="append", choices=list(verification.CASES), help="case (repeatable; default all)")
     ap.add_argument("--tables", default=None, help="folder for verification.json/.md (default: the output folder)")
     args = ap.parse_args(argv)
     base = _cli.load(args)
     out = _cli.out_dir(args, "verify", base)
+    if args.tables is not None:
+        _cli.output_dir(args.tables, "--tables")
     log, progress = _cli.rank0(comm)
     cases = args.case or list(verification.CASES)
     log(f"plan: verification matrix, {len(cases)} case(s) of scene '{base.name}' ({', '.join(cases)}) -> {out}")
+    costs = [c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size)]
+    for name in cases:
+        _cli.backend(verification.case_scene(base, name, args.overrides), comm.size)
+    _cli.afford(args, *costs, log=log)  # every case's runs, before the first is started
     data = verification.run_matrix(base, out, comm, cases, args.overrides, log, progress, args.tables)
     if comm.rank == 0:
         log(verification.render_markdown(data))

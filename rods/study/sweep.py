@@ -103,7 +103,7 @@ def check_config(config: Mapping[str, object]) -> None:
         raise ConfigError("fe_speed", config["fe_speed"], str(e)) from None
     if isinstance(config["ranks"], bool) or not isinstance(config["ranks"], int) or config["ranks"] < 1:
         raise ConfigError("ranks", config["ranks"], "must be an integer >= 1 (MPI ranks per FE run)")
-    if not isinstance(config["mpi"], str):
+    if config["mpi"] is not None and not isinstance(config["mpi"], str):  # --config mpi= gives None
         raise ConfigError("mpi", config["mpi"], "must be a launcher command ('' = the venv's mpirun)")
     for key in ("paper_levels", "paper_phase_levels"):
         levels = config[key]

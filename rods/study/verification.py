@@ -90,6 +90,24 @@ def gap_is_model_form(gap: float, change: float) -> bool:
     return gap * change < 0.0 or abs(gap) > MODEL_FORM_RATIO * abs(change)
 
 
+def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
+    """Case ``name`` of :data:`CASES` on ``base``, with the caller's ``extra`` overrides last."""
+    return base.with_overrides(*CASES[name][1], *extra)
+
+
+def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int) -> list[Any]:
+    """The estimated costs (rods.cost) of case ``name``'s runs: its analytical model, its global model and the
+    finer global over the contact phase (:func:`finer`); a refused setting raises as the run would, before it."""
+    from rods import cost
+
+    sc = case_scene(base, name, extra)
+    return [
+        cost.analytical_cost(sc),
+        cost.fe_cost(sc, ranks, what=f"{name}: the global"),
+        cost.fe_cost(finer(sc, plan.driver_phase(sc)), ranks, what=f"{name}: the global 2 x finer"),
+    ]
+
+
 def finer(scene: Scene, end_time: float, factor: float = MESH_CHECK) -> Scene:
     """``scene`` with fe.axial_size and fe.radial_size divided by ``factor`` (a graded tip follows the radial
     size), to ``end_time`` [s]."""
@@ -209,7 +227,7 @@ def run_matrix(
 
     rows, t0 = [], time.perf_counter()
     for name in cases:
-        sc = base.with_overrides(*CASES[name][1], *extra)
+        sc = case_scene(base, name, extra)
         if log is not None:
             log(f"verification case '{name}': {CASES[name][0]}")
         a = stages.analytical(sc, out / name / "analytical", comm)

@@ -26,6 +26,7 @@ def config() -> dict:
 def test_the_shipped_config_passes(config):
     check_config(config)
     check_config(config | {"speeds": ["1.0", "2.0"], "dt_fractions": ["0.5"]})  # --config gives strings
+    check_config(config | {"mpi": None})  # --config mpi= (empty: the venv's mpirun)
 
 
 @pytest.mark.parametrize(
