@@ -35,6 +35,8 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
 * **patch at the rim**: a contact radius above :data:`RIM_FRACTION` of the thinner rod's radius (every model):
   Hertz's half-space and the rod-end correction no longer hold (a 10 m tip: the FE patch covers the face,
   its peak +10.8% and its duration -40 µs against the analytical model);
+* **penalty layer**: a penalty law softer than :data:`SOFT_PENALTY` x E*/h or damped below :data:`UNDAMPED`
+  (:func:`contact_layer_warning`);
 * **near-incompressible**: an FE run with a Poisson ratio above :data:`NU_LOCKING`: the Q1 elements lock
   volumetrically and the contact stiffens (measured, paper rods at default settings: ν = 0.49 peak force
   +0.18%, ν = 0.499 +3.5% and duration -4.2 µs against the analytical model);
@@ -60,9 +62,12 @@ __all__ = [
     "NU_LOCKING",
     "RIM_FRACTION",
     "RING_STEP_OK",
+    "SOFT_PENALTY",
+    "UNDAMPED",
     "RISE_TRANSITS",
     "apply",
     "bar_theory_warning",
+    "contact_layer_warning",
     "contact_warning",
     "patch_warning",
     "locking_warning",
@@ -86,6 +91,10 @@ RISE_TRANSITS = 2.0  # shortest 10-90% rise of the analytical force, in diameter
 # largest contact radius / thinner rod's radius of an "ok" run: where the analytical rod-end term stays a correction
 # for equal steel rods (rods.analytical.WaveModel.rod_end_term_problem) [-]
 RIM_FRACTION = 0.57
+# penalty layer of an "ok" run: softer lengthens the contact (1 x E*/h: +1.8 µs, 0.1 x: +13.5 µs, measured), less
+# damped rattles (0 of critical: peak +2.6%; 0.2, the default, and 0.5: within 0.05%)
+SOFT_PENALTY = 1.0  # [x E*/h]
+UNDAMPED = 0.1  # [of critical]
 NU_LOCKING = 0.49  # largest Poisson ratio of an "ok" FE run (Q1 locking beyond) [-]
 
 
@@ -151,6 +160,27 @@ def rim_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
         "Hertz's half-space (and the analytical rod-end term) no longer hold; the models' forces and durations "
         "differ here (a smaller tip radius or a lower speed keeps the patch inside)"
     )
+
+
+def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
+    """A warning for a penalty layer softer than :data:`SOFT_PENALTY` x E*/h (it lengthens the contact) or damped
+    below :data:`UNDAMPED` of critical (it rattles); the factor is the submodel's own for a submodel."""
+    if summary.get("contact") != "penalty":
+        return None
+    key = "submodel.penalty" if str(summary.get("model", "")).startswith("fe-submodel") else "fe.penalty"
+    if scene[key] < SOFT_PENALTY:
+        return (
+            f"{key}: {scene[key]:g} x E*/h is a soft layer: its compliance lengthens the contact and lowers the force "
+            f"(paper scene: 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7%); use {SOFT_PENALTY:g} or more, or the kinematic "
+            "contact"
+        )
+    if scene["fe.contact_damping"] < UNDAMPED:
+        return (
+            f"fe.contact_damping: {scene['fe.contact_damping']:g} of critical: the penalty layer rattles and raises "
+            f"the peak (undamped, 10 x E*/h: +2.6% on the paper scene, its 2 µs average +0.4%); use {UNDAMPED:g} "
+            "or more"
+        )
+    return None
 
 
 def locking_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
@@ -284,7 +314,7 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
         found.append(w)
     if str(summary.get("model", "")).startswith("fe") and (w := patch_warning(summary, scene)) is not None:
         found.append(w)
-    for w in (rim_warning(summary, scene), locking_warning(summary, scene)):
+    for w in (rim_warning(summary, scene), locking_warning(summary, scene), contact_layer_warning(summary, scene)):
         if w is not None:
             found.append(w)
     if (w := rattle_warning(summary, history)) is not None:

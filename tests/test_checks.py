@@ -118,6 +118,28 @@ def test_guard_names_step_penalty_or_instability():
         assert e.value.cause.startswith(cause), e.value.cause
 
 
+def test_a_small_growth_over_a_strict_limit_is_drift_not_the_penalty():
+    """A stop at a growth of 1.07e-6 over a limit of 1e-6 (undamped penalty at its switching limit, measured) was
+    blamed on a stiff penalty; below DRIFT it is the scheme's drift, and the remedy is the limit."""
+    g = Guard(dt=1e-8, dt_critical=2e-8, dt_switching=1e-8, growth_limit=1e-6)
+    with pytest.raises(SimulationError) as e:
+        g.check(7, 7e-8, (1.0 + 1.07e-6, 0.0, 0.0, 0.0), 1.0)
+    assert e.value.cause.startswith("drift") and "fe.energy_growth_limit" in e.value.cause
+
+
+def test_a_soft_or_undamped_penalty_layer_is_not_ok(scene_with):
+    """fe.penalty 0.01 x E*/h ran 'ok' at -6.7% force and +83 µs, an undamped layer at +2.6% (measured); the
+    submodel is judged by its own factor; the kinematic contact and the default layer pass."""
+    fe = {"model": "fe-axisymmetric", "contact": "penalty"}
+    assert "soft layer" in checks.contact_layer_warning(fe, scene_with("fe.contact=penalty", "fe.penalty=0.01"))
+    assert "rattles" in checks.contact_layer_warning(fe, scene_with("fe.contact=penalty", "fe.contact_damping=0"))
+    assert checks.contact_layer_warning(fe, scene_with("fe.contact=penalty")) is None
+    assert checks.contact_layer_warning({"contact": "kinematic"}, scene_with("fe.penalty=0.01")) is None
+    sub = {"model": "fe-submodel-fine", "contact": "penalty"}
+    assert "submodel.penalty" in checks.contact_layer_warning(sub, scene_with("submodel.penalty=0.5"))
+    assert checks.contact_layer_warning(sub, scene_with("fe.penalty=0.5")) is None
+
+
 def test_a_duration_set_by_the_threshold_is_not_ok(scene_with):
     """The paper scene's pulse ends steeply: its duration at half and twice the threshold within 1% (measured
     0.4%); Rod 1 with a 1 m tip ends in a ~30 µs tail at 0.05-0.3% of the peak (analytical model, as the FE):

@@ -104,7 +104,7 @@ def test_analytical(overrides, where, force):
 @example(overrides=["fe.energy_growth_limit=7.117247484842497e-182"], flags=[], value="0", where="fresh")
 # a strict limit in range, on the stiffest penalty: runs, or a guard's one-line stop (exit 1), never a traceback
 @example(
-    overrides=["fe.energy_growth_limit=1e-6", "fe.contact='penalty'", "fe.penalty=1e4"],
+    overrides=["fe.energy_growth_limit=1e-5", "fe.contact='penalty'", "fe.penalty=1e4"],
     flags=[],
     value="0",
     where="fresh",
