@@ -150,6 +150,11 @@ def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
     return None
 
 
+def _fe(summary: Mapping[str, Any], kind: str = "fe") -> bool:
+    """The summary is an FE model's (``kind`` "fe-submodel": a submodel's)."""
+    return str(summary.get("model", "")).startswith(kind)
+
+
 def rim_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning when the contact radius exceeds :data:`RIM_FRACTION` of the thinner rod's radius."""
     a, b = summary.get("contact_radius"), min(r.diameter for r in scene.rods) / 2
@@ -167,7 +172,7 @@ def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     below :data:`UNDAMPED` of critical (it rattles); the factor is the submodel's own for a submodel."""
     if summary.get("contact") != "penalty":
         return None
-    key = "submodel.penalty" if str(summary.get("model", "")).startswith("fe-submodel") else "fe.penalty"
+    key = "submodel.penalty" if _fe(summary, "fe-submodel") else "fe.penalty"
     if scene[key] < SOFT_PENALTY:
         return (
             f"{key}: {scene[key]:g} x E*/h is a soft layer: its compliance lengthens the contact and lowers the force "
@@ -185,7 +190,7 @@ def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
 
 def locking_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning when an FE run has a Poisson ratio above :data:`NU_LOCKING` (Q1 volumetric locking)."""
-    if not str(summary.get("model", "")).startswith("fe"):
+    if not _fe(summary):
         return None
     ν = max(r.material.poisson_ratio for r in scene.rods)
     if ν <= NU_LOCKING:
@@ -312,7 +317,7 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
         found.append(w)
     if (w := energy_warning(summary)) is not None:
         found.append(w)
-    if str(summary.get("model", "")).startswith("fe") and (w := patch_warning(summary, scene)) is not None:
+    if _fe(summary) and (w := patch_warning(summary, scene)) is not None:
         found.append(w)
     for w in (rim_warning(summary, scene), locking_warning(summary, scene), contact_layer_warning(summary, scene)):
         if w is not None:

@@ -59,10 +59,7 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     histories."""
     t0 = time.perf_counter()
     out = Path(out)
-    if comm is None:
-        from mpi4py import MPI
-
-        comm = MPI.COMM_WORLD
+    comm = stages.world(comm)
     root = comm.rank == 0
     done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm)}
     p = plan.make_plan(scene, plan.first_contact_end(done["analytical"].summary))

@@ -26,7 +26,17 @@ import numpy as np
 from rods import checks, io, plan
 from rods.scene import SUBMODEL_PHASES, Scene
 
-__all__ = ["Comparison", "Stage", "analytical", "comparison", "driver", "driver_keys", "global_model", "submodel"]
+__all__ = [
+    "Comparison",
+    "Stage",
+    "analytical",
+    "comparison",
+    "driver",
+    "driver_keys",
+    "global_model",
+    "submodel",
+    "world",
+]
 
 Log = Callable[[str], None] | None
 Progress = Callable[[int, int, float], None] | None
@@ -56,7 +66,7 @@ def _root(comm: Any) -> bool:
     return comm is None or comm.rank == 0
 
 
-def _world(comm: Any) -> Any:
+def world(comm: Any) -> Any:
     """``comm``, or MPI.COMM_WORLD for None (a library caller need not build one)."""
     if comm is not None:
         return comm
@@ -114,7 +124,7 @@ def global_model(
 
     if restart and record_cut:
         raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
-    comm = _world(comm)
+    comm = world(comm)
     model = ExplicitModel(scene, comm)
     if log is not None:
         log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
@@ -167,20 +177,18 @@ def submodel(
     phase: int | None = None,
 ) -> Stage:
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
-    ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the contact phase of the
-    analytical model, rods.plan.contact_phase; capped by the scene's end). ``phase``: the level's member of the
+    ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the driver's contact phase,
+    rods.plan.driver_phase; capped by the scene's end). ``phase``: the level's member of the
     phase-averaged study instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
     summary."""
     from rods.fe.submodel import run_submodel
 
-    comm = _world(comm)
-    resolve = size is None and phase is not None
-    analytical = plan.planning_summary(scene) if (resolve or end_time is None) else None
-    h = size or plan.submodel_size(scene, level, phase, analytical)
+    comm = world(comm)
+    h = size or plan.submodel_size(scene, level, phase)
     name = f"h={h:g}" if size is not None and phase is None else level
-    if end_time is None:
-        end_time = plan.contact_phase(analytical, scene.end_time)
+    if end_time is None:  # the driver's contact phase (rods.plan.driver_phase, as the driver stage runs it)
+        end_time = plan.driver_phase(scene)
     end = min(end_time, scene.end_time)
     sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name)
     sr.summary["cut_file"] = str(cut_file)
