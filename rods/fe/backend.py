@@ -126,10 +126,10 @@ def select(name: str, ranks: int) -> Backend:
 
 
 def csr_of(A: Any) -> scipy.sparse.csr_matrix:
-    """A host CSR copy of ``A``: a PETSc Mat (serial; AIJ or BAIJ, through MatGetRow; destroyed, it was
-    assembled for this copy) or a SciPy matrix (copied: the operator scales its rows in place)."""
+    """A host CSR form of ``A``: a PETSc Mat (serial; AIJ or BAIJ, through MatGetRow; destroyed, it was
+    assembled for this copy) or a SciPy matrix (as it is: the operator copies before it scales)."""
     if scipy.sparse.issparse(A):
-        return scipy.sparse.csr_matrix(A, copy=True)
+        return A.tocsr()
     indptr, indices, data = A.getValuesCSR()
     n_rows, n_cols = A.getSize()
     A.destroy()
@@ -210,14 +210,16 @@ class CSROperator:
     copied to the device once), applied in place."""
 
     def __init__(self, backend: Backend, K: scipy.sparse.csr_matrix, scale: Any):
-        K.data *= np.repeat(backend.to_host(scale), np.diff(K.indptr))  # row i scaled by scale_i
-        self.xp = backend.xp
-        if backend.on_device:
-            self.A = backend.sparse.csr_matrix(K)
+        self.xp = xp = backend.xp
+        row_scale = np.repeat(backend.to_host(scale), np.diff(K.indptr))  # row i scaled by scale_i
+        if backend.on_device:  # scaled values, column indices and row pointers copied to the device once
+            parts = (K.data * row_scale, K.indices.astype(np.int32), K.indptr.astype(np.int32))
+            self.A = backend.sparse.csr_matrix(tuple(xp.asarray(a) for a in parts), shape=K.shape)
             self._spmv = _spmv_cupy(self.A)
             self._axpy = self.xp.ElementwiseKernel("float64 a, float64 x", "float64 y", "y += a * x", "rods_axpy")
-        else:
-            self.A = K
+        else:  # a copy: K may be the model's, kept for later steppers
+            self.A = K = scipy.sparse.csr_matrix(K, copy=True)
+            K.data *= row_scale
             self._spmv = _spmv_numpy(K)
             self._axpy = None
 

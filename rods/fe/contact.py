@@ -243,10 +243,11 @@ class PenaltyContact:
     ``multiplicity`` (1, 2, 4) scales the reported force, energy and area to the full rods;
     ``mirrored`` = (about x = 0, about y = 0) says which symmetry planes bound the model (patch centroid).
 
-    The set-up methods (:meth:`apply_stiffness`, :meth:`pair_frequency`, :meth:`add_abs_row_sums`) work
-    on host arrays; the per-step ones (:meth:`evaluate`, :meth:`add_force`) on the arrays of the backend
-    chosen by :meth:`use` (:mod:`rods.fe.backend`; the host by default). The evaluated state (``gap``,
-    ``pressure``, the slave forces) is read on the host, copied once per evaluation when first asked for.
+    The set-up methods (:meth:`pair_frequency`, :meth:`add_abs_row_sums`) work on host arrays,
+    :meth:`apply_stiffness` on either; the per-step ones (:meth:`evaluate`, :meth:`add_force`) on the
+    arrays of the backend chosen by :meth:`use` (:mod:`rods.fe.backend`; the host by default). The
+    evaluated state (``gap``, ``pressure``, the slave forces) is read on the host, copied once per
+    evaluation when first asked for.
     """
 
     predictive = False  # the force follows from u_n alone (see rods.fe.kinematic for the other kind)
@@ -413,11 +414,15 @@ class PenaltyContact:
         y[ls] += fs
         y[lm] += fm
 
-    def apply_stiffness(self, x: np.ndarray, y: np.ndarray) -> None:
-        """y += K_c x with every potential contact pair active (full engagement): K_c = Σ k_s b_s b_sᵀ."""
+    def apply_stiffness(self, x, y) -> None:
+        """y += K_c x with every potential contact pair active (full engagement): K_c = Σ k_s b_s b_sᵀ
+        (``x``, ``y``: owned host arrays, or the arrays of the backend of :meth:`use`)."""
+        d, xp = (self._host_arrays, np) if isinstance(x, np.ndarray) else (self._d, self.backend.xp)
         xs, xm = self.gather(x)
-        t = self.k * (_interp(self.J, self.W, xm) - xs)
-        self._scatter(y, -t, _transpose(np, self.J, self.W, t, self.nm))
+        t = d.k * (_interp(d.J, d.W, xm) - xs)
+        fm = _transpose(xp, d.J, d.W, t, self.nm)
+        y[d.slave_local] -= t[d.slave_pos]  # the owned tip entries (each once)
+        y[d.master_local] += fm[d.master_pos]
 
     def pair_frequency(self, inv_mass: np.ndarray) -> float:
         """Largest angular frequency [rad/s] of an isolated contact pair: a slave and its master nodes

@@ -39,6 +39,7 @@ from typing import Any
 import dolfinx
 import dolfinx.fem.petsc
 import numpy as np
+import scipy.sparse
 import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -97,13 +98,15 @@ class ExplicitModel:
         self.n_global = imap.size_global * bs
         self.mat = forms.materials(msh, rm.cell_tags, scene, tags)
 
-        # stiffness: assembled once, block AIJ (bs x bs node blocks: 2 axisymmetric, 3 in 3D)
+        # stiffness: assembled once, block AIJ (bs x bs node blocks: 2 axisymmetric, 3 in 3D); on the serial
+        # array backends DOLFINx's own CSR, kept for the step's limits and the stepper (never assembled again)
         self.stiffness = dolfinx.fem.form(forms.stiffness_form(V, self.mat, kind))
-        self.K = self._assemble_stiffness()
+        self.K = self._assemble_stiffness() if self.backend is backends.PETSC else forms.assemble_csr(self.stiffness)
 
         self.mass = self._assemble_owned(forms.lumped_mass_form(V, self.mat, kind))  # row-sum lumped [kg]
         self._constraints()
         self._contact()
+        self.contact.use(self.backend)  # the step's limits run on the backend's arrays (rods.fe.timestep)
         self._probes()
 
         # stable step
@@ -279,8 +282,9 @@ class ExplicitModel:
         """The central-difference integrator at the initial state on the scene's backend (a fresh K, scaled
         in place, or converted to CSR once), the contact moved to that backend."""
         self.contact.use(self.backend)
+        kept = self.backend is not backends.PETSC and scipy.sparse.issparse(self.K)  # the array backends' CSR
         return CentralDifference(
-            self._assemble_stiffness,
+            self.K if kept else self._assemble_stiffness,
             self.mass,
             self.inv_mass,
             self.dt,

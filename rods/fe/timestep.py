@@ -3,7 +3,9 @@
 :func:`time_step` computes, once per model after K, the lumped mass and the contact are set up:
 
 * ω_max [rad/s] of M^-1 (K + K_c), K_c the contact stiffness at full engagement, by SLEPc Krylov-Schur on
-  M^-½ (K + K_c) M^-½ (:func:`omega_max`), and without contact; the linear limit
+  M^-½ (K + K_c) M^-½ (:func:`omega_max`; on a device backend thick-restart Lanczos there,
+  :func:`largest_eigenvalue_on`: the host's Krylov-Schur took ~80% of the set-up, 10.1 of 12.5 s on the
+  3D coarse mesh, and grows with the DOFs), and without contact; the linear limit
   Δt_crit = 2/ω_max (sqrt(1 + ξ²) - ξ) with the bulk-viscosity fraction ξ (:func:`rods.fe.explicit.stable_step`);
 * the Gershgorin bound ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i (:func:`gershgorin`), a check never marched at;
 * the contact-switching limit SWITCHING/ω_c of an isolated penalty pair (:func:`rods.fe.explicit.switching_step`);
@@ -15,15 +17,19 @@
 
 from __future__ import annotations
 
+import importlib
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import dolfinx
 import numpy as np
+import scipy.sparse
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from rods.fe.backend import Backend
 from rods.fe.explicit import largest_eigenvalue, stable_step, switching_step
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
@@ -32,7 +38,7 @@ from rods.scene import SceneError
 if TYPE_CHECKING:
     from rods.fe.model import ExplicitModel
 
-__all__ = ["TimeStep", "gershgorin", "omega_max", "time_step"]
+__all__ = ["TimeStep", "gershgorin", "largest_eigenvalue_on", "omega_max", "time_step"]
 
 
 @dataclass(frozen=True)
@@ -57,15 +63,27 @@ def _vec(comm: MPI.Comm, a: np.ndarray, n_global: int, bs: int) -> PETSc.Vec:
     return PETSc.Vec().createWithArray(a, size=(a.size, n_global), bsize=bs, comm=comm)
 
 
-def omega_max(model: ExplicitModel, with_contact: bool) -> float:
-    """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½ (SLEPc)."""
+def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
+    """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½: SLEPc on the host
+    (K a PETSc Mat or the array backends' SciPy CSR), or thick-restart Lanczos on the device when the
+    backend is one (``K_device``: K there, :func:`largest_eigenvalue_on`)."""
+    if model.backend.on_device:
+        return math.sqrt(largest_eigenvalue_on(model.backend, _scaled(model, with_contact, K_device), model.n_local))
     D = np.sqrt(model.inv_mass)
     z, Kz = np.zeros(model.n_local), np.zeros(model.n_local)
-    zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
+    if scipy.sparse.issparse(model.K):
+
+        def stiffness(x: np.ndarray, y: np.ndarray) -> None:
+            y[:] = model.K @ x
+    else:
+        zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
+
+        def stiffness(x: np.ndarray, y: np.ndarray) -> None:  # noqa: ARG001 (the Vecs share z, Kz)
+            model.K.mult(zv, Kzv)
 
     def apply(x: np.ndarray, y: np.ndarray) -> None:
         np.multiply(D, x, out=z)
-        model.K.mult(zv, Kzv)
+        stiffness(z, Kz)
         if with_contact:
             model.contact.apply_stiffness(z, Kz)
         y += D * Kz
@@ -73,10 +91,36 @@ def omega_max(model: ExplicitModel, with_contact: bool) -> float:
     return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm))
 
 
+def _scaled(model: ExplicitModel, with_contact: bool, K: Any) -> Callable[[Any], Any]:
+    """x -> M^-½ (K [+ K_c]) M^-½ x on the backend's arrays (``K`` there: a CSR matrix)."""
+    D = model.backend.asarray(np.sqrt(model.inv_mass))
+
+    def apply(x: Any) -> Any:
+        z = D * x.ravel()
+        y = K @ z
+        if with_contact:
+            model.contact.apply_stiffness(z, y)
+        return D * y
+
+    return apply
+
+
+def largest_eigenvalue_on(backend: Backend, apply: Callable[[Any], Any], n: int) -> float:
+    """Largest eigenvalue of the symmetric operator x -> ``apply(x)`` (arrays of ``backend``) by the
+    backend's thick-restart Lanczos ``eigsh`` (SciPy: ARPACK; CuPy: TRLan on the device), 40 Lanczos
+    vectors, residual tolerance 1e-8 as SLEPc's (:func:`rods.fe.explicit.largest_eigenvalue`), the
+    same deterministic start vector; ``n`` the operator's size."""
+    linalg = importlib.import_module(backend.sparse.__name__ + ".linalg")
+    op = linalg.LinearOperator((n, n), matvec=apply, dtype=np.float64)
+    v0 = backend.asarray(1.0 + 0.1 * np.sin(np.arange(n, dtype=np.float64)))
+    w = linalg.eigsh(op, k=1, which="LA", v0=v0, ncv=min(40, n - 1), tol=1e-8, return_eigenvectors=False)
+    return float(backend.to_host(backend.xp.asarray(w)).max())
+
+
 def gershgorin(model: ExplicitModel) -> float:
     """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
-    # DOLFINx's own CSR matrix (owned rows, all columns): no PETSc type conversion needed
-    S = dolfinx.fem.assemble_matrix(model.stiffness).to_scipy()
+    # DOLFINx's own CSR matrix (owned rows, all columns): the array backends' K, else assembled for this
+    S = model.K if scipy.sparse.issparse(model.K) else dolfinx.fem.assemble_matrix(model.stiffness).to_scipy()
     rows = np.asarray(abs(S).sum(axis=1)).ravel()[: model.n_local]
     del S
     model.contact.add_abs_row_sums(rows)
@@ -85,8 +129,10 @@ def gershgorin(model: ExplicitModel) -> float:
 
 def time_step(model: ExplicitModel) -> TimeStep:
     """The limits and the step of ``model`` (collective); see the module docstring."""
-    sc = model.scene
-    ω_K, ω, ξ = omega_max(model, False), omega_max(model, True), sc["fe.bulk_viscosity"]
+    sc, be = model.scene, model.backend
+    K_device = be.csr(model.K) if be.on_device else None  # copied once for both eigenvalues
+    ω_K, ω, ξ = omega_max(model, False, K_device), omega_max(model, True, K_device), sc["fe.bulk_viscosity"]
+    del K_device
     dt_critical = stable_step(ω, ξ)
     ω_contact = model.contact.pair_frequency(model.inv_mass)
     dt_switching = switching_step(ω_contact)

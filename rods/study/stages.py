@@ -113,11 +113,13 @@ def global_model(
     log: Log = None,
     name: str = "global",
     extra: Mapping[str, Any] | None = None,
+    model: Any = None,
 ) -> Stage:
     """The global FE model of ``scene`` to its end time. ``record_cut``: record the cut band up to
     ``record_until`` [s] every ``record_every`` steps into out/cut.h5. A guard's stop writes the partial
     histories (summary status "failed") and re-raises :class:`rods.fe.guards.SimulationError`. ``extra``:
-    keys added to the summary."""
+    keys added to the summary. ``model``: the :class:`rods.fe.model.ExplicitModel` of ``scene`` when the
+    caller has set it up already (a benchmark that times its stepper first)."""
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
     from rods.fe.submodel import CutRecorder
@@ -125,7 +127,7 @@ def global_model(
     if restart and record_cut:
         raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
     comm = world(comm)
-    model = ExplicitModel(scene, comm)
+    model = ExplicitModel(scene, comm) if model is None else model
     if log is not None:
         log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
     recorder = CutRecorder(model, record_until, record_every) if record_cut else None
