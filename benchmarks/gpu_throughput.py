@@ -55,9 +55,12 @@ MESHES = {  # name: (scene file, overrides)
 }  # fmt: skip
 
 
+SETS: list[str] = []  # --set overrides, applied to every scene of the run
+
+
 def scene(mesh: str, backend: str, *extra: str) -> Scene:
     path, over = MESHES[mesh]
-    return load_scene(path, [*over, f"fe.backend='{backend}'", *extra])
+    return load_scene(path, [*over, *SETS, f"fe.backend='{backend}'", *extra])
 
 
 def copy_rate(be: backends.Backend, mib: int = 256, reps: int = 5) -> float:
@@ -145,7 +148,8 @@ def report(args, be_name: str, copy: float, rows: list[dict], run: dict | None, 
         "",
         f"`benchmarks/gpu_throughput.py --backend {be_name}`, {platform.node() or 'this machine'}, {dev}; "
         f"{args.steps} steps per mesh after 5 warm-up steps. Copy rate y[:] = x (2 x {args.copy_mib} MiB, "
-        f"16 B/element) measured in the same run: **{copy / 1e9:.1f} GB/s**.",
+        f"16 B/element) measured in the same run: **{copy / 1e9:.1f} GB/s**."
+        + (f" Scene overrides: `{' '.join(args.set)}`." if args.set else ""),
         "",
         "| mesh | DOFs | nonzeros | set-up [s] | step [ms] | M DOF-steps/s | SpMV [ms] | SpMV M DOF-steps/s "
         "| SpMV GB/s | of copy |",
@@ -194,7 +198,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--copy-mib", type=int, default=256, help="size of each array of the copy-rate test [MiB]")
     ap.add_argument("--out", default=str(ROOT / "results" / "gpu-throughput.md"))
     ap.add_argument("--run-out", default=str(ROOT / "output" / "gpu-throughput"), help="folder of the runs' outputs")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="scene override (repeatable)")
     args = ap.parse_args(argv)
+    SETS[:] = args.set
     be = backends.select(args.backend, 1)
     copy = copy_rate(be, args.copy_mib)
     print(f"copy rate ({be.name}): {copy / 1e9:.1f} GB/s", flush=True)
