@@ -3,9 +3,10 @@ the scaled stiffness A = -Δt M^-1 K is applied.
 
 * ``petsc`` (default, any rank count): the state is numpy, A is the assembled PETSc block matrix and
   acts through Vecs sharing the state's memory (MatMultAdd, VecAXPY): the MPI path.
-* ``numpy`` (serial): A as a SciPy CSR matrix, converted once from the assembled PETSc matrix; every
-  step is numpy/SciPy. It runs the same scheme as ``petsc`` (histories equal to round-off,
-  ``tests/fe/test_backend.py``) and is the CPU twin of ``cupy``.
+* ``numpy`` (serial): A as a SciPy CSR matrix (the model's K, assembled once as DOLFINx's own CSR,
+  :func:`rods.fe.forms.assemble_csr`, copied and scaled); every step is numpy/SciPy. It runs the same
+  scheme as ``petsc`` (histories equal to round-off, ``tests/fe/test_backend.py``) and is the CPU twin
+  of ``cupy``.
 * ``cupy`` (serial, NVIDIA GPU, ``pip install rods[gpu]``): the same code with CuPy arrays and a
   cuSPARSE CSR matrix. DOLFINx assembles K, the lumped mass and the contact data on the host once;
   they are copied to the device once. What is written is copied back: the recorder's scalars and

@@ -1,16 +1,16 @@
 """The paper's explicit FE model (Sec. 2.2), axisymmetric or 3D: both rods, penalty contact, explicit dynamics.
 
-:class:`ExplicitModel` sets everything up once — mesh, stiffness K (one PETSc block matrix, BAIJ with
-block size 2 axisymmetric, 3 in 3D), row-sum lumped mass, constraints, contact, probes, stable step,
-plan — for the global model and for the submodel alike (:mod:`rods.fe.submodel` runs the same class on
-a shorter region). :meth:`ExplicitModel.run` is the loop: the central-difference stepper
-(:class:`rods.fe.explicit.CentralDifference` on the array backend ``fe.backend`` names, :mod:`rods.fe.backend`:
-PETSc Mat/Vec by default and under MPI, NumPy/SciPy or CuPy serial), then the
-observers (:mod:`rods.fe.observers`): the caller's (a submodel cut), the recorder
-(:mod:`rods.fe.recorder`), the guards (:mod:`rods.fe.guards`), checkpoints (:mod:`rods.fe.checkpoint`),
-field output (:mod:`rods.fe.fields`) and progress. Initial state: u = 0, Rod 1 moving at +s1 along z (the impact
-direction; in 3D along Rod 2's axis also when Rod 1 is tilted), Rod 2 at rest, the tips touching at
-one point. Free rods: no external work.
+:class:`ExplicitModel` sets everything up once — mesh, stiffness K (one PETSc block matrix, BAIJ with block
+size 2 axisymmetric, 3 in 3D; a SciPy CSR matrix on the serial array backends), row-sum lumped mass,
+constraints, contact, probes, stable step, plan — for the global model and for the submodel alike
+(:mod:`rods.fe.submodel` runs the same class on a shorter region). :meth:`ExplicitModel.run` is the loop: the
+central-difference stepper (:class:`rods.fe.explicit.CentralDifference` on the array backend ``fe.backend``
+names, :mod:`rods.fe.backend`: PETSc Mat/Vec by default and under MPI, NumPy/SciPy or CuPy serial), then the
+observers (:mod:`rods.fe.observers`): the caller's (a submodel cut), the recorder (:mod:`rods.fe.recorder`),
+the guards (:mod:`rods.fe.guards`), checkpoints (:mod:`rods.fe.checkpoint`), field output
+(:mod:`rods.fe.fields`) and progress. Initial state: u = 0, Rod 1 moving at +s1 along z (the impact direction;
+in 3D along Rod 2's axis also when Rod 1 is tilted), Rod 2 at rest, the tips touching at one point. Free rods:
+no external work.
 
 One code path for both geometry kinds (``fe.kind``): the kind selects the mesh builder
 (:mod:`rods.fe.mesh` or :mod:`rods.fe.mesh3d`), the volume weight and strain in the forms, the block
