@@ -251,6 +251,7 @@ class PenaltyContact:
     """
 
     predictive = False  # the force follows from u_n alone (see rods.fe.kinematic for the other kind)
+    stiffens = True  # its springs enter the spectrum (apply_stiffness): the step's limit is found with them
 
     def __init__(
         self,

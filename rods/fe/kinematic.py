@@ -116,6 +116,7 @@ class KinematicContact(PenaltyContact):
     mass [1/kg] (the stepper's), from which the Delassus operator D = B M^-1 Bᵀ is built once."""
 
     predictive = True
+    stiffens = False  # no springs: ω_max is the rods' own (rods.fe.timestep solves it once)
 
     def __init__(
         self, slave, master, comm, inv_mass: np.ndarray, pairing=None, multiplicity=1, mirrored=(False, False)

@@ -90,6 +90,21 @@ def test_stiffer_penalty_shrinks_the_step(scene_with):
     assert models[0].dt == pytest.approx(0.8 * models[0].dt_critical)  # and not at the default
 
 
+def test_the_step_limit_is_solved_once_without_contact_springs(scene_with, monkeypatch):
+    """Kinematic contact adds no stiffness: ω_max is the rods' own, found by one eigenvalue solve (the
+    penalty law: two, with its springs at full engagement raising ω_max)."""
+    from rods.fe import timestep
+
+    calls = []
+    solve = timestep.omega_max
+    monkeypatch.setattr(timestep, "omega_max", lambda m, c, K=None: calls.append(c) or solve(m, c, K))
+    kin = ExplicitModel(scene_with(*COARSE, "fe.contact='kinematic'"))
+    assert calls == [False] and kin.ω_max == kin.ω_max_K and kin.dt_switching == float("inf")
+    calls.clear()
+    pen = ExplicitModel(scene_with(*COARSE, *PENALTY, f"fe.penalty={100 * P0}"))
+    assert calls == [False, True] and pen.ω_max > pen.ω_max_K
+
+
 def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
     """Why the switching limit exists: 100x the default penalty marched at 0.8 x the linear limit (1.58 x the
     switching limit) rattles and pumps energy: the guard stops it, or its energy error is many times that of
