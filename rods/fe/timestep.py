@@ -5,7 +5,8 @@
 * ω_max [rad/s] of M^-1 (K + K_c), K_c the contact stiffness at full engagement, by SLEPc Krylov-Schur on
   M^-½ (K + K_c) M^-½ (:func:`omega_max`; on a device backend thick-restart Lanczos there,
   :func:`largest_eigenvalue_on`: the host's Krylov-Schur took ~80% of the set-up, 10.1 of 12.5 s on the
-  3D coarse mesh, and grows with the DOFs), and without contact; the linear limit
+  3D coarse mesh, and grows with the DOFs), and without contact (one solve when the contact law has no
+  springs, as the default kinematic law: the operator is the same); the linear limit
   Δt_crit = 2/ω_max (sqrt(1 + ξ²) - ξ) with the bulk-viscosity fraction ξ (:func:`rods.fe.explicit.stable_step`);
 * the Gershgorin bound ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i (:func:`gershgorin`), a check never marched at;
 * the contact-switching limit SWITCHING/ω_c of an isolated penalty pair (:func:`rods.fe.explicit.switching_step`);
