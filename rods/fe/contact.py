@@ -346,10 +346,12 @@ class PenaltyContact:
             self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
         return b[: self.ns], b[self.ns :]
 
-    def _scatter(self, f: np.ndarray, fs: np.ndarray, fm: np.ndarray) -> None:  # fs, fm: all tip nodes
-        """f[owned slave/master axial entries] += fs, fm (host arrays of forces over all tip nodes)."""
-        f[self.slave.local] += fs[self.slave.pos]
-        f[self.master.local] += fm[self.master.pos]
+    def _scatter(self, f, fs, fm) -> None:  # fs, fm: all tip nodes
+        """f[owned slave/master axial entries] += fs, fm (values over all tip nodes; host arrays, or the
+        arrays of the backend of :meth:`use`)."""
+        d = self._host_arrays if isinstance(f, np.ndarray) else self._d
+        f[d.slave_local] += fs[d.slave_pos]
+        f[d.master_local] += fm[d.master_pos]
 
     def gaps(self, u):
         """g_s = g0_s + Σ_j W_sj u_z,j - u_z,s [m] at the owned displacement ``u`` (host or backend arrays)."""
@@ -421,9 +423,7 @@ class PenaltyContact:
         d, xp = (self._host_arrays, np) if isinstance(x, np.ndarray) else (self._d, self.backend.xp)
         xs, xm = self.gather(x)
         t = d.k * (_interp(d.J, d.W, xm) - xs)
-        fm = _transpose(xp, d.J, d.W, t, self.nm)
-        y[d.slave_local] -= t[d.slave_pos]  # the owned tip entries (each once)
-        y[d.master_local] += fm[d.master_pos]
+        self._scatter(y, -t, _transpose(xp, d.J, d.W, t, self.nm))
 
     def pair_frequency(self, inv_mass: np.ndarray) -> float:
         """Largest angular frequency [rad/s] of an isolated contact pair: a slave and its master nodes

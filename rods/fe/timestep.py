@@ -67,23 +67,23 @@ def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
     """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½: SLEPc on the host
     (K a PETSc Mat or the array backends' SciPy CSR), or thick-restart Lanczos on the device when the
     backend is one (``K_device``: K there, :func:`largest_eigenvalue_on`)."""
-    if model.backend.on_device:
-        return math.sqrt(largest_eigenvalue_on(model.backend, _scaled(model, with_contact, K_device), model.n_local))
+    if scipy.sparse.issparse(model.K):  # the array backends: the operator on their arrays (:func:`_scaled`)
+        on_device = model.backend.on_device
+        scaled = _scaled(model, with_contact, K_device if on_device else model.K)
+        if on_device:
+            return math.sqrt(largest_eigenvalue_on(model.backend, scaled, model.n_local))
+
+        def add_scaled(x: np.ndarray, y: np.ndarray) -> None:
+            y += scaled(x)
+
+        return math.sqrt(largest_eigenvalue(add_scaled, model.n_local, model.comm))
     D = np.sqrt(model.inv_mass)
     z, Kz = np.zeros(model.n_local), np.zeros(model.n_local)
-    if scipy.sparse.issparse(model.K):
-
-        def stiffness(x: np.ndarray, y: np.ndarray) -> None:
-            y[:] = model.K @ x
-    else:
-        zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
-
-        def stiffness(x: np.ndarray, y: np.ndarray) -> None:  # noqa: ARG001 (the Vecs share z, Kz)
-            model.K.mult(zv, Kzv)
+    zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
 
     def apply(x: np.ndarray, y: np.ndarray) -> None:
         np.multiply(D, x, out=z)
-        stiffness(z, Kz)
+        model.K.mult(zv, Kzv)
         if with_contact:
             model.contact.apply_stiffness(z, Kz)
         y += D * Kz
