@@ -9,9 +9,10 @@ the scaled stiffness A = -Δt M^-1 K is applied.
   of ``cupy``.
 * ``cupy`` (serial, NVIDIA GPU, ``pip install rods[gpu]``): the same code with CuPy arrays and a
   cuSPARSE CSR matrix. DOLFINx assembles K, the lumped mass and the contact data on the host once;
-  they are copied to the device once. What is written is copied back: the recorder's scalars and
-  probe values at the output steps, the contact force every step (one scalar), field frames,
-  checkpoints and the submodel's cut band (:class:`HostView`).
+  they are copied to the device once. What is read on the host is copied back: the contact's one
+  copy per step (the kinematic law's tip gaps and rates, the penalty law's force, energy and damping
+  work), the recorder's scalars and probe values at the output steps, field frames, checkpoints and
+  the submodel's cut band (:class:`HostView`).
 * ``auto``: ``cupy`` when CuPy imports and sees a device, else ``petsc``.
 
 The stepper (:class:`rods.fe.explicit.CentralDifference`), the contact, the recorder and the cut

@@ -36,8 +36,8 @@ as the kinematic contact's) is counted as ``dissipated_energy``, so the energy b
 
 Array backends (:mod:`rods.fe.backend`): the per-step law (gather, gaps, forces, scatter) is written
 once against the backend's array namespace; a device backend holds the pairing and the tip entries on
-the device and copies back the total force and energy (two scalars) per step and the tip arrays
-(gap, pressure, forces) only when they are read.
+the device and copies back the total force and energy (and, damped, the damping's work) in one copy per
+step, and the tip arrays (gap, pressure, forces) only when they are read.
 
 MPI: the tip arrays are small (tens of nodes); every rank holds all of them, in r order, and the owned
 axial displacements are summed into them with one Allreduce per step; every rank then evaluates the
@@ -365,24 +365,29 @@ class PenaltyContact:
         g = self.gaps(u)
         pen = xp.maximum(-g, 0.0) * d.inside  # penetration [m]
         F = d.k * pen  # compressive nodal forces on the slaves [N]
+        sums = [F.sum(), xp.dot(d.k, pen * pen)]  # force [N], twice the penalty energy [J] (this part)
         if self.ζ > 0.0:
-            F = self._damp(F, pen, g)
+            F, work = self._damp(F, pen, g)
+            sums = [F.sum(), sums[1], work]
         self._Fs = F
         self._Fm = _transpose(xp, d.J, d.W, F, self.nm)
         self._g, self._host = g, None
         self._p = self.ε * pen if self.ζ == 0.0 else F * self._inv_area
-        self.force = self.multiplicity * float(F.sum())  # full rods [N]
-        self.energy = 0.5 * self.multiplicity * float(xp.dot(d.k, pen * pen))  # [J]
+        sums = self.multiplicity * self.backend.to_host(xp.stack(sums))  # the step's one copy to the host
+        self.force, self.energy = float(sums[0]), 0.5 * float(sums[1])  # full rods [N], [J]
+        if self.ζ > 0.0:
+            self.dissipated -= 0.5 * float(sums[2])
 
     def _damp(self, F, pen, g):
         """The elastic forces ``F`` plus the pairs' viscous forces c_s (g_{n-1} - g_n)/Δt, kept compressive
-        where the pair penetrates (module docstring); accumulates the damping's work (trapezoid in g)."""
+        where the pair penetrates (module docstring), and the damping's work over the step (trapezoid in g:
+        (Fd_{n-1} + Fd_n)·(g_n - g_{n-1}), a backend scalar; -½ of it adds to the dissipation)."""
         xp = self.backend.xp
         F = xp.where(pen > 0.0, xp.maximum(F + self._cd * (self._g_prev - g), 0.0), 0.0)
         Fd = F - self._d.k * pen  # the damping part, after the clip [N]
-        self.dissipated -= 0.5 * self.multiplicity * float(xp.dot(self._Fd_prev + Fd, g - self._g_prev))
+        work = xp.dot(self._Fd_prev + Fd, g - self._g_prev)
         self._g_prev, self._Fd_prev = g, Fd
-        return F
+        return F, work
 
     def state(self) -> dict[str, np.ndarray]:
         """What a restart needs (the damped law's memory: last gaps, damping forces, dissipation)."""

@@ -199,3 +199,26 @@ def test_damped_pair_restarts_bit_for_bit():
         st2.step()
     v, v_ref = (np.asarray(s.v.getArray() if hasattr(s.v, "getArray") else s.v) for s in (st2, ref))
     assert np.array_equal(v, v_ref) and c2.dissipated == c_ref.dissipated
+
+
+@pytest.mark.parametrize("ζ", [0.0, 0.2], ids=["undamped", "damped"])
+def test_one_copy_to_the_host_per_evaluation(monkeypatch, ζ):
+    """On an array backend an evaluation copies its scalars (force, energy and, damped, the damping's work) to
+    the host in one copy (on a device: the step's one synchronisation); the values are those of the host path."""
+    from rods.fe import backend as backends
+
+    copies = [0]
+    to_host = backends.Backend.to_host
+    monkeypatch.setattr(backends.Backend, "to_host", lambda s, a: copies.__setitem__(0, copies[0] + 1) or to_host(s, a))
+    ref, n = axisymmetric_pair()
+    c, _ = axisymmetric_pair()
+    c.use(backends.select("numpy", 1))
+    for law in (ref, c) if ζ else ():
+        law.set_damping(ζ, np.full(n, 1e3), 1e-8)  # masses [kg], step [s]
+    for δ in (1e-6, 3e-6, 5e-6):
+        copies[0] = 0
+        for law in (ref, c):
+            law.evaluate(pressed(law, n, δ))
+        assert copies[0] == 2  # one each: the PETSc path's state is numpy too, but its sums come the same way
+        assert (c.force, c.energy, c.dissipated) == (ref.force, ref.energy, ref.dissipated)
+    assert c.force > 0 and (c.dissipated != 0.0) == (ζ > 0)

@@ -179,3 +179,36 @@ def test_edge_radius_on_the_hertz_profile_wherever_the_edge_falls(h):
         g = hertz_separation(r, a, R)
         errors.append(edge_radius(r, g, g == 0.0) / a - 1.0)
     assert np.abs(errors).max() < 0.006 * (h / 0.25e-3) ** 1.5 + 1e-4
+
+
+@pytest.mark.parametrize("speed", [0.5, -0.5], ids=["closing", "separating"])
+def test_one_copy_to_the_host_per_step_and_no_force_while_open(monkeypatch, speed):
+    """On an array backend a step copies the tip state to the host once (on a device: its one synchronisation),
+    and reading the gaps, pressures, forces and radius after it copies nothing more; while every pair is open
+    the contact adds no force (no upload, no scatter). Counted on the NumPy backend, the CuPy path's code."""
+    from rods.fe import backend as backends
+    from rods.fe.contact import PenaltyContact
+
+    copies, scatters = [0], [0]
+    to_host, add_force = backends.Backend.to_host, PenaltyContact.add_force
+    monkeypatch.setattr(
+        backends.Backend, "to_host", lambda self, a: copies.__setitem__(0, copies[0] + 1) or to_host(self, a)
+    )
+    monkeypatch.setattr(
+        PenaltyContact, "add_force", lambda *a: scatters.__setitem__(0, scatters[0] + 1) or add_force(*a)
+    )
+    K, mass, c, v0 = _cap_on_flat()
+    be = backends.select("numpy", 1)
+    c.use(be)
+    dt = 0.5 * 2.0 / float(np.sqrt(np.linalg.eigvalsh(K / mass[:, None]).max()))  # [s]
+    s = CentralDifference(scipy.sparse.csr_matrix(K), mass, 1.0 / mass, dt, np.sign(speed) * v0, contact=c, backend=be)
+    closed_steps = 0
+    for _ in range(200):
+        copies[0] = scatters[0] = 0
+        s.step()
+        _ = c.gap, c.pressure, c.slave_forces(None), c.radius(), c.force
+        assert copies[0] == 1
+        closed = bool(c.pressure.any())
+        assert scatters[0] == (1 if closed else 0)  # the stepper's one add_force call reaches the scatter
+        closed_steps += closed
+    assert (10 <= closed_steps < 200) if speed > 0 else (closed_steps == 0)  # closing: open steps too (measured 15)
