@@ -129,9 +129,15 @@ class CentralDifference:
     (:class:`rods.fe.contact.PenaltyContact`, on the same backend) or None; ``backend`` where the state
     lives and how A acts (:mod:`rods.fe.backend`; default the PETSc path).
 
-    Per step: one matrix multiply-add v += A (u [+ β v]), the contact impulse Δt M^-1 f_c on the tip
-    entries and the drift u += Δt v, written once against the backend's array namespace and operator
-    (``mult``, ``mult_add``, ``axpy``). The drift is deferred
+    Per step: one matrix product, the contact impulse Δt M^-1 f_c on the tip entries and the drift
+    u += Δt v, written once against the backend's array namespace and operator (``mult``, ``mult_add``,
+    ``axpy``). Undamped, the product is the multiply-add v += A u_n. Damped, the damping's A v_{n-½} is not
+    a second product: K is linear and u_n = u_{n-1} + Δt v_{n-½}, so A v_{n-½} = (A u_n - A u_{n-1})/Δt from
+    the product q_n = A u_n and the last step's q_{n-1} (one vector kept; the first step, which has no
+    q_{-1}, multiplies v_0, and a restore multiplies u_n once). The difference rounds to ~ε |A u|/Δt, ε
+    n |A v| over n steps (~1e-11 of the damping force after 1e5 steps), and the energy record uses the
+    damping force the step applied, so the balance is unaffected. A damped step costs one product instead
+    of two: the step time of the matrix-bound loop nearly halves. The drift is deferred
     to the start of the next step, so that after :meth:`step` the state is (u_n, v_{n+½}): observers see
     u_n and may prescribe entries of v_{n+½} (a driven cut) before u_{n+1} = u_n + Δt v_{n+½} is formed.
 
@@ -154,13 +160,14 @@ class CentralDifference:
     ):
         xp, n = backend.xp, mass.size
         self.backend = backend
-        self.u, self.v, self._z, self.y = (xp.zeros(n) for _ in range(4))
+        self.u, self.v, self._z, self.y, self._q, self._q_prev = (xp.zeros(n) for _ in range(6))
         self.dt_inv_mass = backend.asarray(dt * inv_mass)  # Δt M^-1 [s/kg]
         self.mass_dt = backend.asarray(mass / dt)  # M/Δt [kg/s]
         self.dt, self.β, self.contact, self.damped = dt, β, contact, β > 0
         self.mass = backend.asarray(mass)  # [kg]
         self.v[:] = backend.asarray(v0)
-        self.op = backend.operator(A, -self.dt_inv_mass, (self.u, self.v, self._z, self.y))
+        arrays = (self.u, self.v, self._z, self.y, self._q, self._q_prev)
+        self.op = backend.operator(A, -self.dt_inv_mass, arrays)
         self.n = 0  # index of the state's u_n
         self.pending = False  # the drift u_{n+1} = u_n + Δt v_{n+½} is due at the next step
         self.v_prev = None  # v_{n-½} (backend array) when kept
@@ -178,14 +185,23 @@ class CentralDifference:
             c.evaluate(u)  # contact at u_n
         if keep:
             self.v_prev = v.copy()
-        if self.damped:  # f_d,n = C v_{n-½}; y = A v = -Δt M^-1 K v
-            op.mult(v, y)
+        if self.damped:  # q = A u_n; y = A v_{n-½} = -Δt M^-1 K v: f_d,n = C v_{n-½} (class docstring)
+            self._q, self._q_prev = self._q_prev, self._q
+            q = self._q
+            op.mult(u, q)
+            if self.n == 0:
+                op.mult(v, y)  # no A u_{-1}: the first step's one extra product
+            else:
+                self.backend.xp.subtract(q, self._q_prev, out=y)
+                y *= 1.0 / self.dt
             self.damping_power = -β * self.backend.dot(self.mass_dt * v, y)
         if self.n == 0:  # half step: v_{½} = v_0 + ½ Δt a_0
             z = self._z
-            op.mult(u, z)
             if self.damped:
+                z[:] = q
                 z += β * y
+            else:
+                op.mult(u, z)
             z *= 0.5
             if c is not None and not c.predictive:
                 c.add_force(z, 0.5 * dt_inv_mass)
@@ -193,9 +209,11 @@ class CentralDifference:
             if c is not None and c.predictive:
                 c.correct(v, self.dt, 0.5, dt_inv_mass)
         else:  # v_{n+½} = v_{n-½} + Δt M^-1 (f_c - K u_n - C v_{n-½})
-            op.mult_add(u, v)
             if self.damped:
+                v += q
                 op.axpy(v, β, y)
+            else:
+                op.mult_add(u, v)
             if c is not None:
                 if c.predictive:  # kinematic: the impulse that closes the predicted gaps
                     c.correct(v, self.dt, 1.0, dt_inv_mass)
@@ -206,13 +224,14 @@ class CentralDifference:
         self.pending = True
 
     def _stiffness_increment(self):
-        """-Δt M^-1 K u_n: the velocity increment less its contact and damping parts (x2 on the half step)."""
+        """-Δt M^-1 K u_n: damped, the step's own product q_n; undamped, the velocity increment less its
+        contact part (x2 on the half step)."""
+        if self.damped:
+            return self._q.copy()
         h = 0.5 if self.n == 0 else 1.0
         dv = self.v - self.v_prev
         if self.contact is not None:
             self.contact.add_force(dv, -h * self.dt_inv_mass)
-        if self.damped:
-            dv -= h * self.β * self.y
         if self.n == 0:
             dv *= 2.0
         return dv
@@ -225,6 +244,8 @@ class CentralDifference:
         """Resume from :meth:`state` (after a step: the drift is due)."""
         self.u[:], self.v[:] = self.backend.asarray(state["u"]), self.backend.asarray(state["v"])
         self.n, self.pending = int(state["step"]), True
+        if self.damped:  # q_n = A u_n, the product the next step's damping differences against
+            self.op.mult(self.u, self._q)
 
     def destroy(self) -> None:
         self.op.destroy()
