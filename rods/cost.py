@@ -62,6 +62,9 @@ __all__ = [
 STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
 WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 3 h on one rank, 14 h in 3D) [-]
 VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
+# estimated wall time of one run (a day): the analytical model has no steps or DOFs, and 1 s of simulated time
+# (the schema's largest end_time) is ~24 000 wave passes, ~4 min on the paper rods, hours on short rods [s]
+TIME_BUDGET = 86400.0
 # analytical model: integration time per one-way pass L/c of a wave in the rod with the most (measured: paper rods
 # to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass), and per history value
 SECONDS_PER_PASS = 1e-2  # [s]
@@ -298,7 +301,8 @@ def available_memory() -> float:
 
 
 def check(cost: Cost, force: bool = False) -> Cost:
-    """Refuse ``cost`` above the available memory (always) or the step and value budgets (unless ``force``)."""
+    """Refuse ``cost`` above the available memory (always) or the step, work, frame, value and time budgets (unless
+    ``force``)."""
     free = available_memory()
     if cost.memory > free:
         raise InputError(
@@ -315,6 +319,8 @@ def check(cost: Cost, force: bool = False) -> Cost:
          f"{cost.field_bytes / 1e9:.3g} GB of files", "a larger fe.field_interval, a shorter end_time"),
         ("history", cost.values, VALUE_BUDGET, f"{cost.values:.3g} history values", f"{cost.samples:.3g} samples",
          "a larger simulation.output_interval, fewer stations"),
+        ("time", cost.wall_time, TIME_BUDGET, f"about {_duration(cost.wall_time)}", "estimated wall time",
+         "a shorter end_time, coarser sizes, more ranks"),
     )  # fmt: skip
     for name, amount, budget, said, meaning, remedy in budgets:
         if not force and amount > budget:

@@ -163,3 +163,18 @@ def test_entry_points_refuse_what_would_run_into_the_ground(tmp_path, fake_drive
     assert p.returncode == 2 and len(lines) == 1 and len(lines[0]) < 1000, p.stderr[-2000:]
     assert "budget" in lines[0] or "memory" in lines[0]
     assert not out.exists()
+
+
+def test_time_budget_refuses_a_day_long_analytical_run(scene_with):
+    """The analytical model has neither steps nor DOFs: its estimated wall time is budgeted (a day). 1 s of
+    simulated time on 50 mm rods (~118 000 wave passes, about 20 min estimated) passes; a budget below the
+    estimate refuses it, naming the time, and --force lifts that."""
+    short = cost.analytical_cost(scene_with("simulation.end_time=1", "simulation.output_interval=1e-3",
+                                            "rod1.length=0.05", "rod2.length=0.05"))  # fmt: skip
+    assert 100.0 < short.wall_time < cost.TIME_BUDGET
+    assert cost.check(short) is short
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(cost, "TIME_BUDGET", 0.5 * short.wall_time)
+        with pytest.raises(InputError, match="time budget"):
+            cost.check(short)
+        assert cost.check(short, force=True) is short

@@ -28,8 +28,10 @@ values = st.one_of(numbers, st.text(max_size=8), st.floats(allow_nan=True).map(r
 override = st.tuples(st.sampled_from(sorted(SCHEMA)), values).map(lambda kv: f"{kv[0]}={kv[1]}")
 RESULTS: dict[str, list[int]] = {}  # exit codes seen per script (the harness's own check, below)
 TINY = ["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5"]
-# the harness's budgets: about 20 s of stepping and 1.5 GB at most for a run it lets through
-SMALL = {"STEP_BUDGET": 2e5, "WORK_BUDGET": 2e8, "VALUE_BUDGET": 1e6, "available_memory": lambda: 1.5e9}
+# the harness's budgets: about 20 s of stepping and 1.5 GB at most for a run it lets through, and 20 s of estimated
+# wall time (a draw of simulation.end_time=1 with a coarse output interval ran the analytical model for minutes)
+SMALL = {"STEP_BUDGET": 2e5, "WORK_BUDGET": 2e8, "VALUE_BUDGET": 1e6, "TIME_BUDGET": 20.0,
+         "available_memory": lambda: 1.5e9}  # fmt: skip
 
 
 @pytest.fixture(autouse=True, scope="module")

@@ -34,8 +34,10 @@ g_s < 0. With the rate at the half step the damped pair is stable for ω_s Δt <
 the switching limit ω_s Δt <= 1 for every allowed ζ <= 0.5. The damping's work over each step (trapezoid,
 as the kinematic contact's) is counted as ``dissipated_energy``, so the energy balance stays closed.
 
-Array backends (:mod:`rods.fe.backend`): the per-step law (gather, gaps, forces, scatter) is written
-once against the backend's array namespace; a device backend holds the pairing and the tip entries on
+Array backends (:mod:`rods.fe.backend`): the per-step law (gaps, forces, scatter) is written once against
+the backend's array namespace; serial, the gaps are one sparse product g = g0 + B u with the gap operator B
+(:meth:`PenaltyContact.gap_matrix`: -1 at the slave, W_sj at its master nodes), on a device one kernel
+instead of the gather's and the interpolation's dozen; a device backend holds the pairing and the tip entries on
 the device and copies back the total force and energy (and, damped, the damping's work) in one copy per
 step, and the tip arrays (gap, pressure, forces) only when they are read.
 
@@ -65,6 +67,7 @@ from typing import Any
 
 import dolfinx
 import numpy as np
+import scipy.sparse
 from mpi4py import MPI
 
 from rods.fe.backend import PETSC, Backend
@@ -221,7 +224,9 @@ def _transpose(xp, J, W, t, n_master: int):
 @dataclass
 class _Arrays:
     """What a step reads, in one array namespace: pairing (J, W, inside), initial gap g0 [m], nodal
-    penalty stiffness k [N/m], the owned tip entries (local) and their sorted positions (pos), a buffer."""
+    penalty stiffness k [N/m], the owned tip entries (local) and their sorted positions (pos), a buffer;
+    serial, the gap operator B as a CSR matrix of that namespace (made at the first product, for the
+    owned array's length), with the backend that holds them."""
 
     J: Any
     W: Any
@@ -233,6 +238,8 @@ class _Arrays:
     master_local: Any
     master_pos: Any
     buf: Any
+    backend: Backend
+    B: Any = None
 
 
 class PenaltyContact:
@@ -290,6 +297,7 @@ class PenaltyContact:
         return _Arrays(
             *(put(a) for a in (self.J, self.W, self.inside, self.g0, self.k, s.local, s.pos, m.local, m.pos)),
             backend.xp.zeros(self.ns + self.nm),
+            backend,
         )
 
     def use(self, backend: Backend) -> None:
@@ -353,11 +361,33 @@ class PenaltyContact:
         f[d.slave_local] += fs[d.slave_pos]
         f[d.master_local] += fm[d.master_pos]
 
+    def gap_matrix(self, n: int) -> scipy.sparse.csr_matrix:
+        """B (n_s x n, serial): row s has -1 at the slave's axial entry and W_sj at its master nodes' axial
+        entries of an owned array of length ``n``, so that g = g0 + B u and ġ = B v."""
+        s, m = self.slave, self.master
+        master_entry = np.empty(self.nm, dtype=np.int64)
+        master_entry[m.pos] = m.local
+        rows = np.concatenate([s.pos, np.repeat(np.arange(self.ns), self.J.shape[1])])
+        cols = np.concatenate([s.local, master_entry[self.J].ravel()])
+        vals = np.concatenate([-np.ones(self.ns), self.W.ravel()])
+        return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(self.ns, n))
+
+    def normal_rates(self, x):
+        """B x: Σ_j W_sj x_z,j - x_z,s at every slave for the owned array ``x`` (host or backend arrays). Serial
+        it is one sparse product (on a device one kernel, not the gather's and interpolation's dozen); under
+        MPI the gather (an Allreduce) and the interpolation."""
+        d = self._host_arrays if isinstance(x, np.ndarray) else self._d
+        if not self.serial:
+            xs, xm = self.gather(x)
+            return _interp(d.J, d.W, xm) - xs
+        if d.B is None or d.B.shape[1] != x.size:
+            d.B = d.backend.csr(self.gap_matrix(x.size))
+        return d.B @ x
+
     def gaps(self, u):
         """g_s = g0_s + Σ_j W_sj u_z,j - u_z,s [m] at the owned displacement ``u`` (host or backend arrays)."""
         d = self._host_arrays if isinstance(u, np.ndarray) else self._d
-        us, um = self.gather(u)
-        return d.g0 + _interp(d.J, d.W, um) - us
+        return d.g0 + self.normal_rates(u)
 
     def evaluate(self, u) -> None:
         """Contact state at displacement ``u`` (owned array): gaps, pressures, nodal forces, energy."""

@@ -44,7 +44,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-from rods.fe.contact import PenaltyContact, _interp, _transpose
+from rods.fe.contact import PenaltyContact, _transpose
 
 __all__ = ["KinematicContact", "edge_radius", "solve_lcp"]
 
@@ -158,8 +158,7 @@ class KinematicContact(PenaltyContact):
         """v += M^-1 Bᵀ P so that no pair penetrates at t_{n+1} (``v``: v*_{n+½} on the backend; ``h``: ½
         on the first half step, else 1; ``dt_inv_mass``: the stepper's Δt M^-1)."""
         xp, ns = self.backend.xp, self.ns
-        vs, vm = self.gather(v)
-        rate = _interp(self._d.J, self._d.W, vm) - vs  # d g/dt [m/s]
+        rate = self.normal_rates(v)  # d g/dt [m/s]
         g_rate = self.backend.to_host(xp.concatenate((self._g, rate)))  # the step's one copy to the host
         g, rate = g_rate[:ns], g_rate[ns:]
         g_pred = g + dt * rate

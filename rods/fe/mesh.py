@@ -82,12 +82,32 @@ def axial_spacing(rod: Rod, h: float, grading: float) -> AxialSpacing:
         return AxialSpacing(0, 1.0, 0.0, n, L / n)
     n_g = max(1, math.ceil(math.log(1.0 / grading) / math.log(GROWTH)))
     q = (1.0 / grading) ** (1.0 / n_g)  # sizes g h q^k, k = 0..n_g-1; the last is h / q
-    length = grading * h * (q**n_g - 1.0) / (q - 1.0)
+    a = grading * h  # the tip element [m]
+    length = a * (q**n_g - 1.0) / (q - 1.0)
     cap = rod.cap_height
-    if length < 2.0 * cap:  # keep the block's flat side clear of the cap
+    if length < 2.0 * cap:  # keep the block's flat side clear of the cap: a longer block, the same tip element
         length = 2.0 * cap + h
+        n_g, q = _graded_counts(a, length, h, n_g)
     n_u = max(1, math.ceil((L - length) / h - 1e-9))
-    return AxialSpacing(n_g, q, length, n_u, grading * h)
+    return AxialSpacing(n_g, q, length, n_u, a)
+
+
+def _graded_counts(a: float, length: float, h: float, n0: int) -> tuple[int, float]:
+    """(n, q): the fewest n >= ``n0`` elements growing by q <= GROWTH from ``a`` [m] that fill ``length`` [m],
+    a (q^n - 1)/(q - 1) = length, with none longer than ``h`` [m] (a deep cap's long graded block keeps the
+    tip element; stretching the block's elements instead made it 2.2x longer on a 30 mm rod, 35 mm tip)."""
+    n = n0
+    while True:
+        if n * a >= length:  # uniform elements of length/n <= a fill it
+            return n, 1.0
+        lo, hi = 1.0, GROWTH
+        if a * (hi**n - 1.0) / (hi - 1.0) >= length:
+            for _ in range(200):  # bisection: the block's length grows with q
+                q = 0.5 * (lo + hi)
+                lo, hi = (q, hi) if a * (q**n - 1.0) / (q - 1.0) < length else (lo, q)
+            if a * hi ** (n - 1) <= h:
+                return n, hi
+        n += 1
 
 
 BUTTERFLY_ANGLE = math.radians(70.0)  # rim angle asin(R/r_k) above which a cap is meshed as a butterfly [rad]

@@ -222,3 +222,29 @@ def test_one_copy_to_the_host_per_evaluation(monkeypatch, ζ):
         assert copies[0] == 2  # one each: the PETSc path's state is numpy too, but its sums come the same way
         assert (c.force, c.energy, c.dissipated) == (ref.force, ref.energy, ref.dissipated)
     assert c.force > 0 and (c.dissipated != 0.0) == (ζ > 0)
+
+
+def test_serial_gap_operator_is_the_gather_and_interpolation():
+    """Serial, g = g0 + B u is one sparse product (rods.fe.contact.PenaltyContact.gap_matrix); it equals the
+    MPI path's gather and interpolation to round-off, axisymmetric (linear in r) and 3D (bilinear, slaves
+    off the face included), with the owned entries in any order."""
+    rng = np.random.default_rng(7)
+    g = np.linspace(0.0, 1e-3, 4)
+    X, Y = np.meshgrid(g, g, indexing="ij")
+    xy_m = np.column_stack([X.ravel(), Y.ravel()])
+    idx = np.arange(16).reshape(4, 4)
+    quads = np.stack([idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]], axis=-1).reshape(-1, 4)
+    xy_s = 1.2e-3 * rng.random((9, 2))  # some beyond the face
+    n = 3 * (9 + 16)
+    perm = rng.permutation(9 + 16)  # owned axial entries, shuffled
+    slave = TipNodes(np.hypot(*xy_s.T), np.zeros(9), np.full(9, 1e-8), 3 * perm[:9] + 2, np.arange(9), xy_s)
+    master = TipNodes(np.hypot(*xy_m.T), np.zeros(16), np.full(16, 1e-8), 3 * perm[9:] + 2, np.arange(16), xy_m)
+    three_d = PenaltyContact(slave, master, ε, MPI.COMM_SELF, bilinear_pairing(xy_s, xy_m, quads))
+    assert not three_d.inside.all()
+    for c, size in ((axisymmetric_pair()[0], axisymmetric_pair()[1]), (three_d, n)):
+        u = rng.normal(size=size) * 1e-6
+        serial = c.normal_rates(u)
+        c.serial = False  # the MPI path's gather (an Allreduce over one rank) and interpolation
+        gathered = c.normal_rates(u)
+        c.serial = True
+        assert np.abs(serial - gathered).max() <= 1e-15 * np.abs(u).max() and np.abs(gathered).max() > 0

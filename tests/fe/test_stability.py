@@ -106,18 +106,19 @@ def test_the_step_limit_is_solved_once_without_contact_springs(scene_with, monke
 
 
 def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
-    """Why the switching limit exists: 100x the default penalty marched at 0.8 x the linear limit (1.58 x the
-    switching limit) rattles and pumps energy: the guard stops it, or its energy error is many times that of
-    the same contact at the switching-limited step (measured 9.3e-3 against 3.5e-4, 27 x; the rattling is
-    chaotic, so the figure moves with the machine's floating point: 1.6e-2 was measured elsewhere), and above
-    checks.ENERGY_OK the run's status is not "ok"."""
+    """Why the switching limit exists: 100x the default penalty marched at 0.9 x the linear limit (1.77 x the
+    switching limit) rattles and pumps energy: the guard stops it (measured: energy grown by 0.076 and 0.11 x E0
+    with two round-off-level variants of the gap evaluation), or its energy error is many times that of the same
+    contact at the switching-limited step, and above checks.ENERGY_OK the run's status is not "ok". Closer to
+    the limit the rattle is chaotic: at 0.8 x (1.58 x the switching limit) the same two variants measured
+    9.3e-3 and 1.6e-3, against 3.5e-4 and 1.1e-3 at the switching-limited step."""
     from rods.fe.guards import SimulationError
 
     scene = scene_with(*COARSE, *PENALTY, f"fe.penalty={100 * P0}")
     safe = ExplicitModel(scene).run().summary["energy_error"]
     fe = ExplicitModel(scene)
-    dt = 0.8 * fe.dt_critical
-    assert dt > 1.1 * fe.dt_switching
+    dt = 0.9 * fe.dt_critical
+    assert dt > 1.5 * fe.dt_switching
     with pytest.raises(SceneError, match="switching"):
         ExplicitModel(scene_with(*COARSE, *PENALTY, f"fe.penalty={100 * P0}", f"fe.dt={dt}"))
     fe.dt, fe.steps = dt, int(scene.end_time / dt)  # bypass the refusal to show the instability
