@@ -144,7 +144,8 @@ class CentralDifference:
     With ``keep=True`` a step also keeps what an energy record needs: ``v_prev`` = v_{n-½} and
     ``increment`` = -Δt M^-1 K u_n, recovered from the scheme's own velocity increment (no second
     multiply), so that ½ u_n·K u_n = -½ (M/Δt) u_n·increment. ``damping_power`` = v_{n-½}·C v_{n-½}
-    [W] at every damped step (the dissipation's trapezoid rule needs it before v is overwritten).
+    [W] at every damped step (the dissipation's trapezoid rule needs it before v is overwritten), a scalar of the
+    backend (on a device it stays there: the step does not wait for it).
     """
 
     def __init__(
@@ -194,7 +195,7 @@ class CentralDifference:
             else:
                 self.backend.xp.subtract(q, self._q_prev, out=y)
                 y *= 1.0 / self.dt
-            self.damping_power = -β * self.backend.dot(self.mass_dt * v, y)
+            self.damping_power = -β * self.backend.sum_product(self.mass_dt * v, y)  # a backend scalar
         if self.n == 0:  # half step: v_{½} = v_0 + ½ Δt a_0
             z = self._z
             if self.damped:

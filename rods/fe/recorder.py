@@ -79,7 +79,7 @@ class Recorder:
     ):
         self.contact, self.comm, self.dt, self.multiplicity = contact, comm, dt, float(multiplicity)
         P, self.probe_keys = probes
-        self.backend, self.dot = backend, backend.dot
+        self.backend = backend
         self.P, self.mass_axial = backend.csr(P), backend.asarray(mass_axial)
         self.sources = [s for s in sources if hasattr(s, "external_work")]
         self.is_out = np.zeros(steps + 1, dtype=bool)
@@ -117,24 +117,23 @@ class Recorder:
         if st.damped:
             if step > 0:
                 self.W_local += 0.5 * self.dt * (self.s_prev + st.damping_power)
-            self.s_prev = -st.β * self.dot(st.mass_dt * st.v, st.y)  # v_{n+½}·f_d,n
+            self.s_prev = -st.β * self.backend.sum_product(st.mass_dt * st.v, st.y)  # v_{n+½}·f_d,n (backend scalar)
         self.last = None
         if self.is_out[step]:
             self._record(t, st)
 
     def _record(self, t: float, st: CentralDifference) -> None:
-        c, dot, n_p, host = self.contact, self.dot, self.P.shape[0], self.backend.to_host
-        E_s = -0.5 * dot(st.mass_dt * st.u, st.increment)  # ½ u_n·K u_n
-        E_k = 0.5 * dot(st.mass * st.v_prev, st.v)  # ½ v_{n-½}·M v_{n+½}
+        c, n_p, be = self.contact, self.P.shape[0], self.backend
+        xp, sp = be.xp, be.sum_product
+        E_s = -0.5 * sp(st.mass_dt * st.u, st.increment)  # ½ u_n·K u_n
+        E_k = 0.5 * sp(st.mass * st.v_prev, st.v)  # ½ v_{n-½}·M v_{n+½}
+        W_dev = not isinstance(self.W_local, float)  # damped on a device: the sum is there (np.float64 is a float)
+        sums = [E_k, E_s, sp(self.mass_axial, st.v)] + ([self.W_local] if W_dev else [])
+        got = be.to_host(xp.concatenate((xp.stack(sums), self.P @ (st.v_prev + st.v), self.P @ st.u)))  # one copy
+        k = len(sums)
         W_ext = sum(s.external_work() for s in self.sources) if self.sources else 0.0
-        loc = np.concatenate(
-            (
-                [E_k, E_s, self.W_local, W_ext],
-                host(self.P @ (st.v_prev + st.v)),
-                host(self.P @ st.u),
-                [dot(self.mass_axial, st.v)],
-            )
-        )
+        W_local = got[3] if W_dev else self.W_local
+        loc = np.concatenate(([got[0], got[1], W_local, W_ext], got[k : k + n_p], got[k + n_p : k + 2 * n_p], [got[2]]))
         if self.comm.size > 1:
             self.comm.Allreduce(MPI.IN_PLACE, loc, op=MPI.SUM)
         scalars, pv, pu, p_z = np.split(loc, [4, 4 + n_p, 4 + 2 * n_p])
@@ -163,7 +162,7 @@ class Recorder:
         """What a restart needs after ``step`` (this rank): rows so far, accumulators, peak, wall time."""
         k = self.k
         out: dict[str, Any] = {f"hist_{name}": col[:k] for name, col in self.columns.items()}
-        out.update(k=k, force=self.force[: step + 1], W_local=self.W_local, s_prev=self.s_prev)
+        out.update(k=k, force=self.force[: step + 1], W_local=float(self.W_local), s_prev=float(self.s_prev))
         out.update(p_max_all=self.p_max_all, wall=self.wall())
         out.update({f"peak_{key}": np.asarray(val) for key, val in self.peak.items()})
         if hasattr(self.contact, "state"):  # a contact with memory (kinematic: F_{n-1}, g_{n-1}, dissipation)
