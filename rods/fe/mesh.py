@@ -57,7 +57,7 @@ class RodsMesh:
     facet_tags: dolfinx.mesh.MeshTags
     n_radial: int  # elements across the radius [-]
     n_axial: tuple[int, int]  # elements along rod 1, rod 2 [-]
-    h_radial: float  # radial element size [m]
+    h_radial: float  # element size along the tip faces (radial; on a curved face along its arc) [m]
     h_tip: float  # axial size of the element at the tips (normal to the contact face) [m]
     h_axial: float  # nominal axial element size [m]
 
@@ -151,6 +151,19 @@ def butterfly(rod: Rod) -> Butterfly | None:
     return Butterfly(t, th, {**pts, "Oc": (0.0, rt)})
 
 
+def tip_arc_length(rod: Rod) -> float:
+    """Length [m] of the tip face's profile from the apex to the rim: R flat, r_t asin(R/r_t) on a spherical cap."""
+    R, rt = rod.diameter / 2, rod.tip_radius
+    return R if math.isinf(rt) else rt * math.asin(min(1.0, R / rt))
+
+
+def face_count(rod: Rod, hr: float) -> int:
+    """Elements along a one-block tip face at size ``hr`` [m], counted on its arc, so that a curved face's nodes
+    are as far apart as the flat face's it meets (divided by the radius, a 10 mm tip on 12.7 mm rods had them
+    8% farther apart, and the one-pass node-to-surface contact lost 4.6% of the peak pressure at the axis)."""
+    return max(1, math.ceil(tip_arc_length(rod) / hr - 1e-9))
+
+
 def butterfly_counts(b: Butterfly, hr: float) -> tuple[int, int, int]:
     """Elements (n_a, n_b, m) of a butterfly at size ``hr`` [m]: along the arcs A-P and P-E, across the bands."""
     n_a, n_b = (max(1, math.ceil(x / hr - 1e-9)) for x in b.arcs)
@@ -162,7 +175,7 @@ def cell_count(rod: Rod, hr: float, h: float, grading: float) -> int:
     sp = axial_spacing(rod, h, grading)
     b = butterfly(rod)
     if b is None:
-        return max(1, math.ceil(rod.diameter / 2 / hr - 1e-9)) * (sp.n_graded + sp.n_uniform)
+        return face_count(rod, hr) * (sp.n_graded + sp.n_uniform)
     n_a, n_b, m = butterfly_counts(b, hr)
     return (n_a + n_b) * m + n_a * n_b + (n_a + m) * (sp.n_graded + sp.n_uniform)
 
@@ -206,6 +219,7 @@ def _butterfly_cap(geo, b: Butterfly, s: float, hr: float) -> dict[str, Any]:  #
         "corners": (p["O"], p["E"]),
         "n_cross": n_a + m,
         "h_tip": b.t / m,  # the element normal to the contact face at the apex [m]
+        "h_face": max(length / n for length, n in zip(b.arcs, (n_a, n_b), strict=True)),  # along the face [m]
     }
 
 
@@ -217,8 +231,9 @@ def _flat_block_cap(geo, rod: Rod, s: float, hr: float) -> dict[str, Any]:  # ra
         tip = geo.addLine(p_apex, p_edge)
     else:
         tip = geo.addCircleArc(p_apex, geo.addPoint(0.0, s * rod.tip_radius, 0.0), p_edge)
-    n_r = max(1, math.ceil(R / hr - 1e-9))
-    return {"surfaces": [], "tip": [tip], "axis": [], "rim": [tip], "corners": (p_apex, p_edge), "n_cross": n_r}
+    n_r = face_count(rod, hr)
+    return {"surfaces": [], "tip": [tip], "axis": [], "rim": [tip], "corners": (p_apex, p_edge), "n_cross": n_r,
+            "h_face": tip_arc_length(rod) / n_r}  # fmt: skip
 
 
 def _build_gmsh_model(scene: Scene):  # rank 0 only
@@ -265,7 +280,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
             outer_curves.append(c_outer)
             lower_axis, lower_outer, lower = pa, po, [c_top]
         tips[k], ends[k], axes[k], outers[k] = cap["tip"], lower, axis_curves, outer_curves
-        info[k] = (n_r, sp, cap.get("h_tip", sp.h_tip))
+        info[k] = (n_r, sp, cap.get("h_tip", sp.h_tip), cap["h_face"])
     geo.synchronize()
     for k in (1, 2):
         gmsh.model.addPhysicalGroup(2, surfaces[k], TAGS[f"rod{k}"], name=f"rod{k}")
@@ -315,7 +330,7 @@ def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
         facet_tags=data.facet_tags,
         n_radial=n_r,
         n_axial=(sp1.n_graded + sp1.n_uniform, sp2.n_graded + sp2.n_uniform),
-        h_radial=scene.rod1.diameter / 2 / n_r,
+        h_radial=max(info[1][3], info[2][3]),  # the larger node spacing along the two tip faces
         h_tip=min(info[1][2], info[2][2]),
         h_axial=scene["fe.axial_size"],
     )

@@ -72,3 +72,19 @@ def axis_tip_element(overrides: list[str]) -> tuple[float, float]:
 def test_built_mesh_has_the_tip_element_on_the_axis(overrides):
     first, wanted = axis_tip_element(overrides)
     assert first == pytest.approx(wanted, rel=1e-6), (first, wanted)
+
+
+@pytest.mark.parametrize("tip_radius", [0.01, 0.035])  # [m]: an arc 8.3% and 0.6% longer than the radius
+def test_curved_face_nodes_are_spaced_as_the_flat_face_they_meet(tip_radius):
+    """A curved tip's face is divided along its arc, so its nodes near the axis (where the peak pressure is) sit
+    where the flat face's do: divided by the radius instead, a 10 mm tip's were 8% farther apart and the one-pass
+    node-to-surface contact read the submodel's fine-level peak pressure 4.6% low (1.6% with the arc's count)."""
+    sc = load_scene(PAPER, ["simulation.end_time=1e-5", f"rod1.tip_radius={tip_radius}", "fe.radial_size=0.25e-3"])
+    x = build_mesh(sc, MPI.COMM_SELF).mesh.geometry.x
+    r, z = x[:, 0], x[:, 1]
+    on_cap = (r > 1e-12) & (np.abs(z + tip_radius - np.sqrt(np.maximum(tip_radius**2 - r**2, 0.0))) < 1e-12)
+    on_face = (r > 1e-12) & (np.abs(z) < 1e-12)
+    slave, master = np.sort(r[on_cap & (z < 0)]), np.sort(r[on_face])
+    assert slave.size and master.size
+    assert slave[0] == pytest.approx(master[0], rel=1e-2)  # the first ring off the axis (measured 0.6%, was 8.3%)
+    assert np.diff(slave).max() <= 0.25e-3 * (1 + 1e-9)  # no face element longer than the size asked for
