@@ -395,10 +395,12 @@ class PenaltyContact:
         g = self.gaps(u)
         pen = xp.maximum(-g, 0.0) * d.inside  # penetration [m]
         F = d.k * pen  # compressive nodal forces on the slaves [N]
-        sums = [F.sum(), xp.dot(d.k, pen * pen)]  # force [N], twice the penalty energy [J] (this part)
+        twice_energy = xp.dot(d.k, pen * pen)  # twice the penalty energy [J] (this part)
+        work = []  # damped: the damping's work over the step [J]
         if self.ζ > 0.0:
-            F, work = self._damp(F, pen, g)
-            sums = [F.sum(), sums[1], work]
+            F, w = self._damp(F, pen, g)
+            work = [w]
+        sums = [F.sum(), twice_energy, *work]  # force [N], ...
         self._Fs = F
         self._Fm = _transpose(xp, d.J, d.W, F, self.nm)
         self._g, self._host = g, None
