@@ -47,6 +47,17 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
   +0.18%, ν = 0.499 +3.5% and duration -4.2 µs against the analytical model);
 * **yield**: the paper's elastic criterion P < 1.1 S_y (rods.hertz.check_yield) at the model's own peak
   force (Hertz pressure of that force, rods.hertz.at_force), for the FE models as for the analytical one.
+
+A study (rods.study.pipeline) adds checks across its stages, each a warning in its ``warnings``:
+
+* **agreement** (:func:`agreement_warnings`): the global FE model's peak force more than :data:`AGREE_FORCE`,
+  or its first contact duration more than :data:`AGREE_DURATION`, from the analytical model's: the two models
+  are verified to agree within these on the verification matrix (rods.study.verification, whose targets they
+  are); outside them one of the two is outside its range on this scene and neither number is signed;
+* **submodel convergence** (:func:`submodel_warnings`): the finest submodel level's contact area or peak
+  pressure more than :data:`HERTZ_OK` from Hertz at its own force, or changed by more than that by the last
+  refinement (from the second-finest level): the patch is not converged (or not Hertzian: the rim and yield
+  warnings say why).
 """
 
 from __future__ import annotations
@@ -61,7 +72,10 @@ import numpy as np
 from rods import hertz, metrics
 
 __all__ = [
+    "AGREE_DURATION",
+    "AGREE_FORCE",
     "DURATION_SPREAD",
+    "HERTZ_OK",
     "ENERGY_OK",
     "MIN_PLATEAU_SAMPLES",
     "NU_LOCKING",
@@ -72,6 +86,7 @@ __all__ = [
     "SPIKE_SHIFT",
     "UNDAMPED",
     "RISE_TRANSITS",
+    "agreement_warnings",
     "apply",
     "bar_theory_warning",
     "contact_layer_warning",
@@ -84,6 +99,7 @@ __all__ = [
     "plateau_warning",
     "spike_shift",
     "rattle_warning",
+    "submodel_warnings",
     "yield_warnings",
 ]
 
@@ -106,6 +122,12 @@ RIM_FRACTION = 0.57
 SOFT_PENALTY = 1.0  # [x E*/h]
 UNDAMPED = 0.1  # [of critical]
 NU_LOCKING = 0.49  # largest Poisson ratio of an "ok" FE run (Q1 locking beyond) [-]
+# a study's agreement, global FE against analytical (issue 13's verification targets, rods.study.verification)
+AGREE_FORCE = 0.005  # largest |F_FE / F_analytical - 1| of the peak contact force in an "ok" study [-]
+AGREE_DURATION = 2e-6  # largest |first contact duration, FE - analytical| in an "ok" study [s]
+# largest |error| against Hertz at its own force, and largest change by the last refinement, of the finest submodel
+# level's contact area and peak pressure in an "ok" study (issue 13: 2% at fine, paper scene fine -0.12%/-0.76%) [-]
+HERTZ_OK = 0.02
 
 
 def rattle_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray]) -> str | None:
@@ -320,6 +342,62 @@ def yield_warnings(scene: Any, force: float) -> list[str]:
         for n, rod in ((1, scene.rod1), (2, scene.rod2)):
             hertz.check_yield(p0, rod.material.yield_strength, where=f"rod {n}")
     return [str(w.message) for w in caught]
+
+
+def agreement_warnings(analytical: Mapping[str, Any], fe: Mapping[str, Any]) -> list[str]:
+    """Warnings when the global FE model's (``fe``, a summary) peak contact force or first contact duration is
+    further from the analytical model's (``analytical``) than :data:`AGREE_FORCE` / :data:`AGREE_DURATION`."""
+    found = []
+    Fa, Ff = analytical.get("peak_contact_force"), fe.get("peak_contact_force")
+    remedy = (
+        "one model is outside its range on this scene (the FE's mesh: compare a finer fe.radial_size/fe.axial_size; "
+        "the analytical model's 1D bars and quasi-static Hertz: its own warnings); trust neither number alone"
+    )
+    if Fa and Ff and abs(Ff / Fa - 1.0) > AGREE_FORCE:
+        found.append(
+            f"peak_contact_force: the global FE model's {Ff:.5g} N is {Ff / Fa - 1:+.2%} from the analytical model's "
+            f"{Fa:.5g} N, outside the ±{AGREE_FORCE:.1%} the two agree within on the verification matrix: {remedy}"
+        )
+    da, df = analytical.get("contact_duration"), fe.get("contact_duration")
+    if da and df and abs(df - da) > AGREE_DURATION:
+        found.append(
+            f"contact_duration: the global FE model's {df * 1e6:.4g} µs is {(df - da) * 1e6:+.3g} µs from the "
+            f"analytical model's {da * 1e6:.4g} µs, outside the ±{AGREE_DURATION * 1e6:g} µs the two agree "
+            f"within on the verification matrix: {remedy}"
+        )
+    return found
+
+
+def submodel_warnings(table: Mapping[str, Any]) -> list[str]:
+    """Warnings from a study's comparison data (rods.study.table3.table3): the finest submodel level's contact
+    area or peak pressure further than :data:`HERTZ_OK` from Hertz at its own force, or changed by more than that
+    from the second-finest level."""
+    subs = [r for r in table["rows"] if r["role"] == "submodel"]  # coarse to fine
+    if not subs:
+        return []
+    found = []
+    finest = subs[-1]
+    columns = {
+        "contact_area": ("d_area_vs_hertz_pct", "area_mm2"),
+        "peak_contact_pressure": ("d_p0_vs_hertz_pct", "p0_GPa"),
+    }
+    for key, (error, value) in columns.items():
+        e = 0.01 * finest[error]
+        if math.isfinite(e) and abs(e) > HERTZ_OK:
+            found.append(
+                f"{key}: the finest submodel level ({finest['level']}, h = {finest['h_mm']:.4g} mm) is {e:+.2%} from "
+                f"Hertz at its own force, outside ±{HERTZ_OK:.0%}: the patch is not converged (add a finer level to "
+                "submodel.levels) or not Hertzian (see the rim and yield warnings)"
+            )
+        if len(subs) > 1:
+            prev = subs[-2]
+            change = finest[value] / prev[value] - 1.0
+            if math.isfinite(change) and abs(change) > HERTZ_OK:
+                found.append(
+                    f"{key}: changes by {change:+.2%} from submodel level {prev['level']} to {finest['level']}, more "
+                    f"than {HERTZ_OK:.0%}: not converged; add a finer level to submodel.levels"
+                )
+    return found
 
 
 def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any, end_time: float) -> dict[str, Any]:

@@ -8,6 +8,7 @@ import sys
 
 import pytest
 
+from rods import checks
 from rods.io import read_history
 
 from .conftest import ROOT
@@ -82,6 +83,16 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     assert sub["force_N"] == pytest.approx(s["peak_contact_force"], rel=1e-12)
     assert abs(sub["d_force_vs_analytical_pct"]) < 10  # 0.25 mm submodel driven by a 4 mm global
     assert not list(run_dir.rglob("*.xdmf"))
+    # the study's own checks reach its status: the global against the analytical model, the submodel against Hertz
+    an, g = (json.loads((run_dir / k / "summary.json").read_text()) for k in ("analytical", "global"))
+    assert [w for w in s["warnings"] if w.startswith("study: ")] == [
+        f"study: {w}" for w in checks.agreement_warnings(an, g)
+    ]
+    assert [w for w in s["warnings"] if w.startswith("compare: ")] == [
+        f"compare: {w}" for w in checks.submodel_warnings(table)
+    ]
+    # one coarse level (4.4 elements across the patch) misses Hertz's peak pressure by 4.5%: not a signed result
+    assert any(w.startswith("compare: peak_contact_pressure: the finest submodel level (coarse") for w in s["warnings"])
 
 
 def test_wave_and_contact_run_one_global_that_records_the_cut_over_the_contact_phase_only(tmp_path):

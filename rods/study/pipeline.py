@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rods import io, plan
+from rods import checks, io, plan
 from rods.scene import Scene
 from rods.study import stages
 
@@ -91,7 +91,7 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
         "impact_speed": scene.speed,
         **values,
         "wall_time": comm.allreduce(time.perf_counter() - t0, op=_max()),
-        **_status(p, done),
+        **_status(p, done, comparison, comm),
         "sources": sources,
         "plan": p.as_dict(),
         "stages": folders,
@@ -102,16 +102,25 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     return Study(p, done, comparison, summary)
 
 
-def _status(p: plan.Plan, done: dict[str, stages.Stage]) -> dict[str, Any]:
-    """The study's status: "ok" when every stage's checks passed; the stages' warnings, each named. A stage
-    that stops at the contact phase (a contact-only global, the driver, the submodels) offers no wave keys
-    (rods.plan.offers), so its warnings about them (two midpoint plateaus in 263 µs) stay in its own summary."""
+def _status(
+    p: plan.Plan, done: dict[str, stages.Stage], comparison: stages.Comparison | None, comm: Any
+) -> dict[str, Any]:
+    """The study's status: "ok" when every stage's checks and the study's own (rods.checks.agreement_warnings:
+    the global FE model against the analytical model; rods.checks.submodel_warnings: the finest submodel level
+    against Hertz and the last refinement) passed; the warnings, each named by its stage ("study" and "compare"
+    for the study's own). A stage that stops at the contact phase (a contact-only global, the driver, the
+    submodels) offers no wave keys (rods.plan.offers), so its warnings about them (two midpoint plateaus in
+    263 µs) stay in its own summary. ``comparison`` exists on rank 0 only; its warnings reach every rank."""
     found = []
     for k, st in done.items():
         if k == "driver" and st is done.get("global"):  # one run, its warnings once
             continue
         unused = set(plan.WAVE_KEYS) - set(plan.offers(p, k))
         found += [f"{k}: {w}" for w in st.summary.get("warnings", []) if w.split(":", 1)[0] not in unused]
+    if "global" in done:
+        found += [f"study: {w}" for w in checks.agreement_warnings(done["analytical"].summary, done["global"].summary)]
+    converged = checks.submodel_warnings(comparison.data) if comparison is not None else []
+    found += [f"compare: {w}" for w in comm.bcast(converged, root=0)]
     return {"status": "warnings" if found else "ok", "warnings": found}
 
 
