@@ -235,33 +235,30 @@ def test_too_few_plateaus_over_many_periods_says_a_longer_run_will_not_help():
     assert "will not help" in checks.plateau_warning(t, square, period=0.05)  # 20 periods: no plateaus to find
 
 
-def _table(*levels: tuple[str, float, float, float, float]) -> dict:
-    """Comparison data (rods.study.table3) with one submodel row per (level, h [mm], area [mm²], p0 [GPa], Δ vs
-    Hertz [%] of both), coarse to fine, after the driving global's row."""
+def _table(*levels: tuple[str, float, float, float]) -> dict:
+    """Comparison data (rods.study.table3) with one submodel row per (level, h [mm], Δarea, Δp0 vs Hertz [%]),
+    coarse to fine, after the driving global's row."""
     rows = [{"role": "global-driver", "level": None, "d_area_vs_hertz_pct": 9.0, "d_p0_vs_hertz_pct": -9.0}]
-    for lv, h, A, p0, d in levels:
-        rows.append({"role": "submodel", "level": lv, "h_mm": h, "area_mm2": A, "p0_GPa": p0,
-                     "d_area_vs_hertz_pct": d, "d_p0_vs_hertz_pct": d})  # fmt: skip
+    for lv, h, dA, dp in levels:
+        rows.append({"role": "submodel", "level": lv, "h_mm": h, "d_area_vs_hertz_pct": dA, "d_p0_vs_hertz_pct": dp})
     return {"rows": rows}
 
 
 def test_a_study_warns_when_its_finest_submodel_level_misses_hertz_or_still_moves():
     """The paper scene's levels (area, p0 against Hertz at own force: coarse -0.52/-4.55%, mid +0.13/-1.97%, fine
-    -0.12/-0.76%) pass; a finest level 2.5% from Hertz, or one that moved 3% in its last refinement though it
-    lands near Hertz, does not; the driving global's own (mesh-sized) error is not the submodel's."""
-    paper = _table(
-        ("coarse", 0.25, 3.72, 1.43, -0.5), ("mid", 0.125, 3.74, 1.47, 0.13), ("fine", 0.0625, 3.73, 1.49, -0.12)
-    )
+    -0.12/-0.76%) pass; a finest level 2.5% from Hertz, or one whose error moved 3% in its last refinement though
+    it lands near Hertz, does not; the driving global's own (mesh-sized) error is not the submodel's."""
+    paper = _table(("coarse", 0.25, -0.52, -4.55), ("mid", 0.125, 0.13, -1.97), ("fine", 0.0625, -0.12, -0.76))
     assert checks.submodel_warnings(paper) == []
-    off = _table(("mid", 0.125, 3.74, 1.47, 2.0), ("fine", 0.0625, 3.73, 1.49, 2.5))
-    found = checks.submodel_warnings(off)
-    assert [w.split(":")[0] for w in found] == ["contact_area", "peak_contact_pressure"]
-    assert "fine" in found[0] and "+2.50%" in found[0] and "submodel.levels" in found[0]
-    moving = checks.submodel_warnings(_table(("mid", 0.125, 3.84, 1.47, 1.8), ("fine", 0.0625, 3.72, 1.49, -1.2)))
-    assert len(moving) == 1 and moving[0].startswith("contact_area: changes by -3.12% from submodel level mid")
-    assert checks.submodel_warnings({"rows": _table()["rows"]}) == []  # no submodel: nothing to judge
-    one = checks.submodel_warnings(_table(("coarse", 0.25, 3.72, 1.43, -4.5)))
-    assert len(one) == 2 and all("-4.50%" in w for w in one)  # one level: judged against Hertz alone
+    off = checks.submodel_warnings(_table(("mid", 0.125, 2.0, 1.0), ("fine", 0.0625, 2.5, -2.1)))
+    assert [w.split(":")[0] for w in off] == ["contact_area", "peak_contact_pressure", "peak_contact_pressure"]
+    assert "(fine, h = 0.0625 mm) is +2.50%" in off[0] and "submodel.levels" in off[0]
+    assert "from +1.00% at submodel level mid to -2.10% at fine" in off[2]
+    moving = checks.submodel_warnings(_table(("mid", 0.125, 1.8, -1.0), ("fine", 0.0625, -1.2, -0.8)))
+    assert len(moving) == 1 and moving[0].startswith("contact_area: its error against Hertz moves from +1.80%")
+    assert checks.submodel_warnings(_table()) == []  # no submodel: nothing to judge
+    one = checks.submodel_warnings(_table(("coarse", 0.25, -0.5, -4.5)))
+    assert len(one) == 1 and "-4.50%" in one[0]  # one level: judged against Hertz alone
 
 
 def test_a_study_warns_when_its_global_and_analytical_models_disagree():
