@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz
+from rods.convergence import FS_GOOD, FS_POOR, P_CREDIBLE
 
 __all__ = [
     "SIGMA_EDGE_BAND",
@@ -39,7 +40,7 @@ __all__ = [
     "sigma_r_error",
 ]
 
-SAFETY_FACTOR = 1.25  # GCI factor of safety for three-grid studies (Roache) [-]
+SAFETY_FACTOR = FS_GOOD  # GCI factor of safety for three-grid studies at a credible order (Roache) [-]
 
 
 def percent(x: float, ref: float) -> float:
@@ -92,7 +93,9 @@ def hertz_stresses(
 class Richardson:
     """Three-level Richardson extrapolation; f1 finest. ``order`` is NaN for non-monotone data; for
     monotone data whose differences grow under refinement (p <= 0: not in the asymptotic range) the order is
-    kept but there is no extrapolation or GCI (NaN)."""
+    kept but there is no extrapolation or GCI (NaN). An order outside rods.convergence.P_CREDIBLE is not taken
+    at face value (as in rods.convergence.estimate): its GCI has the safety factor 3, and it is not
+    :attr:`credible`, so no claim rests on its extrapolation."""
 
     f1: float
     f2: float
@@ -109,13 +112,20 @@ class Richardson:
         return self.monotone and self.order > 0
 
     @property
+    def credible(self) -> bool:
+        """Monotone with an order in rods.convergence.P_CREDIBLE (0.5 <= p < 2.1): the extrapolation can be
+        compared with a reference (a force's p = 6.3 over three levels that agree to 0.002% is not an order)."""
+        return self.monotone and P_CREDIBLE[0] <= self.order < P_CREDIBLE[1]
+
+    @property
     def error_band(self) -> float:
         """Absolute uncertainty GCI_fine |f1| (same unit as f)."""
         return self.gci_fine * abs(self.f1)
 
 
 def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0) -> Richardson:
-    """Observed order, extrapolated value and GCI_fine (Roache; ASME V&V 20) from three levels."""
+    """Observed order, extrapolated value and GCI_fine (Roache; ASME V&V 20) from three levels; the safety factor
+    1.25 at a credible order, 3 otherwise (rods.convergence, Eça & Hoekstra)."""
     f1, f2, f3 = float(f_fine), float(f_mid), float(f_coarse)
     e21, e32 = f1 - f2, f2 - f3
     monotone = e21 != 0 and e32 / e21 > 0
@@ -126,7 +136,8 @@ def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0)
         return Richardson(f1, f2, f3, ratio, p, math.nan, math.nan, True)
     denom = ratio**p - 1.0
     f_ext = f1 + e21 / denom
-    gci = SAFETY_FACTOR * abs(e21 / f1) / denom
+    safety = SAFETY_FACTOR if P_CREDIBLE[0] <= p < P_CREDIBLE[1] else FS_POOR
+    gci = safety * abs(e21 / f1) / denom
     return Richardson(f1, f2, f3, ratio, p, f_ext, gci, True)
 
 

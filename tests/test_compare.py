@@ -69,3 +69,15 @@ def test_plateau_radius_error_against_hertz_at_the_same_force():
     assert m == pytest.approx(0.02, rel=1e-9) and s < 1e-12
     off = np.where(F < 0.9 * F.max(), 1.5, 1.0)  # errors off the plateau do not count
     assert abs(compare.plateau_radius_error(F, off * a, E_star, R_star)[0]) < 1e-12
+
+
+def test_an_order_outside_the_credible_range_gets_the_safety_factor_3_and_no_claim():
+    """Three levels that agree to 0.002% (a submodel's force: 25081.6, 24976.3, 24975.7 N coarse to fine, measured on
+    30 mm rods) give p = 7.5: not an order (rods.convergence.P_CREDIBLE); the GCI takes Fs = 3, as the least-squares
+    estimate does, and the extrapolation is not credible. A credible order keeps Roache's 1.25."""
+    f = (24975.7, 24976.3, 25081.6)
+    r = compare.richardson(*f)
+    assert r.monotone and r.asymptotic and r.order > 2.1 and not r.credible
+    assert r.gci_fine == pytest.approx(3.0 * abs((f[0] - f[1]) / f[0]) / (2**r.order - 1), rel=1e-12)
+    g = [3.7 + 0.8 * (0.1 * 2**k) ** 1.5 for k in range(3)]
+    assert compare.richardson(*g).credible

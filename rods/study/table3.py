@@ -132,7 +132,7 @@ def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu
 
 
 def _richardson_entry(rr: compare.Richardson, href: float | None) -> dict[str, Any]:
-    vs = compare.percent(rr.extrapolated, href) if (href is not None and rr.asymptotic) else math.nan
+    vs = compare.percent(rr.extrapolated, href) if (href is not None and rr.credible) else math.nan
     return {
         "f1": rr.f1,
         "f2": rr.f2,
@@ -142,6 +142,7 @@ def _richardson_entry(rr: compare.Richardson, href: float | None) -> dict[str, A
         "gci_fine": rr.gci_fine,
         "error_band": rr.error_band,
         "asymptotic": rr.asymptotic,
+        "credible": rr.credible,
         "monotone": rr.monotone,
         "hertz_at_extrapolated": math.nan if href is None else href,
         "vs_hertz_pct": vs,
@@ -159,7 +160,7 @@ def _richardson(subs: Sequence[ModelRun], E_star: float, R_star: float) -> dict[
     levels, ratio = choice
     f3, f2, f1 = (by_level[lv].summary for lv in levels)
     rF = compare.richardson(f1["peak_contact_force"], f2["peak_contact_force"], f3["peak_contact_force"], ratio)
-    H_ext = hertz.at_force(rF.extrapolated if rF.asymptotic else f1["peak_contact_force"], E_star, R_star)
+    H_ext = hertz.at_force(rF.extrapolated if rF.credible else f1["peak_contact_force"], E_star, R_star)
     q = {}
     for key in QUANTITIES:
         rr = compare.richardson(f1[key], f2[key], f3[key], ratio)
@@ -296,8 +297,9 @@ def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
         "extrapolation is the converged radius error itself.",
         "",
         "p = ln((f3 − f2)/(f2 − f1))/ln r, f_ext = f1 + (f1 − f2)/(r^p − 1), GCI_fine = 1.25 |(f1 − f2)/f1|/(r^p − 1) "
-        "(Roache; ASME V&V 20). '–': no extrapolation: non-monotone (no order), or p <= 0 (the differences grow "
-        "under refinement: the levels are not in the asymptotic range).",
+        "(Roache; ASME V&V 20); an order outside 0.5-2.1 is not credible (rods.convergence): GCI with 3 in place of "
+        "1.25 and no comparison of its extrapolation with Hertz. '–': no extrapolation: non-monotone (no order), or "
+        "p <= 0 (the differences grow under refinement: the levels are not in the asymptotic range).",
     ]
 
 
