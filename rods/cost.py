@@ -15,7 +15,8 @@ goes wrong"):
   (the per-step force and the output mask) + the histories (8 bytes per value, about 25 more for the CSV text);
 * time step: Δt ≈ fe.dt_fraction x h_min / c_d (measured Δt / (h_min/c_d) = 0.80 at fe.dt_fraction 0.8),
   h_min ≈ 0.85 x the smallest requested size (the cap shortens the tip cells), times :data:`CAP_STEP_FACTOR`
-  for a strongly curved axisymmetric tip (down to 0.46: its rim cells are the most distorted); under the penalty law the
+  for a strongly curved axisymmetric tip (down to 0.46: its rim cells are the most distorted; a submodel's uniform
+  mesh has its own :data:`SUBMODEL_CAP_STEP_FACTOR`, down to 0.29); under the penalty law the
   contact-switching limit 1/ω_c (rods.fe.explicit) when it is shorter: a pair of lumped masses ρ_i a h_n/2 on
   the spring ε a, ε = factor x E*/h_n, has ω_c² = 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n², h_n the tip element normal
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
@@ -104,6 +105,27 @@ CAP_STEP_FACTOR = (
     (70.2, 0.46),
     (77.7, 0.57),
     (90.0, 0.69),
+)
+# axisymmetric submodel (uniform size h, no grading, rods.fe.submodel.submodel_scene): Δt of its curved tip / the
+# estimate above, against the rim angle [deg, -]. Measured at h = 0.25 and 0.125 mm (the same to 2%; the lower kept)
+# on the paper rods, tips 50 to 6.35 mm; the butterfly cap (above 70°, rods.fe.mesh.BUTTERFLY_ANGLE) steps up. Flat
+# and flatter tips: 1.02-1.12 (kept at 1). Before, a submodel ran 1.3x (10 mm tip) to 3.4x (6.76 mm) the steps
+# estimated.
+SUBMODEL_CAP_STEP_FACTOR = (
+    (0.0, 1.0),
+    (18.5, 1.0),
+    (25.0, 0.93),
+    (30.5, 0.87),
+    (39.4, 0.73),
+    (48.3, 0.61),
+    (57.8, 0.46),
+    (65.1, 0.36),
+    (67.0, 0.33),
+    (70.0, 0.29),
+    (70.2, 0.51),
+    (74.2, 0.57),
+    (82.9, 0.62),
+    (90.0, 0.64),
 )
 
 
@@ -249,8 +271,8 @@ def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | Non
     stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d
     if scene["fe.kind"] == "3d":
         stable *= _third_dimension(h_r, g * h)
-    elif size is None:
-        stable *= _cap_step_factor(scene)
+    else:
+        stable *= _cap_step_factor(scene, CAP_STEP_FACTOR if size is None else SUBMODEL_CAP_STEP_FACTOR)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
     factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
@@ -263,10 +285,11 @@ def _third_dimension(a: float, b: float) -> float:
     return math.sqrt((1 / a**2 + 1 / b**2) / (2 / a**2 + 1 / b**2))
 
 
-def _cap_step_factor(scene: Scene) -> float:
-    """:data:`CAP_STEP_FACTOR` at the larger rim angle of the two tips (1 for flat tips), interpolated linearly."""
+def _cap_step_factor(scene: Scene, table: tuple[tuple[float, float], ...]) -> float:
+    """The factor of ``table`` (:data:`CAP_STEP_FACTOR`, :data:`SUBMODEL_CAP_STEP_FACTOR`) at the larger rim angle
+    of the two tips (1 for flat tips), interpolated linearly."""
     phi = max(math.degrees(math.asin(min(1.0, r.diameter / 2 / r.tip_radius))) for r in scene.rods)
-    angles, factors = zip(*CAP_STEP_FACTOR, strict=True)
+    angles, factors = zip(*table, strict=True)
     return float(np.interp(phi, angles, factors))
 
 
