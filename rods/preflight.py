@@ -9,19 +9,32 @@ into exit code 2 and one line on stderr that names the argument or file, the val
   folder (nothing is created here: a refused run leaves no folder);
 * :func:`input_dir` — a folder a stage reads: it exists and holds the files named;
 * :func:`safe_name` — a scene name as a folder name: no separators, no leading dots (``../../x`` stays
-  under ``output/``), at most :data:`MAX_FOLDER_NAME` characters.
+  under ``output/``), at most :data:`MAX_FOLDER_NAME` characters;
+* :func:`scene_folder` — the default folder name of a run: the safe scene name, and where ``--set`` changed the
+  scene a digest of its resolved values, so a run with other values never overwrites the plain scene's.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import re
 import tempfile
 from pathlib import Path
 from typing import Any
 
-__all__ = ["MAX_VALUE", "InputError", "input_dir", "one_line", "output_dir", "output_file", "safe_name", "short"]
+__all__ = [
+    "MAX_VALUE",
+    "InputError",
+    "input_dir",
+    "one_line",
+    "output_dir",
+    "output_file",
+    "safe_name",
+    "scene_folder",
+    "short",
+]
 
 MAX_VALUE = 120  # characters of a value shown in a message [-]
 MAX_MESSAGE = 1000  # characters of a whole message line [-]
@@ -126,3 +139,14 @@ def safe_name(name: str) -> str:
     if len(text) > MAX_FOLDER_NAME:  # a long name is cut, its hash keeps it apart from others cut alike
         text = f"{text[: MAX_FOLDER_NAME - 9]}-{hashlib.sha1(name.encode()).hexdigest()[:8]}"
     return text or "scene"
+
+
+def scene_folder(scene: Any, overridden: bool) -> str:
+    """The default folder name of a run of ``scene`` (rods.scene.Scene): :func:`safe_name` of its name, and when
+    ``overridden`` (``--set`` given) "-" and 8 hex digits of the SHA-1 of its resolved values (Scene.as_dict,
+    keys sorted: the same scene whatever the order of the overrides), e.g. ``paper-3f1c09a2``."""
+    name = safe_name(scene.name)
+    if not overridden:
+        return name
+    digest = hashlib.sha1(json.dumps(scene.as_dict(), sort_keys=True).encode()).hexdigest()[:8]
+    return f"{name[: MAX_FOLDER_NAME - 9]}-{digest}"

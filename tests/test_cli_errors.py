@@ -169,8 +169,30 @@ def test_bad_input_is_one_line_and_leaves_no_folder(here, case):
 def test_scene_name_is_a_safe_folder_under_output(tmp_path):
     p = run("analytical.py", "--set", "name='../../x'", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
     assert p.returncode == 0, p.stderr
-    assert (tmp_path / "output" / "analytical" / "_.._x" / "summary.json").is_file()
+    (folder,) = (tmp_path / "output" / "analytical").iterdir()
+    assert folder.name.startswith("_.._x-") and (folder / "summary.json").is_file()
     assert sorted(q.name for q in tmp_path.iterdir()) == ["output"]
+
+
+def test_a_run_with_other_values_never_overwrites_the_plain_scenes_folder(tmp_path, scene_with):
+    """Without --out, `--set impact.speed=4` wrote into output/analytical/paper, over the paper scene's own run;
+    now the folder carries a digest of the resolved values: the same for the same values in any order, another
+    for other values, none without --set."""
+    from rods.preflight import scene_folder
+
+    a = scene_folder(scene_with("impact.speed=4.0", "simulation.end_time=1e-4"), True)
+    b = scene_folder(scene_with("simulation.end_time=1e-4", "impact.speed=4.0"), True)
+    c = scene_folder(scene_with("impact.speed=3.0", "simulation.end_time=1e-4"), True)
+    assert a == b != c and a.startswith("paper-") and len(a) == len("paper-") + 8
+    assert scene_folder(scene_with(), False) == "paper"
+    for speed in ("4.0", "3.0"):
+        p = run("analytical.py", "--set", f"impact.speed={speed}", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
+        assert p.returncode == 0, p.stderr
+    speeds = {
+        json.loads((f / "summary.json").read_text())["impact_speed"]
+        for f in (tmp_path / "output" / "analytical").iterdir()
+    }
+    assert speeds == {4.0, 3.0}
 
 
 def _checkpoint(folder: Path) -> Path:

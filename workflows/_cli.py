@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from rods import interrupt
-from rods.preflight import InputError, one_line, output_dir, output_file, safe_name  # noqa: F401  (for scripts)
+from rods.preflight import InputError, one_line, output_dir, output_file, safe_name, scene_folder  # noqa: F401  (for scripts)
 from rods.scene import Scene, SceneError, load_scene
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
@@ -77,7 +77,11 @@ def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = 
         metavar="KEY=VALUE",
         help="override a scene value, e.g. --set impact.speed=1.848 (repeatable)",
     )
-    p.add_argument("--out", default=None, help="output folder (default: output/<stage>/<scene name>)")
+    p.add_argument(
+        "--out",
+        default=None,
+        help="output folder (default: output/<stage>/<scene name>, -<digest> appended with --set)",
+    )
     p.add_argument(
         "--force", action="store_true", help="run above the step/history budgets (never above the free memory)"
     )
@@ -140,8 +144,11 @@ def load(args: argparse.Namespace) -> Scene:
 
 
 def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
-    """--out, or output/<model>/<scene name made a safe folder name>; checked usable (rods.preflight)."""
-    return output_dir(args.out if args.out is not None else Path("output") / model / safe_name(scene.name))
+    """--out, or output/<model>/<scene folder> (rods.preflight.scene_folder: the scene's name, with a digest of its
+    values where --set changed it); checked usable (rods.preflight)."""
+    if args.out is not None:
+        return output_dir(args.out)
+    return output_dir(Path("output") / model / scene_folder(scene, bool(args.overrides)))
 
 
 def _mpi():
