@@ -101,6 +101,28 @@ def test_models_that_follow_hertz_have_no_hertz_error_and_richardson_finds_the_l
     assert qp["order"] == pytest.approx(1.0, rel=1e-6) and qp["extrapolated"] == pytest.approx(100 * E0, rel=1e-6)
 
 
+def test_an_incredible_order_claims_nothing_against_hertz(runs):
+    """Submodel forces that converge at order 3 (outside 0.5-2.1, rods.convergence.P_CREDIBLE): extrapolated with
+    the GCI's safety factor 3 and not compared with Hertz; the radius, still Hertz at those forces, is then judged
+    at the finest level's force. The markdown says why."""
+    sc, models = runs
+    steep = []
+    for m in models:
+        if m.role == "submodel":
+            h = m.summary["element_size"]
+            m = ModelRun("submodel", _hertz_model(sc, F_EXACT + 1e8 * h**3, level=m.level, element_size=h), m.history)
+        steep.append(m)
+    d = table3(sc, ANALYTICAL, steep)
+    q = d["richardson"]["quantities"]["peak_contact_force"]
+    assert q["order"] == pytest.approx(3.0, rel=1e-9) and q["asymptotic"] and not q["credible"]
+    assert q["gci_fine"] == pytest.approx(3.0 * abs((q["f1"] - q["f2"]) / q["f1"]) / (2.0**3 - 1), rel=1e-9)
+    assert math.isnan(q["vs_hertz_pct"])
+    assert d["richardson"]["quantities"]["contact_radius"]["hertz_at_extrapolated"] == pytest.approx(
+        hertz.at_force(q["f1"], *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"], rel=1e-12
+    )
+    assert "not credible" in render_markdown(d)
+
+
 def test_renderings_come_from_the_data_and_its_json(runs, tmp_path):
     sc, models = runs
     d = table3(sc, ANALYTICAL, models)
