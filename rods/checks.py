@@ -177,14 +177,23 @@ def duration_warning(summary: dict[str, Any], history: Mapping[str, np.ndarray])
     return None
 
 
-def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray], scene: Any) -> str | None:
-    """A warning when the analytical model's force rises faster than :data:`RISE_TRANSITS` diameter transits."""
+def _analytical_force(
+    summary: Mapping[str, Any], history: Mapping[str, np.ndarray]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """(time [s], contact force [N]) of an analytical model's run with a positive force, else None: the 1D model's
+    own checks (:func:`bar_theory_warning`, :func:`reflection_warning`) judge nothing else."""
     F, t = history.get("contact_force"), history.get("time")
     if summary.get("model") != "analytical" or F is None or t is None or len(F) < 2:
         return None
     F, t = np.asarray(F, float), np.asarray(t, float)
-    if not F.max() > 0:
+    return (t, F) if F.max() > 0 else None
+
+
+def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray], scene: Any) -> str | None:
+    """A warning when the analytical model's force rises faster than :data:`RISE_TRANSITS` diameter transits."""
+    if (force := _analytical_force(summary, history)) is None:
         return None
+    t, F = force
     rise = t[np.argmax(F > 0.9 * F.max())] - t[np.argmax(F > 0.1 * F.max())]  # [s]
     transit = max(r.diameter / r.material.wave_speed for r in scene.rods)  # [s] the longer diameter transit
     if rise < RISE_TRANSITS * transit:
@@ -208,22 +217,19 @@ def reflection_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
     """A warning when the analytical model's force rises by more than :data:`REFLECTION_RISE` of its peak over
     :func:`front_spread` before a rod's first far-end reflection returns to the contact, that reflection
     arriving before the peak (module docstring)."""
-    F, t = history.get("contact_force"), history.get("time")
-    if summary.get("model") != "analytical" or F is None or t is None or len(F) < 2:
+    if (force := _analytical_force(summary, history)) is None:
         return None
-    F, t = np.asarray(F, float), np.asarray(t, float)
-    if not F.max() > 0:
-        return None
+    t, F = force
     t0, t_peak = t[np.argmax(F > 0)], t[np.argmax(F)]  # [s] first contact, peak
-    worst = None
+    found = []  # (rise [-], rod, return after first contact [s], spread [s]) of each reflection before the peak
     for n, rod in enumerate(scene.rods, 1):
         back, tau = t0 + 2 * rod.length / rod.material.wave_speed, front_spread(rod)  # [s]
         if back <= t_peak:
             rise = float(np.interp(back, t, F) - np.interp(back - tau, t, F)) / F.max()
-            worst = max(worst or (rise, n, back - t0, tau), (rise, n, back - t0, tau))
-    if worst is None or worst[0] <= REFLECTION_RISE:
+            found.append((rise, n, back - t0, tau))
+    if not found or max(found)[0] <= REFLECTION_RISE:
         return None
-    rise, n, back, tau = worst
+    rise, n, back, tau = max(found)
     return (
         f"peak_contact_force: the force still rises by {rise:.1%} of its peak in the {tau * 1e6:.2g} µs before "
         f"Rod {n}'s first reflection returns ({back * 1e6:.4g} µs after first contact), and peaks after it: the 1D "

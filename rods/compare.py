@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz
-from rods.convergence import FS_GOOD, FS_POOR, P_CREDIBLE
+from rods.convergence import FS_GOOD, FS_POOR, credible_order
 
 __all__ = [
     "SIGMA_EDGE_BAND",
@@ -115,7 +115,7 @@ class Richardson:
     def credible(self) -> bool:
         """Monotone with an order in rods.convergence.P_CREDIBLE (0.5 <= p < 2.1): the extrapolation can be
         compared with a reference (a force's p = 6.3 over three levels that agree to 0.002% is not an order)."""
-        return self.monotone and P_CREDIBLE[0] <= self.order < P_CREDIBLE[1]
+        return self.monotone and credible_order(self.order)
 
     @property
     def error_band(self) -> float:
@@ -136,7 +136,7 @@ def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0)
         return Richardson(f1, f2, f3, ratio, p, math.nan, math.nan, True)
     denom = ratio**p - 1.0
     f_ext = f1 + e21 / denom
-    safety = SAFETY_FACTOR if P_CREDIBLE[0] <= p < P_CREDIBLE[1] else FS_POOR
+    safety = SAFETY_FACTOR if credible_order(p) else FS_POOR
     gci = safety * abs(e21 / f1) / denom
     return Richardson(f1, f2, f3, ratio, p, f_ext, gci, True)
 

@@ -48,7 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-__all__ = ["P_CREDIBLE", "GridConvergence", "estimate"]
+__all__ = ["P_CREDIBLE", "GridConvergence", "credible_order", "estimate"]
 
 P_CREDIBLE = (0.5, 2.1)  # observed orders taken at face value, Fs = 1.25 (E&H) [-]
 FS_GOOD, FS_POOR = 1.25, 3.0  # safety factors (Roache; E&H) [-]
@@ -113,6 +113,11 @@ class GridConvergence:
             "extrapolation_claimed": self.extrapolation_claimed,
         }
         return d | derived | {"note": self.note()}
+
+
+def credible_order(p: float) -> bool:
+    """An observed order taken at face value: :data:`P_CREDIBLE` [0.5, 2.1) (E&H); NaN is not."""
+    return P_CREDIBLE[0] <= p < P_CREDIBLE[1]
 
 
 def _sigma(res: NDArray[np.float64], w: NDArray[np.float64], k: int) -> float:
@@ -264,7 +269,7 @@ def _branch(hs: NDArray, fs: NDArray, common: dict[str, Any]) -> GridConvergence
             uncertainty=FS_POOR * float(np.ptp(fs)),
             **common,
         )
-    credible = P_CREDIBLE[0] <= p < P_CREDIBLE[1]
+    credible = credible_order(p)
     fit = obs if credible else _fit_fixed(x, g)
     if not fit:  # three levels and a non-credible order: no fixed-order fit leaves a degree of freedom
         fit = obs

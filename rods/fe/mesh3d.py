@@ -38,7 +38,7 @@ import dolfinx.io.gmsh
 import numpy as np
 from mpi4py import MPI
 
-from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, gmsh_to_dolfinx
+from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, element_count, gmsh_to_dolfinx
 from rods.scene import Rod, Scene, SceneError
 
 __all__ = [
@@ -95,8 +95,8 @@ def section_counts(R: float, h: float) -> tuple[int, int, float]:
     outer block, R - s (1 + √2)/2 (mid-side and corner), per cell equal to h.
     """
     s = CORE * R
-    n_c = 2 * max(1, math.ceil((2 * s + math.pi * R / 2) / (4 * h) - 1e-9))
-    n_r = max(1, math.ceil((R - s * (1 + math.sqrt(2)) / 2) / h - 1e-9))
+    n_c = 2 * element_count(2 * s + math.pi * R / 2, 4 * h)
+    n_r = element_count(R - s * (1 + math.sqrt(2)) / 2, h)
     return n_c, n_r, s
 
 
