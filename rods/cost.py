@@ -77,9 +77,15 @@ BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
 DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
-# the submodel's cut driver: locating the global's recorded band at each cut node [s] (measured, paper scene: 0.22 s
-# for 54 nodes and 0.35 s for 104 axisymmetric, 57 s for 1370 in a 3D quarter model)
-CUT_SECONDS_PER_NODE = {"axisymmetric": 4e-3, "3d": 4.2e-2}
+# the submodel's cut driver: its weights and traction operator, built one colour of band nodes at a time
+# (rods.fe.submodel.node_colouring) [s per cut node] (measured 2026-11-24, 2 ranks, mixed driving: paper scene
+# 0.056 s for 54 axisymmetric cut nodes, 0.049 s for 207; 4.3 s for 5250 in the 3D coarse model's full section,
+# 730 s for those 5250 before, one interpolation per band node)
+CUT_SECONDS_PER_NODE = {"axisymmetric": 1e-3, "3d": 1e-3}
+# one checkpoint (fe.checkpoint_interval > 0: the state and histories so far, written and renamed per rank) [s]:
+# measured 2026-11-24 on the paper scene's 52.9k-DOF global, serial: 2.7-2.8 ms each, every step or every third
+CHECKPOINT_SECONDS = 1e-3  # [s]
+CHECKPOINT_SECONDS_PER_DOF = 3.5e-8  # [s]
 DOFS_PER_CELL = 2.3  # axisymmetric [-] (3D: counted from the O-grid's nodes)
 FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
 # a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes) and its time
@@ -259,6 +265,9 @@ def fe_cost(
         frames = frame_count(scene.field_interval, dt, steps)
     field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
+    if size is None and scene["fe.checkpoint_interval"] > 0:  # as rods.fe.model: every k-th step, k >= 1
+        every = max(1, round(scene["fe.checkpoint_interval"] / dt))
+        wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
     return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
 
 

@@ -40,6 +40,7 @@ __all__ = [
     "WAVE_KEYS",
     "Plan",
     "check_driven_scene",
+    "scene_difference",
     "contact_phase",
     "driver_phase",
     "fe_stage",
@@ -173,18 +174,27 @@ DRIVEN_KEYS = ("fe.kind", "fe.symmetry", "fe.submodel_length")
 UNDRIVEN_SUFFIXES = (".yield_strength",)  # the yield check's, not the motion's
 
 
+def scene_difference(scene: Scene, other: Scene, cut: bool = True) -> tuple[str, Any, Any] | None:
+    """The first (key, scene's value, other's value) where two scenes' bodies or impact differ (yield strengths
+    aside), and with ``cut`` the model kind, symmetry and cut length as well; None where they agree."""
+    for key, value in scene.values.items():
+        shared = key.startswith(DRIVEN_PREFIXES) or (cut and key in DRIVEN_KEYS)
+        if shared and not key.endswith(UNDRIVEN_SUFFIXES) and value != other.values.get(key):
+            return key, value, other.values.get(key)
+    return None
+
+
 def check_driven_scene(scene: Scene, driver: Scene) -> None:
     """Refuse (SceneError) a submodel scene whose bodies, impact or cut differ from its driving global's: such a
     run ends "ok" with another scene's motion at its cuts, or fails after the set-up when the cut nodes miss the
     recorded band."""
-    for key, value in scene.values.items():
-        if (key.startswith(DRIVEN_PREFIXES) or key in DRIVEN_KEYS) and not key.endswith(UNDRIVEN_SUFFIXES):
-            theirs = driver.values.get(key)
-            if value != theirs:
-                raise SceneError(
-                    key, value, f"differs from the driving global's {theirs!r} (its cut record carries that scene's "
-                    "motion)", "drive it from a global run of this scene: workflows/global.py --driver --scene ...",
-                )  # fmt: skip
+    diff = scene_difference(scene, driver)
+    if diff is not None:
+        key, value, theirs = diff
+        raise SceneError(
+            key, value, f"differs from the driving global's {theirs!r} (its cut record carries that scene's motion)",
+            "drive it from a global run of this scene: workflows/global.py --driver --scene ...",
+        )  # fmt: skip
 
 
 @dataclass(frozen=True)

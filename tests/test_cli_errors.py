@@ -43,19 +43,32 @@ def here(tmp_path) -> Path:
     (tmp_path / "station.toml").write_text(
         f'base = "{SCENES / "paper.toml"}"\n[[station]]\nrod = 1.0\nposition = 0.1\n'
     )
-    (tmp_path / "driver").mkdir()  # a driver's summary and a cut record's times: submodel.py's own checks
-    from rods.scene import load_scene
-
-    summary = {"scene_values": load_scene(SCENES / "paper.toml").as_dict(), "dt": 3e-8, "contact_phase": 2.4e-4}
-    (tmp_path / "driver" / "summary.json").write_text(json.dumps(summary))
     import h5py
 
-    with h5py.File(tmp_path / "driver" / "cut.h5", "w") as f:
-        f["times"] = [0.0, 2.4e-4]
-    (tmp_path / "short").mkdir()  # a cut recorded to 10 µs only, its summary the driver's (contact phase 240 µs)
-    (tmp_path / "short" / "summary.json").write_text(json.dumps(summary))
-    with h5py.File(tmp_path / "short" / "cut.h5", "w") as f:
-        f["times"] = [0.0, 1e-5]
+    from rods.scene import load_scene
+
+    def folder(name: str, summary: dict, times=None, cut_values=None, history: bool = False) -> None:
+        """A run folder: its summary, a cut record's times and recording scene, a history."""
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "summary.json").write_text(json.dumps(summary))
+        if times is not None:
+            with h5py.File(tmp_path / name / "cut.h5", "w") as f:
+                f["times"] = times
+                f.attrs["scene_values"] = json.dumps(cut_values or summary["scene_values"])
+        if history:
+            (tmp_path / name / "history.csv").write_text("time [s],contact_force [N]\n0,0\n1e-6,1\n")
+
+    paper, fast = (load_scene(SCENES / "paper.toml", o).as_dict() for o in ((), ("impact.speed=3.1",)))
+    phase = load_scene(SCENES / "paper.toml", ("simulation.end_time=2.4e-4",)).as_dict()  # a driver's own scene
+    summary = {"scene_values": paper, "dt": 3e-8, "contact_phase": 2.4e-4}
+    folder("driver", summary, [0.0, 2.4e-4])  # a driver's summary and a cut record: submodel.py's own checks
+    folder("short", summary, [0.0, 1e-5])  # a cut recorded to 10 µs only, its summary's contact phase 240 µs
+    folder("phase", {**summary, "scene_values": phase}, [0.0, 2.4e-4])  # the driver's scene ends at its record
+    folder("stale", summary, [0.0, 2.4e-4], fast)  # an earlier run's cut.h5 left in the folder
+    folder("analytical", {"model": "analytical", "scene_values": paper}, history=True)
+    folder("global-fast", {"model": "fe-axisymmetric", "scene_values": fast}, history=True)
+    folder("badjson", {"model": "fe-axisymmetric", "scene_values": paper})
+    (tmp_path / "badjson" / "summary.json").write_text("{bad")
     many = ",".join(['"wave_response"'] * 200_000)
     (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
     return tmp_path
@@ -152,6 +165,54 @@ CASES = {  # name -> (script, arguments, words the line must name)
     ),
     "unreadable scene": ("analytical.py", ["--scene", "/proc/self/mem", "--out", "o"], ["--scene", "cannot be read"]),
     "fig4 missing run": ("fig4.py", ["--analytical", "missing", "--fe", "missing2", "--png", "o/f.png"], ["missing"]),
+    # found by an entry-point audit (2026-11-24): each ran to exit 0 on the wrong data, or crashed with exit 1
+    "submodel end past the driver's own scene": (
+        "submodel.py",
+        ["--global", "phase", "--end-time", "1e-3", "--out", "o"],
+        ["--end-time", "cut record"],
+    ),
+    "submodel stale cut record": ("submodel.py", ["--global", "stale", "--out", "o"], ["--global", "cut.h5", "3.1"]),
+    "compare an analytical run as the global": (
+        "compare.py",
+        ["--global", "analytical", "--out", "o"],
+        ["--global", "'analytical'", "global run"],
+    ),
+    "compare a run of another scene": (
+        "compare.py",
+        ["--global", "global-fast", "--out", "o"],
+        ["--global", "impact.speed", "3.1", "2.197"],
+    ),
+    "compare a global as a submodel": (
+        "compare.py",
+        ["--set", "impact.speed=3.1", "--global", "global-fast", "--submodel", "global-fast", "--out", "o"],
+        ["--submodel", "'fe-axisymmetric'", "submodel run"],
+    ),
+    "convergence without runs": ("convergence.py", ["--out", "o"], ["--run", "no runs"]),
+    "convergence missing run": ("convergence.py", ["--run", "missing", "--out", "o"], ["--run", "missing"]),
+    "convergence unreadable summary": ("convergence.py", ["--run", "badjson", "--out", "o"], ["--run", "unreadable"]),
+    "accuracy-cost without runs": ("accuracy_cost.py", ["--out", "o/x"], ["--run", "no runs"]),
+    "accuracy-cost other scene": (
+        "accuracy_cost.py",
+        ["--run", "fast=global-fast", "--out", "o/x"],
+        ["--run", "impact.speed"],
+    ),
+    "fig4 FE run of another impact": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "global-fast", "--png", "o/f.png", "--md", "o/f.md"],
+        ["--fe", "impact.speed", "3.1"],
+    ),
+    "record-until past the end": (
+        "global.py",
+        ["--record-cut", "--record-until", "5", "--out", "o"],
+        ["--record-until", "end_time"],
+    ),
+    "one key set twice": (
+        "analytical.py",
+        ["--set", "impact.speed=1", "--set", "impact.speed=2", "--out", "o"],
+        ["--set", "'impact.speed' given twice"],
+    ),
+    "set without a key": ("global.py", ["--set", "=3", "--out", "o"], ["--set", "'=3'", "key before"]),
+    "contact picture without fields": ("contact_picture.py", ["--fields", "nope", "--out", "o/x"], ["--fields"]),
 }
 
 

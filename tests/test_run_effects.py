@@ -10,6 +10,7 @@ import pytest
 
 from rods import checks
 from rods.io import read_history
+from rods.scene import scene_from_summary
 
 from .conftest import ROOT
 
@@ -52,6 +53,12 @@ def test_wave_response_runs_analytical_and_global_only(tmp_path):
     assert not list((tmp_path / "run").rglob("*.xdmf")) and not (tmp_path / "run" / "global" / "cut.h5").exists()
     assert read_history(tmp_path / "run" / "global" / "history.csv")["time"][-1] == pytest.approx(3e-4, rel=1e-3)
     assert s["sources"]["midpoint_peak_speed"] == "global" and s["plan"]["effects"] == ["wave_response"]
+    # no submodel: the global's patch is the study's (1 mm across a 1.09 mm radius), judged against Hertz
+    assert s["sources"]["peak_contact_pressure"] == "global"
+    g = json.loads((tmp_path / "run" / "global" / "summary.json").read_text())
+    scene = scene_from_summary(g["scene_values"])
+    hertz_found = [f"study: {w}" for w in checks.patch_hertz_warnings(g, scene)]
+    assert hertz_found and [w for w in s["warnings"] if w in hertz_found] == hertz_found and s["status"] == "warnings"
 
 
 def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_early(tmp_path):

@@ -19,7 +19,7 @@ from typing import Any, NoReturn
 
 from rods import interrupt
 from rods.preflight import InputError, one_line, output_dir, output_file, safe_name, scene_folder  # noqa: F401  (for scripts)
-from rods.scene import Scene, SceneError, load_scene
+from rods.scene import Scene, SceneError, load_scene, parse_override
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
 SCENES = Path(__file__).resolve().parent / "scenes"
@@ -59,6 +59,24 @@ def _number(kind: type, lo: float, closed: bool, unit: str) -> Callable[[str], f
     return parse
 
 
+class _Override(argparse.Action):
+    """--set KEY=VALUE, repeatable: the syntax checked as it is read (rods.scene.parse_override), and one key
+    given twice with different values refused (which one a run took would be a guess)."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, text: Any, option: Any = None):
+        try:
+            key, value = parse_override(text)
+        except SceneError as e:
+            raise argparse.ArgumentError(self, f"{text!r}: {e.allowed}") from None
+        given = list(getattr(namespace, self.dest) or [])
+        for earlier in given:
+            k, v = parse_override(earlier)
+            if k == key and v != value:
+                why = f"{key!r} given twice, {earlier!r} and {text!r}; give each key once"
+                raise argparse.ArgumentError(self, why)
+        setattr(namespace, self.dest, [*given, text])
+
+
 positive = _number(float, 0.0, False, "")  # e.g. an element size [m], a time [s]
 non_negative = _number(float, 0.0, True, "")
 count = _number(int, 1, True, "")  # a step stride
@@ -72,7 +90,7 @@ def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = 
     p.add_argument(
         "--set",
         dest="overrides",
-        action="append",
+        action=_Override,
         default=[],
         metavar="KEY=VALUE",
         help="override a scene value, e.g. --set impact.speed=1.848 (repeatable)",

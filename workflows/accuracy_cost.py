@@ -4,8 +4,8 @@ r"""What accuracy costs in time: every model and resolution against its referenc
     python workflows/accuracy_cost.py --run "global 1.0 mm=output/paper/global" [--run LABEL=DIR ...] \
         [--scene workflows/scenes/paper.toml] [--out output/paper/accuracy-cost]
 
-Writes --out + .json, .md, .png (the main job passes --out results/accuracy-cost). Runs without a
-summary.json are skipped with a note.
+Writes --out + .json, .md, .png (the main job passes --out results/accuracy-cost). Every --run must be a
+finished run of the scene's bodies and impact (else exit 2, nothing written).
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import sys
 import _cli
 from rods.paper import accuracy_cost
 from rods.paper.data import parse_run, read_run
+from rods.preflight import InputError
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -24,12 +25,9 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     _cli.output_file(args.out, "--out")  # --out is a prefix: OUT.json, OUT.md, OUT.png
     scene = _cli.load(args)
-    runs = []
-    for label, folder in map(parse_run, args.run):
-        if not (folder / "summary.json").is_file():
-            print(f"skipping {label}={folder}: no summary.json", file=sys.stderr)
-            continue
-        runs.append(read_run(folder, label or folder.name))
+    if not args.run:
+        raise InputError("--run", [], "no runs given", "give at least one --run LABEL=DIR")
+    runs = [read_run(folder, label or folder.name, "--run", scene=scene) for label, folder in map(parse_run, args.run)]
     data = accuracy_cost.write(scene, runs, args.out)
     print("\n".join(accuracy_cost.render_table(data)))
     return 0

@@ -4,7 +4,8 @@ r"""Comparison stage (paper Table 3, Figs. 5c and 6): global and submodel levels
         --submodel output/paper/submodel/coarse --submodel output/paper/submodel/mid ... [--out DIR]
 
 --global is the driving global (workflows/global.py --driver), --global-uniform the scene's own global.
-The scene (--scene/--set, default the paper scene) gives the analytical model and Hertz. Writes
+The scene (--scene/--set, default the paper scene) gives the analytical model and Hertz; every run must be of its
+bodies and impact (else exit 2). Writes
 DIR/table3.json (the data), DIR/table3.md and table3.csv rendered from it, fig6-sigma-r.png,
 fig5c-pressure.png and fig5c-profile.png (rods.study.stages.comparison). Default DIR:
 output/compare/<scene>; the record (results/) only with --out results.
@@ -12,28 +13,32 @@ output/compare/<scene>; the record (results/) only with --out results.
 
 from __future__ import annotations
 
-import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import _cli
 from rods import io
 from rods.analytical import simulate
-from rods.preflight import InputError, input_dir
+from rods.paper.data import read_summary
+from rods.preflight import InputError
+from rods.scene import Scene
 from rods.study import stages, table3
 from rods.study.table3 import ModelRun
 
 
-def _run(role: str, folder: str) -> ModelRun:
-    """A run's summary (and a submodel's history); a missing or unreadable one is bad input (exit 2)."""
-    files = ("summary.json", "history.csv") if role == "submodel" else ("summary.json",)
+def _run(role: str, folder: str, scene: Scene) -> ModelRun:
+    """A run's summary (and a submodel's history); a missing, unreadable, wrong-kind or other scene's one is bad
+    input (exit 2, rods.paper.data.read_summary)."""
+    sub = role == "submodel"
     flag = {"global-driver": "--global", "global-uniform": "--global-uniform"}.get(role, "--submodel")
-    d = input_dir(folder, files, flag, "give the folder of a finished run")
+    files = ("summary.json", "history.csv") if sub else ("summary.json",)
+    summary = read_summary(folder, flag, ("submodel",) if sub else ("global",), scene, files)
     try:
-        history = io.read_history(d / "history.csv") if role == "submodel" else None
-        return ModelRun(role, json.loads((d / "summary.json").read_text()), history)
+        history = io.read_history(Path(folder) / "history.csv") if sub else None
     except (ValueError, OSError) as e:
-        raise InputError(flag, d, f"unreadable summary.json/history.csv ({e})", "rerun that stage") from None
+        raise InputError(flag, folder, f"unreadable history.csv ({e})", "rerun that stage") from None
+    return ModelRun(role, summary, history)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -43,8 +48,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--submodel", action="append", default=[], help="submodel level folder (repeatable)")
     args = ap.parse_args(argv)
     scene = _cli.load(args)
-    runs = [_run("global-uniform", args.global_uniform)] if args.global_uniform else []
-    runs += [_run("global-driver", args.global_dir), *(_run("submodel", d) for d in args.submodel)]
+    runs = [_run("global-uniform", args.global_uniform, scene)] if args.global_uniform else []
+    runs += [_run("global-driver", args.global_dir, scene), *(_run("submodel", d, scene) for d in args.submodel)]
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     comparison = stages.comparison(scene, simulate(scene).summary, runs, out)
     print(table3.render_markdown(comparison.data))

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import json
 import sys
-from pathlib import Path
 
 import _cli
 from rods import io
+from rods.preflight import input_dir
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -21,7 +21,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--fields", required=True, help="a run folder with fields.xdmf and summary.json")
     ap.add_argument("--out", required=True, help="output path without suffix (.png and .json are written)")
     args = ap.parse_args(argv)
-    run, out = Path(args.fields), _cli.output_file(args.out, "--out")  # a prefix: OUT.png, OUT.json
+    remedy = "give the folder of a run with fields (the 'fields' effect or fe.field_interval > 0)"
+    run = input_dir(args.fields, ("fields.xdmf", "summary.json"), "--fields", remedy)  # before any folder is made
+    out = _cli.output_file(args.out, "--out")  # a prefix: OUT.png, OUT.json
     out.parent.mkdir(parents=True, exist_ok=True)
     from rods.fe.fields import read_fields, render_contact
 

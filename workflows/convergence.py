@@ -4,18 +4,19 @@ analytical force, least-squares order, extrapolation and band (rods.paper.conver
     python workflows/convergence.py --run output/paper/submodel/fine [--run DIR ...] \
         [--scene workflows/scenes/paper.toml] [--out output/paper/convergence]
 
-Each --run is a folder with summary.json (a submodel level or a global mesh). Writes convergence.json, .md and
+Each --run is a folder with summary.json (a submodel level or a global mesh of the scene's bodies and impact;
+anything else is refused, exit 2, nothing written). Writes convergence.json, .md and
 .png into --out (the main job passes --out results); the recipe is rods.paper.convergence.for_scene.
 """
 
 from __future__ import annotations
 
-import json
 import sys
 
 import _cli
 from rods.paper import convergence
-from rods.paper.data import parse_run
+from rods.paper.data import parse_run, read_summary
+from rods.preflight import InputError
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -25,13 +26,9 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     out = _cli.output_dir(args.out, "--out")
     scene = _cli.load(args)
-    runs = []
-    for label, folder in map(parse_run, args.run):
-        f = folder / "summary.json"
-        if not f.is_file():
-            print(f"skipping {folder}: no summary.json", file=sys.stderr)
-            continue
-        runs.append((label, json.loads(f.read_text(encoding="utf-8"))))
+    if not args.run:
+        raise InputError("--run", [], "no runs given", "give --run DIR of a submodel level or a global mesh")
+    runs = [(label, read_summary(folder, "--run", scene=scene)) for label, folder in map(parse_run, args.run)]
     data = convergence.for_scene(scene, runs, out)
     print(convergence.render_markdown(data))
     return 0

@@ -3,8 +3,9 @@ r"""Fig. 4 with both models: Rod-2 midpoint speed, strain and contact force, FE 
     python workflows/fig4.py --analytical output/paper/analytical/trial-1-3 --fe output/paper/global-paper \
         [--fe LABEL=DIR ...] [--png output/paper/fig4.png] [--md output/paper/fig4.md]
 
-Reads each run's history.csv and summary.json; writes the figure, the agreement table (markdown) and
-its data (fig4.json next to --md). The main job passes --png results/fig4.png --md results/fig4.md.
+Reads each run's history.csv and summary.json (an FE run of another impact than the analytical run's is
+refused); writes the figure, the agreement table (markdown) and its data (fig4.json next to --md). The main job
+passes --png results/fig4.png --md results/fig4.md.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import sys
 import _cli
 from rods.paper import fig4
 from rods.paper.data import parse_run, read_run
+from rods.scene import scene_from_summary
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -25,8 +27,10 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     for flag, f in (("--png", args.png), ("--md", args.md)):
         _cli.output_file(f, flag)  # before any run is read: a refused call writes nothing
-    fe = [read_run(folder, label) for label, folder in map(parse_run, args.fe)]
-    data = fig4.write(read_run(args.analytical, "analytical"), fe, args.png, args.md)
+    analytical = read_run(args.analytical, "analytical", "--analytical", ("analytical",))
+    scene = scene_from_summary(analytical.summary["scene_values"])  # the FE runs must be of the same impact
+    fe = [read_run(folder, label, "--fe", ("global", "submodel"), scene) for label, folder in map(parse_run, args.fe)]
+    data = fig4.write(analytical, fe, args.png, args.md)
     print(fig4.render_md(data, args.png))
     return 0
 

@@ -43,6 +43,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if (args.record_until is not None or args.record_every != 1) and (args.driver or not args.record_cut):
         why = "the driver records the contact phase, every step" if args.driver else "nothing is recorded without it"
         _cli.fail(f"--record-until/--record-every go with --record-cut ({why})")
+    if args.record_until is not None and args.record_until > scene.end_time:
+        why = f"beyond the run's end, simulation.end_time = {scene.end_time:g} s"
+        _cli.fail(f"--record-until = {args.record_until:g}: {why}; give --record-until {scene.end_time:g} or less")
     if args.restart and (args.record_cut or args.driver):
         _cli.fail("--restart cannot be combined with --record-cut/--driver (the cut record is not checkpointed)")
     if args.restart:

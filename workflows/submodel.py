@@ -39,24 +39,33 @@ def _step(text: str) -> float | str:
 
 def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path, dict, Scene, float]:
     """(folder, summary, the submodel's scene, its end time [s]) of the driving global --global, checked before
-    anything runs: its files readable, the scene's rods, impact and cut its own (rods.plan.check_driven_scene),
-    the end (--end-time, else the driver's contact phase) within its cut record."""
-    remedy = f"run workflows/global.py --driver --out {args.global_dir} first"
+    anything runs: its files readable, its cut.h5 recorded by that same scene (not left over from an earlier run
+    in the folder), the scene's rods, impact and cut its own (rods.plan.check_driven_scene), the end (--end-time,
+    else the driver's contact phase) within its cut record."""
+    remedy = "give the folder of a workflows/global.py --driver run (its cut.h5 and summary.json)"
     gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
     try:
         gsum = json.loads((gdir / "summary.json").read_text())
-        gsum["scene_values"], gsum["dt"]
+        driver = scene_from_summary(gsum["scene_values"], (), str(gdir))
+        gsum["dt"]
     except (ValueError, KeyError, TypeError) as e:
         raise InputError("--global", gdir, f"summary.json unreadable or not a global run's ({e})", remedy) from None
-    given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
-    scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
-    plan.check_driven_scene(scene, scene_from_summary(gsum["scene_values"], (), str(gdir)))
     try:
-        recorded = recorded_until(gdir / "cut.h5")  # [s]
+        recorded, values = recorded_until(gdir / "cut.h5")  # [s], the recording global's scene
+        recorder = scene_from_summary(values, (), str(gdir / "cut.h5"))
     except (OSError, KeyError, IndexError, ValueError, TypeError) as e:
         raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
-    end = args.end_time if args.end_time is not None else gsum.get("contact_phase") or plan.driver_phase(scene)
-    end = min(end, scene.end_time)
+    diff = plan.scene_difference(driver, recorder)
+    if diff is not None:
+        why = f"cut.h5 was recorded by another scene than summary.json's ({diff[0]} = {diff[2]!r} there, {diff[1]!r})"
+        raise InputError("--global", gdir, why, "rerun workflows/global.py --driver into an empty folder")
+    given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
+    scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
+    plan.check_driven_scene(scene, driver)
+    if args.end_time is not None:
+        end = args.end_time  # [s] as asked: refused below if past the record, never cut short silently
+    else:
+        end = min(gsum.get("contact_phase") or plan.driver_phase(scene), scene.end_time)
     if end > recorded * (1 + 1e-9):
         why = f"the submodel's end {end:.6g} s is beyond the driving global's cut record (to {recorded:.6g} s)"
         raise InputError("--end-time", end, why, f"--end-time {recorded:.6g} or less, or a driver recorded longer")

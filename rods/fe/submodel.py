@@ -256,12 +256,13 @@ class CutRecorder:
 # ----------------------------------------------------------------------------------------------
 # driving (submodel run)
 # ----------------------------------------------------------------------------------------------
-def recorded_until(path: str | Path) -> float:
-    """The last time [s] of a cut record (the submodels it drives can run to it)."""
+def recorded_until(path: str | Path) -> tuple[float, dict[str, Any]]:
+    """(the last time [s] of a cut record, the recording global's scene values): the submodels it drives can run
+    to that time, and only on that scene's bodies and impact."""
     import h5py
 
     with h5py.File(path, "r") as f:
-        return float(f["times"][-1])
+        return float(f["times"][-1]), json.loads(f.attrs["scene_values"])
 
 
 def _read_cut(path: Path) -> dict[str, Any]:
@@ -300,27 +301,69 @@ def _cut(model: ExplicitModel) -> tuple[dolfinx.fem.FunctionSpace, np.ndarray, n
     return V0, nodes0, cut_cells, to_parent[nodes0] // model.bs  # parent dof of component 0 is node * bs
 
 
-def _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, n_nodes: int, tol: float) -> scipy.sparse.csr_matrix:
-    """W (owned cut dofs x band nodes): each band node's unit scalar field interpolated onto the cut
-    cells (DOLFINx non-matching interpolation; linear, so once per band node)."""
+def band_adjacency(cells: np.ndarray, n_nodes: int) -> scipy.sparse.csr_matrix:
+    """The band's node graph (input indices): A_jk = 1 where nodes j and k share a cell (the diagonal included)."""
+    n_cells, per_cell = cells.shape
+    C = scipy.sparse.csr_matrix(
+        (np.ones(cells.size), (np.repeat(np.arange(n_cells), per_cell), cells.ravel())), shape=(n_cells, n_nodes)
+    )
+    A = (C.T @ C).tocsr()
+    A.data[:] = 1.0
+    return A
+
+
+def node_colouring(A: scipy.sparse.csr_matrix, hops: int) -> np.ndarray:
+    """Colours of the nodes of graph ``A`` (:func:`band_adjacency`) such that two nodes within ``hops`` steps
+    differ (greedy, in index order: every rank computes the same from the same cells). A unit field on all
+    nodes of one colour is then, within reach of any point, a unit field on one node: one solve or
+    interpolation serves a whole colour instead of each node (structured hexahedra: 27 colours at one hop, 125
+    at two)."""
+    R = A
+    for _ in range(hops - 1):
+        R = R @ A
+    R = R.tocsr()
+    colour = np.full(A.shape[0], -1, dtype=np.int64)
+    for j in range(A.shape[0]):
+        taken = colour[R.indices[R.indptr[j] : R.indptr[j + 1]]]
+        free = np.ones(taken.size + 1, dtype=bool)
+        free[taken[(taken >= 0) & (taken <= taken.size)]] = False
+        colour[j] = int(np.argmax(free))
+    return colour
+
+
+def _cut_weights(
+    V0, nodes0, cut_cells, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, tol: float
+) -> scipy.sparse.csr_matrix:
+    """W (owned cut dofs x band nodes): each band node's unit scalar field interpolated onto the cut cells
+    (DOLFINx non-matching interpolation; linear). One colour of nodes (:func:`node_colouring`, one hop: no two
+    share a cell) at a time: a cut point lies in one band cell, which holds at most one node of the colour, so
+    the interpolated unit field there is that node's weight, and the field (index + 1) over it names the node.
+    Two interpolations per colour instead of one per band node (the 3D coarse submodel's cut: minutes to
+    seconds); the weights are the per-node ones to round-off (tests/fe/test_submodel.py)."""
     data = dolfinx.fem.create_interpolation_data(V0, Vb, cut_cells, padding=1e-10)
     fb, g = dolfinx.fem.Function(Vb), dolfinx.fem.Function(V0)
-    n_own_b = Vb.dofmap.index_map.size_local
-    dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
-    own = np.arange(n_own_b)
-    dof_of_node[node_of_dof[own]] = own
+    own = np.arange(Vb.dofmap.index_map.size_local)
+    colour = node_colouring(band_adjacency(cells, n_nodes), 1)
     rows, cols, vals = [], [], []
-    for j in range(n_nodes):
+
+    def interpolated(values: np.ndarray) -> np.ndarray:
         fb.x.array[:] = 0.0
-        if dof_of_node[j] >= 0:
-            fb.x.array[dof_of_node[j]] = 1.0
+        fb.x.array[own] = values
         fb.x.scatter_forward()
         g.x.array[:] = 0.0
         g.interpolate_nonmatching(fb, cut_cells, data, tol=tol)
-        w = g.x.array[nodes0]
+        return g.x.array[nodes0].copy()
+
+    for κ in range(int(colour.max(initial=-1)) + 1):  # collective: every rank has every colour
+        on = colour[node_of_dof[own]] == κ
+        w = interpolated(on.astype(float))
+        named = interpolated(np.where(on, node_of_dof[own] + 1.0, 0.0))
         nz = np.flatnonzero(np.abs(w) > 1e-14)
+        j = np.rint(named[nz] / w[nz]).astype(np.int64) - 1
+        if nz.size and (j.min() < 0 or j.max() >= n_nodes or np.any(colour[j] != κ)):
+            raise RuntimeError("cut weights: a cut point sees two band nodes of one colour (band cells overlap?)")
         rows.append(nz)
-        cols.append(np.full(nz.size, j))
+        cols.append(j)
         vals.append(w[nz])
     return scipy.sparse.csr_matrix(
         (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nodes0.size, n_nodes)
@@ -349,8 +392,8 @@ class CutDriver:
         bs = model.bs
         self.idx = self.cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries
         t0 = time.perf_counter()
-        self.W = _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["nodes"].shape[0], tol)
-        self.band = (Vb, node_of_dof, d["nodes"].shape[0])  # the band space for a traction operator
+        self.W = _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["cells"], d["nodes"].shape[0], tol)
+        self.band = (Vb, node_of_dof, d["cells"], d["nodes"].shape[0])  # the band space for a traction operator
         self.cut_cells = cut_cells
         self.build_time = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
         # partition of unity: each cut node must be covered by the band (row sums 1). DOLFINx assigns a point

@@ -54,7 +54,7 @@ from mpi4py import MPI
 
 from rods.fe import forms
 from rods.fe.model import ExplicitModel
-from rods.fe.submodel import CutDriver, _band_space, _cut
+from rods.fe.submodel import CutDriver, _band_space, _cut, _cut_weights, band_adjacency, node_colouring
 
 __all__ = ["TractionDriver", "cut_force_operator"]
 
@@ -104,47 +104,61 @@ def cut_force_operator(
     """T (owned cut entries x band entries) with f_cut = T U_band.ravel() [N], the cut nodes (parents) and their
     tributary areas A_i [m^2], for the band record ``d`` (:func:`rods.fe.submodel._read_cut`)."""
     Vb, node_of_dof = _band_space(d, model.comm)
-    _, _, cut_cells, cut_nodes = _cut(model)
-    T, area = _force_operator(model, Vb, node_of_dof, d["nodes"].shape[0], cut_cells, cut_nodes, tol)
+    V0, nodes0, cut_cells, cut_nodes = _cut(model)
+    n_nodes = d["nodes"].shape[0]
+    W = _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["cells"], n_nodes, tol)
+    T, area = _force_operator(model, Vb, node_of_dof, d["cells"], n_nodes, cut_nodes, W)
     return T, cut_nodes, area
 
 
-def _force_operator(model, Vb, node_of_dof, n_nodes: int, cut_cells, cut_nodes, tol: float):
-    """T and A_i of :func:`cut_force_operator` on a built band space and cut.
-
-    Built from unit band fields (σ is linear in u): per band node and component, the traction on the band
-    (:class:`_BandTraction`), interpolated onto the submodel's cut cells, times the cut nodes' tributary
-    areas A_i."""
+def _band_traction_matrix(model: ExplicitModel, Vb, node_of_dof, cells: np.ndarray, n_nodes: int):
+    """B (band entries x band entries, every rank): t = B u, the lumped-projected traction of a band displacement
+    (:class:`_BandTraction`, linear in u). Its columns from unit fields on one colour of nodes and one component
+    at a time (:func:`rods.fe.submodel.node_colouring`, two hops: each node k then has at most one node j of the
+    colour among the nodes it shares a cell with, the only ones its traction depends on, so t_k is column j's
+    entry); bs x 125 projections for structured hexahedra instead of bs per band node."""
     bs = model.bs
     Vb_vec = dolfinx.fem.functionspace(Vb.mesh, ("Lagrange", 1, (bs,)))
     traction = _BandTraction(Vb_vec, model.scene, model.kind, model.axial)
-    u, g = traction.u, dolfinx.fem.Function(model.V)
-    data = dolfinx.fem.create_interpolation_data(model.V, Vb_vec, cut_cells, padding=1e-10)
+    A = band_adjacency(cells, n_nodes).tocoo()  # (k, j): k's traction may depend on u_j
+    colour = node_colouring(band_adjacency(cells, n_nodes), 2)
+    own = np.arange(Vb.dofmap.index_map.size_local)
+    dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
+    dof_of_node[node_of_dof[own]] = own
+    mine = dof_of_node[A.row] >= 0  # pairs whose k this rank owns (its t_k is complete here)
+    k_pairs, j_pairs = A.row[mine], A.col[mine]
+    rows, cols, vals = [], [], []
+    for κ in range(int(colour.max(initial=-1)) + 1):  # collective: every rank has every colour
+        on = colour[node_of_dof[own]] == κ
+        k, j = k_pairs[colour[j_pairs] == κ], j_pairs[colour[j_pairs] == κ]
+        for c in range(bs):
+            traction.u.x.array[:] = 0.0
+            traction.u.x.array[own[on] * bs + c] = 1.0
+            traction.u.x.scatter_forward()
+            t = traction.evaluate().x.array
+            for r in range(bs):
+                rows.append(k * bs + r)
+                cols.append(j * bs + c)
+                vals.append(t[dof_of_node[k] * bs + r])
+    gathered = model.comm.allgather((np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)))
+    r, c, v = (np.concatenate([g[i] for g in gathered]) for i in range(3))
+    keep = v != 0.0
+    return scipy.sparse.csr_matrix((v[keep], (r[keep], c[keep])), shape=(n_nodes * bs, n_nodes * bs))
+
+
+def _force_operator(model, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, cut_nodes, W):
+    """T and A_i of :func:`cut_force_operator` on a built band space, cut and cut weights W
+    (:func:`rods.fe.submodel._cut_weights`): σ is linear in u, so T = diag(A_i) (W ⊗ I) B, the band traction
+    (:func:`_band_traction_matrix`) interpolated onto the cut nodes with W per component (the non-matching
+    interpolation of the P1 traction, as one field) times the cut nodes' tributary areas A_i."""
+    bs = model.bs
     msh, rm, tags = model.V.mesh, model.rm, model.tags
     ds = ufl.Measure("ds", domain=msh, subdomain_data=rm.facet_tags)((tags["rod1_end"], tags["rod2_end"]))
     area = model._assemble_owned(forms.tributary_area_form(model.V, ds, model.kind))[cut_nodes * bs + model.axial]
-    dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
-    own = np.arange(Vb.dofmap.index_map.size_local)
-    dof_of_node[node_of_dof[own]] = own
-    rows, cols, vals = [], [], []
-    entries = cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries of the model
-    for j in range(n_nodes):
-        for c in range(bs):
-            u.x.array[:] = 0.0
-            if dof_of_node[j] >= 0:
-                u.x.array[dof_of_node[j] * bs + c] = 1.0
-            u.x.scatter_forward()
-            tb = traction.evaluate()
-            g.x.array[:] = 0.0
-            g.interpolate_nonmatching(tb, cut_cells, data, tol=tol)
-            f = (g.x.array[entries] * area[:, None]).ravel()  # [N per m of band displacement]
-            nz = np.flatnonzero(f != 0.0)
-            rows.append(nz)
-            cols.append(np.full(nz.size, j * bs + c))
-            vals.append(f[nz])
-    shape = (entries.size, n_nodes * bs)
-    T = scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
-    return T, area
+    B = _band_traction_matrix(model, Vb, node_of_dof, cells, n_nodes)
+    interpolate = scipy.sparse.kron(W, scipy.sparse.identity(bs), format="csr")  # rows i*bs + c, columns j*bs + c
+    T = scipy.sparse.diags(np.repeat(area, bs)) @ interpolate @ B  # [N per m of band displacement]
+    return T.tocsr(), area
 
 
 class TractionDriver(CutDriver):
@@ -155,7 +169,7 @@ class TractionDriver(CutDriver):
     def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6, absorbing: bool = False):
         super().__init__(model, cut_file, tol)  # the band history, the cut's coverage checks, the backend
         t0 = time.perf_counter()
-        T, area = _force_operator(model, *self.band, self.cut_cells, self.cut_nodes, tol)  # the band and cut built once
+        T, area = _force_operator(model, *self.band, self.cut_nodes, self.W)  # the band, cut and weights built once
         self.build_time += model.comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
         be = model.backend
         self.T_step = be.csr(T)

@@ -1,5 +1,6 @@
 """Stage results as JSON: NaN/inf written as null (JSON has neither) and read back as NaN; the runs later
-stages read; percentage cells."""
+stages read, checked as bad input (:func:`read_summary`: the folder, its summary, the kind of run, its scene);
+percentage cells."""
 
 from __future__ import annotations
 
@@ -14,8 +15,11 @@ import numpy as np
 
 from rods import io
 from rods.compare import percent
+from rods.plan import scene_difference
+from rods.preflight import InputError, input_dir
+from rods.scene import Scene, SceneError, scene_from_summary
 
-__all__ = ["Run", "dump", "load", "parse_run", "pct", "read_run", "write_json"]
+__all__ = ["Run", "dump", "load", "parse_run", "pct", "read_run", "read_summary", "run_kind", "write_json"]
 
 
 def _plain(x: Any) -> Any:
@@ -68,11 +72,66 @@ class Run:
     summary: dict[str, Any]
 
 
-def read_run(folder: str | Path, label: str = "") -> Run:
-    """The run in ``folder`` (history.csv, summary.json); the label defaults to the summary's model."""
+def run_kind(summary: Mapping[str, Any]) -> str:
+    """The kind of run a summary.json comes from, by its ``model``: "analytical", "global" (``fe-axisymmetric``,
+    ``fe-3d``), "submodel" (``fe-submodel-<level>``), "study" (``workflow``), else "unknown"."""
+    model = str(summary.get("model", ""))
+    if model.startswith("fe-submodel"):
+        return "submodel"
+    if model.startswith("fe-"):
+        return "global"
+    return {"analytical": "analytical", "workflow": "study"}.get(model, "unknown")
+
+
+def read_summary(
+    folder: str | Path,
+    flag: str,
+    kinds: tuple[str, ...] = ("global", "submodel"),
+    scene: Scene | None = None,
+    files: tuple[str, ...] = ("summary.json",),
+) -> dict[str, Any]:
+    """The summary.json of the run in ``folder`` that a later stage reads, checked before anything is computed
+    (:class:`InputError` naming ``flag``, exit 2): the folder holds ``files``, the summary parses, the run is one
+    of ``kinds``, and, given ``scene``, its bodies and impact are the scene's (a run of another scene gives a
+    table of differences between two scenes that says nothing)."""
+    remedy = f"give the folder of a finished {' or '.join(kinds)} run"
+    d = input_dir(folder, files, flag, remedy)
+    try:
+        summary = json.loads((d / "summary.json").read_text(encoding="utf-8"))
+        kind = run_kind(summary) if isinstance(summary, dict) else "unknown"
+        values = summary.get("scene_values") if isinstance(summary, dict) else None
+        theirs = scene_from_summary(values, source=str(d)) if scene is not None and kind != "study" else None
+    except (ValueError, OSError, TypeError, AttributeError) as e:
+        raise InputError(flag, d, f"unreadable summary.json ({type(e).__name__}: {e})", "rerun that stage") from None
+    except SceneError as e:
+        raise InputError(flag, d, f"summary.json's scene_values are not a scene ({e})", "rerun that stage") from None
+    if kind not in kinds:
+        model = summary.get("model") if isinstance(summary, dict) else None
+        raise InputError(flag, d, f"a run of model {model!r} ({kind}), not a {' or '.join(kinds)} run", remedy)
+    diff = scene_difference(scene, theirs, cut=False) if theirs is not None else None
+    if diff is not None:
+        key, ours, other = diff
+        why = f"a run of another scene: {key} = {other!r} there, {ours!r} in this one"
+        raise InputError(flag, d, why, "give --scene/--set of that run, or a run of this scene")
+    return summary
+
+
+def read_run(
+    folder: str | Path,
+    label: str = "",
+    flag: str = "--run",
+    kinds: tuple[str, ...] = ("analytical", "global", "submodel"),
+    scene: Scene | None = None,
+) -> Run:
+    """The run in ``folder`` (history.csv, summary.json: :func:`read_summary`); the label defaults to the
+    summary's model."""
     folder = Path(folder)
-    summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
-    return Run(label or summary.get("model", folder.name), io.read_history(folder / "history.csv"), summary)
+    summary = read_summary(folder, flag, kinds, scene, files=("summary.json", "history.csv"))
+    try:
+        history = io.read_history(folder / "history.csv")
+    except (ValueError, OSError) as e:
+        raise InputError(flag, folder, f"unreadable history.csv ({e})", "rerun that stage") from None
+    return Run(label or summary.get("model", folder.name), history, summary)
 
 
 def parse_run(spec: str) -> tuple[str, Path]:

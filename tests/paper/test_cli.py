@@ -30,14 +30,27 @@ def test_paper_writes_its_stage_under_out(job):
     assert s["scene_values"]["rod2"]["length"] == 0.70099  # later stages rebuild the scene from the run
 
 
-def test_fig4_and_accuracy_cost_clis(job, tmp_path, capsys):
-    a = job / "analytical"
+def test_fig4_and_accuracy_cost_clis(job, tmp_path):
+    """Both read the runs they are given, and refuse (exit 2) what is not a run of their scene: an analytical run
+    of another trial as an FE run, a missing folder (skipped with a note before 2026-11-24)."""
+    from rods.preflight import InputError
+    from rods.scene import load_scene
+    from rods.study import stages
+
+    from ..conftest import SCENES
+
+    a, g = job / "analytical", tmp_path / "global"
+    tiny = ("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=3e-4")
+    stages.global_model(load_scene(SCENES / "trial-1-3.toml", tiny), g, None)
     fig4 = importlib.import_module("fig4")
-    args = ["--analytical", str(a / "trial-1-3"), "--fe", f"other trial={a / 'trial-2-4'}"]
-    assert fig4.main([*args, "--png", str(tmp_path / "f.png"), "--md", str(tmp_path / "f.md")]) == 0
-    assert load(tmp_path / "f.json")["runs"][0]["label"] == "other trial"
+    out = ["--png", str(tmp_path / "f.png"), "--md", str(tmp_path / "f.md")]
+    assert fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"coarse={g}", *out]) == 0
+    assert load(tmp_path / "f.json")["runs"][0]["label"] == "coarse"
+    with pytest.raises(InputError, match="--fe.*model 'analytical'"):
+        fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"other trial={a / 'trial-2-4'}", *out])
     ac = importlib.import_module("accuracy_cost")
-    runs = ["--run", f"trial={a / 'trial-1-3'}", "--run", f"missing={tmp_path / 'none'}"]
+    runs = ["--scene", str(SCENES / "trial-1-3.toml"), "--run", f"trial={a / 'trial-1-3'}", "--run", f"coarse={g}"]
     assert ac.main([*runs, "--set", "simulation.end_time=3e-4", "--out", str(tmp_path / "ac")]) == 0
-    assert [r["label"] for r in load(tmp_path / "ac.json")["rows"]][-1] == "trial"
-    assert "skipping missing" in capsys.readouterr().err
+    assert {r["label"] for r in load(tmp_path / "ac.json")["rows"]} >= {"trial", "coarse"}
+    with pytest.raises(InputError, match="--run.*no such folder"):
+        ac.main([*runs, "--run", f"missing={tmp_path / 'none'}", "--out", str(tmp_path / "ac2")])

@@ -144,7 +144,9 @@ def test_compare_cli_writes_under_output_unless_told(runs, tmp_path):
     args = []
     for m in models:
         d = tmp_path / "in" / (m.level or m.role)
-        io.write_summary(d / "summary.json", {k: m.summary.get(k, 0.0) for k in io.SUMMARY_KEYS} | dict(m.summary))
+        model = f"fe-submodel-{m.level}" if m.role == "submodel" else "fe-axisymmetric"  # what compare.py reads
+        s = {k: m.summary.get(k, 0.0) for k in io.SUMMARY_KEYS} | dict(m.summary) | {"model": model}
+        io.write_summary(d / "summary.json", s)
         if m.history is not None:
             io.write_history(d / "history.csv", m.history, {})
         flag = {"global-uniform": "--global-uniform", "global-driver": "--global"}.get(m.role, "--submodel")
