@@ -206,11 +206,6 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--record-cut", "--record-until", "5", "--out", "o"],
         ["--record-until", "end_time"],
     ),
-    "one key set twice": (
-        "analytical.py",
-        ["--set", "impact.speed=1", "--set", "impact.speed=2", "--out", "o"],
-        ["--set", "'impact.speed' given twice"],
-    ),
     "set without a key": ("global.py", ["--set", "=3", "--out", "o"], ["--set", "'=3'", "key before"]),
     "contact picture without fields": ("contact_picture.py", ["--fields", "nope", "--out", "o/x"], ["--fields"]),
 }

@@ -130,7 +130,8 @@ def test_budgets_and_force(scene_with):
 
 @pytest.fixture
 def fake_driver(tmp_path, scene_with):
-    """A folder that passes submodel.py's input checks (summary.json of a driver, a cut.h5 with its times only)."""
+    """A folder that passes submodel.py's input checks (summary.json of a driver, a cut.h5 with its times and
+    recording scene only)."""
     import h5py
 
     d = tmp_path / "driver"
@@ -139,6 +140,7 @@ def fake_driver(tmp_path, scene_with):
     (d / "summary.json").write_text(json.dumps(s))
     with h5py.File(d / "cut.h5", "w") as f:
         f["times"] = [0.0, 1.2e-4]
+        f.attrs["scene_values"] = json.dumps(s["scene_values"])
     return d
 
 

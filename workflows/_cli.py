@@ -60,21 +60,15 @@ def _number(kind: type, lo: float, closed: bool, unit: str) -> Callable[[str], f
 
 
 class _Override(argparse.Action):
-    """--set KEY=VALUE, repeatable: the syntax checked as it is read (rods.scene.parse_override), and one key
-    given twice with different values refused (which one a run took would be a guess)."""
+    """--set KEY=VALUE, repeatable (a key given again overrides the earlier value, as a later --set would in any
+    order of composing defaults and changes): the syntax checked as it is read (rods.scene.parse_override)."""
 
     def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, text: Any, option: Any = None):
         try:
-            key, value = parse_override(text)
+            parse_override(text)
         except SceneError as e:
             raise argparse.ArgumentError(self, f"{text!r}: {e.allowed}") from None
-        given = list(getattr(namespace, self.dest) or [])
-        for earlier in given:
-            k, v = parse_override(earlier)
-            if k == key and v != value:
-                why = f"{key!r} given twice, {earlier!r} and {text!r}; give each key once"
-                raise argparse.ArgumentError(self, why)
-        setattr(namespace, self.dest, [*given, text])
+        setattr(namespace, self.dest, [*(getattr(namespace, self.dest) or []), text])
 
 
 positive = _number(float, 0.0, False, "")  # e.g. an element size [m], a time [s]

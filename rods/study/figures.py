@@ -54,7 +54,11 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
     ax.set_ylabel("σ_r [MPa]")
     ax.set_title("Fig. 6: σ_r at the integration points nearest the surface, peak force", fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    if subs:
+        ax.legend(fontsize=8)
+    else:  # the globals sample no σ_r: say so on the figure rather than leave an empty frame
+        note = "no submodel level given: σ_r is sampled by the submodels"
+        ax.text(0.5, 0.5, note, ha="center", transform=ax.transAxes)
     fig.tight_layout()
     fig.savefig(out / "fig6-sigma-r.png", dpi=150)
     plt.close(fig)
