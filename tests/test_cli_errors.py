@@ -207,6 +207,7 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--record-until", "end_time"],
     ),
     "set without a key": ("global.py", ["--set", "=3", "--out", "o"], ["--set", "'=3'", "key before"]),
+    "out holds another kind of run": ("analytical.py", ["--out", "global-fast"], ["--out", "(global", "analytical"]),
     "contact picture without fields": ("contact_picture.py", ["--fields", "nope", "--out", "o/x"], ["--fields"]),
 }
 

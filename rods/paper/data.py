@@ -19,7 +19,18 @@ from rods.plan import scene_difference
 from rods.preflight import InputError, input_dir
 from rods.scene import Scene, SceneError, scene_from_summary
 
-__all__ = ["Run", "dump", "load", "parse_run", "pct", "read_run", "read_summary", "run_kind", "write_json"]
+__all__ = [
+    "Run",
+    "check_reuse",
+    "dump",
+    "load",
+    "parse_run",
+    "pct",
+    "read_run",
+    "read_summary",
+    "run_kind",
+    "write_json",
+]
 
 
 def _plain(x: Any) -> Any:
@@ -81,6 +92,20 @@ def run_kind(summary: Mapping[str, Any]) -> str:
     if model.startswith("fe-"):
         return "global"
     return {"analytical": "analytical", "workflow": "study"}.get(model, "unknown")
+
+
+def check_reuse(out: str | Path, kind: str, flag: str = "--out") -> None:
+    """Refuse (:class:`InputError`) an output folder that holds another kind of run's summary.json: rerunning a
+    stage into its own folder replaces it, but a global written over a study's folder (or a study over a
+    global's) would leave the other's files beside a summary that no longer describes them."""
+    f = Path(out) / "summary.json"
+    try:
+        theirs = run_kind(json.loads(f.read_text(encoding="utf-8")))
+    except (OSError, ValueError, AttributeError):  # none, or not a run's: nothing to protect
+        return
+    if theirs not in (kind, "unknown"):
+        why = f"holds another kind of run ({theirs}: its summary.json) than this {kind} run"
+        raise InputError(flag, out, why, "give another --out")
 
 
 def read_summary(
