@@ -208,6 +208,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
     ),
     "set without a key": ("global.py", ["--set", "=3", "--out", "o"], ["--set", "'=3'", "key before"]),
     "out holds another kind of run": ("analytical.py", ["--out", "global-fast"], ["--out", "(global", "analytical"]),
+    "submodel restart without a checkpoint": (
+        "submodel.py",
+        ["--global", "driver", "--restart", "--out", "o"],
+        ["--restart", "checkpoint.json"],
+    ),
     "contact picture without fields": ("contact_picture.py", ["--fields", "nope", "--out", "o/x"], ["--fields"]),
 }
 

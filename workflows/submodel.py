@@ -7,6 +7,8 @@ Scene: the global run's unless --scene/--set are given. Levels: rods.scene.SUBMO
 overrides; --phase K runs member K of the level's phase-averaged study, rods.scene.submodel_phase_size); end: the
 driver's contact phase unless --end-time. Writes DIR/summary.json, history.csv,
 pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR output/submodel/<level>/<scene>.
+With fe.checkpoint_interval > 0 it checkpoints into DIR; --restart resumes there (same scene, level, rank count and
+cut record).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, plan
+from rods.fe import checkpoint
 from rods.fe.submodel import recorded_until, submodel_scene
 from rods.preflight import InputError, input_dir
 from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, scene_from_summary
@@ -110,6 +113,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument(
         "--dt", type=_step, default="auto", help="time step [s], 'auto' (stable) or 'global' (the global's)"
     )
+    ap.add_argument("--restart", action="store_true", help="resume from the last checkpoint in --out")
     args = ap.parse_args(argv)
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
@@ -125,14 +129,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     own = _own_settings(scene, h, args, end, dt)  # its contact law and outputs, as it will run
     c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt)
     log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
-    if scene["fe.checkpoint_interval"] > 0:
-        log("note: fe.checkpoint_interval is the global model's; the submodel does not checkpoint")
+    if args.restart:
+        checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)
     _cli.afford(args, c, log=log)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
         scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end, dt=dt,
-        progress=progress, phase=args.phase,
+        progress=progress, phase=args.phase, restart=args.restart,
     ).summary  # fmt: skip
     log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
     _cli.status(s, comm.rank)

@@ -255,12 +255,16 @@ class ExplicitModel:
         ``external_work()`` enters the energy balance, history ``external_work``), then the recorder, the
         guards (a SimulationError carrying the histories so far), checkpoints into ``out`` when
         ``fe.checkpoint_interval`` > 0 (``restart=True`` resumes from the last one), fields into ``out``
-        when the scene asks, and ``progress(step, total, elapsed)``.
+        when the scene asks, and ``progress(step, total, elapsed)``. An observer with ``state(step)`` and
+        ``restore(state)`` (a submodel's cut driver) is checkpointed with the stepper and the recorder, and one with
+        ``checkpoint_identity`` (its input file) enters the checkpoint's key.
         """
         stepper = self.stepper()
         recorder = self.recorder(observers)
-        step0 = self._restore(out, stepper, recorder, progress) if restart and out is not None else 0
-        own = self._observers(stepper, recorder, out, progress, step0)
+        parts = (stepper, recorder, *(o for o in observers if hasattr(o, "state")))  # what a checkpoint holds
+        key = self._checkpoint_key(observers)
+        step0 = self._restore(out, parts, key, progress) if restart and out is not None else 0
+        own = self._observers(stepper, recorder, out, progress, step0, parts, key)
         recorder.start()
         failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)
         wall_loop = recorder.wall_before + self.comm.allreduce(time.perf_counter() - recorder.t_start, op=MPI.MAX)
@@ -304,7 +308,7 @@ class ExplicitModel:
         args = (self.contact, probes, mass_axial, steps, self.steps, self.dt, self.comm, self.multiplicity)
         return Recorder(*args, sources, self.backend)
 
-    def _observers(self, stepper, recorder, out, progress, step0: int) -> list[Observer]:
+    def _observers(self, stepper, recorder, out, progress, step0: int, parts, key: str) -> list[Observer]:
         """The model's own observers after the recorder: guards, fields, checkpoints (after ``step0``), the
         interrupt check. Fields precede checkpoints: a checkpoint at step c (a restart at c + 1 keeps the frames
         before (c + ½)Δt) then implies that the frames up to step c are on disk, whenever the run is killed."""
@@ -317,8 +321,7 @@ class ExplicitModel:
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = max(1, int(round(sc["fe.checkpoint_interval"] / dt)))  # an interval below Δt: every step
-            key = self._checkpoint_key()
-            parts, h = (stepper, recorder), checkpoint.scene_hash(sc)  # h: the restart's pre-set-up check
+            h = checkpoint.scene_hash(sc)  # the restart's pre-set-up check
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
             stop.on_stop = own[-1].save_now
         own.append(stop)
@@ -328,13 +331,15 @@ class ExplicitModel:
             own.append(Progress(progress, self.steps))
         return own
 
-    def _restore(self, out: Path, stepper: CentralDifference, recorder: Recorder, progress) -> int:
-        """Resume the stepper and the recorder from the last checkpoint in ``out``; the first step to run."""
-        state = checkpoint.load(out, self.comm, self._checkpoint_key())
+    def _restore(self, out: Path, parts: Sequence[Any], key: str, progress) -> int:
+        """Resume the stepper, the recorder and the observers with state (``parts``) from the last checkpoint in
+        ``out``; the first step to run."""
+        state = checkpoint.load(out, self.comm, key)
         if state is None:
             return 0
-        stepper.restore(state)
-        recorder.restore(state)
+        for part in parts:
+            part.restore(state)
+        stepper = parts[0]
         step0 = stepper.n + 1
         if progress is not None:
             t = stepper.n * self.dt
@@ -354,10 +359,12 @@ class ExplicitModel:
             self._corners = CornerJacobians(self.V, self.n_local, msh.topology.index_map(msh.topology.dim).size_local)
         return self._corners.count(self.backend.to_host(u_owned))
 
-    def _checkpoint_key(self) -> str:
-        """Identifies scene + step + partition + format: a checkpoint is only resumed by the same run."""
+    def _checkpoint_key(self, observers: Sequence[Any] = ()) -> str:
+        """Identifies scene + step + partition + format (+ the observers' inputs, a submodel's cut record): a
+        checkpoint is only resumed by the same run."""
+        inputs = [o.checkpoint_identity for o in observers if hasattr(o, "checkpoint_identity")]
         text = json.dumps(
-            [self.scene.as_dict(), self.dt, self.comm.size, self.n_global, CHECKPOINT_FORMAT], sort_keys=True
+            [self.scene.as_dict(), self.dt, self.comm.size, self.n_global, CHECKPOINT_FORMAT, *inputs], sort_keys=True
         )
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -412,14 +412,24 @@ class CutDriver:
         self.n_cut = comm.allreduce(nodes0.size)
         self.dt = model.dt
         # on the model's array backend (copied to a device once): the band history, W, the cut entries
-        be = model.backend
+        be = self.be = model.backend
         self.xp, self.U, self.W_step, self.idx_step = be.xp, be.asarray(self.U), be.csr(self.W), be.asarray(self.idx)
+        stat = Path(cut_file).stat()  # a checkpoint resumes only with the record it was driven by (rods.fe.model)
+        self.checkpoint_identity = f"{Path(cut_file).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"
         # work done by the cut on the submodel (this rank's cut entries) [J]: the prescription adds the impulse
         # R = M (v_prescribed - v_free) [N s] per step, which moves through (v_{n-1/2} + v_{n+1/2})/2 Δt
         self.m_cut = be.asarray(model.mass[self.idx])  # [kg]
         self.v_prev = be.asarray(model.initial_velocity()[self.idx])  # v_{n-1/2} at the cut [m/s], v_0 at first
         self.work = 0.0
         self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
+
+    def state(self, step: int) -> dict[str, Any]:  # noqa: ARG002
+        """What a restart needs (this rank, on the host): the cut's work so far and its last v_{n+1/2}."""
+        return {"cut_work": self.work, "cut_v_prev": self.be.to_host(self.v_prev)}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        self.work = float(state["cut_work"])
+        self.v_prev = self.be.asarray(state["cut_v_prev"])
 
     def band_state(self, t: float):
         """The band's u at time t [s], linear in time between records (the scheme's own u(t)). (n_nodes, gdim)"""
@@ -543,6 +553,15 @@ class PeakField:
             self.F, self.step, self.last = F, step, step
             self.u[:] = self.model.backend.to_host(state.u)
 
+    def state(self, step: int) -> dict[str, Any]:  # noqa: ARG002
+        """What a restart needs (this rank): the peak so far and its displacement field."""
+        return {"peak_field_u": self.u, "peak_field_at": np.array([self.F, self.step, self.last], dtype=float)}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        self.u[:] = state["peak_field_u"]
+        F, step, last = state["peak_field_at"]
+        self.F, self.step, self.last = float(F), int(step), int(last)
+
 
 # ----------------------------------------------------------------------------------------------
 # one submodel run
@@ -564,13 +583,16 @@ def run_submodel(
     comm: MPI.Comm = MPI.COMM_WORLD,
     progress=None,
     level: str = "",
+    out: Path | None = None,
+    restart: bool = False,
 ) -> SubmodelResult:
-    """Set up and run the submodel of ``scene`` (the *global* scene) at size h [m], driven by ``cut_file``."""
+    """Set up and run the submodel of ``scene`` (the *global* scene) at size h [m], driven by ``cut_file``;
+    checkpoints into ``out`` when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one)."""
     sub = submodel_scene(scene, h, h_axial, end_time, dt)
     model = ExplicitModel(sub, comm)
     driver = make_driver(model, cut_file, scene["submodel.driving"])  # first: it sets v_{n+1/2} before any record
     peak = PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
-    res = model.run(None, progress, observers=(driver, peak))
+    res = model.run(out, progress, observers=(driver, peak), restart=restart)
     sig = surface_gauss_stress(model, peak.u)
     s = res.summary
     s["model"] = f"fe-submodel-{level}" if level else "fe-submodel"

@@ -180,13 +180,15 @@ def submodel(
     dt: float | str = "auto",
     progress: Progress = None,
     phase: int | None = None,
+    restart: bool = False,
 ) -> Stage:
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
     ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the driver's contact phase,
     rods.plan.driver_phase; capped by the scene's end). ``phase``: the level's member of the
     phase-averaged study instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
-    summary."""
+    summary; checkpoints when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one in ``out``)."""
+    from rods.fe.guards import SimulationError
     from rods.fe.submodel import run_submodel
 
     comm = world(comm)
@@ -195,7 +197,13 @@ def submodel(
     if end_time is None:  # the driver's contact phase (rods.plan.driver_phase, as the driver stage runs it)
         end_time = plan.driver_phase(scene)
     end = min(end_time, scene.end_time)
-    sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name)
+    try:
+        sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart)
+    except SimulationError as e:  # a guard's stop or an interrupt: the histories so far, readable, as a global's
+        if e.partial is not None:
+            e.partial.summary["model"] = f"fe-submodel-{name}"
+            _write_fe(out, e.partial, comm)
+        raise
     sr.summary["cut_file"] = str(cut_file)
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}

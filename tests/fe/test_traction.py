@@ -207,3 +207,32 @@ def test_coloured_cut_operators_equal_the_per_node_ones(tiny, tmp_path_factory, 
     assert abs(W - W_ref).max() <= 1e-12 * abs(W_ref).max()
     assert abs(T - T_ref).max() <= 1e-12 * abs(T_ref).max()
     assert W.nnz > 0 and T.nnz > 0
+
+
+def test_an_interrupted_submodel_resumes_to_the_same_histories(tiny, tmp_path):
+    """A mixed-driven submodel (kinematic contact: the contact's memory, the dashpot's last velocity, the cut's
+    work and the peak field are all state) stopped halfway by a stop request (Ctrl-C) resumes from its checkpoint
+    to the uninterrupted run's histories, cut work and σ_r at peak force, to 1e-12."""
+    import signal
+
+    from rods import interrupt
+    from rods.fe.guards import Interrupted
+
+    sc, _, _, path = tiny
+    sc = sc.with_overrides("fe.checkpoint_interval=1e-5")
+    whole = run_submodel(sc, path, 1e-3, 2e-3, level="like")  # no folder: no checkpoints
+
+    def stop(step: int, total: int, elapsed: float) -> None:  # noqa: ARG001
+        if 0 < step < total:
+            interrupt._state["signal"] = signal.SIGINT  # as the handler records Ctrl-C during the loop
+
+    with pytest.raises(Interrupted):
+        run_submodel(sc, path, 1e-3, 2e-3, progress=stop, level="like", out=tmp_path)
+    interrupt.reset()
+    assert (tmp_path / "checkpoint.json").exists()
+    resumed = run_submodel(sc, path, 1e-3, 2e-3, level="like", out=tmp_path, restart=True)
+    assert resumed.result.history.keys() == whole.result.history.keys()
+    for k, v in whole.result.history.items():
+        np.testing.assert_allclose(resumed.result.history[k], v, rtol=1e-12, atol=1e-12 * np.abs(v).max(), err_msg=k)
+    assert resumed.summary["cut_work"] == pytest.approx(whole.summary["cut_work"], rel=1e-12)
+    np.testing.assert_allclose(resumed.sigma_r["sigma_r"], whole.sigma_r["sigma_r"], rtol=1e-12)
