@@ -435,31 +435,6 @@ def agreement_warnings(analytical: Mapping[str, Any], fe: Mapping[str, Any]) -> 
     return found
 
 
-def patch_hertz_warnings(summary: Mapping[str, Any], scene: Any) -> list[str]:
-    """Warnings when a global FE model whose contact area and peak pressure are a study's own (no submodel ran:
-    rods.plan.most_refined) puts either further than :data:`HERTZ_OK` from Hertz at its own force: the study
-    would report an unresolved patch as its answer (paper scene, default mesh, 4.4 elements across the patch:
-    area -0.02%, peak pressure -4.85%, the nodal pressure's peak smeared over one element)."""
-    F = summary.get("peak_contact_force")
-    if not F or not math.isfinite(F):
-        return []
-    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
-    ref = hertz.at_force(F, E_star, R_star)
-    found = []
-    for key, ref_key, unit, scale in (
-        ("contact_area", "contact_area", "mm²", 1e6),
-        ("peak_contact_pressure", "peak_pressure", "GPa", 1e-9),
-    ):
-        v, h = summary.get(key), ref[ref_key]
-        if v and math.isfinite(v) and math.isfinite(h) and abs(v / h - 1.0) > HERTZ_OK:
-            found.append(
-                f"{key}: the global FE model's {v * scale:.4g} {unit}, the study's value (no submodel ran), is "
-                f"{v / h - 1:+.2%} from Hertz at its own force ({h * scale:.4g} {unit}), outside ±{HERTZ_OK:.0%}: the "
-                "global does not resolve the patch; add the contact_patch effect (submodels) or refine fe.radial_size"
-            )
-    return found
-
-
 def submodel_warnings(table: Mapping[str, Any]) -> list[str]:
     """Warnings from a study's comparison data (rods.study.table3.table3): the finest submodel level's contact
     area or peak pressure further than :data:`HERTZ_OK` from Hertz at its own force, or its error against Hertz

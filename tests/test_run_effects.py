@@ -10,7 +10,6 @@ import pytest
 
 from rods import checks
 from rods.io import read_history
-from rods.scene import scene_from_summary
 
 from .conftest import ROOT
 
@@ -53,12 +52,12 @@ def test_wave_response_runs_analytical_and_global_only(tmp_path):
     assert not list((tmp_path / "run").rglob("*.xdmf")) and not (tmp_path / "run" / "global" / "cut.h5").exists()
     assert read_history(tmp_path / "run" / "global" / "history.csv")["time"][-1] == pytest.approx(3e-4, rel=1e-3)
     assert s["sources"]["midpoint_peak_speed"] == "global" and s["plan"]["effects"] == ["wave_response"]
-    # no submodel: the global's patch is the study's (1 mm across a 1.09 mm radius), judged against Hertz
-    assert s["sources"]["peak_contact_pressure"] == "global"
-    g = json.loads((tmp_path / "run" / "global" / "summary.json").read_text())
-    scene = scene_from_summary(g["scene_values"])
-    hertz_found = [f"study: {w}" for w in checks.patch_hertz_warnings(g, scene)]
-    assert hertz_found and [w for w in s["warnings"] if w in hertz_found] == hertz_found and s["status"] == "warnings"
+    # no submodel resolves the patch: its radius, area and pressure are the analytical model's Hertz at its own
+    # force, not the global's one element across it; the force and the duration are the global's
+    an = json.loads((tmp_path / "run" / "analytical" / "summary.json").read_text())
+    for key in ("contact_radius", "contact_area", "peak_contact_pressure"):
+        assert s["sources"][key] == "analytical" and s[key] == an[key], key
+    assert s["sources"]["peak_contact_force"] == s["sources"]["contact_duration"] == "global"
 
 
 def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_early(tmp_path):

@@ -106,9 +106,8 @@ def _status(
     p: plan.Plan, done: dict[str, stages.Stage], comparison: stages.Comparison | None, comm: Any
 ) -> dict[str, Any]:
     """The study's status: "ok" when every stage's checks and the study's own (rods.checks.agreement_warnings:
-    the global FE model against the analytical model; rods.checks.patch_hertz_warnings: without submodels, the
-    global's contact area and pressure against Hertz at its own force; rods.checks.submodel_warnings: the finest
-    submodel level against Hertz and the last refinement) passed; the warnings, each named by its stage ("study"
+    the global FE model against the analytical model; rods.checks.submodel_warnings: the finest submodel level
+    against Hertz and the last refinement) passed; the warnings, each named by its stage ("study"
     and "compare" for the study's own). A stage that stops at the contact phase (a contact-only global, the driver, the
     submodels) offers no wave keys (rods.plan.offers), so its warnings about them (two midpoint plateaus in
     263 µs) stay in its own summary. ``comparison`` exists on rank 0 only; its warnings reach every rank."""
@@ -120,8 +119,6 @@ def _status(
         found += [f"{k}: {w}" for w in st.summary.get("warnings", []) if w.split(":", 1)[0] not in unused]
     if "global" in done:
         found += [f"study: {w}" for w in checks.agreement_warnings(done["analytical"].summary, done["global"].summary)]
-        if not p.submodel_levels:  # the global's patch is the study's answer (rods.plan.most_refined)
-            found += [f"study: {w}" for w in checks.patch_hertz_warnings(done["global"].summary, done["global"].scene)]
     converged = checks.submodel_warnings(comparison.data) if comparison is not None else []
     found += [f"compare: {w}" for w in comm.bcast(converged, root=0)]
     return {"status": "warnings" if found else "ok", "warnings": found}

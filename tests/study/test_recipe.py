@@ -109,6 +109,8 @@ def test_most_refined_model_wins(scene_with):
     wave = make_plan(scene_with("effects=['wave_response']"), 2e-4)
     values, sources = most_refined(wave, {k: stages[k] for k in ("analytical", "global")})
     assert sources["midpoint_peak_speed"] == "global" and values["peak_contact_force"] == 1.0
+    # no submodel resolves the patch: its radius, area and pressure are the analytical model's Hertz
+    assert {sources[k] for k in ("contact_radius", "contact_area", "peak_contact_pressure")} == {"analytical"}
     values, sources = most_refined(wave, {"analytical": stages["analytical"]})
     assert set(sources.values()) == {"analytical"}
     # by the element size across the contact, not by the stage's name: on 1 mm rods with a 5 mm tip the global's
