@@ -359,8 +359,7 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     t_peak, P_peak = model.peak()
     a_peak = float(hertz.contact_radius(P_peak, model.E_star, model.R_star))
     p0 = float(hertz.peak_pressure(P_peak, a_peak))
-    for n, rod in ((1, scene.rod1), (2, scene.rod2)):
-        hertz.check_yield(p0, rod.material.yield_strength, where=f"rod {n}")
+    hertz.check_yield_rods(p0, scene.rods)
     V1, V2 = model.rigid_velocities()
     v_mid, ε_mid = hist["rod2_mid_velocity"], hist["rod2_mid_strain"]
     summary: dict[str, Any] = {

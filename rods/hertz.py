@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -30,6 +31,7 @@ __all__ = [
     "approach",
     "axis_stresses",
     "check_yield",
+    "check_yield_rods",
     "contact_radius",
     "at_force",
     "contact_constants",
@@ -378,6 +380,16 @@ def yield_check(p0: float, yield_strength: float | None) -> bool:
     return p0 < YIELD_FACTOR * yield_strength
 
 
+def check_yield_rods(p0: float, rods: Sequence[Any]) -> None:
+    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the Hertz pressure p0 [Pa] of their contact: one
+    warning per distinct yield strength, naming the rods it holds for (two steel rods: one warning, not two)."""
+    groups: dict[float | None, list[int]] = {}
+    for n, rod in enumerate(rods, start=1):
+        groups.setdefault(rod.material.yield_strength, []).append(n)
+    for S_y, ns in groups.items():
+        check_yield(p0, S_y, where=f"rod {ns[0]}" if len(ns) == 1 else f"rods {' and '.join(map(str, ns))}")
+
+
 def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:
     """:func:`yield_check`, warning with :class:`YieldWarning` when the criterion is violated.
 
@@ -389,7 +401,8 @@ def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:
     limit = YIELD_FACTOR * S_y
     at = f" at {where}" if where else ""
     warnings.warn(
-        f"peak contact pressure{at} p0 = {p0 / 1e6:.1f} MPa exceeds 1.1 S_y = {limit / 1e6:.1f} MPa "
+        f"Hertz peak pressure{at} at the model's peak force, p0 = {p0 / 1e6:.1f} MPa, exceeds 1.1 S_y = "
+        f"{limit / 1e6:.1f} MPa "
         f"(p0 / 1.1 S_y = {p0 / limit:.3f}); the elastic Hertz solution no longer holds",
         YieldWarning,
         stacklevel=2,

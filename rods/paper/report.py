@@ -158,7 +158,7 @@ def _richardson_text(rich: dict[str, Any] | None) -> str:
         return ""
     levels, q = " / ".join(rich["levels"]), rich["quantities"]
     plateau, radius = q.get("plateau_radius_error_pct"), q["contact_radius"]
-    if plateau and math.isfinite(plateau["extrapolated"]):
+    if plateau and math.isfinite(plateau["extrapolated"]) and math.isfinite(plateau["vs_hertz_pct"]):  # credible
         return (
             f"Richardson extrapolation over the levels {levels} of the contact-radius error against Hertz at the "
             f"same force (averaged over the force plateau) gives {plateau['vs_hertz_pct']:.2f}%, with observed order "

@@ -173,7 +173,7 @@ def _richardson(subs: Sequence[ModelRun], E_star: float, R_star: float) -> dict[
     # its Hertz value is 0 by definition, so its extrapolation is the difference from Hertz itself
     q["plateau_radius_error_pct"] = _richardson_entry(rp, None) | {
         "hertz_at_extrapolated": 0.0,
-        "vs_hertz_pct": rp.extrapolated,
+        "vs_hertz_pct": rp.extrapolated if rp.credible else math.nan,  # as every row: nothing at an odd order
     }
     return {"levels": list(levels), "ratio": ratio, "plateau_fraction": compare.PLATEAU, "quantities": q}
 

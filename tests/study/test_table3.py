@@ -110,13 +110,16 @@ def test_an_incredible_order_claims_nothing_against_hertz(runs):
     for m in models:
         if m.role == "submodel":
             h = m.summary["element_size"]
-            m = ModelRun("submodel", _hertz_model(sc, F_EXACT + 1e8 * h**3, level=m.level, element_size=h), m.history)
+            s = _hertz_model(sc, F_EXACT + 1e8 * h**3, level=m.level, element_size=h)
+            m = ModelRun("submodel", s, _history(sc, E0 + 1e9 * h**3))  # the plateau radius error at order 3 too
         steep.append(m)
     d = table3(sc, ANALYTICAL, steep)
     q = d["richardson"]["quantities"]["peak_contact_force"]
     assert q["order"] == pytest.approx(3.0, rel=1e-9) and q["asymptotic"] and not q["credible"]
     assert q["gci_fine"] == pytest.approx(3.0 * abs((q["f1"] - q["f2"]) / q["f1"]) / (2.0**3 - 1), rel=1e-9)
     assert math.isnan(q["vs_hertz_pct"])
+    qp = d["richardson"]["quantities"]["plateau_radius_error_pct"]  # its extrapolation is its error against Hertz
+    assert qp["order"] == pytest.approx(3.0, rel=1e-6) and not qp["credible"] and math.isnan(qp["vs_hertz_pct"])
     assert d["richardson"]["quantities"]["contact_radius"]["hertz_at_extrapolated"] == pytest.approx(
         hertz.at_force(q["f1"], *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"], rel=1e-12
     )
