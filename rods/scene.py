@@ -92,9 +92,10 @@ _RESOLVED = {"fe.radial_size": "radial_size", "fe.axial_size": "axial_size", "su
 class SceneError(ValueError):
     """A scene value is missing, unknown, of the wrong type or out of range."""
 
-    def __init__(self, key: str, value: Any, allowed: str, hint: str = ""):
+    def __init__(self, key: str, value: Any, allowed: str, hint: str = "", argument: bool = False):
         self.key, self.value, self.allowed, self.hint = key, value, allowed, hint
-        what = key if key.startswith("--") else f"scene key '{key}'"  # a command-line argument is no scene key
+        # a command-line argument (--scene) is no scene key; a scene file's key named "--x" still is one
+        what = key if argument else f"scene key '{key}'"
         msg = f"{what} = {short(value)}: {allowed}"  # a 200k-entry list stays one short line
         if hint:
             msg += f" ({hint})"
@@ -775,7 +776,7 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     """Read, override and validate a scene file; raises SceneError on any problem."""
     p = Path(path)
     if not p.is_file():
-        raise SceneError("--scene", str(path), "no such scene file")
+        raise SceneError("--scene", str(path), "no such scene file", argument=True)
     return scene_from_dict(_read_with_base(p, ()), overrides, source=str(p))
 
 
@@ -787,12 +788,12 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     try:
         data = tomllib.loads(p.read_text())
     except tomllib.TOMLDecodeError as e:
-        raise SceneError("--scene", str(p), f"malformed TOML: {e}") from None
+        raise SceneError("--scene", str(p), f"malformed TOML: {e}", argument=True) from None
     except UnicodeDecodeError:
-        raise SceneError("--scene", str(p), "not a text (UTF-8) TOML file") from None
+        raise SceneError("--scene", str(p), "not a text (UTF-8) TOML file", argument=True) from None
     except OSError as e:  # unreadable: permissions, a device, an I/O error
         why = f"cannot be read ({e.strerror or e})"
-        raise SceneError("--scene", str(p), why, "give a readable TOML file") from None
+        raise SceneError("--scene", str(p), why, "give a readable TOML file", argument=True) from None
     base = data.pop("base", None)
     if base is None:
         return data
