@@ -265,8 +265,10 @@ def fe_cost(
         frames = frame_count(scene.field_interval, dt, steps)
     field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
-    if size is None and scene["fe.checkpoint_interval"] > 0:  # as rods.fe.model: every k-th step, k >= 1
-        every = max(1, round(scene["fe.checkpoint_interval"] / dt))
+    if size is None and scene["fe.checkpoint_interval"] > 0:  # the model's stride (rods.fe.checkpoint.stride)
+        from rods.fe.checkpoint import stride
+
+        every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
     return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
 

@@ -15,13 +15,10 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 import _cli
-from rods import io
 from rods.analytical import simulate
-from rods.paper.data import read_summary
-from rods.preflight import InputError
+from rods.paper.data import read_run, read_summary
 from rods.scene import Scene
 from rods.study import stages, table3
 from rods.study.table3 import ModelRun
@@ -30,15 +27,11 @@ from rods.study.table3 import ModelRun
 def _run(role: str, folder: str, scene: Scene) -> ModelRun:
     """A run's summary (and a submodel's history); a missing, unreadable, wrong-kind or other scene's one is bad
     input (exit 2, rods.paper.data.read_summary)."""
-    sub = role == "submodel"
-    flag = {"global-driver": "--global", "global-uniform": "--global-uniform"}.get(role, "--submodel")
-    files = ("summary.json", "history.csv") if sub else ("summary.json",)
-    summary = read_summary(folder, flag, ("submodel",) if sub else ("global",), scene, files)
-    try:
-        history = io.read_history(Path(folder) / "history.csv") if sub else None
-    except (ValueError, OSError) as e:
-        raise InputError(flag, folder, f"unreadable history.csv ({e})", "rerun that stage") from None
-    return ModelRun(role, summary, history)
+    if role == "submodel":
+        run = read_run(folder, flag="--submodel", kinds=("submodel",), scene=scene)
+        return ModelRun(role, run.summary, run.history)
+    flag = {"global-driver": "--global", "global-uniform": "--global-uniform"}[role]
+    return ModelRun(role, read_summary(folder, flag, ("global",), scene))
 
 
 def main(argv: Sequence[str] | None = None) -> int:

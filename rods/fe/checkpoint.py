@@ -33,9 +33,15 @@ from mpi4py import MPI
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line
 
-__all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash"]
+__all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
 MANIFEST = "checkpoint.json"
+
+
+def stride(interval: float, dt: float) -> int:
+    """Steps between checkpoints at ``fe.checkpoint_interval`` = ``interval`` [s] and step ``dt`` [s]: the nearest
+    whole number, every step for an interval below Δt."""
+    return max(1, int(round(interval / dt)))
 
 
 def _name(step: int, rank: int) -> str:

@@ -320,7 +320,7 @@ class ExplicitModel:
             own.append(FieldOutput(self, out, sc.field_interval, view, step0))
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
-            every = max(1, int(round(sc["fe.checkpoint_interval"] / dt)))  # an interval below Δt: every step
+            every = checkpoint.stride(sc["fe.checkpoint_interval"], dt)
             h = checkpoint.scene_hash(sc)  # the restart's pre-set-up check
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
             stop.on_stop = own[-1].save_now

@@ -73,6 +73,7 @@ __all__ = [
     "SubmodelResult",
     "recorded_until",
     "run_submodel",
+    "submodel_name",
     "submodel_scene",
     "surface_gauss_stress",
 ]
@@ -573,6 +574,11 @@ class SubmodelResult:
     summary: dict[str, Any] = field(default_factory=dict)
 
 
+def submodel_name(level: str) -> str:
+    """The ``model`` a submodel's summary names (rods.paper.data.run_kind tells it by its prefix)."""
+    return f"fe-submodel-{level}" if level else "fe-submodel"
+
+
 def run_submodel(
     scene: Scene,
     cut_file: str | Path,
@@ -595,7 +601,7 @@ def run_submodel(
     res = model.run(out, progress, observers=(driver, peak), restart=restart)
     sig = surface_gauss_stress(model, peak.u)
     s = res.summary
-    s["model"] = f"fe-submodel-{level}" if level else "fe-submodel"
+    s["model"] = submodel_name(level)
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)  # R* = inf: two flat tips, no Hertz
     H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
     s.update(

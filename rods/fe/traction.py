@@ -120,8 +120,9 @@ def _band_traction_matrix(model: ExplicitModel, Vb, node_of_dof, cells: np.ndarr
     bs = model.bs
     Vb_vec = dolfinx.fem.functionspace(Vb.mesh, ("Lagrange", 1, (bs,)))
     traction = _BandTraction(Vb_vec, model.scene, model.kind, model.axial)
-    A = band_adjacency(cells, n_nodes).tocoo()  # (k, j): k's traction may depend on u_j
-    colour = node_colouring(band_adjacency(cells, n_nodes), 2)
+    graph = band_adjacency(cells, n_nodes)
+    A = graph.tocoo()  # (k, j): k's traction may depend on u_j
+    colour = node_colouring(graph, 2)
     own = np.arange(Vb.dofmap.index_map.size_local)
     dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
     dof_of_node[node_of_dof[own]] = own
@@ -130,7 +131,8 @@ def _band_traction_matrix(model: ExplicitModel, Vb, node_of_dof, cells: np.ndarr
     rows, cols, vals = [], [], []
     for κ in range(int(colour.max(initial=-1)) + 1):  # collective: every rank has every colour
         on = colour[node_of_dof[own]] == κ
-        k, j = k_pairs[colour[j_pairs] == κ], j_pairs[colour[j_pairs] == κ]
+        of_colour = colour[j_pairs] == κ
+        k, j = k_pairs[of_colour], j_pairs[of_colour]
         for c in range(bs):
             traction.u.x.array[:] = 0.0
             traction.u.x.array[own[on] * bs + c] = 1.0

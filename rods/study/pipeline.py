@@ -107,8 +107,8 @@ def _status(
 ) -> dict[str, Any]:
     """The study's status: "ok" when every stage's checks and the study's own (rods.checks.agreement_warnings:
     the global FE model against the analytical model; rods.checks.submodel_warnings: the finest submodel level
-    against Hertz and the last refinement) passed; the warnings, each named by its stage ("study"
-    and "compare" for the study's own). A stage that stops at the contact phase (a contact-only global, the driver, the
+    against Hertz and the last refinement) passed; the warnings, each named by its stage ("study" and "compare"
+    for the study's own). A stage that stops at the contact phase (a contact-only global, the driver, the
     submodels) offers no wave keys (rods.plan.offers), so its warnings about them (two midpoint plateaus in
     263 µs) stay in its own summary. ``comparison`` exists on rank 0 only; its warnings reach every rank."""
     found = []

@@ -189,7 +189,7 @@ def submodel(
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
     summary; checkpoints when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one in ``out``)."""
     from rods.fe.guards import SimulationError
-    from rods.fe.submodel import run_submodel
+    from rods.fe.submodel import run_submodel, submodel_name
 
     comm = world(comm)
     h = size or plan.submodel_size(scene, level, phase)
@@ -201,7 +201,7 @@ def submodel(
         sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart)
     except SimulationError as e:  # a guard's stop or an interrupt: the histories so far, readable, as a global's
         if e.partial is not None:
-            e.partial.summary["model"] = f"fe-submodel-{name}"
+            e.partial.summary["model"] = submodel_name(name)
             _write_fe(out, e.partial, comm)
         raise
     sr.summary["cut_file"] = str(cut_file)
