@@ -364,7 +364,7 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     v_mid, ε_mid = hist["rod2_mid_velocity"], hist["rod2_mid_strain"]
     summary: dict[str, Any] = {
         "model": "analytical",
-        "scene": scene.name,
+        "scene": scene.label,
         "impact_speed": scene.speed,
         "peak_contact_force": P_peak,
         "peak_force_time": t_peak,

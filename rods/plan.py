@@ -163,7 +163,7 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
     fields = f"fields every {scene.field_interval:g} s" if scene.field_interval > 0 else "no fields"
     return (
         f"plan: {what} ({scene['fe.kind']}{sym}, {mesh}, {law} contact, backend {scene['fe.backend']}, {fields}), "
-        f"scene '{scene.name}', s1 = {scene.speed:g} m/s, t_end = {t_end:g} s every {scene.output_interval:g} s"
+        f"scene '{scene.label}', s1 = {scene.speed:g} m/s, t_end = {t_end:g} s every {scene.output_interval:g} s"
     )
 
 

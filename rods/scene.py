@@ -11,6 +11,7 @@ allowed range; nothing is run or written on a bad scene.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from collections.abc import Callable, Iterable, Mapping
@@ -439,6 +440,15 @@ class Scene:
     stations: tuple[Station, ...]
     values: Mapping[str, Any] = field(repr=False)  # every validated key, flat (fe.*, impact.* ...)
     source: str = ""
+    # the KEY=VALUE overrides given with the scene (--set, a sweep's point), last one per key; a library's own
+    # with_overrides (a stage's end time, the driver's settings) keeps them and adds none
+    overrides: tuple[str, ...] = ()
+
+    @property
+    def label(self) -> str:
+        """The scene as summaries and tables name it: its name, and the overrides it was given, so a run under
+        ``--set`` is not reported as the file's scene (e.g. ``paper with impact.speed=1.0``)."""
+        return f"{self.name} with {', '.join(self.overrides)}" if self.overrides else self.name
 
     def __getitem__(self, key: str) -> Any:
         v = self.values[key]
@@ -541,8 +551,10 @@ class Scene:
         return out
 
     def with_overrides(self, *overrides: str) -> Scene:
-        """A new, validated scene: this one with ``KEY=VALUE`` overrides applied."""
-        return scene_from_dict(self.as_dict(json_safe=False), overrides, source=self.source)
+        """A new, validated scene: this one with ``KEY=VALUE`` overrides applied (its :attr:`label` kept: the
+        library's own overrides are a stage's settings, not another scene)."""
+        new = scene_from_dict(self.as_dict(json_safe=False), overrides, source=self.source)
+        return dataclasses.replace(new, overrides=self.overrides)
 
 
 def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
@@ -584,7 +596,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
 
 def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
     """Validate a parsed scene (plus ``KEY=VALUE`` overrides) and build a :class:`Scene`."""
-    data = copy.deepcopy(dict(data))
+    data, overrides = copy.deepcopy(dict(data)), tuple(overrides)
     for text in overrides:
         _apply_override(data, *parse_override(text))
     stations_raw = data.pop("station", None)
@@ -628,7 +640,14 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         stations=_stations(stations_raw, rods),
         values=values,
         source=source,
+        overrides=_last_per_key(overrides),
     )
+
+
+def _last_per_key(overrides: Iterable[str]) -> tuple[str, ...]:
+    """The overrides as given (``KEY=VALUE``, stripped), the last one of each key, keys in their first order."""
+    last = {parse_override(t)[0]: "=".join(p.strip() for p in t.split("=", 1)) for t in overrides}
+    return tuple(last.values())
 
 
 def _mesh_fits_rods(v: dict[str, Any]) -> None:
@@ -759,8 +778,12 @@ def _misaligned_contact_on_the_tips(v: dict[str, Any]) -> None:
             )
 
 
-def scene_from_summary(values: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
-    """Rebuild a scene from a summary.json's ``scene_values`` (where inf was written as "inf")."""
+def scene_from_summary(
+    values: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "", given: Iterable[str] = ()
+) -> Scene:
+    """Rebuild a scene from a summary.json's ``scene_values`` (where inf was written as "inf"), ``overrides``
+    applied; ``given``: the overrides that run was given (its summary's ``scene_overrides``), already in
+    ``values`` and kept for the :attr:`Scene.label` only."""
 
     def restore(d: Any) -> Any:
         if isinstance(d, Mapping):
@@ -769,7 +792,9 @@ def scene_from_summary(values: Mapping[str, Any], overrides: Iterable[str] = (),
             return [restore(v) for v in d]
         return math.inf if d == "inf" else d
 
-    return scene_from_dict(restore(values), overrides, source=source)
+    overrides = tuple(overrides)
+    scene = scene_from_dict(restore(values), overrides, source=source)
+    return dataclasses.replace(scene, overrides=_last_per_key((*given, *overrides)))
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

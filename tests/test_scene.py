@@ -40,6 +40,21 @@ def test_overrides_reach_any_value(scene_with):
     assert parse_override("rod1.tip_radius=inf") == ("rod1.tip_radius", math.inf)
 
 
+def test_a_scene_given_overrides_is_labelled_with_them(scene_with):
+    """Summaries and tables name a run under --set by its scene and the overrides (last one per key), not as
+    the file's scene; the library's own overrides (a stage's end time, the driver's settings) keep the label."""
+    assert load_scene(SCENES / "paper.toml").label == "paper"
+    s = scene_with("impact.speed=1.0", " rod1.tip_radius = 0.02", "impact.speed=3.0")
+    assert s.overrides == ("impact.speed=3.0", "rod1.tip_radius=0.02") and s.speed == 3.0
+    assert s.label == "paper with impact.speed=3.0, rod1.tip_radius=0.02"
+    staged = s.with_overrides("simulation.end_time=2e-4")
+    assert staged.end_time == 2e-4 and staged.label == s.label
+    from rods.scene import scene_from_summary
+
+    again = scene_from_summary(s.as_dict(), ["fe.axial_size=2e-3"], given=s.overrides)
+    assert again.speed == 3.0 and again.label == f"{s.label}, fe.axial_size=2e-3"
+
+
 def test_none_drops_an_optional_value_of_a_base_scene(scene_with, tmp_path):
     """TOML has no null: "none" unsets the paper scene's yield strength, so a soft material can be swapped in
     (before, the base's 2.2 GPa could not be removed and a 10 MPa rubber failed "yield_strength < E")."""

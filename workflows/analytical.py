@@ -28,7 +28,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, _ = _cli.rank0(comm)
     log(
         f"plan: analytical model (1D waves + Hertz, contact law '{scene['analytical.contact']}'), scene "
-        f"'{scene.name}', s1 = {scene.speed} m/s, "
+        f"'{scene.label}', s1 = {scene.speed} m/s, "
         f"t_end = {scene.end_time:g} s every {scene.output_interval:g} s, rtol = {scene['analytical.rtol']:g}; "
         f"stations: {', '.join(s.name for s in scene.stations)} -> {out}"
     )

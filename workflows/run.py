@@ -54,7 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, progress = _cli.rank0(comm)
     p = _plan(scene)
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
-        log(f"plan for scene '{scene.name}' -> {out}\n{p.describe()}")
+        log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     _cli.backend(scene, comm.size)
     _cli.afford(args, cost.analytical_cost(scene), *_fe_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log).summary  # a guard's stop: exit 1, Ctrl-C: 130 (_cli)

@@ -63,7 +63,11 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
         why = f"cut.h5 was recorded by another scene than summary.json's ({diff[0]} = {diff[2]!r} there, {diff[1]!r})"
         raise InputError("--global", gdir, why, "rerun workflows/global.py --driver into an empty folder")
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
-    scene = _cli.load(args) if given else scene_from_summary(gsum["scene_values"], args.overrides, str(gdir))
+    if given:
+        scene = _cli.load(args)
+    else:  # the driver's scene, named as it was (its --set) plus this run's overrides
+        values, told = gsum["scene_values"], gsum.get("scene_overrides", ())
+        scene = scene_from_summary(values, args.overrides, str(gdir), given=told)
     plan.check_driven_scene(scene, driver)
     if args.end_time is not None:
         end = args.end_time  # [s] as asked: refused below if past the record, never cut short silently

@@ -214,7 +214,7 @@ class ExplicitModel:
         )
         return {
             "model": self.model_name,
-            "scene": sc.name,
+            "scene": sc.label,
             "mesh": mesh_text,
             "cells": rm.mesh.topology.index_map(rm.mesh.topology.dim).size_global,
             "dofs": self.n_global,
@@ -379,7 +379,8 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
     n_steps = min(steps, recorder.force.size) - 1
     penalty = sc["fe.contact"] == "penalty"
-    summary: dict[str, Any] = {"model": model.model_name, "scene": sc.name, "impact_speed": sc.speed}
+    summary: dict[str, Any] = {"model": model.model_name, "scene": sc.label, "impact_speed": sc.speed}
+    summary["scene_overrides"] = list(sc.overrides)  # what the label lists (a standalone submodel's driver: its own)
     summary.update(derived)  # peak, contact, midpoint
     summary.update(
         {

@@ -128,6 +128,7 @@ def submodel_scene(
         rod2=dataclasses.replace(sub.rod2, length=L_s),
         stations=(Station(2, L_s / 2, "rod2_mid"),),
         values=values,
+        overrides=scene.overrides,  # named as the scene it cuts (Scene.label)
     )
 
 

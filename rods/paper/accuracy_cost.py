@@ -102,7 +102,7 @@ def compute(scene: Scene, runs: list[Run]) -> dict[str, Any]:
     for i, r in enumerate(rows):
         r["on_front"] = {k: fronts[k][i] for k in ERRORS}
     return {
-        "scene": scene.name,
+        "scene": scene.label,
         "impact_speed": scene.speed,
         "reference": {"rtol": REFERENCE_RTOL, "peak_contact_force": F_ref, "strain_window": list(window)},
         "rows": rows,

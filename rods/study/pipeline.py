@@ -64,7 +64,7 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm)}
     p = plan.make_plan(scene, plan.first_contact_end(done["analytical"].summary))
     if log is not None:
-        log(f"plan for scene '{scene.name}' -> {out}\n{p.describe()}")
+        log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     shared = plan.global_drives(p)
     if p.global_model:
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
@@ -87,7 +87,7 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
     folders |= {"compare": str(out / "compare")} if (waves or p.submodel_levels) else {}
     summary = {
         "model": "workflow",
-        "scene": scene.name,
+        "scene": scene.label,
         "impact_speed": scene.speed,
         **values,
         "wall_time": comm.allreduce(time.perf_counter() - t0, op=_max()),

@@ -191,7 +191,7 @@ def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]
     trial = pd.fe_experiment if paper_scene else None  # Table 3's experiment: Table 2's trial at the FE speed
     a_exp = trial.experimental_radius if trial else math.nan
     ref = {
-        "scene": scene.name,
+        "scene": scene.label,
         "impact_speed": scene.speed,
         "analytical": {
             k: analytical[k] for k in ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")

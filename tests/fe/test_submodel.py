@@ -262,6 +262,8 @@ def test_end_to_end_cli(global_dirs, tmp_path):
         assert k in s, k
     for f in ("history.csv", "pressure_profile.csv", "sigma_r.csv"):
         assert (tmp_path / f).exists()
+    driver = json.loads((g / "summary.json").read_text())  # the scene named as the driver's --set named it
+    assert s["scene"] == driver["scene"] == f"paper with {', '.join(driver['scene_overrides'])}"
     # missing checkpoint: clean exit 2
     p = run_workflow("submodel.py", ["--global", str(tmp_path), "--out", str(tmp_path / "x")])
     assert p.returncode == 2 and "cut.h5" in p.stderr
