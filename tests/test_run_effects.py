@@ -101,6 +101,28 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     assert any(w.startswith("compare: peak_contact_pressure: the finest submodel level (coarse") for w in s["warnings"])
 
 
+def test_restart_keeps_the_finished_stages_and_reruns_the_stopped_one(tmp_path):
+    """run.py --restart: a stage finished for the same scene is kept (not rewritten), a stopped one (an
+    interrupt's partial summary) runs again, and the study ends as an uninterrupted one did; a stage of other
+    settings is never kept."""
+    _, s1 = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
+    run_dir = tmp_path / "run"
+    g, sub = run_dir / "global" / "summary.json", run_dir / "submodel" / "coarse" / "summary.json"
+    partial = json.loads(sub.read_text()) | {"status": "interrupted"}
+    sub.write_text(json.dumps(partial))  # as Ctrl-C in the submodel leaves it
+    stamp = g.stat().st_mtime_ns
+    p, s2 = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--restart")
+    assert f"global: finished in {run_dir / 'global'} for this scene, kept" in p.stdout
+    assert g.stat().st_mtime_ns == stamp and json.loads(sub.read_text())["status"] != "interrupted"
+    for key in ("peak_contact_force", "contact_radius", "contact_duration", "status", "warnings", "sources"):
+        assert s2[key] == s1[key], key
+    # other settings (a coarser axial mesh) into the same folder: nothing is kept
+    p, s3 = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--set", "fe.axial_size=5e-3",
+                "--restart")  # fmt: skip
+    assert "kept" not in p.stdout and g.stat().st_mtime_ns != stamp
+    assert s3["peak_contact_force"] != s1["peak_contact_force"]
+
+
 def test_wave_and_contact_run_one_global_that_records_the_cut_over_the_contact_phase_only(tmp_path):
     import h5py
 

@@ -3,11 +3,17 @@
     python workflows/run.py --scene workflows/scenes/paper.toml --set 'effects=["contact_patch"]' --out DIR
     mpirun -n 2 python workflows/run.py --scene ... --set 'submodel.levels=["fine"]' --out DIR
     python workflows/run.py --scene ... --dry-run   # the plan and its cost estimate only; nothing runs
+    mpirun -n 2 python workflows/run.py --scene ... --out DIR --restart   # resume a stopped study in DIR
 
 The study pipeline (rods.study.pipeline.run_study): DIR/analytical/, DIR/global/ (to the planned end time), and
 for contact effects its cut.h5 (the global drives the submodels: rods.plan.global_drives), DIR/submodel/LEVEL/
 and DIR/compare/ (Table 3, Figs. 5c/6). DIR/summary.json holds the plan, the stage folders and the contract
 keys, each from the most refined model that computed it. Default DIR: output/run/<scene>.
+
+--restart resumes a study stopped by Ctrl-C, a guard or a lost job: the FE stages that finished in DIR for the
+same scene are kept, an unfinished one resumes from its checkpoint where it wrote one (fe.checkpoint_interval >
+0; not a global recording the cut), the rest run. Exit codes (workflows/_cli.py): 2 bad input, 1 when a guard
+stops a stage, 130 on Ctrl-C/SIGTERM.
 """
 
 from __future__ import annotations
@@ -48,7 +54,9 @@ def _fe_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
-    args = _cli.parser(__doc__, dry_run=True).parse_args(argv)
+    ap = _cli.parser(__doc__, dry_run=True)
+    ap.add_argument("--restart", action="store_true", help="resume a stopped study in --out: finished stages kept")
+    args = ap.parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
@@ -57,7 +65,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     _cli.backend(scene, comm.size)
     _cli.afford(args, cost.analytical_cost(scene), *_fe_costs(scene, p, comm.size), log=log)
-    s = run_study(scene, out, comm, progress, log).summary  # a guard's stop: exit 1, Ctrl-C: 130 (_cli)
+    s = run_study(scene, out, comm, progress, log, restart=args.restart).summary  # a guard's stop: exit 1 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
     _cli.status(s, comm.rank)
     return 0

@@ -52,11 +52,16 @@ def _wave_figure(done: dict[str, stages.Stage], out: Path) -> None:
     fig4.write(analytical, [fe], out / "fig4.png", out / "fig4.md")
 
 
-def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, log: Any = None) -> Study:
+def run_study(
+    scene: Scene, out: Path, comm: Any = None, progress: Any = None, log: Any = None, restart: bool = False
+) -> Study:
     """Run the plan of ``scene`` into ``out`` (collective on ``comm``, default MPI.COMM_WORLD) and return the
     stages' results; ``log`` (rank 0's printer) receives the plan first, ``progress`` drives FE progress bars.
     A guard's stop in an FE stage raises rods.fe.guards.SimulationError after writing that stage's partial
-    histories."""
+    histories. ``restart`` (a stopped study resumed): an FE stage finished in its folder for the same scene is
+    kept (rods.study.stages.finished; the submodels only behind a kept driver, whose cut drove them), an
+    unfinished one resumes from its checkpoint where it has one (fe.checkpoint_interval > 0; not a global that
+    records the cut), the rest run; the analytical model and the comparison always run (seconds)."""
     t0 = time.perf_counter()
     out = Path(out)
     comm = stages.world(comm)
@@ -70,14 +75,17 @@ def run_study(scene: Scene, out: Path, comm: Any = None, progress: Any = None, l
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
-        done["global"] = stages.global_model(g, out / "global", comm, progress=progress, log=log, **kw)
+        done["global"] = stages.global_model(g, out / "global", comm, progress=progress, log=log, resume=restart, **kw)
     if p.submodel_levels:
-        d = done["global"] if shared else stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log)
+        d = done["global"] if shared else stages.driver(
+            scene, out / "driver", comm, p.contact_phase, progress, log, resume=restart
+        )  # fmt: skip
         done["driver"] = d
         for level in p.submodel_levels:
             done[f"submodel/{level}"] = stages.submodel(
-                d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase, progress=progress
-            )
+                d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase,
+                progress=progress, resume=restart and d.kept,
+            )  # fmt: skip
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
     waves = "wave_response" in p.effects and p.global_model
     if waves and root:

@@ -11,10 +11,13 @@ loop.
   the contact phase (:func:`rods.plan.contact_phase`) only.
 * :func:`submodel` — one submodel level driven by a recorded cut, to the contact phase.
 * :func:`comparison` — Table 3 (table3.json, .md, .csv), Fig. 5c and Fig. 6 (rank 0, serial).
+* :func:`finished` — an FE stage already finished in its folder for the same scene (a study's restart keeps it).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import json
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -52,6 +55,7 @@ class Stage:
     summary: dict[str, Any]
     history: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     cut_file: Path | None = None  # the recorded cut band (globals with record_cut)
+    kept: bool = False  # found finished in its folder by a study's restart (:func:`finished`), not run
 
 
 @dataclass(frozen=True)
@@ -92,6 +96,38 @@ def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
     return Stage("analytical", out, scene, result.summary, result.history)
 
 
+def finished(name: str, out: Path, scene: Scene, comm: Any, cut_until: float | None = None) -> Stage | None:
+    """The FE stage ``name`` as it already finished in ``out`` (a study's restart keeps it, :func:`global_model`
+    and :func:`submodel` with ``resume``), else None (it runs): its summary.json ends "ok" or "warnings" (not a
+    guard's stop or an interrupt's partial), holds exactly ``scene``'s values (the stage's scene, its end time
+    and mesh included) and its history.csv reads; with ``cut_until`` [s] its cut.h5 was recorded by that scene
+    to that time. Collective: rank 0 reads, every rank gets the summary, rank 0 the history."""
+    found = _read_finished(Path(out), scene, cut_until) if comm.rank == 0 else None
+    summary = comm.bcast(found[0] if found else None, root=0)
+    if summary is None:
+        return None
+    cut = Path(out) / "cut.h5" if cut_until is not None else None
+    return Stage(name, Path(out), scene, summary, found[1] if found else {}, cut, kept=True)
+
+
+def _read_finished(out: Path, scene: Scene, cut_until: float | None) -> tuple[dict, dict] | None:
+    """(summary, history) of a finished run of ``scene`` in ``out`` (:func:`finished`); None: none there."""
+    from rods.fe.submodel import recorded_until
+
+    ours = json.loads(json.dumps(scene.as_dict()))  # as summary.json holds it
+    try:
+        summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+        if summary.get("status") not in ("ok", "warnings") or summary.get("scene_values") != ours:
+            return None
+        if cut_until is not None:
+            t, values = recorded_until(out / "cut.h5")  # [s]
+            if values != ours or t < cut_until * (1 - 1e-9):
+                return None
+        return summary, io.read_history(out / "history.csv")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):  # absent, partial, not a run's: run it
+        return None
+
+
 def _write_fe(out: Path, res: Any, comm: Any, extra: Mapping[str, Any] | None = None) -> None:
     if comm.rank == 0:
         io.write_history(out / "history.csv", res.history, res.units)
@@ -114,13 +150,16 @@ def global_model(
     name: str = "global",
     extra: Mapping[str, Any] | None = None,
     model: Any = None,
+    resume: bool = False,
 ) -> Stage:
     """The global FE model of ``scene`` to its end time. ``record_cut``: record the cut band up to
     ``record_until`` [s] every ``record_every`` steps into out/cut.h5 (without it, an earlier out/cut.h5 is
     removed: it recorded another run). A guard's stop writes the partial
     histories (summary status "failed") and re-raises :class:`rods.fe.guards.SimulationError`. ``extra``:
     keys added to the summary. ``model``: the :class:`rods.fe.model.ExplicitModel` of ``scene`` when the
-    caller has set it up already (a benchmark that times its stepper first)."""
+    caller has set it up already (a benchmark that times its stepper first). ``resume`` (a study's restart): a
+    run finished in ``out`` for ``scene`` is kept (:func:`finished`), else the run resumes from a checkpoint
+    there where it can (not while recording the cut, which is not checkpointed) or starts afresh."""
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
     from rods.fe.submodel import CutRecorder
@@ -128,6 +167,13 @@ def global_model(
     if restart and record_cut:
         raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
     comm = world(comm)
+    if resume:
+        cut_until = (scene.end_time if record_until is None else record_until) if record_cut else None
+        kept = finished(name, out, scene, comm, cut_until)
+        if kept is not None:
+            _kept(log, name, out)
+            return kept
+        restart = not record_cut
     model = ExplicitModel(scene, comm) if model is None else model
     if log is not None:
         log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
@@ -150,16 +196,29 @@ def global_model(
 
 
 def driver(
-    scene: Scene, out: Path, comm: Any, contact_phase: float | None = None, progress: Progress = None, log: Log = None
+    scene: Scene,
+    out: Path,
+    comm: Any,
+    contact_phase: float | None = None,
+    progress: Progress = None,
+    log: Log = None,
+    resume: bool = False,
 ) -> Stage:
     """The submodels' driving global: ``scene`` with the library's driver settings (rods.plan.submodel_driver),
     run and recorded over the contact phase [s] only (default: from the analytical model of ``scene``). Its
-    summary carries ``contact_phase``, the end time of the submodels it drives."""
+    summary carries ``contact_phase``, the end time of the submodels it drives. ``resume``: as
+    :func:`global_model`'s."""
     if contact_phase is None:
         contact_phase = plan.driver_phase(scene)
     sc = plan.submodel_driver(scene, contact_phase)
     extra = driver_keys(contact_phase)
-    return global_model(sc, out, comm, record_cut=True, progress=progress, log=log, name="driver", extra=extra)
+    kw = {"progress": progress, "log": log, "name": "driver", "extra": extra, "resume": resume}
+    return global_model(sc, out, comm, record_cut=True, **kw)
+
+
+def _kept(log: Log, name: str, out: Path) -> None:
+    if log is not None:
+        log(f"{name}: finished in {out} for this scene, kept (--restart)")
 
 
 def driver_keys(contact_phase: float) -> dict[str, Any]:
@@ -181,15 +240,18 @@ def submodel(
     progress: Progress = None,
     phase: int | None = None,
     restart: bool = False,
+    resume: bool = False,
 ) -> Stage:
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
     ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the driver's contact phase,
     rods.plan.driver_phase; capped by the scene's end). ``phase``: the level's member of the
     phase-averaged study instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
-    summary; checkpoints when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one in ``out``)."""
+    summary; checkpoints when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one in ``out``).
+    ``resume`` (a study's restart, from a kept driver): a run finished in ``out`` for this submodel scene and cut
+    file is kept (:func:`finished`), else it resumes from a checkpoint there or starts afresh."""
     from rods.fe.guards import SimulationError
-    from rods.fe.submodel import run_submodel, submodel_name
+    from rods.fe.submodel import run_submodel, submodel_name, submodel_scene
 
     comm = world(comm)
     h = size or plan.submodel_size(scene, level, phase)
@@ -197,6 +259,11 @@ def submodel(
     if end_time is None:  # the driver's contact phase (rods.plan.driver_phase, as the driver stage runs it)
         end_time = plan.driver_phase(scene)
     end = min(end_time, scene.end_time)
+    if resume:
+        kept = finished(f"submodel/{name}", out, submodel_scene(scene, h, axial_size, end, dt), comm)
+        if kept is not None and kept.summary.get("cut_file") == str(cut_file):
+            return dataclasses.replace(kept, scene=scene)
+        restart = True
     try:
         sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart)
     except SimulationError as e:  # a guard's stop or an interrupt: the histories so far, readable, as a global's
