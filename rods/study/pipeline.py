@@ -99,7 +99,7 @@ def run_study(
         "impact_speed": scene.speed,
         **values,
         "wall_time": comm.allreduce(time.perf_counter() - t0, op=_max()),
-        **_status(p, done, comparison, comm),
+        **_status(p, done, comparison, comm, sources.get("peak_contact_pressure")),
         "sources": sources,
         "plan": p.as_dict(),
         "stages": folders,
@@ -111,20 +111,29 @@ def run_study(
 
 
 def _status(
-    p: plan.Plan, done: dict[str, stages.Stage], comparison: stages.Comparison | None, comm: Any
+    p: plan.Plan,
+    done: dict[str, stages.Stage],
+    comparison: stages.Comparison | None,
+    comm: Any,
+    pressure_source: str | None = None,
 ) -> dict[str, Any]:
     """The study's status: "ok" when every stage's checks and the study's own (rods.checks.agreement_warnings:
     the global FE model against the analytical model; rods.checks.submodel_warnings: the finest submodel level
     against Hertz and the last refinement) passed; the warnings, each named by its stage ("study" and "compare"
     for the study's own). A stage that stops at the contact phase (a contact-only global, the driver, the
     submodels) offers no wave keys (rods.plan.offers), so its warnings about them (two midpoint plateaus in
-    263 µs) stay in its own summary. ``comparison`` exists on rank 0 only; its warnings reach every rank."""
+    263 µs) stay in its own summary. The yield check (Hertz's p0 at each model's force, the same within a
+    fraction of a percent) is the study's once, from ``pressure_source``, the stage its peak pressure comes
+    from (every stage's own summary keeps its own). ``comparison`` exists on rank 0 only; its warnings reach
+    every rank."""
     found = []
     for k, st in done.items():
         if k == "driver" and st is done.get("global"):  # one run, its warnings once
             continue
         unused = set(plan.WAVE_KEYS) - set(plan.offers(p, k))
-        found += [f"{k}: {w}" for w in st.summary.get("warnings", []) if w.split(":", 1)[0] not in unused]
+        repeated = set(st.summary.get("yield_warnings", [])) if pressure_source in done and k != pressure_source else ()
+        kept = [w for w in st.summary.get("warnings", []) if w.split(":", 1)[0] not in unused and w not in repeated]
+        found += [f"{k}: {w}" for w in kept]
     if "global" in done:
         found += [f"study: {w}" for w in checks.agreement_warnings(done["analytical"].summary, done["global"].summary)]
     converged = checks.submodel_warnings(comparison.data) if comparison is not None else []

@@ -169,3 +169,26 @@ def test_fe_level_sizes_are_the_scene_table():
     from rods.fe.submodel import LEVEL_SIZES
 
     assert LEVEL_SIZES == SUBMODEL_LEVEL_SIZES and tuple(LEVEL_SIZES) == SUBMODEL_LEVELS
+
+
+def test_the_study_names_a_yield_warning_once_from_its_pressure_source(scene_with):
+    """Every stage's summary keeps its yield warning (Hertz's p0 at its own force); the study's status lists it
+    once, from the stage its peak pressure comes from, not once per model (five near-copies before)."""
+    from mpi4py import MPI
+
+    from rods.study.pipeline import _status
+    from rods.study.stages import Stage
+
+    from ..conftest import ROOT
+
+    sc = scene_with("effects=['contact_patch']", "submodel.levels=['coarse', 'mid']")
+    p = make_plan(sc, 2e-4)
+    done = {}
+    for k, p0 in (("analytical", 2691.5), ("driver", 2692.0), ("submodel/coarse", 2691.8), ("submodel/mid", 2691.7)):
+        w = f"Hertz peak pressure at rods 1 and 2 at the model's peak force, p0 = {p0} MPa, exceeds 1.1 S_y"
+        done[k] = Stage(k, ROOT, sc, {"warnings": [w, f"{k}-own"], "yield_warnings": [w]})
+    status = _status(p, done, None, MPI.COMM_SELF, "submodel/mid")
+    yields = [w for w in status["warnings"] if "Hertz peak pressure" in w]
+    assert yields == [f"submodel/mid: {done['submodel/mid'].summary['yield_warnings'][0]}"]
+    assert [w for w in status["warnings"] if w.endswith("-own")] == [f"{k}: {k}-own" for k in done]
+    assert len(_status(p, done, None, MPI.COMM_SELF)["warnings"]) == 8  # no source: every stage's
