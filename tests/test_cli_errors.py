@@ -137,6 +137,12 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--set", "simulation.end_time=0.01", "--set", "simulation.output_interval=1e-9", "--out", "o"],
         ["history values"],
     ),
+    # the driver's phase runs the analytical model to the first contact: 6 s at 1e-9 s before its refusal
+    "driver's analytical history above the budget, before its phase": (
+        "global.py",
+        ["--driver", "--set", "simulation.end_time=0.01", "--set", "simulation.output_interval=1e-9", "--out", "o"],
+        ["history values"],
+    ),
     # found by a regression probe of the above (2026-11-24)
     "verify frames above the budget": (
         "verify.py",
