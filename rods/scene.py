@@ -557,6 +557,13 @@ class Scene:
         return dataclasses.replace(new, overrides=self.overrides)
 
 
+def _station_name(rod: int, pos: float) -> str:
+    """A station's default name, an identifier: ``rod1_x100mm``, ``rod2_x700p99mm`` (the decimal point as p, the
+    position to 0.1 µm), so a position that is not a whole number of millimetres needs no name of its own."""
+    text = f"{pos * 1e3:.4f}".rstrip("0").rstrip(".")
+    return f"rod{rod}_x{text.replace('.', 'p')}mm"
+
+
 def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
     if raw is None:
         raw = []
@@ -584,7 +591,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
             raise SceneError(
                 f"{key}.position", pos, f"must be in [{cap:g}, {L:g}] m (distance from the tip of rod {rod}{where})"
             )
-        name = s.get("name", f"rod{rod}_x{pos * 1e3:g}mm")
+        name = s.get("name", _station_name(rod, pos))
         if not isinstance(name, str) or not name.isidentifier():
             raise SceneError(f"{key}.name", name, "must be an identifier (letters, digits, _)")
         out.append(Station(rod, pos, name))

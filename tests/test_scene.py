@@ -330,3 +330,13 @@ def test_no_submodel_level_for_a_contact_effect_is_refused(scene_with):
     with pytest.raises(SceneError, match="submodel.levels.*must name a level"):
         scene_with("effects=['contact_patch']", "submodel.levels=[]")
     assert scene_with("effects=['wave_response']", "submodel.levels=[]")["submodel.levels"] == []
+
+
+def test_a_default_station_name_is_an_identifier(paper_dict):
+    """A station without a name at a position that is not a whole number of millimetres (Rod 2's far end on the
+    paper scene, 700.99 mm) was refused with 'station[0].name' = 'rod2_x700.99mm': must be an identifier, a
+    name the user never gave."""
+    raw = [{"rod": 2, "position": 0.70099}, {"rod": 1, "position": 0.1}, {"rod": 2, "position": 1.5e-5}]
+    s = scene_from_dict({**paper_dict, "station": raw})
+    assert [st.name for st in s.stations] == ["rod2_mid", "rod2_x700p99mm", "rod1_x100mm", "rod2_x0p015mm"]
+    assert all(st.name.isidentifier() for st in s.stations)
