@@ -303,6 +303,20 @@ def read_fields(xdmf: str | Path) -> tuple[np.ndarray, np.ndarray, list[tuple[fl
     return points, cells[0].data, frames
 
 
+def section_y0(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:
+    """The quadrilaterals of a hexahedral mesh's plane y = 0 (a full model's interior O-grid plane, a half or
+    quarter model's symmetry boundary), each once, ordered around its centre in (x, z): the exact section,
+    where VTK's slice of a boundary plane (or of one the displacement moved) left part of it or none."""
+    scale = float(np.abs(points).max()) or 1.0
+    on = np.abs(points[:, 1]) <= 1e-9 * scale
+    hexes = hexes[on[hexes].sum(axis=1) == 4]
+    quads = np.array([h[on[h]] for h in hexes], dtype=np.int64).reshape(-1, 4)
+    quads = np.unique(np.sort(quads, axis=1), axis=0)
+    xz = points[quads][:, :, [0, 2]]
+    angle = np.arctan2(*(xz - xz.mean(axis=1, keepdims=True)).transpose(2, 0, 1)[::-1])
+    return np.take_along_axis(quads, np.argsort(angle, axis=1), axis=1)
+
+
 def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) -> float:
     """Off-screen picture (pyvista on EGL: no X server) of the contact region at the frame of the largest
     contact pressure: von Mises on the deformed mesh (left), the contact pressure on the tip nodes (right),
@@ -316,18 +330,17 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     t, d = max(frames, key=lambda f: f[1]["contact_pressure"].max())
     p = d["contact_pressure"][:, 0]
     u_c = d["displacement"][p > 0].mean(axis=0) if (p > 0).any() else np.zeros(3)
-    du = d["displacement"] - u_c
-    near = np.linalg.norm(points, axis=1) < window
+    du, x_c = d["displacement"] - u_c, 0.0  # x_c: the contact centre (axisymmetric: on the axis, r = 0)
+    if cells.shape[1] == 8:  # 3D: the section y = 0 drawn as the (x, z) plane
+        cells = section_y0(points, cells)
+        points, du = points[:, [0, 2, 1]] * [1, 1, 0], du[:, [0, 2, 1]] * [1, 1, 0]
+        x_c = float(points[p > 0, 0].mean()) if (p > 0).any() else 0.0  # an offset impact's patch is off the axis
+    near = np.linalg.norm(points - [x_c, 0.0, 0.0], axis=1) < window
     factor = 0.05 * window / max(np.linalg.norm(du[near], axis=1).max(initial=0.0), 1e-300)
-    kind = pv.CellType.HEXAHEDRON if cells.shape[1] == 8 else pv.CellType.QUAD
-    grid = pv.UnstructuredGrid({kind: cells}, points)
+    grid = pv.UnstructuredGrid({pv.CellType.QUAD: cells}, points + factor * du)
     grid.point_data["von Mises [MPa]"] = d["von_mises"][:, 0] / 1e6
     grid.point_data["p [MPa]"] = p / 1e6
-    grid.points = points + factor * du
-    if kind == pv.CellType.HEXAHEDRON:
-        grid = grid.slice(normal="y", origin=(0.0, 0.0, 0.0))
-        grid.points = grid.points[:, [0, 2, 1]]  # the section y = 0 drawn as the (x, z) plane
-    grid = grid.clip_box((-window, window, -window, window, -1.0, 1.0), invert=False)
+    grid = grid.clip_box((x_c - window, x_c + window, -window, window, -1.0, 1.0), invert=False)
     pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800))
     for col, (name, title) in enumerate((("von Mises [MPa]", "von Mises"), ("p [MPa]", "contact pressure"))):
         pl.subplot(0, col)

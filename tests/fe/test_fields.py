@@ -188,3 +188,22 @@ def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypa
 
     text = "\n".join(contact_fields_section(cf))
     assert f"t = {t * 1e6:.2f} µs" in text and "![contact region at peak contact pressure](cf.png)" in text
+
+
+def test_contact_picture_of_a_half_3d_model_with_an_offset(tmp_path):
+    """3D fields of a half model (its plane y = 0 is the symmetry boundary): the picture's section is that plane's
+    quadrilaterals, each once, and its window is centred on the off-axis patch. Before, VTK's slice of the
+    warped boundary plane was empty and contact_picture.py stopped with KeyError 'von Mises [MPa]' (exit 1)."""
+    from rods.fe.fields import read_fields, render_contact, section_y0
+
+    extra = ["fe.kind='3d'", "fe.symmetry='half'", "impact.offset=2e-3", "fe.tip_grading=0.25"]
+    _run(tmp_path, [*extra, "simulation.end_time=1e-4", "fe.field_interval=5e-5"])
+    points, hexes, frames = read_fields(tmp_path / "fields.xdmf")
+    quads = section_y0(points, hexes)
+    assert len(quads) == len(np.unique(np.sort(quads, axis=1), axis=0)) > 0
+    assert set(np.unique(quads)) == set(np.flatnonzero(np.abs(points[:, 1]) < 1e-12))  # the whole plane
+    t = render_contact(tmp_path / "fields.xdmf", tmp_path / "contact.png")
+    assert t == max(frames, key=lambda f: f[1]["contact_pressure"].max())[0]
+    assert (tmp_path / "contact.png").stat().st_size > 20_000
+    p = run_workflow("contact_picture.py", ["--fields", str(tmp_path), "--out", str(tmp_path / "cf")])
+    assert p.returncode == 0, p.stderr[-2000:]
