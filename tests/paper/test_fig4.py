@@ -70,3 +70,20 @@ def test_a_run_that_could_not_measure_duration_or_speed_renders(analytical, tmp_
     assert d["runs"][0]["duration_vs_analytical"] is None and (tmp_path / "fig4.png").exists()
     row = next(line for line in (tmp_path / "fig4.md").read_text().splitlines() if line.startswith("| short run"))
     assert row.count("| – ") == 3  # duration, its difference, the average peak speed
+
+
+def test_window_ends_with_the_shortest_run(analytical):
+    """An analytical run shorter than the FE run (or the reverse): the strain RMS covers the common span only, and
+    fig4.md says so. Before, the shorter history was held at its last value (an analytical run to 0.3 ms against an
+    FE run to 1.5 ms read 247 µε instead of 10 µε) or the window named 1370 µs where the data ended at 300 µs."""
+    _, a = analytical
+    keep = a.history["time"] <= 3e-4
+    short = Run(a.label, {k: v[keep] for k, v in a.history.items()}, copy.deepcopy(a.summary))
+    fe = perturbed(a, "global", strain=2e-6)
+    for ref, runs in ((short, [fe]), (a, [perturbed(short, "global", strain=2e-6)])):
+        d = fig4.compute(ref, runs)
+        assert d["strain_window"][1] == pytest.approx(3e-4, abs=1e-6) and d["strain_periods_end"] > 1.3e-3
+        assert d["runs"][0]["strain_rms_difference"] == pytest.approx(2e-6, rel=1e-9)
+        assert "over the first 300 µs only (the runs' common end, not the first 5 periods" in fig4.render_md(d, "f.png")
+    d = fig4.compute(a, [fe])
+    assert "over the first 5 periods 2 L2/c2 (1370 µs)." in fig4.render_md(d, "f.png")
