@@ -205,7 +205,7 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "fig4 FE run of another impact": (
         "fig4.py",
         ["--analytical", "analytical", "--fe", "global-fast", "--png", "o/f.png", "--md", "o/f.md"],
-        ["--fe", "impact.speed", "3.1"],
+        ["--fe", "impact.speed", "3.1", "an --analytical run of that FE run's scene"],  # fig4.py has no --scene
     ),
     "record-until past the end": (
         "global.py",

@@ -29,7 +29,12 @@ def main(argv: list[str] | None = None) -> int:
         _cli.output_file(f, flag)  # before any run is read: a refused call writes nothing
     analytical = read_run(args.analytical, "analytical", "--analytical", ("analytical",))
     scene = scene_from_summary(analytical.summary["scene_values"])  # the FE runs must be of the same impact
-    fe = [read_run(folder, label, "--fe", ("global", "submodel"), scene) for label, folder in map(parse_run, args.fe)]
+    # fig4.py has no --scene/--set: the scene is the --analytical run's
+    remedy = "give an FE run of the --analytical run's scene, or an --analytical run of that FE run's scene"
+    fe = [
+        read_run(folder, label, "--fe", ("global", "submodel"), scene, remedy)
+        for label, folder in map(parse_run, args.fe)
+    ]
     data = fig4.write(analytical, fe, args.png, args.md)
     print(fig4.render_md(data, args.png))
     return 0

@@ -114,6 +114,7 @@ def read_summary(
     kinds: tuple[str, ...] = ("global", "submodel"),
     scene: Scene | None = None,
     files: tuple[str, ...] = ("summary.json",),
+    other_scene: str = "give --scene/--set of that run, or a run of this scene",
 ) -> dict[str, Any]:
     """The summary.json of the run in ``folder`` that a later stage reads, checked before anything is computed
     (:class:`InputError` naming ``flag``, exit 2): the folder holds ``files``, the summary parses, the run is one
@@ -137,7 +138,7 @@ def read_summary(
     if diff is not None:
         key, ours, other = diff
         why = f"a run of another scene: {key} = {other!r} there, {ours!r} in this one"
-        raise InputError(flag, d, why, "give --scene/--set of that run, or a run of this scene")
+        raise InputError(flag, d, why, other_scene)
     return summary
 
 
@@ -147,11 +148,12 @@ def read_run(
     flag: str = "--run",
     kinds: tuple[str, ...] = ("analytical", "global", "submodel"),
     scene: Scene | None = None,
+    other_scene: str = "give --scene/--set of that run, or a run of this scene",
 ) -> Run:
-    """The run in ``folder`` (history.csv, summary.json: :func:`read_summary`); the label defaults to the
-    summary's model."""
+    """The run in ``folder`` (history.csv, summary.json: :func:`read_summary`, ``other_scene`` its remedy for a
+    run of another scene); the label defaults to the summary's model."""
     folder = Path(folder)
-    summary = read_summary(folder, flag, kinds, scene, files=("summary.json", "history.csv"))
+    summary = read_summary(folder, flag, kinds, scene, ("summary.json", "history.csv"), other_scene)
     try:
         history = io.read_history(folder / "history.csv")
     except (ValueError, OSError) as e:
