@@ -48,6 +48,9 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
 * **patch at the rim**: a contact radius above :data:`RIM_FRACTION` of the thinner rod's radius (every model):
   Hertz's half-space and the rod-end correction no longer hold (a 10 m tip: the FE patch covers the face,
   its peak +10.8% and its duration -40 µs against the analytical model);
+* **inclined normal**: a 3D FE run whose first contact's common normal leans more than :data:`NORMAL_LEAN_OK`
+  (its sine) from the axis: two curved tips offset, or a flat Rod 1 tilted onto a curved Rod 2
+  (:func:`normal_warning`); the FE contact acts along the axis, so the lateral force and its bending are left out;
 * **penalty layer**: a penalty law softer than :data:`SOFT_PENALTY` x E*/h or damped below :data:`UNDAMPED`
   (:func:`contact_layer_warning`);
 * **near-incompressible**: an FE run with a Poisson ratio above :data:`NU_LOCKING`: the Q1 elements lock
@@ -87,6 +90,7 @@ __all__ = [
     "HERTZ_OK",
     "ENERGY_OK",
     "MIN_PLATEAU_SAMPLES",
+    "NORMAL_LEAN_OK",
     "NU_LOCKING",
     "RIM_FRACTION",
     "RING_STEP_OK",
@@ -103,6 +107,7 @@ __all__ = [
     "contact_warning",
     "patch_warning",
     "locking_warning",
+    "normal_warning",
     "rim_warning",
     "duration_warning",
     "front_spread",
@@ -136,6 +141,9 @@ RIM_FRACTION = 0.57
 # damped rattles (0 of critical: peak +2.6%; 0.2, the default, and 0.5: within 0.05%)
 SOFT_PENALTY = 1.0  # [x E*/h]
 UNDAMPED = 0.1  # [of critical]
+# largest sine of the angle between a misaligned 3D FE run's common contact normal and the axis, along which its
+# contact acts (rods.fe.kinematic, rods.fe.contact): the lateral force left out, as a fraction of the force [-]
+NORMAL_LEAN_OK = 0.01
 NU_LOCKING = 0.49  # largest Poisson ratio of an "ok" FE run (Q1 locking beyond) [-]
 # a study's agreement, global FE against analytical (issue 13's verification targets, rods.study.verification)
 AGREE_FORCE = 0.005  # largest |F_FE / F_analytical - 1| of the peak contact force in an "ok" study [-]
@@ -264,6 +272,27 @@ def rim_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
         f"contact_radius: {a * 1e3:.3g} mm, {edge:.2f} of {where}: the patch reaches the rim, where Hertz's "
         "half-space (and the analytical rod-end term) no longer hold; the models' forces and durations differ here "
         "(a smaller tip radius or a lower speed keeps the patch inside)"
+    )
+
+
+def normal_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
+    """A warning when a misaligned 3D FE run's first contact has a common normal leaning from the axis by more
+    than :data:`NORMAL_LEAN_OK` (its sine n_x, rods.scene.first_contact_offsets: (R1 sin θ - e)/(R1 + R2) for two
+    curved tips, sin θ for a flat Rod 1, 0 for a flat Rod 2): the FE contact is frictionless with its normal along
+    the axis, so the lateral force n_x F and the bending it drives are left out (two 35 mm tips 5 mm apart on the
+    paper rods: n_x = 0.071, no warning before)."""
+    e, θ = scene["impact.offset"], scene["impact.tilt"]
+    if not _fe(summary) or not (e or θ):
+        return None
+    R1, R2 = scene.rod1.tip_radius, scene.rod2.tip_radius
+    n_x = 0.0 if math.isinf(R2) else math.sin(θ) if math.isinf(R1) else (R1 * math.sin(θ) - e) / (R1 + R2)
+    if abs(n_x) <= NORMAL_LEAN_OK:
+        return None
+    return (
+        f"impact: the first contact's common normal leans {math.degrees(math.asin(min(abs(n_x), 1.0))):.2g}° from "
+        f"the axis, but the FE contact acts along the axis (frictionless, normal along z): it leaves out a lateral "
+        f"force of {abs(n_x):.1%} of the contact force and the bending it drives (a flat Rod 2, or a smaller "
+        "impact.offset/impact.tilt, keeps the normal axial)"
     )
 
 
@@ -510,7 +539,12 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
         found.append(w)
     if _fe(summary) and (w := patch_warning(summary, scene)) is not None:
         found.append(w)
-    for w in (rim_warning(summary, scene), locking_warning(summary, scene), contact_layer_warning(summary, scene)):
+    for w in (
+        rim_warning(summary, scene),
+        normal_warning(summary, scene),
+        locking_warning(summary, scene),
+        contact_layer_warning(summary, scene),
+    ):
         if w is not None:
             found.append(w)
     if (w := rattle_warning(summary, history)) is not None:

@@ -316,3 +316,22 @@ def verification_targets() -> tuple[float, float]:
     from rods.study import verification
 
     return verification.TARGETS["peak_force"], verification.TARGETS["duration"]
+
+
+def test_an_inclined_contact_normal_in_3d_is_not_ok(scene_with):
+    """The 3D FE contact acts along the axis: a misaligned impact whose common normal leans (two curved tips offset,
+    a flat Rod 1 tilted onto a curved Rod 2) warns with the lateral force left out; a curved Rod 1 offset or tilted
+    onto the flat Rod 2 (the paper's tips) keeps an axial normal and does not warn, nor does the analytical model."""
+    fe = {"model": "fe-3d"}
+    curved = "rod2.tip_radius=0.035"
+    w = checks.normal_warning(fe, scene_with("fe.kind='3d'", curved, "impact.offset=5e-3"))
+    assert "7.1% of the contact force" in w and "4.1°" in w  # 5 / 70
+    assert "5.0%" in checks.normal_warning(
+        fe, scene_with("fe.kind='3d'", curved, "rod1.tip_radius=inf", "impact.tilt=0.05")
+    )
+    assert checks.normal_warning(fe, scene_with("fe.kind='3d'", curved, "impact.offset=0.5e-3")) is None  # 0.7%
+    assert checks.normal_warning(fe, scene_with("fe.kind='3d'", "impact.offset=5e-3")) is None
+    assert checks.normal_warning(fe, scene_with("fe.kind='3d'", "impact.tilt=0.05")) is None
+    assert (
+        checks.normal_warning({"model": "analytical"}, scene_with("fe.kind='3d'", curved, "impact.offset=5e-3")) is None
+    )
