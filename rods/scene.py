@@ -808,7 +808,10 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     """Read, override and validate a scene file; raises SceneError on any problem."""
     p = Path(path)
     if not p.is_file():
-        raise SceneError("--scene", str(path), "no such scene file", argument=True)
+        what = "is a folder, not a scene file" if p.is_dir() else "no such scene file"
+        raise SceneError(
+            "--scene", str(path), what, "give a .toml scene, e.g. workflows/scenes/paper.toml", argument=True
+        )
     return scene_from_dict(_read_with_base(p, ()), overrides, source=str(p))
 
 

@@ -155,6 +155,8 @@ def test_a_submodel_that_cannot_hold_the_cap_is_refused_with_the_scene(scene_wit
 def test_files(tmp_path):
     with pytest.raises(SceneError, match="no such scene file"):
         load_scene(tmp_path / "nope.toml")
+    with pytest.raises(SceneError, match="is a folder, not a scene file"):
+        load_scene(tmp_path)
     bad = tmp_path / "bad.toml"
     bad.write_text("[rod1\nlength = ")
     with pytest.raises(SceneError, match="malformed TOML"):
