@@ -35,7 +35,10 @@ def test_fields_only_when_asked(scene_with):
 
 
 def test_misalignment_needs_3d_and_unknown_effects_fail(scene_with):
-    assert make_plan(scene_with("effects=['misalignment']", "fe.kind=3d", "impact.offset=1e-4")).global_kind == "3d"
+    p = make_plan(scene_with("effects=['misalignment']", "fe.kind=3d", "impact.offset=1e-4"))
+    assert p.global_kind == "3d" and not any("centric" in r for r in p.reasons)
+    centric = make_plan(scene_with("effects=['misalignment']", "fe.kind=3d"))  # asked, but nothing misaligned
+    assert any("impact.offset = impact.tilt = 0: a centric impact" in r for r in centric.reasons)
     with pytest.raises(SceneError, match="unknown effect"):
         scene_with("effects=['wave']")
     with pytest.raises(SceneError, match="submodel.levels"):
