@@ -65,6 +65,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     _cli.backend(scene, comm.size)
+    if args.restart:
+        log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
     _cli.afford(args, cost.analytical_cost(scene), *_fe_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log, restart=args.restart).summary  # a guard's stop: exit 1 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
