@@ -123,6 +123,23 @@ def test_restart_keeps_the_finished_stages_and_reruns_the_stopped_one(tmp_path):
     assert s3["peak_contact_force"] != s1["peak_contact_force"]
 
 
+def test_restart_keeps_the_submodels_when_the_folder_is_spelled_otherwise(tmp_path):
+    """--out given relative, then absolute on the restart: the same folder, the same cut record; the finished
+    submodel levels are kept (they were rerun because their summary's cut_file string differed), and said so."""
+    args = [sys.executable, str(ROOT / "workflows" / "run.py"), *TINY, "--set", "effects=['contact_patch']",
+            "--set", "submodel.levels=['coarse']"]  # fmt: skip
+    env = {**__import__("os").environ, "PYTHONPATH": str(ROOT)}
+    p = subprocess.run([*args, "--out", "run"], capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert p.returncode == 0, p.stderr[-2000:]
+    sub = tmp_path / "run" / "submodel" / "coarse" / "summary.json"
+    stamp = sub.stat().st_mtime_ns
+    p = subprocess.run([*args, "--out", str(tmp_path / "run"), "--restart"], capture_output=True, text=True,
+                       cwd=tmp_path, env=env)  # fmt: skip
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert sub.stat().st_mtime_ns == stamp
+    assert f"submodel/coarse: finished in {tmp_path / 'run' / 'submodel' / 'coarse'} for this scene, kept" in p.stdout
+
+
 def test_wave_and_contact_run_one_global_that_records_the_cut_over_the_contact_phase_only(tmp_path):
     import h5py
 

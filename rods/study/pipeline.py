@@ -86,6 +86,8 @@ def run_study(
                 d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase,
                 progress=progress, resume=restart and d.kept,
             )  # fmt: skip
+            if done[f"submodel/{level}"].kept and log is not None:
+                log(f"submodel/{level}: finished in {out / 'submodel' / level} for this scene, kept (--restart)")
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
     waves = "wave_response" in p.effects and p.global_model
     if waves and root:

@@ -261,7 +261,7 @@ def submodel(
     end = min(end_time, scene.end_time)
     if resume:
         kept = finished(f"submodel/{name}", out, submodel_scene(scene, h, axial_size, end, dt), comm)
-        if kept is not None and kept.summary.get("cut_file") == str(cut_file):
+        if kept is not None and _same_file(kept.summary.get("cut_file"), cut_file):
             return dataclasses.replace(kept, scene=scene)
         restart = True
     try:
@@ -281,6 +281,19 @@ def submodel(
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
         io.write_summary(out / "summary.json", sr.summary)
     return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)
+
+
+def _same_file(recorded: Any, path: Path | str) -> bool:
+    """Whether the cut file a summary recorded (as the run was given it: relative or absolute) is ``path``: the
+    same folder spelled ``output/r`` once and ``/abs/output/r`` on the restart is the same record."""
+    if recorded is None:
+        return False
+    if str(recorded) == str(path):
+        return True
+    try:
+        return Path(recorded).resolve() == Path(path).resolve()
+    except (OSError, RuntimeError):
+        return False
 
 
 def comparison(
