@@ -328,7 +328,7 @@ class ExplicitModel:
         if self.backend.on_device:  # guards, checkpoints, fields read the state on the host
             own = [backends.OnHost(o, self.backend) for o in own]
         if progress is not None:
-            own.append(Progress(progress, self.steps))
+            own.append(Progress(progress, self.steps, start=max(step0 - 1, 0)))  # a resumed run: its checkpoint
         return own
 
     def _restore(self, out: Path, parts: Sequence[Any], key: str, progress) -> int:

@@ -47,12 +47,15 @@ def march(
 
 
 class Progress:
-    """Observer: ``progress(step, total, elapsed)`` every ``every`` steps and at the last one."""
+    """Observer: ``progress(step, total, elapsed)`` every ``every`` steps and at the last one; a run resumed
+    from the checkpoint of step ``start`` (> 0) calls ``progress(step, total, elapsed, start)``: the
+    steps before ``start`` were not run in ``elapsed`` (a rate over all of them overstated it ~10x)."""
 
-    def __init__(self, progress: Callable[[int, int, float], None], total: int, every: int = 500):
-        self.progress, self.total, self.every = progress, total, every
+    def __init__(self, progress: Callable[..., None], total: int, every: int = 500, start: int = 0):
+        self.progress, self.total, self.every, self.start = progress, total, every, start
         self.t_start = time.perf_counter()
 
     def after_step(self, step: int, t: float, state: CentralDifference) -> None:  # noqa: ARG002
         if step % self.every == 0 or step == self.total:
-            self.progress(step, self.total, time.perf_counter() - self.t_start)
+            resumed = (self.start,) if self.start > 0 else ()
+            self.progress(step, self.total, time.perf_counter() - self.t_start, *resumed)

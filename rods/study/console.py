@@ -16,9 +16,10 @@ def rank0(comm: Any) -> tuple[Callable[..., None], Callable[[int, int, float], N
     return (lambda text, file=sys.stdout: print(text, file=file, flush=True)), progress_bar
 
 
-def progress_bar(step: int, total: int, elapsed: float) -> None:
-    """Rank-0 progress: a redrawn bar on a terminal, a line every 10% otherwise (logs stay short)."""
-    rate = step / elapsed if elapsed > 0 else 0.0
+def progress_bar(step: int, total: int, elapsed: float, start: int = 0) -> None:
+    """Rank-0 progress: a redrawn bar on a terminal, a line every 10% otherwise (logs stay short). ``start``:
+    the checkpoint's step a resumed run went on from (the rate counts the steps run in ``elapsed`` only)."""
+    rate = (step - start) / elapsed if elapsed > 0 and step > start else 0.0
     eta = (total - step) / rate if rate > 0 else 0.0
     tty = sys.stderr.isatty()
     if not tty and step != total and (step * 10) // max(total, 1) == ((step - 500) * 10) // max(total, 1):
