@@ -140,6 +140,22 @@ def test_restart_keeps_the_submodels_when_the_folder_is_spelled_otherwise(tmp_pa
     assert f"submodel/coarse: finished in {tmp_path / 'run' / 'submodel' / 'coarse'} for this scene, kept" in p.stdout
 
 
+def test_restart_reruns_a_submodel_level_driven_by_an_earlier_cut_record(tmp_path):
+    """A fresh run that rewrote the global (its cut.h5) and was killed before reaching a submodel level leaves
+    that level's earlier summary in the folder: the restart keeps the global, not the level (another record
+    drove it; it was kept as "finished for this scene")."""
+    import os
+
+    run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
+    cut = tmp_path / "run" / "global" / "cut.h5"
+    st = cut.stat()
+    os.utime(cut, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000_000))  # as the fresh run's global rewrote it
+    p, _ = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--restart")
+    assert "global: finished" in p.stdout and "submodel/coarse: finished" not in p.stdout
+    p, _ = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--restart")
+    assert "submodel/coarse: finished" in p.stdout  # the level the restart ran is kept by the next one
+
+
 def test_wave_and_contact_run_one_global_that_records_the_cut_over_the_contact_phase_only(tmp_path):
     import h5py
 

@@ -97,6 +97,22 @@ def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
     return meta
 
 
+def discard(out: Path, comm: MPI.Comm) -> None:
+    """Remove an earlier run's checkpoint from ``out`` (collective): a run that starts afresh there would leave
+    it behind, and a later --restart of this run (a study's, whose cut record the fresh run rewrote) would stop
+    on it as "another scene or settings". The manifest goes first: a kill in between leaves no checkpoint."""
+    if comm.rank == 0:
+        try:
+            old = _manifest(out)
+        except CheckpointError:
+            old = None
+        (Path(out) / MANIFEST).unlink(missing_ok=True)
+        if old:
+            for r in range(int(old["ranks"])):
+                (Path(out) / _name(old["step"], r)).unlink(missing_ok=True)
+    comm.Barrier()
+
+
 def save(
     out: Path, step: int, t: float, state: dict[str, Any], comm: MPI.Comm, scene_key: str, scene_hash: str = ""
 ) -> None:

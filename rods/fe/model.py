@@ -321,6 +321,8 @@ class ExplicitModel:
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
         if sc["fe.checkpoint_interval"] > 0 and out is not None:
             every = checkpoint.stride(sc["fe.checkpoint_interval"], dt)
+            if step0 == 0:  # afresh: an earlier run's checkpoint here is stale from now on
+                checkpoint.discard(out, self.comm)
             h = checkpoint.scene_hash(sc)  # the restart's pre-set-up check
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
             stop.on_stop = own[-1].save_now

@@ -261,8 +261,10 @@ def submodel(
     end = min(end_time, scene.end_time)
     if resume:
         kept = finished(f"submodel/{name}", out, submodel_scene(scene, h, axial_size, end, dt), comm)
+        ours = _cut_record(cut_file)
         if kept is not None and _same_file(kept.summary.get("cut_file"), cut_file):
-            return dataclasses.replace(kept, scene=scene)
+            if ours is not None and kept.summary.get("cut_record") == ours:  # driven by this very record
+                return dataclasses.replace(kept, scene=scene)
         restart = True
     try:
         sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart)
@@ -272,6 +274,7 @@ def submodel(
             _write_fe(out, e.partial, comm)
         raise
     sr.summary["cut_file"] = str(cut_file)
+    sr.summary["cut_record"] = _cut_record(cut_file)  # which recording drove it (a study's restart keeps only that)
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}
     checks.apply(sr.summary, {}, scene, end)  # its midpoint is no Rod-2 midpoint: no plateau check
@@ -281,6 +284,17 @@ def submodel(
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
         io.write_summary(out / "summary.json", sr.summary)
     return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)
+
+
+def _cut_record(path: Path | str) -> str | None:
+    """The identity of the cut record at ``path`` (size and modification time, as a submodel checkpoint keys
+    it): a global rerun into the same folder writes another record, and a submodel level left there by an
+    earlier run (a fresh run stopped before reaching it) was not driven by it. None: no such file."""
+    try:
+        st = Path(path).stat()
+    except OSError:
+        return None
+    return f"{st.st_size}:{st.st_mtime_ns}"
 
 
 def _same_file(recorded: Any, path: Path | str) -> bool:

@@ -117,3 +117,13 @@ def test_progress_of_a_resumed_run_counts_only_its_own_steps(capsys):
     assert "136 steps/s" in capsys.readouterr().err
     progress_bar(1000, 1000, 1.0)  # a fresh run: unchanged
     assert "1,000 steps/s" in capsys.readouterr().err
+
+
+def test_discard_removes_an_earlier_runs_checkpoint(tmp_path):
+    """A run that starts afresh in a folder removes the checkpoint an earlier run left there: else a later
+    --restart (a study's, whose global rewrote the cut record) stops on it as "another scene or settings"."""
+    checkpoint.save(tmp_path, 40, 1e-6, {"x": np.arange(3.0)}, COMM, "old")
+    assert checkpoint.load(tmp_path, COMM, "old") is not None
+    checkpoint.discard(tmp_path, COMM)
+    assert checkpoint.load(tmp_path, COMM, "new") is None and not list(tmp_path.glob("checkpoint*"))
+    checkpoint.discard(tmp_path, COMM)  # nothing there: nothing to do
