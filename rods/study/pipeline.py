@@ -71,6 +71,8 @@ def run_study(
     if log is not None:
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     shared = plan.global_drives(p)
+    if not restart:  # afresh: a stage summary left from an earlier run here must not be kept by a later --restart
+        _forget_stages(p, out, comm, shared)
     if p.global_model:
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
@@ -110,6 +112,19 @@ def run_study(
     if root:
         io.write_summary(out / "summary.json", summary)
     return Study(p, done, comparison, summary)
+
+
+def _forget_stages(p: plan.Plan, out: Path, comm: Any, shared: bool) -> None:
+    """Remove the planned FE stages' summary.json from an earlier run in ``out`` (collective; rank 0 deletes): a
+    fresh study killed before it rewrote them would leave an older run's finished stages for ``--restart`` to
+    keep (the same scene's, but maybe another code version's), beside the new ones it had written."""
+    if comm.rank == 0:
+        folders = ["global"] if p.global_model else []
+        folders += ["driver"] if p.submodel_levels and not shared else []
+        folders += [f"submodel/{level}" for level in p.submodel_levels]
+        for folder in folders:
+            (out / folder / "summary.json").unlink(missing_ok=True)
+    comm.Barrier()
 
 
 def _status(

@@ -192,3 +192,20 @@ def test_the_study_names_a_yield_warning_once_from_its_pressure_source(scene_wit
     assert yields == [f"submodel/mid: {done['submodel/mid'].summary['yield_warnings'][0]}"]
     assert [w for w in status["warnings"] if w.endswith("-own")] == [f"{k}: {k}-own" for k in done]
     assert len(_status(p, done, None, MPI.COMM_SELF)["warnings"]) == 8  # no source: every stage's
+
+
+def test_a_fresh_study_forgets_the_stage_summaries_an_earlier_run_left(scene_with, tmp_path):
+    """A study started afresh removes its planned FE stages' summary.json first, so a run killed before it
+    rewrote them leaves nothing for --restart to keep from the earlier run; other folders stay."""
+    from mpi4py import MPI
+
+    from rods.study.pipeline import _forget_stages
+
+    p = make_plan(scene_with("effects=['contact_patch']", "submodel.levels=['coarse', 'mid']"), 2e-4)
+    folders = ("analytical", "global", "driver", "submodel/coarse", "submodel/mid", "submodel/fine")
+    for f in folders:
+        (tmp_path / f).mkdir(parents=True)
+        (tmp_path / f / "summary.json").write_text("{}")
+    _forget_stages(p, tmp_path, MPI.COMM_SELF, shared=True)
+    left = {f for f in folders if (tmp_path / f / "summary.json").exists()}
+    assert left == {"analytical", "driver", "submodel/fine"}  # not planned here (shared: no driver folder)
