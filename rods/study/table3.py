@@ -266,6 +266,13 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
     return L
 
 
+def _order(q: dict[str, Any]) -> str:
+    """The observed-order cell: p, marked where it lies outside the credible range (its extrapolation is then
+    no estimate of the converged value: the row says so, not only the legend)."""
+    text = _f(q["order"], 2)
+    return f"{text} (not credible)" if q.get("credible") is False and math.isfinite(_num(q["order"])) else text
+
+
 def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
     c, m, f = rich["levels"]
     L = [
@@ -281,13 +288,13 @@ def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
         href = _num(q["hertz_at_extrapolated"]) * k
         ext = _num(q["extrapolated"]) * k
         L.append(
-            f"| {label} [{unit}] | {q['f3'] * k:.5g} | {q['f2'] * k:.5g} | {q['f1'] * k:.5g} | {_f(q['order'], 2)} "
+            f"| {label} [{unit}] | {q['f3'] * k:.5g} | {q['f2'] * k:.5g} | {q['f1'] * k:.5g} | {_order(q)} "
             f"| {_f(ext, 4)} | {_f(100 * _num(q['gci_fine']), 2)}% | {_f(href, 4)} | {_f(q['vs_hertz_pct'], 2)}% |"
         )
     q = rich["quantities"]["plateau_radius_error_pct"]
     L.append(
         f"| radius vs Hertz at the same force, plateau mean [%] | {q['f3']:+.3f} | {q['f2']:+.3f} | {q['f1']:+.3f} "
-        f"| {_f(q['order'], 2)} | {_f(q['extrapolated'], 3)} | ±{_f(q['error_band'], 2)} points | 0 "
+        f"| {_order(q)} | {_f(q['extrapolated'], 3)} | ±{_f(q['error_band'], 2)} points | 0 "
         f"| {_f(q['vs_hertz_pct'], 2)}% |"
     )
     return [

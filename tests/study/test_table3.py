@@ -194,3 +194,16 @@ def test_the_papers_columns_only_for_the_papers_scene(runs):
     assert all(math.isnan(r["paper_force_N"]) and math.isnan(r["d_area_vs_exp_pct"]) for r in d["rows"])
     md = render_markdown(d)
     assert "Paper columns: only for the paper's scene" in md and "Paper Table 3: global" not in md
+
+
+def test_an_order_outside_the_credible_range_is_marked_in_its_row(runs):
+    """A Richardson row whose observed order is not credible (a probe's p0 at p = 0.13: its 'extrapolation' +14%
+    from Hertz) says so in the row, not only in the legend; a credible one stays unmarked."""
+    sc, models = runs
+    data = table3(sc, ANALYTICAL, models)
+    q = data["richardson"]["quantities"]
+    q["peak_contact_pressure"] |= {"order": 0.13, "credible": False}
+    q["contact_area"] |= {"order": 1.6, "credible": True}
+    rows = {line.split(" |")[0]: line for line in render_markdown(data).splitlines() if line.startswith("| ")}
+    assert "| 0.13 (not credible) |" in rows["| peak pressure [GPa]"]
+    assert "| 1.60 |" in rows["| contact area [mm²]"] and "not credible" not in rows["| contact area [mm²]"]
