@@ -96,13 +96,22 @@ def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
     return Stage("analytical", out, scene, result.summary, result.history)
 
 
-def finished(name: str, out: Path, scene: Scene, comm: Any, cut_until: float | None = None) -> Stage | None:
+# scene keys a stage's run does not read, so a restart keeps it when only they changed (another submodel level
+# added to a study: its global and the levels already run are kept, only the new level runs)
+GLOBAL_IGNORES = ("submodel.levels", "submodel.penalty", "submodel.driving")  # the submodels' own settings
+SUBMODEL_IGNORES = ("submodel.levels",)  # the other levels (its own size is its scene's fe.radial_size)
+
+
+def finished(
+    name: str, out: Path, scene: Scene, comm: Any, cut_until: float | None = None, ignore: Sequence[str] = ()
+) -> Stage | None:
     """The FE stage ``name`` as it already finished in ``out`` (a study's restart keeps it, :func:`global_model`
     and :func:`submodel` with ``resume``), else None (it runs): its summary.json ends "ok" or "warnings" (not a
-    guard's stop or an interrupt's partial), holds exactly ``scene``'s values (the stage's scene, its end time
-    and mesh included) and its history.csv reads; with ``cut_until`` [s] its cut.h5 was recorded by that scene
-    to that time. Collective: rank 0 reads, every rank gets the summary, rank 0 the history."""
-    found = _read_finished(Path(out), scene, cut_until) if comm.rank == 0 else None
+    guard's stop or an interrupt's partial), holds ``scene``'s values but the ``ignore`` keys, which the stage
+    does not read (the stage's scene, its end time and mesh included) and its history.csv reads; with
+    ``cut_until`` [s] its cut.h5 was recorded by that scene to that time. Collective: rank 0 reads, every rank
+    gets the summary, rank 0 the history."""
+    found = _read_finished(Path(out), scene, cut_until, ignore) if comm.rank == 0 else None
     summary = comm.bcast(found[0] if found else None, root=0)
     if summary is None:
         return None
@@ -110,22 +119,37 @@ def finished(name: str, out: Path, scene: Scene, comm: Any, cut_until: float | N
     return Stage(name, Path(out), scene, summary, found[1] if found else {}, cut, kept=True)
 
 
-def _read_finished(out: Path, scene: Scene, cut_until: float | None) -> tuple[dict, dict] | None:
+def _read_finished(out: Path, scene: Scene, cut_until: float | None, ignore: Sequence[str]) -> tuple[dict, dict] | None:
     """(summary, history) of a finished run of ``scene`` in ``out`` (:func:`finished`); None: none there."""
     from rods.fe.submodel import recorded_until
 
-    ours = json.loads(json.dumps(scene.as_dict()))  # as summary.json holds it
+    ours = _comparable(scene.as_dict(), ignore)
     try:
         summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
-        if summary.get("status") not in ("ok", "warnings") or summary.get("scene_values") != ours:
+        theirs = _comparable(summary["scene_values"], ignore)
+        if summary.get("status") not in ("ok", "warnings") or theirs != ours:
             return None
         if cut_until is not None:
             t, values = recorded_until(out / "cut.h5")  # [s]
-            if values != ours or t < cut_until * (1 - 1e-9):
+            if _comparable(values, ignore) != ours or t < cut_until * (1 - 1e-9):
                 return None
         return summary, io.read_history(out / "history.csv")
     except (OSError, ValueError, KeyError, TypeError, AttributeError):  # absent, partial, not a run's: run it
         return None
+
+
+def _comparable(values: Mapping[str, Any], ignore: Sequence[str]) -> dict[str, Any]:
+    """Nested scene values (Scene.as_dict) as summary.json holds them (a JSON round trip), ``ignore``'s dotted
+    keys dropped."""
+    out = json.loads(json.dumps(values))
+    for key in ignore:
+        *parents, leaf = key.split(".")
+        node = out
+        for p in parents:
+            node = node.get(p, {}) if isinstance(node, dict) else {}
+        if isinstance(node, dict):
+            node.pop(leaf, None)
+    return out
 
 
 def _write_fe(out: Path, res: Any, comm: Any, extra: Mapping[str, Any] | None = None) -> None:
@@ -169,7 +193,7 @@ def global_model(
     comm = world(comm)
     if resume:
         cut_until = (scene.end_time if record_until is None else record_until) if record_cut else None
-        kept = finished(name, out, scene, comm, cut_until)
+        kept = finished(name, out, scene, comm, cut_until, GLOBAL_IGNORES)
         if kept is not None:
             _kept(log, name, out)
             return kept
@@ -260,7 +284,9 @@ def submodel(
         end_time = plan.driver_phase(scene)
     end = min(end_time, scene.end_time)
     if resume:
-        kept = finished(f"submodel/{name}", out, submodel_scene(scene, h, axial_size, end, dt), comm)
+        kept = finished(
+            f"submodel/{name}", out, submodel_scene(scene, h, axial_size, end, dt), comm, None, SUBMODEL_IGNORES
+        )
         ours = _cut_record(cut_file)
         if kept is not None and _same_file(kept.summary.get("cut_file"), cut_file):
             if ours is not None and kept.summary.get("cut_record") == ours:  # driven by this very record

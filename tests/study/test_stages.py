@@ -1,0 +1,35 @@
+"""Study stages (rods.study.stages): what a restart keeps, mesh-free."""
+
+from __future__ import annotations
+
+from mpi4py import MPI
+
+from rods import io
+from rods.study.stages import GLOBAL_IGNORES, SUBMODEL_IGNORES, finished
+
+
+def _finished_run(folder, scene, status="ok"):
+    folder.mkdir(parents=True, exist_ok=True)
+    summary = dict.fromkeys(io.SUMMARY_KEYS, 0.0) | {"model": "global", "scene": scene.label, "status": status}
+    io.write_summary(folder / "summary.json", summary | {"scene_values": scene.as_dict()})
+    io.write_history(folder / "history.csv", {"time": [0.0, 1e-6], "contact_force": [0.0, 1.0]}, {"time": "s"})
+
+
+def test_a_restart_keeps_a_stage_finished_for_the_same_scene_only(scene_with, tmp_path):
+    """Kept: the same scene's finished run (its summary and history read back). Not kept: another mesh or end
+    time, an interrupt's partial summary, a missing history. Keys the stage does not read (another submodel
+    level, the submodels' own contact and driving for a global) do not stop it being kept."""
+    sc = scene_with("effects=['contact_patch']", "submodel.levels=['coarse']", "simulation.end_time=3e-4")
+    _finished_run(tmp_path / "g", sc)
+    kept = finished("global", tmp_path / "g", sc, MPI.COMM_SELF)
+    assert kept is not None and kept.kept and kept.history["contact_force"][-1] == 1.0
+    for other in ("fe.axial_size=5e-3", "simulation.end_time=2e-4", "impact.speed=2.0"):
+        assert finished("global", tmp_path / "g", sc.with_overrides(other), MPI.COMM_SELF) is None, other
+    more = sc.with_overrides("submodel.levels=['coarse', 'mid']", "submodel.driving='traction'")
+    assert finished("global", tmp_path / "g", more, MPI.COMM_SELF) is None  # compared whole unless told
+    assert finished("global", tmp_path / "g", more, MPI.COMM_SELF, ignore=GLOBAL_IGNORES) is not None
+    assert finished("sub", tmp_path / "g", more, MPI.COMM_SELF, ignore=SUBMODEL_IGNORES) is None  # driving: read
+    _finished_run(tmp_path / "i", sc, status="interrupted")
+    assert finished("global", tmp_path / "i", sc, MPI.COMM_SELF) is None
+    (tmp_path / "g" / "history.csv").unlink()
+    assert finished("global", tmp_path / "g", sc, MPI.COMM_SELF) is None
