@@ -258,6 +258,14 @@ class CutRecorder:
 # ----------------------------------------------------------------------------------------------
 # driving (submodel run)
 # ----------------------------------------------------------------------------------------------
+def cut_identity(path: str | Path) -> str:
+    """The identity of the cut record at ``path``: its resolved path (however the folder was spelled), size and
+    modification time. A global rerun into the same folder writes another record; a checkpoint of the submodel
+    it drove (CutDriver.checkpoint_identity) and a study's restart (its summary's ``cut_record``) tell them apart."""
+    stat = Path(path).stat()
+    return f"{Path(path).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"
+
+
 def recorded_until(path: str | Path) -> tuple[float, dict[str, Any]]:
     """(the last time [s] of a cut record, the recording global's scene values): the submodels it drives can run
     to that time, and only on that scene's bodies and impact."""
@@ -416,8 +424,8 @@ class CutDriver:
         # on the model's array backend (copied to a device once): the band history, W, the cut entries
         be = self.be = model.backend
         self.xp, self.U, self.W_step, self.idx_step = be.xp, be.asarray(self.U), be.csr(self.W), be.asarray(self.idx)
-        stat = Path(cut_file).stat()  # a checkpoint resumes only with the record it was driven by (rods.fe.model)
-        self.checkpoint_identity = f"{Path(cut_file).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"
+        # a checkpoint resumes only with the record it was driven by (rods.fe.model)
+        self.checkpoint_identity = cut_identity(cut_file)
         # work done by the cut on the submodel (this rank's cut entries) [J]: the prescription adds the impulse
         # R = M (v_prescribed - v_free) [N s] per step, which moves through (v_{n-1/2} + v_{n+1/2})/2 Δt
         self.m_cut = be.asarray(model.mass[self.idx])  # [kg]

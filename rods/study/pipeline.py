@@ -77,19 +77,19 @@ def run_study(
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
-        done["global"] = stages.global_model(g, out / "global", comm, progress=progress, log=log, resume=restart, **kw)
+        done["global"] = _said(
+            stages.global_model(g, out / "global", comm, progress=progress, log=log, resume=restart, **kw), log
+        )
     if p.submodel_levels:
-        d = done["global"] if shared else stages.driver(
-            scene, out / "driver", comm, p.contact_phase, progress, log, resume=restart
+        d = done["global"] if shared else _said(
+            stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log, resume=restart), log
         )  # fmt: skip
         done["driver"] = d
         for level in p.submodel_levels:
-            done[f"submodel/{level}"] = stages.submodel(
+            done[f"submodel/{level}"] = _said(stages.submodel(
                 d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase,
                 progress=progress, resume=restart and d.kept,
-            )  # fmt: skip
-            if done[f"submodel/{level}"].kept and log is not None:
-                log(f"submodel/{level}: finished in {out / 'submodel' / level} for this scene, kept (--restart)")
+            ), log)  # fmt: skip
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
     waves = "wave_response" in p.effects and p.global_model
     if waves and root:
@@ -112,6 +112,13 @@ def run_study(
     if root:
         io.write_summary(out / "summary.json", summary)
     return Study(p, done, comparison, summary)
+
+
+def _said(stage: stages.Stage, log: Any) -> stages.Stage:
+    """``stage``, its keeping by a restart said on rank 0's log (the run's own plan says the rest)."""
+    if stage.kept and log is not None:
+        log(f"{stage.name}: finished in {stage.folder} for this scene, kept (--restart)")
+    return stage
 
 
 def _forget_stages(p: plan.Plan, out: Path, comm: Any, shared: bool) -> None:

@@ -195,7 +195,6 @@ def global_model(
         cut_until = (scene.end_time if record_until is None else record_until) if record_cut else None
         kept = finished(name, out, scene, comm, cut_until, GLOBAL_IGNORES)
         if kept is not None:
-            _kept(log, name, out)
             return kept
         restart = not record_cut
     model = ExplicitModel(scene, comm) if model is None else model
@@ -240,11 +239,6 @@ def driver(
     return global_model(sc, out, comm, record_cut=True, **kw)
 
 
-def _kept(log: Log, name: str, out: Path) -> None:
-    if log is not None:
-        log(f"{name}: finished in {out} for this scene, kept (--restart)")
-
-
 def driver_keys(contact_phase: float) -> dict[str, Any]:
     """The keys a driving global adds to its summary: the submodels' end time [s] and the driver's settings."""
     return {"contact_phase": contact_phase, "driver_overrides": list(plan.DRIVER_OVERRIDES)}
@@ -275,7 +269,7 @@ def submodel(
     ``resume`` (a study's restart, from a kept driver): a run finished in ``out`` for this submodel scene and cut
     file is kept (:func:`finished`), else it resumes from a checkpoint there or starts afresh."""
     from rods.fe.guards import SimulationError
-    from rods.fe.submodel import run_submodel, submodel_name, submodel_scene
+    from rods.fe.submodel import cut_identity, run_submodel, submodel_name, submodel_scene
 
     comm = world(comm)
     h = size or plan.submodel_size(scene, level, phase)
@@ -283,14 +277,11 @@ def submodel(
     if end_time is None:  # the driver's contact phase (rods.plan.driver_phase, as the driver stage runs it)
         end_time = plan.driver_phase(scene)
     end = min(end_time, scene.end_time)
-    if resume:
-        kept = finished(
-            f"submodel/{name}", out, submodel_scene(scene, h, axial_size, end, dt), comm, None, SUBMODEL_IGNORES
-        )
-        ours = _cut_record(cut_file)
-        if kept is not None and _same_file(kept.summary.get("cut_file"), cut_file):
-            if ours is not None and kept.summary.get("cut_record") == ours:  # driven by this very record
-                return dataclasses.replace(kept, scene=scene)
+    if resume:  # kept only if driven by this very record (a global rerun here wrote another)
+        sub = submodel_scene(scene, h, axial_size, end, dt)
+        kept = finished(f"submodel/{name}", out, sub, comm, None, SUBMODEL_IGNORES)
+        if kept is not None and Path(cut_file).exists() and kept.summary.get("cut_record") == cut_identity(cut_file):
+            return dataclasses.replace(kept, scene=scene)
         restart = True
     try:
         sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart)
@@ -300,7 +291,7 @@ def submodel(
             _write_fe(out, e.partial, comm)
         raise
     sr.summary["cut_file"] = str(cut_file)
-    sr.summary["cut_record"] = _cut_record(cut_file)  # which recording drove it (a study's restart keeps only that)
+    sr.summary["cut_record"] = cut_identity(cut_file)  # which recording drove it (a study's restart keeps only that)
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}
     checks.apply(sr.summary, {}, scene, end)  # its midpoint is no Rod-2 midpoint: no plateau check
@@ -310,30 +301,6 @@ def submodel(
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
         io.write_summary(out / "summary.json", sr.summary)
     return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)
-
-
-def _cut_record(path: Path | str) -> str | None:
-    """The identity of the cut record at ``path`` (size and modification time, as a submodel checkpoint keys
-    it): a global rerun into the same folder writes another record, and a submodel level left there by an
-    earlier run (a fresh run stopped before reaching it) was not driven by it. None: no such file."""
-    try:
-        st = Path(path).stat()
-    except OSError:
-        return None
-    return f"{st.st_size}:{st.st_mtime_ns}"
-
-
-def _same_file(recorded: Any, path: Path | str) -> bool:
-    """Whether the cut file a summary recorded (as the run was given it: relative or absolute) is ``path``: the
-    same folder spelled ``output/r`` once and ``/abs/output/r`` on the restart is the same record."""
-    if recorded is None:
-        return False
-    if str(recorded) == str(path):
-        return True
-    try:
-        return Path(recorded).resolve() == Path(path).resolve()
-    except (OSError, RuntimeError):
-        return False
 
 
 def comparison(
