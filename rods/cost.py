@@ -55,6 +55,7 @@ __all__ = [
     "WORK_BUDGET",
     "Cost",
     "analytical_cost",
+    "analytical_steps",
     "available_memory",
     "check",
     "fe_cost",
@@ -70,6 +71,14 @@ TIME_BUDGET = 86400.0
 # to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass), and per history value
 SECONDS_PER_PASS = 1e-2  # [s]
 SECONDS_PER_VALUE = 1e-6  # [s]
+# ... and per step the contact's stiffness against the rods' impedance forces on the explicit DOP853: the
+# linearised rate of the approach at the impedance-bounded force P = s/(1/Z1 + 1/Z2) is
+# λ = (3/2) K^(2/3) s^(1/3) (1/Z1 + 1/Z2)^(2/3);
+# accepted steps per λ t (measured 0.423-0.427 on paper rods of 20 µm to 0.1 mm diameter, 2e-4 s: 5.3k-45k steps),
+# the time and the dense output's memory per step (measured 2026-11-25: 223-244 µs, 0.89 kB)
+STEPS_PER_STIFFNESS = 0.45  # [-]
+SECONDS_PER_STEP = 2.5e-4  # [s]
+BYTES_PER_SOLVER_STEP = 1e3  # [B]
 BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
@@ -314,13 +323,27 @@ def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
 
 def analytical_cost(scene: Scene) -> Cost:
     """The analytical model's recorded samples, memory and time: :data:`SECONDS_PER_PASS` per one-way wave pass
-    L/c of the rod with the most (each reflection restarts the delay equation's integration) plus
-    :data:`SECONDS_PER_VALUE` per history value."""
+    L/c of the rod with the most (each reflection restarts the delay equation's integration),
+    :data:`SECONDS_PER_VALUE` per history value, and the solver steps a stiff contact forces
+    (:func:`analytical_steps`), each with its time and stored dense output."""
     samples = math.floor(scene.end_time / scene.output_interval) + 1
     values = samples * (5 + 2 * len(scene.stations))
     passes = scene.end_time * max(r.material.wave_speed / r.length for r in scene.rods)  # [-]
-    wall = SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values
-    return Cost("analytical model", 0, 0, 0, samples, values, 60e6 + 3 * BYTES_PER_VALUE * values, wall)
+    steps = analytical_steps(scene)
+    wall = SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values + SECONDS_PER_STEP * steps
+    memory = 60e6 + 3 * BYTES_PER_VALUE * values + BYTES_PER_SOLVER_STEP * steps
+    return Cost("analytical model", 0, 0, steps, samples, values, memory, wall)
+
+
+def analytical_steps(scene: Scene) -> float:
+    """Steps of the explicit DOP853 where the contact is stiff against the rods' impedance (thin rods: the rate
+    grows as d^(-4/3)): :data:`STEPS_PER_STIFFNESS` x λ x end_time (constants above; at most a few hundred on
+    centimetre rods, where accuracy, not stability, sets the step)."""
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    K = hertz.contact_stiffness(E_star, R_star)  # [N/m^1.5]
+    inv_Z = sum(1.0 / r.impedance for r in scene.rods)  # [m/(N s)]
+    λ = 1.5 * K ** (2 / 3) * scene.speed ** (1 / 3) * inv_Z ** (2 / 3)  # [1/s]
+    return STEPS_PER_STIFFNESS * λ * scene.end_time
 
 
 def available_memory() -> float:
@@ -338,15 +361,19 @@ def check(cost: Cost, force: bool = False) -> Cost:
     """Refuse ``cost`` above the available memory (always) or the step, work, frame, value and time budgets (unless
     ``force``)."""
     free = available_memory()
+    fe = cost.dofs > 0  # else the analytical model, whose steps a contact stiff against thin rods sets
     if cost.memory > free:
         raise InputError(
             cost.what, f"{cost.memory / 1e9:.3g} GB", f"needs more memory than available ({free / 1e9:.3g} GB): "
             f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
-            "coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time",
+            "coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time" if fe else
+            f"thicker rods (a contact this stiff against their impedance takes {cost.steps:.3g} solver steps), a "
+            "larger simulation.output_interval or a shorter end_time",
         )  # fmt: skip
+    steps_remedy = "a larger fe.dt, coarser sizes" if fe else "thicker rods (a contact less stiff against them)"
     budgets = (  # (budget's name, amount, budget, the amount as said, what it would mean, remedy)
         ("step", cost.steps, STEP_BUDGET, f"{cost.steps:.3g} steps", f"about {_duration(cost.wall_time)}",
-         "a larger fe.dt, coarser sizes, a shorter end_time"),
+         f"{steps_remedy}, a shorter end_time"),
         ("work", cost.dofs * cost.steps, WORK_BUDGET, f"{cost.dofs * cost.steps:.3g} DOF-steps",
          f"about {_duration(cost.wall_time)} on {cost.ranks} rank(s)", "coarser sizes, a shorter end_time"),
         ("frame", cost.frames, FRAME_BUDGET, f"{cost.frames:.3g} field frames",
