@@ -29,27 +29,14 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, plan
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
-from rods.study.pipeline import run_study
+from rods.scene import Scene
+from rods.study.pipeline import run_study, stage_costs
 
 
 def _plan(scene: Scene) -> plan.Plan:
     """The plan run_study will make (the analytical model, milliseconds, gives the contact phase that ends the
     contact-only stages)."""
     return plan.make_plan(scene, plan.first_contact_end(plan.first_contact_summary(scene)))
-
-
-def _fe_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
-    """The estimated costs of the FE stages of plan ``p``."""
-    costs = [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time)] if p.global_model else []
-    if p.submodel_levels:
-        driver = plan.submodel_driver(scene, p.contact_phase)
-        if not plan.global_drives(p):  # else the global above records the cut: no second run
-            costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
-        for lv in p.submodel_levels:
-            h = SUBMODEL_LEVEL_SIZES[lv]
-            costs.append(cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=h))
-    return costs
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -67,7 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _cli.backend(scene, comm.size)
     if args.restart:
         log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
-    _cli.afford(args, cost.analytical_cost(scene), *_fe_costs(scene, p, comm.size), log=log)
+    _cli.afford(args, cost.analytical_cost(scene), *stage_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log, restart=args.restart).summary  # a guard's stop: exit 1 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
     _cli.status(s, comm.rank)

@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rods import checks, io, plan
-from rods.scene import Scene
+from rods import checks, cost, io, plan
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
 from rods.study import stages
 
-__all__ = ["Study", "run_study"]
+__all__ = ["Study", "run_study", "stage_costs"]
 
 
 @dataclass(frozen=True)
@@ -30,6 +30,20 @@ class Study:
     stages: dict[str, stages.Stage]
     comparison: stages.Comparison | None
     summary: dict[str, Any]  # the run summary (contract keys from the most refined stage, sources, plan)
+
+
+def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
+    """The estimated costs (rods.cost.fe_cost) of the FE stages :func:`run_study` runs for plan ``p`` of ``scene``
+    on ``ranks`` ranks: the global to the planned end time, a separate driving global only where the global does
+    not record the cut (rods.plan.global_drives), each submodel level on the driver's scene."""
+    costs = [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time)] if p.global_model else []
+    if p.submodel_levels:
+        driver = plan.submodel_driver(scene, p.contact_phase)
+        if not plan.global_drives(p):
+            costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
+        for lv in p.submodel_levels:
+            costs.append(cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=SUBMODEL_LEVEL_SIZES[lv]))
+    return costs
 
 
 def _compare(scene: Scene, done: dict[str, stages.Stage], out: Path) -> stages.Comparison:

@@ -209,3 +209,24 @@ def test_a_fresh_study_forgets_the_stage_summaries_an_earlier_run_left(scene_wit
     _forget_stages(p, tmp_path, MPI.COMM_SELF, shared=True)
     left = {f for f in folders if (tmp_path / f / "summary.json").exists()}
     assert left == {"analytical", "driver", "submodel/fine"}  # not planned here (shared: no driver folder)
+
+
+def test_stage_costs_are_the_stages_the_plan_runs(scene_with):
+    """rods.study.pipeline.stage_costs: one cost per FE stage run_study runs. Wave and contact effects: the global
+    records the cut (no second driving global, rods.plan.global_drives), then each level, a finer level dearer;
+    contact alone: the same stages, the global to the contact phase only; wave alone: the global to the end."""
+    from rods.study.pipeline import stage_costs
+
+    def costs(effects, levels="['coarse', 'mid']"):
+        s = scene_with(f"effects={effects}", f"submodel.levels={levels}")
+        return stage_costs(s, make_plan(s, first_contact_end(simulate(s).summary)), 2)
+
+    both, contact, wave = (
+        costs("['wave_response', 'contact_patch']"),
+        costs("['contact_patch']"),
+        costs("['wave_response']"),
+    )
+    assert [c.what for c in both] == ["the global", "the submodel coarse", "the submodel mid"]
+    assert [c.what for c in contact] == [c.what for c in both] and [c.what for c in wave] == ["the global"]
+    assert both[2].dofs > both[1].dofs and all(c.ranks == 2 for c in both)
+    assert contact[0].steps < 0.5 * both[0].steps == 0.5 * wave[0].steps  # the paper scene's 1.5 ms vs ~0.25 ms
