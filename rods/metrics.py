@@ -214,7 +214,12 @@ def time_lag(
 
 
 def smoothed_peak(t: ArrayLike, force: ArrayLike, window: float = SMOOTHING) -> float:
-    """Largest sliding average of ``force`` over ``window`` [s] (equally spaced samples ``t``)."""
+    """Largest sliding average of ``force`` over ``window`` [s] (equally spaced samples ``t``), from running sums:
+    O(samples) whatever the window holds (a convolution was O(samples x window): 17 s at a 0.1 ns output
+    interval); a record shorter than the window counts as zero beyond its ends (its sum over the window)."""
     t, f = np.asarray(t, float), np.asarray(force, float)
     n = max(1, int(round(window / (t[1] - t[0])))) if t.size > 1 else 1
-    return float(np.convolve(f, np.ones(n) / n, mode="valid").max())
+    if n >= f.size:
+        return float(f.sum() / n)
+    sums = np.concatenate(([0.0], np.cumsum(f)))
+    return float(((sums[n:] - sums[:-n]) / n).max())

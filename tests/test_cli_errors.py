@@ -455,3 +455,28 @@ def test_a_closed_reader_ends_an_fe_entry_point_quietly(tmp_path):
     p.stdout.close()  # the reader goes away before the rest is written
     _, err = p.communicate(timeout=120)
     assert b"PETSC ERROR" not in err and b"MPI_Abort" not in err, err.decode()[-2000:]
+
+
+def test_sigterm_while_the_plan_runs_the_analytical_model_is_a_clean_interrupt(tmp_path):
+    """SIGTERM while the driver's plan runs the analytical model (20 µm rods: a stiff contact, about a minute,
+    announced by its 'planning' line): exit 130 with the one-line interrupt, nothing written. PETSc's handler
+    (installed when it initialised, after ours) printed a 'Caught signal number 15' block and MPI_Abort(59)."""
+    out, err, said = tmp_path / "out", tmp_path / "stderr", tmp_path / "stdout"
+    thin = ["--set", "rod1.diameter=2e-5", "--set", "rod2.diameter=2e-5", "--set", "simulation.end_time=1e-3"]
+    cmd = [str(PY), str(W / "global.py"), "--driver", *thin, "--out", str(out)]
+    with open(err, "w") as ef, open(said, "w") as sf:
+        proc = subprocess.Popen(cmd, cwd=tmp_path, stdout=sf, stderr=ef)
+        try:
+            _wait_for(said, "planning: the analytical model", 60)
+            time.sleep(1.0)
+            proc.send_signal(signal.SIGTERM)
+            rc = proc.wait(timeout=30)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+    text = err.read_text()
+    assert rc == 130 and "PETSC ERROR" not in text, text[-2000:]
+    assert [line for line in text.splitlines() if line.startswith("error")] == [
+        "error: interrupted (outside the time loop: nothing partial to write)"
+    ]
+    assert not out.exists()

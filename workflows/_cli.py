@@ -107,6 +107,12 @@ def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = 
     return p
 
 
+def planning(analytical: Any) -> str:
+    """The line said before a plan runs the analytical model to its first contact (its cost, ``analytical``: a
+    rods.cost.Cost, the whole run's, an upper bound), so a long planning is announced rather than silent."""
+    return f"planning: the analytical model to its first contact (at most about {analytical.wall_time:.3g} s)"
+
+
 def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print) -> None:
     """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
     --force, above the step/history budgets; before anything heavy is allocated. With --dry-run, stop here:
@@ -215,12 +221,14 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
     """``main`` with the one error path (module docstring): exit 2 bad input, 1 failed run, 130 interrupt."""
 
     def run(argv: Sequence[str] | None = None) -> int:
-        previous = interrupt.install()
         # a closed reader (`| head`) ends the process quietly, as for any command-line tool (PETSc's handler
         # printed a "Caught signal number 13 Broken Pipe" error block and called MPI_Abort); PETSc installs its
-        # handlers when it initialises, so an FE entry point (rods.fe loaded) initialises it first
+        # handlers when it initialises, so an FE entry point (rods.fe loaded) initialises it first, and the
+        # interrupt's handlers go in after it (else a SIGTERM before the time loop, e.g. in the analytical
+        # planning, printed PETSc's "Caught signal number 15" block and MPI_Abort(59) instead of exit 130)
         if "rods.fe" in sys.modules:
             from petsc4py import PETSc  # noqa: F401
+        previous = interrupt.install()
         pipe = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
         try:
             return main(argv)

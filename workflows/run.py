@@ -47,7 +47,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     scene = _cli.load(args)
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
-    cost.check(cost.analytical_cost(scene), args.force)  # before the plan, which runs it to the first contact
+    log(_cli.planning(cost.check(cost.analytical_cost(scene), args.force)))  # the plan runs it to the first contact
     p = _plan(scene)
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
