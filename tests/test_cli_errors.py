@@ -451,6 +451,7 @@ def test_a_closed_reader_ends_an_fe_entry_point_quietly(tmp_path):
         [str(PY), str(W / "global.py"), "--driver", "--dry-run", "--out", str(tmp_path / "o")],
         cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
     )  # fmt: skip
+    assert p.stdout.readline().startswith(b"planning: ")  # the analytical model's run for the contact phase
     assert p.stdout.readline().startswith(b"plan: ")
     p.stdout.close()  # the reader goes away before the rest is written
     _, err = p.communicate(timeout=120)
