@@ -57,6 +57,7 @@ from rods.scene import Rod, Scene
 __all__ = ["PAPER_LAW", "AnalyticalResult", "WaveModel", "contact_compliance", "simulate"]
 
 PAPER_LAW = "analytical.contact=hertz"  # the paper's half-space Hertz (Eq. 8), as a scene override
+END_TERM_LIMIT = 0.25  # smallest dδ/dδ_H at which the rod-end term is still a correction [-]
 
 
 class _History:
@@ -226,9 +227,9 @@ class WaveModel:
             return y[0]
 
         def end_term_breaks(t: float, y: NDArray[np.float64]) -> float:
-            """dδ/dδ_H - 0.25: the rod-end term stops being a correction (:meth:`rod_end_term_problem`) at zero;
-            stopping there spares the stiff, floored integration beyond (it ran for hours on 20 µm rods)."""
-            return 1.0 + 1.5 * c * K * math.sqrt(max(y[0], 0.0)) - 0.25 if c != 0 else 1.0
+            """Zero where the rod-end term stops being a correction (:meth:`rod_end_term_problem`): stopping there
+            spares the stiff, floored integration beyond (it ran for hours on 20 µm rods)."""
+            return self.stiffening(y[0]) - END_TERM_LIMIT
 
         release.terminal = end_term_breaks.terminal = True  # type: ignore[attr-defined]
         end_term_breaks.direction = -1.0  # type: ignore[attr-defined]
@@ -263,6 +264,10 @@ class WaveModel:
                 self.contacts[-1][1] = t  # provisional end, so delayed lookups see the open episode
         return self
 
+    def stiffening(self, δ_H: float) -> float:
+        """dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) [-] of the contact law (1 for the paper's, c = 0)."""
+        return 1.0 + 1.5 * self.compliance * self.K * math.sqrt(max(δ_H, 0.0))
+
     def rod_end_term_problem(self) -> str | None:
         """Why the rod-end term is not a correction on this run (None: it is). It must stay one:
         dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) >= 0.25 at the largest approach (about a <= 0.57 b for equal steel rods:
@@ -271,7 +276,7 @@ class WaveModel:
         if self.compliance == 0.0 or not self._history.t_lo:
             return None
         δ_H = max(float(np.max(self._history(np.asarray(self._history.t_lo), 0))), 0.0)
-        if not self.end_term_broke and 1.0 + 1.5 * self.compliance * self.K * math.sqrt(δ_H) >= 0.25:
+        if not self.end_term_broke and self.stiffening(δ_H) >= END_TERM_LIMIT:
             return None
         P = self.K * δ_H**1.5
         a = float(hertz.contact_radius(P, self.E_star, self.R_star))

@@ -322,11 +322,9 @@ def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
 
 
 def strain_warning(scene: Any) -> str | None:
-    """A warning when the impact strains a rod beyond :data:`SMALL_STRAIN`: the stiff-contact bar limit, rod i
-    moving at s1 Z_j/(Z1 + Z2) behind a front of strain v_i/c_i (elementary bar theory; the Hertz contact only
-    lowers it)."""
-    Z = [r.impedance for r in scene.rods]  # [N s/m]
-    strains = [scene.speed * Z[1 - i] / sum(Z) / r.material.wave_speed for i, r in enumerate(scene.rods)]
+    """A warning when the impact strains a rod beyond :data:`SMALL_STRAIN` in the stiff-contact bar limit
+    (rods.scene.Scene.impedance_force: rod i's front strain P/(Z_i c_i), elementary bar theory)."""
+    strains = [scene.impedance_force / (r.impedance * r.material.wave_speed) for r in scene.rods]
     n = int(np.argmax(strains))
     if strains[n] <= SMALL_STRAIN:
         return None

@@ -339,10 +339,9 @@ def analytical_steps(scene: Scene) -> float:
     """Steps of the explicit DOP853 where the contact is stiff against the rods' impedance (thin rods: the rate
     grows as d^(-4/3)): :data:`STEPS_PER_STIFFNESS` x λ x end_time (constants above; at most a few hundred on
     centimetre rods, where accuracy, not stability, sets the step)."""
-    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
-    K = hertz.contact_stiffness(E_star, R_star)  # [N/m^1.5]
-    inv_Z = sum(1.0 / r.impedance for r in scene.rods)  # [m/(N s)]
-    λ = 1.5 * K ** (2 / 3) * scene.speed ** (1 / 3) * inv_Z ** (2 / 3)  # [1/s]
+    K = hertz.contact_stiffness(*hertz.contact_constants(scene.rod1, scene.rod2))  # [N/m^1.5]
+    P = scene.impedance_force  # [N]
+    λ = 1.5 * K ** (2 / 3) * P ** (1 / 3) * scene.speed / P  # [1/s] d(K δ^1.5 (1/Z1 + 1/Z2))/dδ at K δ^1.5 = P
     return STEPS_PER_STIFFNESS * λ * scene.end_time
 
 

@@ -462,6 +462,12 @@ class Scene:
             return float(self.values["fe.field_interval"])
         return DEFAULT_FIELD_INTERVAL if "fields" in self.effects else 0.0
 
+    @property
+    def impedance_force(self) -> float:
+        """The impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) [N] (Z = ρ c A): the rods' stiff-contact (bar) limit,
+        rod i moving at P/Z_i behind a front of strain P/(Z_i c_i); a Hertz contact only lowers it."""
+        return self._impedance_patch[0]
+
     @cached_property
     def _impedance_patch(self) -> tuple[float, float, float]:
         """(P [N], a_P [m], δ_P [m]): the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), Hertz's

@@ -47,14 +47,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     scene = _cli.load(args)
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
-    log(_cli.planning(cost.check(cost.analytical_cost(scene), args.force)))  # the plan runs it to the first contact
+    analytical = cost.check(cost.analytical_cost(scene), args.force)
+    log(_cli.planning(analytical))  # before the plan, which runs the analytical model to the first contact
     p = _plan(scene)
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     _cli.backend(scene, comm.size)
     if args.restart:
         log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
-    _cli.afford(args, cost.analytical_cost(scene), *stage_costs(scene, p, comm.size), log=log)
+    _cli.afford(args, analytical, *stage_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log, restart=args.restart).summary  # a guard's stop: exit 1 (_cli)
     log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
     _cli.status(s, comm.rank)
