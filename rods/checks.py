@@ -157,19 +157,30 @@ AGREE_DURATION = 2e-6  # largest |first contact duration, FE - analytical| in an
 HERTZ_OK = 0.02
 
 
-def rattle_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray]) -> str | None:
-    """A warning when the raw peak force exceeds its smoothed value (history) by more than :data:`RATTLE`."""
+def rattle_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray], scene: Any = None) -> str | None:
+    """A warning when the raw peak force exceeds its smoothed value (history) by more than :data:`RATTLE`.
+
+    The remedy depends on the contact law (``scene``; penalty when not given): a penalty layer rattles at its
+    pair frequency (softer, or the kinematic law); the kinematic law has no layer, and its spikes are the
+    impulses of node rings closing at a relative velocity, each landing in one step, so fewer rings across
+    the patch spike more (refine the tip)."""
     F, t = history.get("contact_force"), history.get("time")
     if F is None or t is None or len(F) < 2 or not summary.get("peak_contact_force"):
         return None
     smooth = metrics.smoothed_peak(t, F)
     excess = summary["peak_contact_force"] / smooth - 1.0 if smooth > 0 else 0.0
-    if excess > RATTLE:
-        return (
-            f"peak_contact_force: {excess:.1%} above its {metrics.SMOOTHING * 1e6:g} µs average: the contact rattles "
-            "(use fe.contact = 'kinematic', or lower fe.penalty)"
+    if excess <= RATTLE:
+        return None
+    if scene is not None and scene["fe.contact"] == "kinematic":
+        remedy = (
+            "node rings closing at once (kinematic contact: each closing ring's impulse lands in one step); refine "
+            "the contact region (fe.radial_size) so the patch closes over more rings"
         )
-    return None
+    else:
+        remedy = "the penalty layer rattles (use fe.contact = 'kinematic', or lower fe.penalty)"
+    return (
+        f"peak_contact_force: {excess:.1%} above its {metrics.SMOOTHING * 1e6:g} µs average ({smooth:.6g} N): {remedy}"
+    )
 
 
 def duration_warning(summary: dict[str, Any], history: Mapping[str, np.ndarray]) -> str | None:
@@ -566,7 +577,7 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
     ):
         if w is not None:
             found.append(w)
-    if (w := rattle_warning(summary, history)) is not None:
+    if (w := rattle_warning(summary, history, scene)) is not None:
         found.append(w)
     found += summary.get("contact_law_warnings", [])  # the analytical model's law outside its range
     if "yield_warnings" not in summary:

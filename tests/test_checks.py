@@ -111,6 +111,17 @@ def test_a_rattling_peak_is_not_ok():
     assert w is not None and w.startswith("peak_contact_force") and "kinematic" in w
 
 
+def test_rattle_advice_follows_the_contact_law(scene_with):
+    """The penalty law is told to try the kinematic law; the kinematic law, already set, is told to refine."""
+    t = np.arange(0.0, 200e-6, 0.25e-6)  # [s]
+    F = 5e3 * np.sin(np.pi * t / t[-1])  # [N]
+    spiky = ({"peak_contact_force": 1.2 * F.max()}, {"time": t, "contact_force": F})
+    penalty = checks.rattle_warning(*spiky, scene_with("fe.contact=penalty"))
+    kinematic = checks.rattle_warning(*spiky, scene_with("fe.contact=kinematic"))
+    assert "fe.contact = 'kinematic'" in penalty and "fe.penalty" in penalty
+    assert "fe.contact = 'kinematic'" not in kinematic and "fe.radial_size" in kinematic
+
+
 def test_yield_is_checked_at_the_models_own_force(scene_with):
     """Hertz pressure of an FE peak force: the same criterion as the analytical model's, per rod."""
     sc = scene_with()
