@@ -140,12 +140,14 @@ def test_yield_warning_at_high_speed(scene_with):
 
 @pytest.mark.slow
 def test_low_speed_needs_a_refined_tip(scene_with):
-    """At 0.01 m/s the Hertz patch is ~0.37 mm: refined to 0.0625 mm the force comes within 6% (coarse: -29%)."""
+    """At 0.01 m/s the Hertz patch is ~0.37 mm: refined to 0.0625 mm the force comes within 6% (coarse: -29%).
+    The midpoint's peak speed is a peak of the ringing plateau (CASES' speed-0.01): +1.1% here (measured with the
+    kinematic contact), so 2%."""
     scene = scene_with(
         *COARSE, "simulation.end_time=6e-4", "impact.speed=0.01", "fe.radial_size=0.0625e-3", "fe.tip_grading=0.1"
     )
     fe, r, a = run_case(scene)
-    check_physics(scene, fe, r, a, 0.06)
+    check_physics(scene, fe, r, a, 0.06, speed_tol=0.02)
 
 
 @pytest.mark.slow
