@@ -369,7 +369,7 @@ def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(t
     with the histories of an uninterrupted one."""
     from rods.io import read_history
 
-    args = [*TINY, "--set", "simulation.end_time=3e-3", "--set", "fe.checkpoint_interval=5e-4"]
+    args = [*TINY, "--set", "simulation.end_time=1e-3", "--set", "fe.checkpoint_interval=2.5e-4"]
     cmd = [str(MPIRUN), "-n", "2", str(PY), str(W / "global.py"), *args]
     ref, cut, err = tmp_path / "ref", tmp_path / "cut", tmp_path / "stderr"
     subprocess.run([*cmd, "--out", str(ref)], cwd=tmp_path, check=True, capture_output=True, timeout=300)

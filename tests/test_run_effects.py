@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -101,58 +102,75 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     assert any(w.startswith("compare: peak_contact_pressure: the finest submodel level (coarse") for w in s["warnings"])
 
 
-def test_restart_keeps_the_finished_stages_and_reruns_the_stopped_one(tmp_path):
+PATCH_STUDY = ("['contact_patch']", "--set", "submodel.levels=['coarse']")  # analytical, driver, one level
+
+
+@pytest.fixture(scope="module")
+def patch_study(tmp_path_factory):
+    """One finished contact-patch study (its folder and summary), which the restart tests copy."""
+    base = tmp_path_factory.mktemp("patch-study")
+    _, summary = run(base, *PATCH_STUDY)
+    return base / "run", summary
+
+
+def copied(study, tmp_path):
+    """The finished study copied into tmp_path/run (modification times kept, as cp -p and rsync -a do)."""
+    import shutil
+
+    shutil.copytree(study[0], tmp_path / "run")
+    return tmp_path / "run"
+
+
+def test_restart_keeps_the_finished_stages_and_reruns_the_stopped_one(patch_study, tmp_path):
     """run.py --restart: a stage finished for the same scene is kept (not rewritten), a stopped one (an
     interrupt's partial summary) runs again, and the study ends as an uninterrupted one did; a stage of other
     settings is never kept."""
-    _, s1 = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
-    run_dir = tmp_path / "run"
+    run_dir, s1 = copied(patch_study, tmp_path), patch_study[1]
     g, sub = run_dir / "global" / "summary.json", run_dir / "submodel" / "coarse" / "summary.json"
     partial = json.loads(sub.read_text()) | {"status": "interrupted"}
     sub.write_text(json.dumps(partial))  # as Ctrl-C in the submodel leaves it
     stamp = g.stat().st_mtime_ns
-    p, s2 = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--restart")
+    p, s2 = run(tmp_path, *PATCH_STUDY, "--restart")
     assert f"global: finished in {run_dir / 'global'} for this scene, kept" in p.stdout
     assert g.stat().st_mtime_ns == stamp and json.loads(sub.read_text())["status"] != "interrupted"
     for key in ("peak_contact_force", "contact_radius", "contact_duration", "status", "warnings", "sources"):
         assert s2[key] == s1[key], key
     # other settings (a coarser axial mesh) into the same folder: nothing is kept
-    p, s3 = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--set", "fe.axial_size=5e-3",
-                "--restart")  # fmt: skip
+    p, s3 = run(tmp_path, *PATCH_STUDY, "--set", "fe.axial_size=5e-3", "--restart")
     assert "for this scene, kept" not in p.stdout and g.stat().st_mtime_ns != stamp
     assert s3["peak_contact_force"] != s1["peak_contact_force"]
 
 
-def test_restart_keeps_the_submodels_when_the_folder_is_spelled_otherwise(tmp_path):
-    """--out given relative, then absolute on the restart: the same folder, the same cut record; the finished
-    submodel levels are kept (they were rerun because their summary's cut_file string differed), and said so."""
-    args = [sys.executable, str(ROOT / "workflows" / "run.py"), *TINY, "--set", "effects=['contact_patch']",
-            "--set", "submodel.levels=['coarse']"]  # fmt: skip
-    env = {**__import__("os").environ, "PYTHONPATH": str(ROOT)}
-    p = subprocess.run([*args, "--out", "run"], capture_output=True, text=True, cwd=tmp_path, env=env)
-    assert p.returncode == 0, p.stderr[-2000:]
-    sub = tmp_path / "run" / "submodel" / "coarse" / "summary.json"
+def test_restart_keeps_a_copied_study_spelled_otherwise_with_checkpoints_turned_on(patch_study, tmp_path):
+    """A finished study copied elsewhere, its --out given relative, restarted with fe.checkpoint_interval now on:
+    every FE stage is kept, and said so. The cut record is known by the id its recording wrote, not by its path
+    (a copied folder reran its submodels before; an --out spelled otherwise did once), and checkpoints do not
+    change a stage's result (adding them reran the finished stages before)."""
+    run_dir = copied(patch_study, tmp_path)
+    sub = run_dir / "submodel" / "coarse" / "summary.json"
     stamp = sub.stat().st_mtime_ns
-    p = subprocess.run([*args, "--out", str(tmp_path / "run"), "--restart"], capture_output=True, text=True,
-                       cwd=tmp_path, env=env)  # fmt: skip
+    args = [sys.executable, str(ROOT / "workflows" / "run.py"), *TINY, "--set", f"effects={PATCH_STUDY[0]}",
+            *PATCH_STUDY[1:], "--set", "fe.checkpoint_interval=1e-4", "--out", "run", "--restart"]  # fmt: skip
+    env = {**__import__("os").environ, "PYTHONPATH": str(ROOT)}
+    p = subprocess.run(args, capture_output=True, text=True, cwd=tmp_path, env=env)
     assert p.returncode == 0, p.stderr[-2000:]
     assert sub.stat().st_mtime_ns == stamp
-    assert f"submodel/coarse: finished in {tmp_path / 'run' / 'submodel' / 'coarse'} for this scene, kept" in p.stdout
+    for stage in ("global", "submodel/coarse"):
+        assert f"{stage}: finished in {Path('run') / stage} for this scene, kept" in p.stdout, stage
 
 
-def test_restart_reruns_a_submodel_level_driven_by_an_earlier_cut_record(tmp_path):
+def test_restart_reruns_a_submodel_level_driven_by_an_earlier_cut_record(patch_study, tmp_path):
     """A fresh run that rewrote the global (its cut.h5) and was killed before reaching a submodel level leaves
     that level's earlier summary in the folder: the restart keeps the global, not the level (another record
     drove it; it was kept as "finished for this scene")."""
-    import os
+    import h5py
 
-    run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
-    cut = tmp_path / "run" / "global" / "cut.h5"
-    st = cut.stat()
-    os.utime(cut, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000_000))  # as the fresh run's global rewrote it
-    p, _ = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--restart")
+    run_dir = copied(patch_study, tmp_path)
+    with h5py.File(run_dir / "global" / "cut.h5", "r+") as f:
+        f.attrs["record_id"] = "another recording"  # as the fresh run's global rewrote it
+    p, _ = run(tmp_path, *PATCH_STUDY, "--restart")
     assert "global: finished" in p.stdout and "submodel/coarse: finished" not in p.stdout
-    p, _ = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']", "--restart")
+    p, _ = run(tmp_path, *PATCH_STUDY, "--restart")
     assert "submodel/coarse: finished" in p.stdout  # the level the restart ran is kept by the next one
 
 

@@ -15,7 +15,8 @@ entries of u_n and v_{n+1/2} of a *band* of nodes — every global cell whose no
     /u, /v (n_rec, n_nodes, gdim)  u_n [m] and v_{n+1/2} [m/s] at the band nodes
     /nodes (n_nodes, gdim) [m]     band node coordinates
     /cells (n_cells, n_verts)      band cells (DOLFINx vertex order), indices into /nodes
-    attrs: cell_type, gdim, kind, dt, every, halfwidth, cut_planes, scene_values (JSON)
+    attrs: cell_type, gdim, kind, dt, every, halfwidth, cut_planes, scene_values (JSON),
+           record_id (a fresh random id per recording: :func:`cut_identity`)
 
 Driving (submodel side, :class:`CutDriver`): the band is rebuilt as a DOLFINx mesh on the submodel's
 communicator and the stored P1 field is interpolated onto the submodel's cut-boundary nodes with
@@ -47,6 +48,7 @@ import itertools
 import json
 import math
 import time
+import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -251,6 +253,7 @@ class CutRecorder:
             f.attrs["cut_planes"] = np.array(self.planes)
             f.attrs["scene_values"] = json.dumps(m.scene.as_dict())
             f.attrs["note"] = "u = u_n [m], v = v_{n+1/2} [m/s] at t_n = times; nodes [m]"
+            f.attrs["record_id"] = uuid.uuid4().hex  # this recording's identity, wherever the file is copied
         tmp.replace(path)
         comm.barrier()
 
@@ -259,9 +262,17 @@ class CutRecorder:
 # driving (submodel run)
 # ----------------------------------------------------------------------------------------------
 def cut_identity(path: str | Path) -> str:
-    """The identity of the cut record at ``path``: its resolved path (however the folder was spelled), size and
-    modification time. A global rerun into the same folder writes another record; a checkpoint of the submodel
-    it drove (CutDriver.checkpoint_identity) and a study's restart (its summary's ``cut_record``) tell them apart."""
+    """The identity of the cut record at ``path``: the random id its recording wrote (``record_id``), so the
+    same record wherever its study folder is copied or however it is spelled, and another for each recording
+    (a global rerun into the same folder). A checkpoint of the submodel it drove
+    (CutDriver.checkpoint_identity) and a study's restart (its summary's ``cut_record``) tell them apart. A
+    record written before the id existed: its resolved path, size and modification time."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        record = f.attrs.get("record_id")
+    if record is not None:
+        return f"record:{record}"
     stat = Path(path).stat()
     return f"{Path(path).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"
 

@@ -97,9 +97,11 @@ def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
 
 
 # scene keys a stage's run does not read, so a restart keeps it when only they changed (another submodel level
-# added to a study: its global and the levels already run are kept, only the new level runs)
-GLOBAL_IGNORES = ("submodel.levels", "submodel.penalty", "submodel.driving")  # the submodels' own settings
-SUBMODEL_IGNORES = ("submodel.levels",)  # the other levels (its own size is its scene's fe.radial_size)
+# added to a study: its global and the levels already run are kept, only the new level runs; checkpoints turned
+# on for the restart: they save the state, they never change it)
+RESULT_NEUTRAL = ("fe.checkpoint_interval",)
+GLOBAL_IGNORES = ("submodel.levels", "submodel.penalty", "submodel.driving", *RESULT_NEUTRAL)  # the submodels' own
+SUBMODEL_IGNORES = ("submodel.levels", *RESULT_NEUTRAL)  # the other levels (its own size: its scene's fe.radial_size)
 
 
 def finished(

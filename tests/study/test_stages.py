@@ -18,7 +18,7 @@ def _finished_run(folder, scene, status="ok"):
 def test_a_restart_keeps_a_stage_finished_for_the_same_scene_only(scene_with, tmp_path):
     """Kept: the same scene's finished run (its summary and history read back). Not kept: another mesh or end
     time, an interrupt's partial summary, a missing history. Keys the stage does not read (another submodel
-    level, the submodels' own contact and driving for a global) do not stop it being kept."""
+    level, the submodels' own contact and driving for a global, the checkpoint interval) do not stop it being kept."""
     sc = scene_with("effects=['contact_patch']", "submodel.levels=['coarse']", "simulation.end_time=3e-4")
     _finished_run(tmp_path / "g", sc)
     kept = finished("global", tmp_path / "g", sc, MPI.COMM_SELF)
@@ -29,6 +29,9 @@ def test_a_restart_keeps_a_stage_finished_for_the_same_scene_only(scene_with, tm
     assert finished("global", tmp_path / "g", more, MPI.COMM_SELF) is None  # compared whole unless told
     assert finished("global", tmp_path / "g", more, MPI.COMM_SELF, ignore=GLOBAL_IGNORES) is not None
     assert finished("sub", tmp_path / "g", more, MPI.COMM_SELF, ignore=SUBMODEL_IGNORES) is None  # driving: read
+    saved = sc.with_overrides("fe.checkpoint_interval=1e-4")  # checkpoints save the state, never change it
+    for ignore in (GLOBAL_IGNORES, SUBMODEL_IGNORES):
+        assert finished("global", tmp_path / "g", saved, MPI.COMM_SELF, ignore=ignore) is not None
     _finished_run(tmp_path / "i", sc, status="interrupted")
     assert finished("global", tmp_path / "i", sc, MPI.COMM_SELF) is None
     (tmp_path / "g" / "history.csv").unlink()
