@@ -51,6 +51,7 @@ __all__ = [
     "make_plan",
     "most_refined",
     "offers",
+    "study_plan",
     "submodel_driver",
 ]
 
@@ -228,6 +229,14 @@ class Plan:
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+
+def study_plan(scene: Scene, analytical_summary: Mapping[str, Any] | None = None) -> Plan:
+    """The plan a study of ``scene`` runs (rods.study.pipeline.run_study), bounded by the analytical model's first
+    contact: from its ``analytical_summary`` (the study's analytical stage), or, for a plan before the run (a
+    dry run, the cost estimate), from the model run to its first contact (:func:`first_contact_summary`)."""
+    s = analytical_summary if analytical_summary is not None else first_contact_summary(scene)
+    return make_plan(scene, first_contact_end(s))
 
 
 def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:

@@ -29,14 +29,7 @@ from mpi4py import MPI
 
 import _cli
 from rods import cost, plan
-from rods.scene import Scene
 from rods.study.pipeline import run_study, stage_costs
-
-
-def _plan(scene: Scene) -> plan.Plan:
-    """The plan run_study will make (the analytical model, milliseconds, gives the contact phase that ends the
-    contact-only stages)."""
-    return plan.make_plan(scene, plan.first_contact_end(plan.first_contact_summary(scene)))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -49,7 +42,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, progress = _cli.rank0(comm)
     analytical = cost.check(cost.analytical_cost(scene), args.force)
     log(_cli.planning(analytical))  # before the plan, which runs the analytical model to the first contact
-    p = _plan(scene)
+    p = plan.study_plan(scene)  # run_study's plan, from the analytical model to its first contact
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     _cli.backend(scene, comm.size)

@@ -81,7 +81,7 @@ def run_study(
     comm = stages.world(comm)
     root = comm.rank == 0
     done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm)}
-    p = plan.make_plan(scene, plan.first_contact_end(done["analytical"].summary))
+    p = plan.study_plan(scene, done["analytical"].summary)
     if log is not None:
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     shared = plan.global_drives(p)
