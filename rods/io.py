@@ -112,8 +112,8 @@ def write_history(
     names = list(columns)
     data = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
     header = ",".join(f"{n} [{units.get(n, '-')}]" for n in names)
-    lines = [header] + [",".join(f"{v:.10e}" for v in row) for row in data]
-    atomic_write_text(path, "\n".join(lines) + "\n")
+    row = ",".join(["%.10e"] * len(names))  # one format per row: half the time of one f-string per value
+    atomic_write_text(path, "\n".join([header, *map(row.__mod__, map(tuple, data.tolist()))]) + "\n")
 
 
 def read_history(path: str | Path) -> dict[str, np.ndarray]:
