@@ -25,9 +25,11 @@ sweep: venv
 verify: venv
 	.venv/bin/mpirun -n $(NPROC) $(PY) workflows/verify.py --tables results
 
-## The default test suite (no slow cases); what CI runs.
+## The default test suite (no slow cases); what CI runs. The serial cases run on NPROC workers (pytest-xdist);
+## the MPI cases (their own ranks) and the wall-time measurements (marker alone) after them, one at a time.
 test: venv
-	$(PY) -m pytest -m "not slow" -q
+	@rc=0; $(PY) -m pytest -m "not slow and not mpi and not alone" -q -n $(NPROC) || rc=$$?; \
+	$(PY) -m pytest -m "not slow and (mpi or alone)" -q || rc=$$?; exit $$rc
 
 ## The long cases (stability matrix, paper-resolution FE validation).
 test-slow: venv

@@ -86,6 +86,7 @@ def test_a_step_far_above_the_stable_limit_is_refused_before_the_set_up(scene_wi
         cost.fe_cost(sc.with_overrides(f"fe.dt={2.1 * estimate!r}"))
 
 
+@pytest.mark.alone  # a wall time: not beside another test
 def test_time_estimate_is_the_measured_order(scene_with):
     """The printed time is within a small factor of a measured run (the paper's default mesh, 52k DOFs, 0.1 ms):
     the time loop's estimate between 0.25x and 5x of the measured loop (measured 2.1x here; a machine 4x
@@ -100,6 +101,7 @@ def test_time_estimate_is_the_measured_order(scene_with):
     assert 0 < c.setup_time < c.wall_time
 
 
+@pytest.mark.alone  # a wall time: not beside another test
 def test_checkpoints_are_counted_in_the_time_estimate(tmp_path, scene_with):
     """A checkpoint every step (an interval below Δt) costs what its writes measure: the estimate's extra over the
     same run without checkpoints is within 0.25x to 5x of the measured extra (2026-11-24: 2.8 ms per checkpoint
