@@ -125,12 +125,12 @@ def read_summary(
     try:
         summary = json.loads((d / "summary.json").read_text(encoding="utf-8"))
         kind = run_kind(summary) if isinstance(summary, dict) else "unknown"
-        values = summary.get("scene_values") if isinstance(summary, dict) else None
-        theirs = scene_from_summary(values, source=str(d)) if scene is not None and kind != "study" else None
-    except (ValueError, OSError, TypeError, AttributeError) as e:
-        raise InputError(flag, d, f"unreadable summary.json ({type(e).__name__}: {e})", "rerun that stage") from None
+        values = _scene_values(summary, kind) if scene is not None and kind != "study" else None
+        theirs = scene_from_summary(values, source=str(d)) if values is not None else None
     except SceneError as e:
         raise InputError(flag, d, f"summary.json's scene_values are not a scene ({e})", "rerun that stage") from None
+    except (ValueError, OSError, TypeError, AttributeError) as e:
+        raise InputError(flag, d, f"unreadable summary.json ({type(e).__name__}: {e})", "rerun that stage") from None
     if kind not in kinds:
         model = summary.get("model") if isinstance(summary, dict) else None
         raise InputError(flag, d, f"a run of model {model!r} ({kind}), not a {' or '.join(kinds)} run", remedy)
@@ -140,6 +140,24 @@ def read_summary(
         why = f"a run of another scene: {key} = {other!r} there, {ours!r} in this one"
         raise InputError(flag, d, why, other_scene)
     return summary
+
+
+def _scene_values(summary: Any, kind: str) -> Mapping[str, Any] | None:
+    """The scene values a run's bodies and impact are checked by: a submodel's driving global's (its own are the
+    cut region's, rods L_s long: rods.study.stages.submodel writes both), read from the cut record it names for a
+    summary written before that; None where neither is at hand (not checked)."""
+    if not isinstance(summary, dict):
+        raise TypeError("summary.json holds no object")
+    if kind != "submodel":
+        return summary.get("scene_values")
+    if "driver_scene_values" in summary:
+        return summary["driver_scene_values"]
+    cut = summary.get("cut_file")
+    if cut and Path(cut).is_file():
+        from rods.fe.submodel import recorded_until
+
+        return recorded_until(cut)[1]
+    return None
 
 
 def read_run(

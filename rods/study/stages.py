@@ -293,6 +293,9 @@ def submodel(
             _write_fe(out, e.partial, comm)
         raise
     sr.summary["cut_file"] = str(cut_file)
+    # the driving global's scene: the submodel's own scene_values are the cut region's (rods L_s long, not a scene
+    # of the schema), so the later stages check a submodel's bodies and impact against this one
+    sr.summary["driver_scene_values"] = scene.as_dict()
     sr.summary["cut_record"] = cut_identity(cut_file)  # which recording drove it (a study's restart keeps only that)
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}

@@ -54,3 +54,29 @@ def test_fig4_and_accuracy_cost_clis(job, tmp_path):
     assert {r["label"] for r in load(tmp_path / "ac.json")["rows"]} >= {"trial", "coarse"}
     with pytest.raises(InputError, match="--run.*no such folder"):
         ac.main([*runs, "--run", f"missing={tmp_path / 'none'}", "--out", str(tmp_path / "ac2")])
+
+
+def test_later_stages_read_real_submodel_runs(tmp_path):
+    """global.py --driver and submodel.py, then compare.py, convergence.py and accuracy_cost.py on their folders
+    with --scene, as the Snakefile chains them. A submodel's own scene_values are the cut region's (rods 14 mm
+    long: no scene of the schema), so its bodies and impact are checked against its driving global's scene
+    (driver_scene_values); all three refused every submodel of the paper's rods before (exit 2, "rod1.length =
+    0.014 ... unreadable summary.json")."""
+    from rods.preflight import InputError
+
+    from ..conftest import SCENES
+
+    tiny = [a for o in ("fe.axial_size=4e-3", "fe.radial_size=1e-3") for a in ("--set", o)]
+    scene = ["--scene", str(SCENES / "paper.toml"), *tiny]
+    drv, sub = tmp_path / "driver", tmp_path / "coarse"
+    assert importlib.import_module("global").main([*scene, "--driver", "--out", str(drv)]) == 0
+    assert importlib.import_module("submodel").main(["--global", str(drv), "--level", "coarse", "--out", str(sub)]) == 0
+    assert load(sub / "summary.json")["driver_scene_values"]["rod1"]["length"] == 0.25009
+    compare = importlib.import_module("compare")
+    assert compare.main([*scene, "--global", str(drv), "--submodel", str(sub), "--out", str(tmp_path / "t3")]) == 0
+    assert {r["role"] for r in load(tmp_path / "t3" / "table3.json")["rows"]} >= {"submodel"}
+    assert importlib.import_module("convergence").main([*scene, "--run", str(sub), "--out", str(tmp_path / "cv")]) == 0
+    ac = importlib.import_module("accuracy_cost")
+    assert ac.main([*scene, "--run", f"coarse={sub}", "--out", str(tmp_path / "ac")]) == 0
+    with pytest.raises(InputError, match="--run.*impact.speed = 2.197 there, 2.0 in this one"):  # another scene's
+        importlib.import_module("convergence").main([*scene, "--set", "impact.speed=2.0", "--run", str(sub)])
