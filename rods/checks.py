@@ -422,10 +422,11 @@ def contact_warning(
     return None
 
 
-def plateau_warning(t: np.ndarray, v: np.ndarray, period: float = math.inf) -> str | None:
+def plateau_warning(t: np.ndarray, v: np.ndarray, period: float = math.inf, floor: float = 0.0) -> str | None:
     """A warning when the plateaus behind ``midpoint_peak_speed`` are missing, too few or not flat; ``period`` [s]:
-    Rod 2's round trip 2 L2/c2 (a run that spans enough of them and still has too few has no plateaus to find)."""
-    runs = metrics.plateaus(t, v)
+    Rod 2's round trip 2 L2/c2 (a run that spans enough of them and still has too few has no plateaus to find);
+    ``floor`` [m/s]: the speed of the wave's arrival (rods.metrics.plateaus)."""
+    runs = metrics.plateaus(t, v, floor=floor)
     if not runs:  # at a relative threshold only when it never moves forward: a slow Rod 2 or a short end_time
         return (
             "midpoint_peak_speed: the midpoint does not move forward by end_time (null); lengthen simulation.end_time"
@@ -556,13 +557,14 @@ def apply(summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any
         found.append(w)
     mid = f"{scene.stations[0].name}_velocity"
     period = scene.rod2.transit_time  # [s] 2 L2/c2
+    arrival = metrics.ARRIVAL * scene.speed  # [m/s]
     if (
         mid in history
         and "midpoint_peak_speed" in summary
-        and (w := plateau_warning(history["time"], history[mid], period))
+        and (w := plateau_warning(history["time"], history[mid], period, arrival))
     ):
         found.append(w)
-        if not metrics.plateaus(history["time"], history[mid]):
+        if not metrics.plateaus(history["time"], history[mid], floor=arrival):
             summary["midpoint_peak_speed"] = None
     if (w := duration_warning(summary, history)) is not None:
         found.append(w)

@@ -62,6 +62,9 @@ MIN_GAP = 1e-6  # gaps shorter than this do not separate contact episodes [s]
 SMOOTHING = 2e-6  # sliding-average window of the smoothed peak force [s]
 PLATEAU_FRACTION = 0.9  # fraction of the largest midpoint speed that marks a plateau [-]
 PLATEAU_COUNT = 5  # plateaus averaged for the average peak speed [-]
+# a probe speed below this fraction of the impact speed is no arrival of the wave: the explicit FE's dispersive
+# precursor ahead of the front (3e-49 m/s at the paper's midpoint at 20 µs, a "plateau" of noise before) [-]
+ARRIVAL = 1e-3
 EDGE_MIN_SAMPLES = 8  # history samples the edge-period average needs in its sweep [-]
 STRAIN_PERIODS = 5  # periods 2 L2/c2 of the midpoint strain compared by the RMS difference [-]
 
@@ -156,12 +159,14 @@ def plateaus(
     count: int = PLATEAU_COUNT,
     fraction: float = PLATEAU_FRACTION,
     threshold: float | None = None,
+    floor: float = 0.0,
 ) -> list[slice]:
     """Index ranges of the first ``count`` runs of ``v >= fraction x max(v)``, or of ``v >= threshold``
-    [m/s] when an absolute threshold is given. None when ``v`` never exceeds 0 (e.g. the wave has not reached the
-    probe by the end time): a relative threshold of 0 would call the whole rest a plateau."""
+    [m/s] when an absolute threshold is given. None when ``v`` never exceeds ``floor`` [m/s] (the wave has not
+    reached the probe by the end time: :data:`ARRIVAL` x the impact speed): a relative threshold of a precursor's
+    or of 0 would call noise or the whole rest a plateau."""
     v = np.asarray(v, float)
-    if threshold is None and not v.max() > 0:
+    if threshold is None and not v.max() > floor:
         return []
     on = v >= (fraction * v.max() if threshold is None else threshold)
     edges = np.flatnonzero(np.diff(np.concatenate(([0], on.astype(np.int8), [0]))))
@@ -170,12 +175,13 @@ def plateaus(
 
 
 def midpoint_peak_speed(
-    t: ArrayLike, v: ArrayLike, count: int = PLATEAU_COUNT, threshold: float | None = None
+    t: ArrayLike, v: ArrayLike, count: int = PLATEAU_COUNT, threshold: float | None = None, floor: float = 0.0
 ) -> float:
     """Average peak speed: mean of the samples in the first ``count`` plateaus [m/s] (relative threshold
-    by default, ``threshold`` [m/s] if given); NaN when no sample reaches the threshold."""
+    by default, ``threshold`` [m/s] if given); NaN when no sample reaches the threshold or exceeds ``floor``
+    [m/s] (:func:`plateaus`)."""
     v = np.asarray(v, float)
-    runs = plateaus(t, v, count, threshold=threshold)
+    runs = plateaus(t, v, count, threshold=threshold, floor=floor)
     return float(np.concatenate([v[s] for s in runs]).mean()) if runs else float("nan")
 
 

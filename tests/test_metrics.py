@@ -146,3 +146,17 @@ def test_smoothed_peak_is_the_largest_window_average():
     short = f[:30]
     assert smoothed_peak(t[:30], short) == pytest.approx(short.sum() / n, rel=1e-12)
     assert smoothed_peak(t, f, window=2.5e-8) == pytest.approx(f.max(), rel=1e-12)
+
+
+def test_a_precursor_ahead_of_the_wave_is_no_plateau():
+    """Before the wave arrives an explicit FE probe reads its dispersive precursor (3e-49 m/s at the paper's
+    midpoint at 20 µs): below ARRIVAL x the impact speed it is no plateau (NaN, the analytical model's null),
+    where a relative threshold of its own maximum made a plateau of the noise; the arrived wave still is one."""
+    t = np.arange(0.0, 2e-5, 1e-8)  # [s]
+    speed = 2.197  # [m/s]
+    noise = 3e-49 * np.exp(-((t - 2e-5) ** 2) / 1e-12)  # [m/s]
+    floor = metrics.ARRIVAL * speed
+    assert metrics.plateaus(t, noise) and not metrics.plateaus(t, noise, floor=floor)  # the defect, and the fix
+    assert np.isnan(metrics.midpoint_peak_speed(t, noise, floor=floor))
+    arrived = np.where(t > 1e-5, 0.5 * speed, noise)
+    assert metrics.midpoint_peak_speed(t, arrived, floor=floor) == pytest.approx(0.5 * speed)

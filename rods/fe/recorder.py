@@ -190,8 +190,9 @@ class Recorder:
         k = self.k if rows is None else rows
         return {name: col[:k] for name, col in self.columns.items()}
 
-    def summary(self, hist: dict[str, np.ndarray], steps: int, midpoint: str) -> dict[str, Any]:
-        """History-derived summary values: peak, contact times, energy error (``steps``: force samples)."""
+    def summary(self, hist: dict[str, np.ndarray], steps: int, midpoint: str, arrival: float = 0.0) -> dict[str, Any]:
+        """History-derived summary values: peak, contact times, energy error (``steps``: force samples;
+        ``arrival`` [m/s]: the midpoint speed below which the wave has not arrived, rods.metrics.plateaus)."""
         force = self.force[:steps]
         E_total = hist["kinetic_energy"] + hist["strain_energy"] + hist["contact_energy"]
         E0 = E_total[0]
@@ -211,7 +212,9 @@ class Recorder:
             "peak_contact_pressure": max(self.p_max_all, float(np.max(peak.get("p", [0.0])))),
             "contact_duration": metrics.contact_duration(t_steps, force),
             "contact_episodes": [list(e) for e in metrics.contact_episodes(t_steps, force)],
-            "midpoint_peak_speed": metrics.midpoint_peak_speed(hist["time"], hist[f"{midpoint}_velocity"]),
+            "midpoint_peak_speed": metrics.midpoint_peak_speed(
+                hist["time"], hist[f"{midpoint}_velocity"], floor=arrival
+            ),
             "midpoint_peak_strain": float(np.min(hist[f"{midpoint}_strain"])),
             "energy_error": energy_error,
             "initial_energy": float(E0),
