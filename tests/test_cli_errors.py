@@ -66,7 +66,7 @@ def here(tmp_path) -> Path:
     folder("phase", {**summary, "scene_values": phase}, [0.0, 2.4e-4])  # the driver's scene ends at its record
     folder("stale", summary, [0.0, 2.4e-4], fast)  # an earlier run's cut.h5 left in the folder
     folder("analytical", {"model": "analytical", "scene_values": paper}, history=True)
-    folder("global-fast", {"model": "fe-axisymmetric", "scene_values": fast}, history=True)
+    folder("global-fast", {"model": "fe-axisymmetric", "scene_values": fast, "contact_duration": 2e-4}, history=True)
     folder("badjson", {"model": "fe-axisymmetric", "scene_values": paper})
     (tmp_path / "badjson" / "summary.json").write_text("{bad")
     many = ",".join(['"wave_response"'] * 200_000)

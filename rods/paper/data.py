@@ -134,12 +134,18 @@ def read_summary(
     if kind not in kinds:
         model = summary.get("model") if isinstance(summary, dict) else None
         raise InputError(flag, d, f"a run of model {model!r} ({kind}), not a {' or '.join(kinds)} run", remedy)
+    if summary.get("status") in STOPPED:  # a guard's or an interrupt's partial histories, not a result
+        why = f"a stopped run (status {summary['status']!r}): its histories end where it stopped"
+        raise InputError(flag, d, why, "run it to its end (--restart resumes it where it wrote checkpoints)")
     diff = scene_difference(scene, theirs, cut=False) if theirs is not None else None
     if diff is not None:
         key, ours, other = diff
         why = f"a run of another scene: {key} = {other!r} there, {ours!r} in this one"
         raise InputError(flag, d, why, other_scene)
     return summary
+
+
+STOPPED = ("failed", "interrupted")  # summary.json status of a run a guard or an interrupt stopped
 
 
 def _scene_values(summary: Any, kind: str) -> Mapping[str, Any] | None:

@@ -80,3 +80,19 @@ def test_later_stages_read_real_submodel_runs(tmp_path):
     assert ac.main([*scene, "--run", f"coarse={sub}", "--out", str(tmp_path / "ac")]) == 0
     with pytest.raises(InputError, match="--run.*impact.speed = 2.197 there, 2.0 in this one"):  # another scene's
         importlib.import_module("convergence").main([*scene, "--set", "impact.speed=2.0", "--run", str(sub)])
+    # a global that ends before its first contact does (its Table 3 row read -20% with exit 0), a stopped run
+    import json
+    import shutil
+
+    for name, change, match in (
+        ("short", {"contact_duration": None}, "--global.*first contact has not ended"),
+        ("stopped", {"status": "interrupted"}, "--global.*a stopped run"),
+    ):
+        shutil.copytree(drv, tmp_path / name)
+        s = load(drv / "summary.json") | change
+        (tmp_path / name / "summary.json").write_text(json.dumps(s))
+        with pytest.raises(InputError, match=match):
+            compare.main(
+                [*scene, "--global", str(tmp_path / name), "--submodel", str(sub), "--out", str(tmp_path / "y")]
+            )
+        assert not (tmp_path / "y").exists()
