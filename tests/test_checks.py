@@ -374,3 +374,14 @@ def test_an_impact_beyond_small_strains_is_flagged(scene_with):
     assert w is not None and "about 0.19 in rod 1" in w
     assert checks.strain_warning(scene_with()) is None
     assert checks.strain_warning(scene_with("impact.speed=100")) is None
+
+
+def test_a_submodel_is_checked_against_its_driving_global(scene_with):
+    """Within 0.5% of its driver's peak force: no warning; +2.4% (traction driving at mid, measured by a probe,
+    status "ok" before): a warning naming the driving and the default that does not carry the compliance."""
+    driver = {"peak_contact_force": 5558.8}
+    assert checks.driver_warning({"peak_contact_force": 5560.0}, driver, scene_with()) is None
+    w = checks.driver_warning({"peak_contact_force": 5687.1}, driver, scene_with("submodel.driving=traction"))
+    assert w.startswith("peak_contact_force") and "+2.31%" in w and "'traction'" in w and "= 'mixed'" in w
+    w = checks.driver_warning({"peak_contact_force": 5400.0}, driver, scene_with("submodel.driving=mixed"))
+    assert "-2.86%" in w and "finer level" in w

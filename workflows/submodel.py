@@ -140,7 +140,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
         scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end, dt=dt,
-        progress=progress, phase=args.phase, restart=args.restart,
+        progress=progress, phase=args.phase, restart=args.restart, driver_summary=gsum,
     ).summary  # fmt: skip
     log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
     _cli.status(s, comm.rank)

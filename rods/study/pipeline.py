@@ -102,7 +102,7 @@ def run_study(
         for level in p.submodel_levels:
             done[f"submodel/{level}"] = _said(stages.submodel(
                 d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase,
-                progress=progress, resume=restart and d.kept,
+                progress=progress, resume=restart and d.kept, driver_summary=d.summary,
             ), log)  # fmt: skip
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
     waves = "wave_response" in p.effects and p.global_model

@@ -261,6 +261,7 @@ def submodel(
     phase: int | None = None,
     restart: bool = False,
     resume: bool = False,
+    driver_summary: Mapping[str, Any] | None = None,
 ) -> Stage:
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
     ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the driver's contact phase,
@@ -269,7 +270,8 @@ def submodel(
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
     summary; checkpoints when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one in ``out``).
     ``resume`` (a study's restart, from a kept driver): a run finished in ``out`` for this submodel scene and cut
-    file is kept (:func:`finished`), else it resumes from a checkpoint there or starts afresh."""
+    file is kept (:func:`finished`), else it resumes from a checkpoint there or starts afresh. ``driver_summary``:
+    the driving global's summary, whose peak force the submodel's is checked against (rods.checks.driver_warning)."""
     from rods.fe.guards import SimulationError
     from rods.fe.submodel import cut_identity, run_submodel, submodel_name, submodel_scene
 
@@ -300,6 +302,9 @@ def submodel(
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}
     checks.apply(sr.summary, {}, scene, end)  # its midpoint is no Rod-2 midpoint: no plateau check
+    if driver_summary is not None and (w := checks.driver_warning(sr.summary, driver_summary, scene)) is not None:
+        sr.summary["warnings"].append(w)
+        sr.summary["status"] = "warnings"
     if comm.rank == 0:
         io.write_history(out / "history.csv", sr.result.history, sr.result.units)
         io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, {"r": "m", "p": "Pa"})
