@@ -89,7 +89,7 @@ def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
         result = simulate(scene)
     result.summary["yield_warnings"] = [str(w.message) for w in caught]
     result.summary["scene_values"] = scene.as_dict()
-    checks.apply(result.summary, result.history, scene, scene.end_time)
+    checks.apply(result.summary, result.history, scene, scene.end_time, force=result.force_trace)
     if _root(comm):
         io.write_history(out / "history.csv", result.history, result.units)
         io.write_summary(out / "summary.json", result.summary)
