@@ -2,8 +2,8 @@
 
 :func:`fe_cost` counts the cells and DOFs the mesher will make from the requested sizes (the mesh modules'
 own counting rules: :func:`rods.fe.mesh.axial_spacing`, :func:`rods.fe.mesh3d.section_counts`), the steps
-from the element step h_min/c_d, the recorded samples, the memory and the wall time;
-:func:`analytical_cost` the samples and memory of the analytical model. :func:`check` refuses
+from the element step h_min/c_d, the recorded samples (one per output time, at most one per step), the memory and
+the wall time; :func:`analytical_cost` the samples and memory of the analytical model. :func:`check` refuses
 (:class:`rods.preflight.InputError`, exit 2) a run whose memory exceeds the machine's available memory
 (always) or whose steps, DOF-steps or history values exceed the budgets below (``--force`` overrides those only).
 
@@ -252,7 +252,9 @@ def fe_cost(
             "fe.dt = 'auto' takes fe.dt_fraction of it",
         )
     steps = math.ceil(end / dt)
-    samples = math.floor(end / min(scene.output_interval, end)) + 1
+    # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
+    # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
+    samples = min(math.floor(end / min(scene.output_interval, end)) + 1, steps + 1)
     values = samples * (12 + 2 * len(scene.stations) + (4 if kind == "3d" else 0))
     memory = (
         ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
