@@ -4,6 +4,8 @@
 
 Writes OUT.png (von Mises on the deformed mesh, the contact pressure; pyvista off-screen) and OUT.json (the
 frame: time, peak contact pressure and von Mises, the run's model, scene and mesh), which REPORT.md renders.
+A series that is not the run's of the summary.json beside it (an earlier run's, left in a reused folder by a
+version that kept it) is refused, exit 2 (rods.fe.fields.check_run).
 """
 
 from __future__ import annotations
@@ -23,9 +25,11 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     remedy = "give the folder of a run with fields (the 'fields' effect or fe.field_interval > 0)"
     run = input_dir(args.fields, ("fields.xdmf", "summary.json"), "--fields", remedy)  # before any folder is made
+    from rods.fe.fields import check_run, read_fields, render_contact
+
+    check_run(run, "--fields")  # the series is the run's of summary.json (else its scene would label another's)
     out = _cli.output_file(args.out, "--out")  # a prefix: OUT.png, OUT.json
     out.parent.mkdir(parents=True, exist_ok=True)
-    from rods.fe.fields import read_fields, render_contact
 
     t = render_contact(run / "fields.xdmf", out.with_suffix(".png"))
     _, _, frames = read_fields(run / "fields.xdmf")

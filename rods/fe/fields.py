@@ -24,11 +24,18 @@ Files in the run folder:
 * ``fields.bp`` (ADIOS2, DOLFINx's VTXWriter, written in parallel; ParaView's ADIOS2VTXReader): the same
   functions and frames; a restart writes its frames to ``fields-restart-<step>.bp`` (VTXWriter cannot append).
 
+A run afresh (not a restart) removes an earlier run's field files in its folder first (:func:`discard`), asked
+for fields or not: a series left there would sit beside the new run's summary.json as if it were its own.
+``fields/mesh.h5`` carries the scene values of the run that wrote the series (attribute ``scene_values``, JSON):
+:func:`check_run` refuses a series that is not the run's beside it (:func:`render_contact`,
+workflows/contact_picture.py).
+
 MPI: the XDMF is written by rank 0 from arrays gathered in global node order (one gather per frame).
 """
 
 from __future__ import annotations
 
+import json
 import math
 import shutil
 from pathlib import Path
@@ -42,10 +49,85 @@ import ufl
 from rods import io
 from rods.fe import forms
 from rods.fe.explicit import CentralDifference
+from rods.preflight import InputError
 
-__all__ = ["FIELD_NAMES", "frame_count", "FieldOutput", "XdmfSeries", "frame_schedule"]
+__all__ = [
+    "FIELD_NAMES",
+    "FieldOutput",
+    "XdmfSeries",
+    "check_run",
+    "discard",
+    "frame_count",
+    "frame_schedule",
+    "series_scene",
+]
 
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
+# a run folder's field files (module docstring; fields.h5: an older version's XDMF data), removed by a run afresh
+SERIES_FILES = ("fields.xdmf", "fields.h5", "fields", "fields.bp", "fields-restart-*.bp")
+
+
+def discard(out: str | Path, comm) -> None:
+    """Remove an earlier run's field files (:data:`SERIES_FILES`) from ``out`` (collective: rank 0 removes, then a
+    barrier): a run afresh writes its own series or none, and an earlier one left beside its summary.json would be
+    read as this run's (a later run without fields reused the folder). The XML goes first: a kill in between
+    leaves no series that lists missing frames. A restart keeps them (it appends its frames)."""
+    if comm.rank == 0:
+        for pattern in SERIES_FILES:
+            for old in sorted(Path(out).glob(pattern)):
+                if old.is_dir() and not old.is_symlink():
+                    shutil.rmtree(old, ignore_errors=True)
+                else:
+                    old.unlink(missing_ok=True)
+    comm.barrier()
+
+
+def series_scene(folder: str | Path) -> dict | None:
+    """The scene values (nested, as summary.json's ``scene_values``) of the run that wrote the field series in
+    ``folder`` (its fields/mesh.h5), or None: written before they were recorded, or unreadable."""
+    import h5py
+
+    try:
+        with h5py.File(Path(folder) / "fields" / "mesh.h5", "r") as f:
+            text = f.attrs.get("scene_values")
+        return json.loads(text) if text is not None else None
+    except (OSError, ValueError, TypeError):
+        return None
+
+
+def _first_difference(ours: object, theirs: object, key: str = "") -> tuple[str, object, object] | None:
+    """The first dotted key where two nested scene-value dicts differ, with both values; None where equal."""
+    if isinstance(ours, dict) and isinstance(theirs, dict):
+        for k in sorted(set(ours) | set(theirs), key=str):
+            diff = _first_difference(ours.get(k), theirs.get(k), f"{key}.{k}" if key else str(k))
+            if diff is not None:
+                return diff
+        return None
+    return None if ours == theirs else (key or "scene", ours, theirs)
+
+
+def check_run(folder: str | Path, what: str = "--fields") -> None:
+    """Refuse (:class:`InputError`, exit 2 at the entry points) a field series in ``folder`` that the
+    summary.json beside it does not describe: written by another run (another scene: an earlier run's series
+    that a later one left behind, the study's restart excepted), or with no record of its run (an older version's
+    files). Without a summary.json there is nothing to mislabel: accepted."""
+    folder = Path(folder)
+    remedy = "rerun this run with fields (fe.field_interval > 0), or give the folder of the run that wrote them"
+    try:
+        summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return
+    except (OSError, ValueError) as e:
+        raise InputError(what, folder, f"unreadable summary.json ({type(e).__name__})", remedy) from None
+    ours = summary.get("scene_values") if isinstance(summary, dict) else None
+    theirs = series_scene(folder)
+    if theirs is None:
+        raise InputError(what, folder, "its field series carries no record of the run that wrote it", remedy)
+    diff = _first_difference(ours, theirs)
+    if diff is not None:
+        key, mine, other = diff
+        why = f"its field series was written by another run ({key} = {other!r} there, {mine!r} in summary.json)"
+        raise InputError(what, folder, why, remedy)
 
 
 def _requested(interval: float, dt: float, steps: int) -> tuple[int, bool]:
@@ -127,10 +209,19 @@ def _cylindrical_frame(model, x):
 
 
 class XdmfSeries:
-    """Rank 0's XDMF time series (module docstring): ``mesh.h5`` once, one HDF5 file per frame, the XML
-    replaced atomically after each frame. ``keep_before``: frames with t below it survive (a restart)."""
+    """Rank 0's XDMF time series (module docstring): ``mesh.h5`` once (with ``scene_values``, the JSON of the run's
+    scene values, :func:`check_run`), one HDF5 file per frame, the XML replaced atomically after each frame.
+    ``keep_before``: frames with t below it survive (a restart)."""
 
-    def __init__(self, out: Path, points: np.ndarray, cells: np.ndarray, cell_type: str, keep_before: float):
+    def __init__(
+        self,
+        out: Path,
+        points: np.ndarray,
+        cells: np.ndarray,
+        cell_type: str,
+        keep_before: float,
+        scene_values: str = "",
+    ):
         import h5py
 
         self.h5py, self.xml = h5py, Path(out) / "fields.xdmf"
@@ -143,7 +234,7 @@ class XdmfSeries:
                 if p.name not in {f[0] for f in self.frames}:
                     p.unlink()
         self.dir.mkdir(parents=True, exist_ok=True)
-        self._write_h5("mesh.h5", {"points": points, "cells": cells})
+        self._write_h5("mesh.h5", {"points": points, "cells": cells}, attrs={"scene_values": scene_values})
         self._write_xml()
 
     def _read_frames(self) -> list[tuple[str, float, dict[str, int]]]:
@@ -156,13 +247,14 @@ class XdmfSeries:
                 continue
         return sorted(frames, key=lambda f: f[1])
 
-    def _write_h5(self, name: str, data: dict[str, np.ndarray], time: float | None = None) -> None:
+    def _write_h5(self, name: str, data: dict[str, np.ndarray], time: float | None = None, attrs=None) -> None:
         tmp = self.dir / f".{name}.tmp"
         with self.h5py.File(tmp, "w") as f:
             for k, v in data.items():
                 f.create_dataset(k, data=v)
             if time is not None:
                 f.attrs["time"] = time
+            f.attrs.update({k: v for k, v in (attrs or {}).items() if v})
         tmp.chmod(io.file_mode())
         tmp.replace(self.dir / name)
 
@@ -208,6 +300,7 @@ class FieldOutput:
     def __init__(self, model, out: Path, interval: float, state: CentralDifference, step0: int = 0):
         V, msh = model.V, model.rm.mesh
         self.comm, self.dt, self.bs, self.contact = model.comm, model.dt, model.bs, model.contact
+        self.scene_values = model.scene.as_dict()  # as the run's summary.json holds them
         self.sched = frame_schedule(interval, model.dt, model.steps)
         self.v_prev = state.v.copy()  # v_{n-½} of the next frame step n
         self.uf = dolfinx.fem.Function(V, name="displacement")
@@ -218,11 +311,7 @@ class FieldOutput:
         self.scalars = {name: dolfinx.fem.Function(Q, name=name) for name in FIELD_NAMES[2:]}
         self.stresses = _Stresses(model, self.uf, Q)
         self.n_nodes = Q.dofmap.index_map.size_local
-        name = "fields.bp" if step0 == 0 else f"fields-restart-{step0}.bp"
-        if step0 == 0 and msh.comm.rank == 0:
-            for old in Path(out).glob("fields*.bp"):  # a fresh run: a fresh series
-                shutil.rmtree(old, ignore_errors=True)
-        msh.comm.barrier()
+        name = "fields.bp" if step0 == 0 else f"fields-restart-{step0}.bp"  # afresh: the model discarded the old
         funcs = [self.uf, self.vf, *self.scalars.values()]
         reuse = dolfinx.cpp.io.VTXMeshPolicy.reuse  # the mesh once, not with every frame
         self.vtx = dolfinx.io.VTXWriter(msh.comm, Path(out) / name, funcs, "BP4", mesh_policy=reuse)
@@ -243,7 +332,8 @@ class FieldOutput:
         order = np.argsort(np.concatenate([p[0] for p in parts]))
         points = np.vstack([p[1] for p in parts])[order]
         cell_type = {"quadrilateral": "Quadrilateral", "hexahedron": "Hexahedron"}[ct.name]
-        series = XdmfSeries(out, points, np.vstack([p[2] for p in parts]), cell_type, keep_before)
+        scene = json.dumps(self.scene_values)  # whose series it is (check_run)
+        series = XdmfSeries(out, points, np.vstack([p[2] for p in parts]), cell_type, keep_before, scene)
         return series, order
 
     def after_step(self, step: int, t: float, state: CentralDifference) -> None:  # noqa: ARG002
@@ -321,8 +411,11 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     """Off-screen picture (pyvista on EGL: no X server) of the contact region at the frame of the largest
     contact pressure: von Mises on the deformed mesh (left), the contact pressure on the tip nodes (right),
     in the (r, z) plane (3D: the section y = 0). Displacements relative to the contact centre are scaled so
-    that the largest within ``window`` [m] of it is 5% of the window (said in the title). The frame's time [s]."""
+    that the largest within ``window`` [m] of it is 5% of the window (said in the title). The frame's time [s].
+    A series that is not the run's of the summary.json beside it is refused first (:func:`check_run`)."""
     from rods.io import offscreen_pyvista
+
+    check_run(Path(xdmf).parent)
 
     pv = offscreen_pyvista()
 

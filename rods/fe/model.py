@@ -46,7 +46,7 @@ from petsc4py import PETSc
 
 from rods import hertz, metrics
 from rods.fe import backend as backends
-from rods.fe import checkpoint, forms
+from rods.fe import checkpoint, fields, forms
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import CentralDifference
 from rods.fe.fields import FieldOutput
@@ -255,7 +255,8 @@ class ExplicitModel:
         ``external_work()`` enters the energy balance, history ``external_work``), then the recorder, the
         guards (a SimulationError carrying the histories so far), checkpoints into ``out`` when
         ``fe.checkpoint_interval`` > 0 (``restart=True`` resumes from the last one), fields into ``out``
-        when the scene asks, and ``progress(step, total, elapsed)``. An observer with ``state(step)`` and
+        when the scene asks (a run afresh first removes an earlier run's there, :func:`rods.fe.fields.discard`;
+        a restart appends to them), and ``progress(step, total, elapsed)``. An observer with ``state(step)`` and
         ``restore(state)`` (a submodel's cut driver) is checkpointed with the stepper and the recorder, and one with
         ``checkpoint_identity`` (its input file) enters the checkpoint's key.
         """
@@ -264,6 +265,8 @@ class ExplicitModel:
         parts = (stepper, recorder, *(o for o in observers if hasattr(o, "state")))  # what a checkpoint holds
         key = self._checkpoint_key(observers)
         step0 = self._restore(out, parts, key, progress) if restart and out is not None else 0
+        if step0 == 0 and out is not None:  # afresh: an earlier run's field series here is not this run's
+            fields.discard(out, self.comm)
         own = self._observers(stepper, recorder, out, progress, step0, parts, key)
         recorder.start()
         failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)

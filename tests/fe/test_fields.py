@@ -135,6 +135,41 @@ def test_killed_run_keeps_its_frames_and_a_restart_appends(tmp_path):
             np.testing.assert_allclose(db[name], da[name], rtol=0, atol=1e-10 * max(np.abs(da[name]).max(), 1e-300))
 
 
+def test_a_run_afresh_leaves_no_earlier_series_and_the_picture_refuses_a_foreign_one(tmp_path):
+    """A run without fields reused the folder of a run with fields: fields.xdmf and its 11 frames of the 2.197 m/s
+    run stayed beside the new 1.0 m/s summary, and contact_picture.py drew the old run's peak labelled with the
+    new scene. Now a run afresh removes an earlier run's series (XML, frames, ADIOS2 folders), and a series
+    written by another run than the summary.json beside it (copied in, or an older version's left behind; one
+    without a record of its run) is refused, exit 2, one line, before the picture's folder is made."""
+    from rods.fe.fields import check_run, render_contact
+    from rods.preflight import InputError
+
+    out, old = tmp_path / "gf", tmp_path / "old"
+    _run(out, ["simulation.end_time=1e-4", "fe.field_interval=1e-5"])
+    assert len(list((out / "fields").glob("frame-*.h5"))) == 11 and (out / "fields.bp").is_dir()
+    check_run(out)  # its own series
+    shutil.copytree(out, old)
+    s = _run(out, ["simulation.end_time=5e-5", "impact.speed=1.0"])  # no fields asked
+    assert s["impact_speed"] == 1.0
+    assert sorted(p.name for p in out.iterdir()) == ["history.csv", "pressure_profile.csv", "summary.json"]
+    picture = tmp_path / "cp" / "x"
+    p = run_workflow("contact_picture.py", ["--fields", str(out), "--out", str(picture)])
+    assert p.returncode == 2 and "has no fields.xdmf" in p.stderr, p.stderr[-2000:]
+    for name in ("fields", "fields.xdmf"):  # the old run's series beside the new summary
+        (shutil.copytree if (old / name).is_dir() else shutil.copy)(old / name, out / name)
+    p = run_workflow("contact_picture.py", ["--fields", str(out), "--out", str(picture)])
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1, p.stderr[-2000:]
+    assert lines[0].startswith("error: --fields") and "written by another run" in lines[0] and "rerun" in lines[0]
+    assert not picture.parent.exists()
+    with pytest.raises(InputError, match="another run"):
+        render_contact(out / "fields.xdmf", tmp_path / "x.png")
+    with h5py.File(old / "fields" / "mesh.h5", "a") as f:  # an older version's series: no record of its run
+        del f.attrs["scene_values"]
+    with pytest.raises(InputError, match="no record"):
+        check_run(old)
+
+
 class _Killed(Exception):
     """Stands for kill -9 right after a checkpoint is on disk."""
 
