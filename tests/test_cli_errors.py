@@ -95,6 +95,13 @@ CASES = {  # name -> (script, arguments, words the line must name)
     # refused by the model's set-up before, after the study's analytical stage had written its folder
     "study fe.degree 2": ("run.py", ["--set", "fe.degree=2", "--out", "o"], ["fe.degree", "2", "Q1"]),
     "study fe.dt unstable": ("run.py", ["--set", "fe.dt=1e-6", "--out", "o"], ["fe.dt", "stable limit"]),
+    # above the exact limit (1.506e-7 s on this mesh), within the estimate's factor 2: refused by the global's
+    # set-up, which ran after the analytical stage had written o/analytical (found 2026-11-25)
+    "study fe.dt above the exact stable limit": (
+        "run.py",
+        [*TINY, "--set", "simulation.end_time=3e-4", "--set", "fe.dt=1.6e-7", "--out", "o"],
+        ["fe.dt", "1.6e-07", "stable limit", "fe.dt = 'auto'"],
+    ),
     # found by a bad-input probe (2026-11-24): each ran, crashed late or named the wrong key before
     "submodel speed differs": (
         "submodel.py",
@@ -232,6 +239,20 @@ def test_bad_input_is_one_line_and_leaves_no_folder(here, case):
     script, args, words = CASES[case]
     refused(run(script, *args, cwd=here), *words)
     assert not (here / "o").exists() and not (here / "output").exists()
+
+
+def test_a_refused_study_leaves_an_earlier_study_in_its_folder_as_it_was(tmp_path):
+    """A study refused by the global's set-up (fe.dt above the exact stable limit) into the folder of a finished
+    study, afresh or with --restart: every file of the earlier study stays as it was (the analytical stage is not
+    rewritten, no stage summary is forgotten), and a restart's finished stages are never deleted."""
+    args = [*TINY, "--set", "simulation.end_time=3e-4", "--out", "o"]
+    p = run("run.py", *args, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr[-2000:]
+    files = {f: f.read_bytes() for f in (tmp_path / "o").rglob("*") if f.is_file()}
+    assert tmp_path / "o" / "global" / "summary.json" in files
+    for restart in ([], ["--restart"]):
+        refused(run("run.py", *args, "--set", "fe.dt=1.6e-7", *restart, cwd=tmp_path), "fe.dt", "'auto'")
+        assert {f: f.read_bytes() for f in (tmp_path / "o").rglob("*") if f.is_file()} == files
 
 
 def test_scene_name_is_a_safe_folder_under_output(tmp_path):

@@ -182,7 +182,8 @@ def time_step(model: ExplicitModel) -> TimeStep:
     if req == "auto":
         dt = min(sc["fe.dt_fraction"] * dt_critical, dt_switching)
     elif req > dt_critical:
-        raise SceneError("fe.dt", req, f"must be <= stable limit {dt_critical:g} s")
+        remedy = "fe.dt = 'auto' picks a stable step, fe.dt_fraction of it"
+        raise SceneError("fe.dt", req, f"must be <= stable limit {dt_critical:g} s", remedy)
     elif req > dt_switching:
         raise SceneError(
             "fe.dt",

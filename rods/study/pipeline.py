@@ -75,24 +75,31 @@ def run_study(
     histories. ``restart`` (a stopped study resumed): an FE stage finished in its folder for the same scene is
     kept (rods.study.stages.finished; the submodels only behind a kept driver, whose cut drove them), an
     unfinished one resumes from its checkpoint where it has one (fe.checkpoint_interval > 0; not a global that
-    records the cut), the rest run; the analytical model and the comparison always run (seconds)."""
+    records the cut), the rest run; the analytical model and the comparison always run (seconds). Nothing is
+    written before the global's set-up has accepted the scene (:func:`_set_up_global`): a refused input leaves no
+    half study and deletes nothing."""
     t0 = time.perf_counter()
     out = Path(out)
     comm = stages.world(comm)
     root = comm.rank == 0
-    done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm)}
+    done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm, write=False)}
     p = plan.study_plan(scene, done["analytical"].summary)
     if log is not None:
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     shared = plan.global_drives(p)
-    if not restart:  # afresh: a stage summary left from an earlier run here must not be kept by a later --restart
-        _forget_stages(p, out, comm, shared)
+    g, kw, model = scene, {}, None  # the global's scene, its recording of the cut, its model
     if p.global_model:
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
+        model = _set_up_global(g, out / "global", comm, restart, kw)
+    stages.write_analytical(done["analytical"], comm)  # the scene passed every check: the study writes from here
+    if not restart:  # afresh: a stage summary left from an earlier run here must not be kept by a later --restart
+        _forget_stages(p, out, comm, shared)
+    if p.global_model:
         done["global"] = _said(
-            stages.global_model(g, out / "global", comm, progress=progress, log=log, resume=restart, **kw), log
+            stages.global_model(g, out / "global", comm, progress=progress, log=log, resume=restart, model=model, **kw),
+            log,
         )
     if p.submodel_levels:
         d = done["global"] if shared else _said(
@@ -126,6 +133,18 @@ def run_study(
     if root:
         io.write_summary(out / "summary.json", summary)
     return Study(p, done, comparison, summary)
+
+
+def _set_up_global(g: Scene, out: Path, comm: Any, restart: bool, kw: dict[str, Any]) -> Any:
+    """The global FE model of ``g`` (rods.fe.model.ExplicitModel), set up before the study writes anything: its
+    set-up is the scene's last check (the exact stable step: an ``fe.dt`` above it is refused, exit 2, where the
+    cost estimate let it pass), so a refused input leaves no analytical stage behind, nor an earlier run's
+    stages forgotten. None where a restart keeps the finished global (nothing to set up)."""
+    from rods.fe.model import ExplicitModel
+
+    if restart and stages.kept_global(g, out, comm, kw.get("record_cut", False), kw.get("record_until")) is not None:
+        return None
+    return ExplicitModel(g, comm)
 
 
 def _said(stage: stages.Stage, log: Any) -> stages.Stage:

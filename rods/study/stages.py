@@ -37,8 +37,10 @@ __all__ = [
     "driver",
     "driver_keys",
     "global_model",
+    "kept_global",
     "submodel",
     "world",
+    "write_analytical",
 ]
 
 Log = Callable[[str], None] | None
@@ -56,6 +58,7 @@ class Stage:
     history: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     cut_file: Path | None = None  # the recorded cut band (globals with record_cut)
     kept: bool = False  # found finished in its folder by a study's restart (:func:`finished`), not run
+    units: dict[str, str] = field(default_factory=dict, repr=False)  # the history's (:func:`write_analytical`)
 
 
 @dataclass(frozen=True)
@@ -79,8 +82,9 @@ def world(comm: Any) -> Any:
     return MPI.COMM_WORLD
 
 
-def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
-    """The analytical model (paper Sec. 2.1); Hertz yield warnings are kept in the summary."""
+def analytical(scene: Scene, out: Path, comm: Any = None, write: bool = True) -> Stage:
+    """The analytical model (paper Sec. 2.1); Hertz yield warnings are kept in the summary. ``write=False``: its
+    files are left to :func:`write_analytical` (a study writes them once its scene passed the FE set-up)."""
     from rods.analytical import simulate
     from rods.hertz import YieldWarning
 
@@ -90,10 +94,19 @@ def analytical(scene: Scene, out: Path, comm: Any = None) -> Stage:
     result.summary["yield_warnings"] = [str(w.message) for w in caught]
     result.summary["scene_values"] = scene.as_dict()
     checks.apply(result.summary, result.history, scene, scene.end_time, force=result.force_trace)
+    stage = Stage("analytical", out, scene, result.summary, result.history, units=result.units)
+    if write:
+        write_analytical(stage, comm)
+    return stage
+
+
+def write_analytical(stage: Stage, comm: Any = None) -> None:
+    """Rank 0 writes the analytical ``stage``'s history.csv and summary.json into its folder: apart from
+    :func:`analytical` where a study (rods.study.pipeline.run_study) writes nothing before its FE set-up has
+    accepted the scene (the exact stable step), so a refused input leaves no half study."""
     if _root(comm):
-        io.write_history(out / "history.csv", result.history, result.units)
-        io.write_summary(out / "summary.json", result.summary)
-    return Stage("analytical", out, scene, result.summary, result.history)
+        io.write_history(stage.folder / "history.csv", stage.history, stage.units)
+        io.write_summary(stage.folder / "summary.json", stage.summary)
 
 
 # scene keys a stage's run does not read, so a restart keeps it when only they changed (another submodel level
@@ -194,8 +207,7 @@ def global_model(
         raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
     comm = world(comm)
     if resume:
-        cut_until = (scene.end_time if record_until is None else record_until) if record_cut else None
-        kept = finished(name, out, scene, comm, cut_until, GLOBAL_IGNORES)
+        kept = kept_global(scene, out, comm, record_cut, record_until, name)
         if kept is not None:
             return kept
         restart = not record_cut
@@ -218,6 +230,20 @@ def global_model(
     checks.apply(res.summary, res.history, scene, scene.end_time)  # status, warnings (yield at the FE force)
     _write_fe(out, res, comm, extra)
     return Stage(name, out, scene, {**res.summary, **(extra or {})}, res.history, cut)
+
+
+def kept_global(
+    scene: Scene,
+    out: Path,
+    comm: Any,
+    record_cut: bool = False,
+    record_until: float | None = None,
+    name: str = "global",
+) -> Stage | None:
+    """The global stage of ``scene`` finished in ``out`` that a study's restart keeps (:func:`finished`; one that
+    records the cut: with its record to ``record_until`` [s], default the end time), else None: it runs."""
+    cut_until = (scene.end_time if record_until is None else record_until) if record_cut else None
+    return finished(name, out, scene, world(comm), cut_until, GLOBAL_IGNORES)
 
 
 def driver(
