@@ -71,6 +71,9 @@ class FEResult:
     units: dict[str, str]
     summary: dict[str, Any]
     pressure_profile: dict[str, np.ndarray] = field(default_factory=dict)  # r [m], p [Pa] at peak force
+    # time [s] and contact_force [N] at every step: the force the checks read (rods.checks.apply's ``force``),
+    # not the history's output samples (a 50 µs output interval read a contact tail of 40 µs)
+    force_trace: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 class ExplicitModel:
@@ -412,7 +415,9 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     summary.update(_mesh_summary(model, recorder.peak, hist))
     summary.update(_edge_period(model, hist, summary["contact_radius"]))
     profile = {"r": model.contact.slave.r.copy(), "p": np.asarray(recorder.peak.get("p", np.zeros(model.contact.ns)))}
-    return FEResult(hist, units, summary, profile)
+    force = recorder.force[:steps].copy()  # [N]
+    trace = {"time": np.arange(force.size) * model.dt, "contact_force": force}
+    return FEResult(hist, units, summary, profile, trace)
 
 
 def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: float) -> dict[str, Any]:

@@ -227,7 +227,8 @@ def global_model(
     if recorder is not None:
         cut = out / "cut.h5"
         recorder.write(cut)
-    checks.apply(res.summary, res.history, scene, scene.end_time)  # status, warnings (yield at the FE force)
+    # status, warnings (yield at the FE force); the force checks read every step's force, not the output samples
+    checks.apply(res.summary, res.history, scene, scene.end_time, force=res.force_trace)
     _write_fe(out, res, comm, extra)
     return Stage(name, out, scene, {**res.summary, **(extra or {})}, res.history, cut)
 
