@@ -28,7 +28,7 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
-from rods import cost, plan
+from rods import cost, io, plan
 from rods.study.pipeline import run_study, stage_costs
 
 
@@ -50,7 +50,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
     _cli.afford(args, analytical, *stage_costs(scene, p, comm.size), log=log)
     s = run_study(scene, out, comm, progress, log, restart=args.restart).summary  # a guard's stop: exit 1 (_cli)
-    log(json.dumps({k: s[k] for k in ("sources", "peak_contact_force", "contact_radius", "contact_area")}, indent=1))
+    shown = ("sources", *io.SUMMARY_KEYS)  # the contract keys, each from its most refined model (sources)
+    log(json.dumps({k: s[k] for k in shown if k in s}, indent=1))
     _cli.status(s, comm.rank)
     return 0
 
