@@ -75,6 +75,14 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
         end = min(gsum.get("contact_phase") or plan.driver_phase(scene), scene.end_time)
     if end > recorded * (1 + 1e-9):
         why = f"the submodel's end {end:.6g} s is beyond the driving global's cut record (to {recorded:.6g} s)"
+        if args.end_time is None:  # not the user's: the driver's contact phase outlasts what it recorded
+            raise InputError(
+                "--global",
+                gdir,
+                f"{why}, the driver's contact phase; its record stops short of it",
+                f"give --end-time {recorded:.6g} or less, or a driver recorded over its contact phase (global.py "
+                "--driver)",
+            )
         raise InputError("--end-time", end, why, f"--end-time {recorded:.6g} or less, or a driver recorded longer")
     return gdir, gsum, scene, end
 
