@@ -88,6 +88,7 @@ SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that ru
 
 # keys whose "auto" a Scene resolves -> the property that does ([] reads the resolved value)
 _RESOLVED = {"fe.radial_size": "radial_size", "fe.axial_size": "axial_size", "submodel.levels": "submodel_levels"}
+RESOLVED_KEYS = (*_RESOLVED, "fe.tip_grading")  # the keys whose "auto" follows from others (as_dict resolves them)
 
 
 class SceneError(ValueError):

@@ -336,10 +336,15 @@ def test_restart_compatibility_is_checked_before_the_set_up(tmp_path, scene_with
         checkpoint.precheck(tmp_path, 2, sc)
     with pytest.raises(checkpoint.CheckpointError, match="another scene"):
         checkpoint.precheck(tmp_path, 1, scene_with("impact.speed=2.5"))
+    # a checkpoint that keeps its scene's values (every run's since 2026-11-25) names the key that differs
+    values = json.loads(json.dumps(sc.as_dict()))
+    checkpoint.save(tmp_path, 10, 1e-6, {"u": np.zeros(2)}, MPI.COMM_SELF, "k", checkpoint.scene_hash(sc), values)
+    with pytest.raises(checkpoint.CheckpointError, match=r"another scene.*\(impact.speed = 2.197 there, 2.5 in this"):
+        checkpoint.precheck(tmp_path, 1, scene_with("impact.speed=2.5"))
     # the entry point: refused before any mesh is built (well under the set-up's seconds)
     t0 = time.perf_counter()
     p = run("global.py", "--restart", "--set", "impact.speed=2.5", "--out", str(tmp_path), cwd=tmp_path)
-    refused(p, "another scene", "remove")
+    refused(p, "another scene", "impact.speed = 2.197 there", "remove")
     assert time.perf_counter() - t0 < 15
 
 

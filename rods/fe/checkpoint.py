@@ -24,6 +24,7 @@ import json
 import os
 import zipfile
 import zlib
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +33,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line
+from rods.scene import RESOLVED_KEYS
 
 __all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
@@ -91,10 +93,30 @@ def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
             f"restart with mpirun -n {meta['ranks']}",
         )  # fmt: skip
     if meta.get("scene_hash", scene_hash(scene)) != scene_hash(scene):
-        raise CheckpointError(
-            "--restart", str(out), "the checkpoint belongs to another scene or settings", _remedy(out)
-        )
+        why = "the checkpoint belongs to another scene or settings"
+        ours = json.loads(json.dumps(scene.as_dict()))
+        diffs = _differences(meta.get("scene_values", {}), ours)
+        given = [d for d in diffs if d[0] not in RESOLVED_KEYS]  # a key given before one "auto" derives from it
+        if diffs:
+            key, there, here = (given or diffs)[0]
+            why += f" ({key} = {there!r} there, {here!r} in this run)"
+        raise CheckpointError("--restart", str(out), why, _remedy(out))
     return meta
+
+
+def _differences(theirs: Any, ours: Any, key: str = "") -> list[tuple[str, Any, Any]]:
+    """(dotted key, their value, our value) of every difference of two nested scene values, in key order (none
+    where the checkpoint has no values: one written before they were kept)."""
+    if isinstance(theirs, Mapping) and isinstance(ours, Mapping):
+        found = []
+        for k in sorted(set(theirs) | set(ours)):
+            sub = f"{key}.{k}" if key else k
+            if k not in theirs or k not in ours:
+                found.append((sub, theirs.get(k), ours.get(k)))
+            else:
+                found += _differences(theirs[k], ours[k], sub)
+        return found
+    return [] if theirs == ours or (not key and not theirs) else [(key, theirs, ours)]
 
 
 def discard(out: Path, comm: MPI.Comm) -> None:
@@ -114,9 +136,17 @@ def discard(out: Path, comm: MPI.Comm) -> None:
 
 
 def save(
-    out: Path, step: int, t: float, state: dict[str, Any], comm: MPI.Comm, scene_key: str, scene_hash: str = ""
+    out: Path,
+    step: int,
+    t: float,
+    state: dict[str, Any],
+    comm: MPI.Comm,
+    scene_key: str,
+    scene_hash: str = "",
+    scene_values: Mapping[str, Any] | None = None,
 ) -> None:
-    """Write this rank's ``state`` (numpy arrays and scalars) for ``step``; collective."""
+    """Write this rank's ``state`` (numpy arrays and scalars) for ``step``; collective. The manifest keeps the
+    scene's values (``scene_values``, Scene.as_dict) so a restart of another scene names the key that differs."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     tmp = out / f".{_name(step, comm.rank)}.tmp"
@@ -132,6 +162,8 @@ def save(
         except CheckpointError:
             old = None  # a damaged manifest is replaced by this complete checkpoint
         meta = {"step": step, "time": t, "ranks": comm.size, "scene": scene_key, "scene_hash": scene_hash}
+        if scene_values is not None:
+            meta["scene_values"] = scene_values
         atomic_write_text(out / MANIFEST, json.dumps(meta))
         if old and old["step"] != step:
             for r in range(old["ranks"]):
@@ -170,10 +202,19 @@ class Checkpoints:
     """Observer: saves the parts' state every ``every`` steps after ``first`` and before ``last`` into ``out``."""
 
     def __init__(
-        self, out: Path, every: int, parts, comm: MPI.Comm, key: str, first: int, last: int, scene_hash: str = ""
+        self,
+        out: Path,
+        every: int,
+        parts,
+        comm: MPI.Comm,
+        key: str,
+        first: int,
+        last: int,
+        scene_hash: str = "",
+        scene_values: Mapping[str, Any] | None = None,
     ):
         self.out, self.every, self.parts, self.comm, self.key = Path(out), every, parts, comm, key
-        self.first, self.last, self.scene_hash = first, last, scene_hash
+        self.first, self.last, self.scene_hash, self.scene_values = first, last, scene_hash, scene_values
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         if step % self.every == 0 and self.first < step < self.last:
@@ -184,4 +225,4 @@ class Checkpoints:
         merged: dict[str, Any] = {}
         for p in self.parts:
             merged.update(p.state(step))
-        save(self.out, step, t, merged, self.comm, self.key, self.scene_hash)
+        save(self.out, step, t, merged, self.comm, self.key, self.scene_hash, self.scene_values)

@@ -330,7 +330,8 @@ class ExplicitModel:
             if step0 == 0:  # afresh: an earlier run's checkpoint here is stale from now on
                 checkpoint.discard(out, self.comm)
             h = checkpoint.scene_hash(sc)  # the restart's pre-set-up check
-            own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h))
+            values = json.loads(json.dumps(sc.as_dict()))  # the manifest's: a restart names a differing key
+            own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h, values))
             stop.on_stop = own[-1].save_now
         own.append(stop)
         if self.backend.on_device:  # guards, checkpoints, fields read the state on the host
