@@ -83,7 +83,7 @@ def test_an_unresolved_patch_is_not_ok():
     """Fewer than two elements across the contact radius: the submodel's fine level on 1 mm rods (a = 0.105 mm at
     h = 0.0625 mm: 1.7) is flagged, the paper's coarse level (1.09 mm at 0.25 mm: 4.4) and the analytical model
     (no mesh) are not."""
-    assert "1.7 elements" in checks.patch_warning({"contact_radius": 0.105e-3, "mesh": {"radial_size": 0.0625e-3}})
+    assert "1.68 elements" in checks.patch_warning({"contact_radius": 0.105e-3, "mesh": {"radial_size": 0.0625e-3}})
     assert checks.patch_warning({"contact_radius": 1.09e-3, "mesh": {"radial_size": 0.25e-3}}) is None
     assert checks.patch_warning({"contact_radius": 1.09e-3}) is None
 
@@ -95,7 +95,9 @@ def test_an_unresolved_patch_cannot_certify_itself_and_3d_counts_node_rings(scen
     thin = scene_with("rod1.diameter=0.01", "rod2.diameter=0.01", "rod1.tip_radius=0.01", "impact.speed=1.0")
     coarse = {"model": "fe-submodel-coarse", "contact_radius": 0.518e-3, "peak_contact_force": 1567.2,
               "mesh": {"radial_size": 0.25e-3}}  # fmt: skip
-    assert "1.9 elements" in checks.patch_warning(coarse, thin)
+    assert "1.89 elements" in checks.patch_warning(coarse, thin)
+    # 1.99 elements is named as such, not rounded up to the rule's own "2" (a probe, 2026-11-25)
+    assert "1.99 elements" in checks.patch_warning({"contact_radius": 0.4975e-3, "mesh": {"radial_size": 0.25e-3}})
     paper = {"contact_radius": 1.09e-3, "peak_contact_force": 5559.0, "mesh": {"radial_size": 0.25e-3}}
     assert checks.patch_warning(paper, scene_with()) is None
     assert "node rings" in checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=quarter"))
@@ -313,6 +315,9 @@ def test_a_study_warns_when_its_finest_submodel_level_misses_hertz_or_still_move
     moving = checks.submodel_warnings(_table(("mid", 0.125, 1.8, -1.0), ("fine", 0.0625, -1.2, -0.8)))
     assert len(moving) == 1 and moving[0].startswith("contact_area: its error against Hertz moves from +1.80%")
     assert checks.submodel_warnings(_table()) == []  # no submodel: nothing to judge
+    # a coarse+mid study (a probe, 2026-11-25: p0 -4.5% then -1.8% on every scene): converging onto Hertz from one
+    # side into ±2% is no alarm, however large the step
+    assert checks.submodel_warnings(_table(("coarse", 0.25, -0.4, -4.5), ("mid", 0.125, 0.2, -1.8))) == []
     one = checks.submodel_warnings(_table(("coarse", 0.25, -0.5, -4.5)))
     assert len(one) == 1 and "-4.50%" in one[0]  # one level: judged against Hertz alone
     # a probe of hard scenes (2026-11-24): ν = 0.45 moves its area error 0.30 then 1.72 points (diverging, each

@@ -45,6 +45,8 @@ FIELDS = (
     "dofs",
     "dt",
     "energy_error",
+    "status",  # "ok" or "warnings": a row is only as good as its run's checks (rods.checks)
+    "warnings",  # the keys the run's warnings name, "; "-separated (the texts are in its summary.json)
 )
 
 
@@ -148,8 +150,26 @@ def scene_key(path: str | Path) -> str:
 
 
 def point_key(code: str, scene: str, **params) -> str:
-    """The key of one sweep point: code and scene hashes and the point's parameters (values as text)."""
-    return _sha(json.dumps([code, scene, {k: str(v) for k, v in sorted(params.items())}]))
+    """The key of one sweep point: code and scene hashes and the point's parameters (values as text, a number's
+    as its float: --config's "4.0e-3" arrives as a string and is the yaml's 0.004, one point, not two)."""
+    return _sha(json.dumps([code, scene, {k: _number_text(v) for k, v in sorted(params.items())}]))
+
+
+def _number_text(v: object) -> str:
+    """``v`` as text, through float where it reads as a number (nested lists item by item)."""
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_number_text(x) for x in v) + "]"
+    try:
+        return repr(float(v)) if not isinstance(v, bool) else str(v)
+    except (TypeError, ValueError):
+        return str(v)
+
+
+def _cell(summary: Mapping[str, object], key: str) -> object:
+    """A sweep table's cell of ``key`` from a run's summary: its warnings as the keys they name."""
+    if key == "warnings":
+        return "; ".join(str(w).split(":", 1)[0] for w in summary.get("warnings") or [])
+    return summary.get(key)
 
 
 def read_record(path: str | Path) -> dict[str, dict[str, str]]:
@@ -185,5 +205,5 @@ def write_sweep_table(
             w.writerow(record[key])
             continue
         s = json.loads(Path(p).read_text())
-        w.writerow({"path": str(p), **{k: s.get(k) for k in fields}, "key": key})
+        w.writerow({"path": str(p), **{k: _cell(s, k) for k in fields}, "key": key})
     io.atomic_write_text(path, buf.getvalue())

@@ -68,3 +68,42 @@ def test_snakemake_stops_at_parse_time_with_one_line(tmp_path):
     )  # fmt: skip
     lines = p.stderr.strip().splitlines()
     assert p.returncode == 2 and len(lines) == 1 and "config 'speeds'" in lines[0], p.stderr[-2000:]
+
+
+def test_a_sweep_row_carries_its_runs_status_and_what_its_warnings_name(tmp_path):
+    """A sweep table shows each run's status and the keys its warnings name: a 5 m/s point past yield and a
+    coarse-patch point read like clean rows before (a probe, 2026-11-25)."""
+    import csv
+    import json
+
+    from rods.study.sweep import write_sweep_table
+
+    runs = {
+        "ok": {"model": "analytical", "impact_speed": 1.0, "status": "ok", "warnings": []},
+        "hot": {
+            "model": "analytical",
+            "impact_speed": 5.0,
+            "status": "warnings",
+            "warnings": ["peak_contact_pressure: Hertz p0 = 2930.6 MPa > 1.1 S_y ...", "contact_radius: 1.2 elements"],
+        },
+    }
+    points = []
+    for name, s in runs.items():
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "summary.json").write_text(json.dumps(s))
+        points.append((tmp_path / name / "summary.json", name))
+    write_sweep_table(tmp_path / "t.csv", points)
+    rows = {r["key"]: r for r in csv.DictReader((tmp_path / "t.csv").open())}
+    assert (rows["ok"]["status"], rows["ok"]["warnings"]) == ("ok", "")
+    assert (rows["hot"]["status"], rows["hot"]["warnings"]) == ("warnings", "peak_contact_pressure; contact_radius")
+
+
+def test_a_sweep_point_is_one_key_however_its_numbers_are_spelled():
+    """--config's "4.0e-3" arrives as text and is the yaml's 0.004: one point, not a rerun (a probe, 2026-11-25);
+    another value or a word is another point."""
+    from rods.study.sweep import point_key
+
+    same = point_key("c", "s", sweep="dt", sizes=[0.004, 0.001], dtf=0.5, kind="axisymmetric")
+    assert point_key("c", "s", sweep="dt", sizes=["4.0e-3", "1e-3"], dtf="0.5", kind="axisymmetric") == same
+    assert point_key("c", "s", sweep="dt", sizes=[0.004, 0.001], dtf=0.9, kind="axisymmetric") != same
+    assert point_key("c", "s", sweep="dt", sizes=[0.004, 0.001], dtf=0.5, kind="3d") != same
