@@ -285,10 +285,12 @@ class WaveModel:
             return None
         P = self.K * δ_H**1.5
         a = float(hertz.contact_radius(P, self.E_star, self.R_star))
+        where = "where the rod-end law stopped, before the run's peak" if self.end_term_broke else "at its peak"
         return (
-            f"analytical.contact: the Hertz radius {a * 1e3:.3g} mm at P = {P:.4g} N is not small against the rods' "
-            f"radii ({self.rod1.diameter * 500:.3g}, {self.rod2.diameter * 500:.3g} mm): the rod-end term would "
-            "reverse the approach, so this run uses the paper's half-space law ('hertz'); neither holds there"
+            f"analytical.contact: the Hertz radius {a * 1e3:.3g} mm at P = {P:.4g} N ({where}) is not small "
+            f"against the rods' radii ({self.rod1.diameter * 500:.3g}, "
+            f"{self.rod2.diameter * 500:.3g} mm): the rod-end term would reverse the approach, so this run uses the "
+            "paper's half-space law ('hertz'); neither holds there"
         )
 
     # ---- kinematics (paper Eq. 9, generalised to any station) ---------------------------
