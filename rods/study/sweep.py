@@ -168,8 +168,17 @@ def _number_text(v: object) -> str:
 def _cell(summary: Mapping[str, object], key: str) -> object:
     """A sweep table's cell of ``key`` from a run's summary: its warnings as the keys they name."""
     if key == "warnings":
-        return "; ".join(str(w).split(":", 1)[0] for w in summary.get("warnings") or [])
+        return "; ".join(_warning_key(str(w)) for w in summary.get("warnings") or [])
     return summary.get(key)
+
+
+def _warning_key(text: str) -> str:
+    """The key a warning names ("key: why"; rods.checks), "yield" for the elastic yield criterion's (a sentence
+    of its own, rods.hertz), "other" for any other sentence."""
+    head = text.split(":", 1)[0]
+    if head and ":" in text and not any(c.isspace() for c in head):
+        return head
+    return "yield" if "S_y" in text else "other"
 
 
 def read_record(path: str | Path) -> dict[str, dict[str, str]]:
