@@ -87,20 +87,22 @@ def run_study(
     if log is not None:
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     shared = plan.global_drives(p)
-    g, kw, model = scene, {}, None  # the global's scene, its recording of the cut, its model
+    g, kw, kept, model = scene, {}, None, None  # the global's scene, its cut recording, its kept stage or model
     if p.global_model:
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
-        model = _set_up_global(g, out / "global", comm, restart, kw)
+        kept, model = _set_up_global(g, out / "global", comm, restart, kw)
     stages.write_analytical(done["analytical"], comm)  # the scene passed every check: the study writes from here
     if not restart:  # afresh: a stage summary left from an earlier run here must not be kept by a later --restart
         _forget_stages(p, out, comm, shared)
     if p.global_model:
+        resume = restart and not kw.get("record_cut", False)  # from a checkpoint: not while recording the cut
         done["global"] = _said(
-            stages.global_model(g, out / "global", comm, progress=progress, log=log, resume=restart, model=model, **kw),
+            kept or stages.global_model(g, out / "global", comm, progress=progress, log=log, restart=resume,
+                                        model=model, **kw),
             log,
-        )
+        )  # fmt: skip
     if p.submodel_levels:
         d = done["global"] if shared else _said(
             stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log, resume=restart), log
@@ -135,16 +137,16 @@ def run_study(
     return Study(p, done, comparison, summary)
 
 
-def _set_up_global(g: Scene, out: Path, comm: Any, restart: bool, kw: dict[str, Any]) -> Any:
-    """The global FE model of ``g`` (rods.fe.model.ExplicitModel), set up before the study writes anything: its
-    set-up is the scene's last check (the exact stable step: an ``fe.dt`` above it is refused, exit 2, where the
-    cost estimate let it pass), so a refused input leaves no analytical stage behind, nor an earlier run's
-    stages forgotten. None where a restart keeps the finished global (nothing to set up)."""
+def _set_up_global(g: Scene, out: Path, comm: Any, restart: bool, kw: dict[str, Any]) -> tuple[Any, Any]:
+    """(the global stage a restart keeps, else None; the global FE model of ``g``, rods.fe.model.ExplicitModel,
+    else None), found or set up before the study writes anything: the set-up is the scene's last check (the
+    exact stable step: an ``fe.dt`` above it is refused, exit 2, where the cost estimate let it pass), so a
+    refused input leaves no analytical stage behind, nor an earlier run's stages forgotten. A kept global needs
+    no set-up and is read once, here."""
     from rods.fe.model import ExplicitModel
 
-    if restart and stages.kept_global(g, out, comm, kw.get("record_cut", False), kw.get("record_until")) is not None:
-        return None
-    return ExplicitModel(g, comm)
+    kept = stages.kept_global(g, out, comm, kw.get("record_cut", False), kw.get("record_until")) if restart else None
+    return kept, (ExplicitModel(g, comm) if kept is None else None)
 
 
 def _said(stage: stages.Stage, log: Any) -> stages.Stage:
