@@ -416,8 +416,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     summary.update(_mesh_summary(model, recorder.peak, hist))
     summary.update(_edge_period(model, hist, summary["contact_radius"]))
     profile = {"r": model.contact.slave.r.copy(), "p": np.asarray(recorder.peak.get("p", np.zeros(model.contact.ns)))}
-    force = recorder.force[:steps].copy()  # [N]
-    trace = {"time": np.arange(force.size) * model.dt, "contact_force": force}
+    trace = {k: v.copy() for k, v in recorder.force_trace(steps).items()}
     return FEResult(hist, units, summary, profile, trace)
 
 

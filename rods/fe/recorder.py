@@ -190,17 +190,22 @@ class Recorder:
         k = self.k if rows is None else rows
         return {name: col[:k] for name, col in self.columns.items()}
 
+    def force_trace(self, steps: int) -> dict[str, np.ndarray]:
+        """time [s] and contact_force [N] at each of the first ``steps`` steps (the checks' force, rods.checks)."""
+        force = self.force[:steps]
+        return {"time": np.arange(force.size) * self.dt, "contact_force": force}
+
     def summary(self, hist: dict[str, np.ndarray], steps: int, midpoint: str, arrival: float = 0.0) -> dict[str, Any]:
         """History-derived summary values: peak, contact times, energy error (``steps``: force samples;
         ``arrival`` [m/s]: the midpoint speed below which the wave has not arrived, rods.metrics.plateaus)."""
-        force = self.force[:steps]
+        trace = self.force_trace(steps)
+        t_steps, force = trace["time"], trace["contact_force"]
         E_total = hist["kinetic_energy"] + hist["strain_energy"] + hist["contact_energy"]
         E0 = E_total[0]
         W_ext = hist["external_work"]
         # E(t) + dissipated(t) - work in(t) = E0; relative to the largest of E0 and the work put in
         scale = max(E0, float(np.max(np.abs(W_ext), initial=0.0)))
         energy_error = float(np.max(np.abs(E_total + hist["dissipated_energy"] - W_ext - E0)) / scale)
-        t_steps = np.arange(force.size) * self.dt
         peak = self.peak
         a_peak = peak.get("a", 0.0)
         return {
