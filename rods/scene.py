@@ -322,6 +322,17 @@ def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
     return out
 
 
+def value_differences(ours: Any, theirs: Any, key: str = "") -> list[tuple[str, Any, Any]]:
+    """(dotted key, our value, their value) of every difference of two nested scene values (Scene.as_dict, as
+    summary.json and the run records hold them), in key order; a whole mismatch at the top is named "scene"."""
+    if isinstance(ours, Mapping) and isinstance(theirs, Mapping):
+        found: list[tuple[str, Any, Any]] = []
+        for k in sorted(set(ours) | set(theirs), key=str):
+            found += value_differences(ours.get(k), theirs.get(k), f"{key}.{k}" if key else str(k))
+        return found
+    return [] if ours == theirs else [(key or "scene", ours, theirs)]
+
+
 def parse_override(text: str) -> tuple[str, Any]:
     """Parse ``KEY=VALUE``; VALUE is read as a TOML value, else kept as a bare string."""
     if "=" not in text:

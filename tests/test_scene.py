@@ -342,3 +342,18 @@ def test_a_default_station_name_is_an_identifier(paper_dict):
     s = scene_from_dict({**paper_dict, "station": raw})
     assert [st.name for st in s.stations] == ["rod2_mid", "rod2_x700p99mm", "rod1_x100mm", "rod2_x0p015mm"]
     assert all(st.name.isidentifier() for st in s.stations)
+
+
+def test_value_differences_name_every_dotted_key_that_differs(scene_with):
+    """The one comparison of nested scene values (checkpoint manifests, field series against summary.json): every
+    differing leaf by its dotted key in key order, a key on one side only against None, equal values none."""
+    from rods.scene import value_differences
+
+    a = scene_with().as_dict()
+    b = scene_with("impact.speed=2.5", "fe.dt_fraction=0.5").as_dict()
+    keys = [k for k, _, _ in value_differences(a, b)]
+    assert keys[0] == "fe.dt_fraction" and "impact.speed" in keys
+    assert ("impact.speed", 2.197, 2.5) in value_differences(a, b)
+    assert value_differences(a, a) == []
+    assert value_differences({"x": {"y": 1}}, {}) == [("x", {"y": 1}, None)]
+    assert value_differences(None, {"x": 1}) == [("scene", None, {"x": 1})]

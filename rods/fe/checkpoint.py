@@ -33,7 +33,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line
-from rods.scene import RESOLVED_KEYS
+from rods.scene import RESOLVED_KEYS, value_differences
 
 __all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
@@ -95,28 +95,14 @@ def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
     if meta.get("scene_hash", scene_hash(scene)) != scene_hash(scene):
         why = "the checkpoint belongs to another scene or settings"
         ours = json.loads(json.dumps(scene.as_dict()))
-        diffs = _differences(meta.get("scene_values", {}), ours)
+        # none named where the manifest has no values (a checkpoint written before they were kept)
+        diffs = value_differences(ours, meta["scene_values"]) if meta.get("scene_values") else []
         given = [d for d in diffs if d[0] not in RESOLVED_KEYS]  # a key given before one "auto" derives from it
         if diffs:
-            key, there, here = (given or diffs)[0]
+            key, here, there = (given or diffs)[0]
             why += f" ({key} = {there!r} there, {here!r} in this run)"
         raise CheckpointError("--restart", str(out), why, _remedy(out))
     return meta
-
-
-def _differences(theirs: Any, ours: Any, key: str = "") -> list[tuple[str, Any, Any]]:
-    """(dotted key, their value, our value) of every difference of two nested scene values, in key order (none
-    where the checkpoint has no values: one written before they were kept)."""
-    if isinstance(theirs, Mapping) and isinstance(ours, Mapping):
-        found = []
-        for k in sorted(set(theirs) | set(ours)):
-            sub = f"{key}.{k}" if key else k
-            if k not in theirs or k not in ours:
-                found.append((sub, theirs.get(k), ours.get(k)))
-            else:
-                found += _differences(theirs[k], ours[k], sub)
-        return found
-    return [] if theirs == ours or (not key and not theirs) else [(key, theirs, ours)]
 
 
 def discard(out: Path, comm: MPI.Comm) -> None:

@@ -50,6 +50,7 @@ from rods import io
 from rods.fe import forms
 from rods.fe.explicit import CentralDifference
 from rods.preflight import InputError
+from rods.scene import value_differences
 
 __all__ = [
     "FIELD_NAMES",
@@ -95,17 +96,6 @@ def series_scene(folder: str | Path) -> dict | None:
         return None
 
 
-def _first_difference(ours: object, theirs: object, key: str = "") -> tuple[str, object, object] | None:
-    """The first dotted key where two nested scene-value dicts differ, with both values; None where equal."""
-    if isinstance(ours, dict) and isinstance(theirs, dict):
-        for k in sorted(set(ours) | set(theirs), key=str):
-            diff = _first_difference(ours.get(k), theirs.get(k), f"{key}.{k}" if key else str(k))
-            if diff is not None:
-                return diff
-        return None
-    return None if ours == theirs else (key or "scene", ours, theirs)
-
-
 def check_run(folder: str | Path, what: str = "--fields") -> None:
     """Refuse (:class:`InputError`, exit 2 at the entry points) a field series in ``folder`` that the
     summary.json beside it does not describe: written by another run (another scene: an earlier run's series
@@ -123,9 +113,9 @@ def check_run(folder: str | Path, what: str = "--fields") -> None:
     theirs = series_scene(folder)
     if theirs is None:
         raise InputError(what, folder, "its field series carries no record of the run that wrote it", remedy)
-    diff = _first_difference(ours, theirs)
-    if diff is not None:
-        key, mine, other = diff
+    diffs = value_differences(ours, theirs)
+    if diffs:
+        key, mine, other = diffs[0]
         why = f"its field series was written by another run ({key} = {other!r} there, {mine!r} in summary.json)"
         raise InputError(what, folder, why, remedy)
 
