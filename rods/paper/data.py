@@ -115,11 +115,14 @@ def read_summary(
     scene: Scene | None = None,
     files: tuple[str, ...] = ("summary.json",),
     other_scene: str = "give --scene/--set of that run, or a run of this scene",
+    whole_contact: bool = False,
 ) -> dict[str, Any]:
     """The summary.json of the run in ``folder`` that a later stage reads, checked before anything is computed
     (:class:`InputError` naming ``flag``, exit 2): the folder holds ``files``, the summary parses, the run is one
-    of ``kinds``, and, given ``scene``, its bodies and impact are the scene's (a run of another scene gives a
-    table of differences between two scenes that says nothing)."""
+    of ``kinds`` and not a stopped one, given ``scene`` its bodies and impact are the scene's (a run of another
+    scene gives a table of differences between two scenes that says nothing), and with ``whole_contact`` its
+    first contact ended before its end time (Table 3's global row is that contact's peak: a 20 µs global read
+    -20%)."""
     remedy = f"give the folder of a finished {' or '.join(kinds)} run"
     d = input_dir(folder, files, flag, remedy)
     try:
@@ -137,6 +140,10 @@ def read_summary(
     if summary.get("status") in STOPPED:  # a guard's or an interrupt's partial histories, not a result
         why = f"a stopped run (status {summary['status']!r}): its histories end where it stopped"
         raise InputError(flag, d, why, "run it to its end (--restart resumes it where it wrote checkpoints)")
+    if whole_contact and summary.get("contact_duration") is None:
+        end = summary.get("scene_values", {}).get("simulation", {}).get("end_time")
+        why = f"its first contact has not ended by its end time ({end} s): its peak force may be still to come"
+        raise InputError(flag, d, why, "give a run through the contact phase: workflows/global.py --driver")
     diff = scene_difference(scene, theirs, cut=False) if theirs is not None else None
     if diff is not None:
         key, ours, other = diff
