@@ -348,10 +348,13 @@ def parse_override(text: str) -> tuple[str, Any]:
 
 
 def _apply_override(data: dict[str, Any], key: str, value: Any) -> None:
-    # stations are a list of tables and are set in the file, not on the command line
-    if key.split(".")[0] == "station":
-        why = "stations are a list of tables: [[station]] with rod, position and name, in a scene file"
-        raise SceneError(key, value, why, "write a scene file with base = 'paper.toml' and its [[station]] tables")
+    # stations are a list of tables: an override gives the whole list (TOML inline tables), never one field of one
+    if key == "station":
+        data["station"] = value  # checked with the scene (rods.scene._stations)
+        return
+    if key.split(".")[0].split("[")[0] == "station":
+        why = "stations are a list of tables and are given whole, not one field"
+        raise SceneError(key, value, why, "--set 'station=[{rod = 1, position = 0.1, name = \"gauge\"}]'")
     if key not in SCHEMA:
         raise SceneError(key, value, _unknown_msg(key))
     *parents, leaf = key.split(".")
@@ -586,7 +589,8 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
     if raw is None:
         raw = []
     if not isinstance(raw, list) or not all(isinstance(s, Mapping) for s in raw):
-        raise SceneError("station", raw, "must be an array of tables [[station]] with rod, position")
+        why = "must be an array of tables with rod, position and an optional name"
+        raise SceneError("station", raw, why, "[[station]] tables in a scene file, or --set 'station=[{rod = 1, position = 0.1}]'")
     out = [Station(2, rods[1].length / 2, "rod2_mid")]
     for i, s in enumerate(raw):
         key = f"station[{i}]"

@@ -282,6 +282,13 @@ def test_a_run_with_other_values_never_overwrites_the_plain_scenes_folder(tmp_pa
         for f in (tmp_path / "output" / "analytical").iterdir()
     }
     assert speeds == {4.0, 3.0}
+    # an override that repeats the file's value is the file's scene: its folder, no digest
+    p = run("analytical.py", "--set", "impact.speed=2.197", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    p = run("analytical.py", "--set", "simulation.end_time=1.5e-3", cwd=tmp_path)  # paper.toml's own end time
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "output" / "analytical" / "paper" / "summary.json").is_file()
+    assert len(list((tmp_path / "output" / "analytical").iterdir())) == 4
 
 
 def _checkpoint(folder: Path) -> Path:

@@ -109,7 +109,10 @@ BAD = [
     ("fe.dt=-1e-9", "fe.dt", "(0, "),
     ("fe.dt='fast'", "fe.dt", "'auto'"),
     ("simulation.end_time=1e-7", "simulation.output_interval", "end_time"),
-    ("station.rod=1", "station.rod", "[[station]]"),  # listed 44 keys as unknown before
+    ("station.rod=1", "station.rod", "given whole"),  # listed 44 keys as unknown before
+    ("station[0].position=0.1", "station[0].position", "station=[{rod = 1"),
+    ("station=3", "station", "array of tables"),
+    ("station=[{rod = 1, position = 0.3}]", "station[0].position", "tip of rod 1"),
     ("analytical.rtol=1e-14", "analytical.rtol", "[1e-13, "),  # SciPy raised it with a raw warning
 ]
 
@@ -312,6 +315,15 @@ def test_quarter_symmetry_of_a_misaligned_impact_is_refused_with_the_scene(scene
         with pytest.raises(SceneError, match="quarter symmetry needs impact.offset = 0"):
             scene_with("fe.kind='3d'", "fe.symmetry='quarter'", e)
     assert scene_with("fe.kind='3d'", "fe.symmetry='half'", "impact.offset=1e-3")["fe.symmetry"] == "half"
+
+
+def test_stations_on_the_command_line(scene_with):
+    """--set station=[...] gives the whole list (README: --set addresses any key); it replaces the file's stations
+    and is checked like them."""
+    s = scene_with("station=[{rod = 1, position = 0.1, name = 'gauge'}, {rod = 2, position = 0.35}]")
+    assert [(st.rod, st.position, st.name) for st in s.stations[1:]] == [(1, 0.1, "gauge"), (2, 0.35, "rod2_x350mm")]
+    assert s.as_dict()["station"][0] == {"rod": 1, "position": 0.1, "name": "gauge"}
+    assert scene_with("station=[]").stations[1:] == ()
 
 
 def test_a_station_inside_a_curved_cap_is_refused(paper_dict):

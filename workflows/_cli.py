@@ -167,12 +167,23 @@ def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
     not holding another kind of run's (rods.paper.data.check_reuse)."""
     from rods.paper.data import check_reuse
 
-    default = Path("output") / model / scene_folder(scene, bool(args.overrides))
+    default = Path("output") / model / scene_folder(scene, _overridden(args, scene))
     out = output_dir(args.out if args.out is not None else default)
     kind = {"analytical": "analytical", "global": "global", "driver": "global", "run": "study"}.get(model.split("/")[0])
     if kind is not None or model.startswith("submodel/"):
         check_reuse(out, kind or "submodel")
     return out
+
+
+def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
+    """Whether --set changed the scene's values: a run whose overrides repeat the file's values (`--set
+    impact.speed=2.197` on paper.toml) is the file's scene and shares its default folder."""
+    if not args.overrides:
+        return False
+    try:
+        return load_scene(args.scene).as_dict() != scene.as_dict()
+    except SceneError:  # the file alone is not a valid scene: the overrides made it one
+        return True
 
 
 def _mpi():
