@@ -415,7 +415,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     )
     summary.update(_mesh_summary(model, recorder.peak, hist))
     summary.update(_edge_period(model, hist, summary["contact_radius"]))
-    profile = {"r": model.contact.slave.r.copy(), "p": np.asarray(recorder.peak.get("p", np.zeros(model.contact.ns)))}
+    profile = pressure_profile(model, recorder.peak)
     trace = {k: v.copy() for k, v in recorder.force_trace(steps).items()}
     return FEResult(hist, units, summary, profile, trace)
 
@@ -439,6 +439,16 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
     }
 
 
+def pressure_profile(model: ExplicitModel, peak: dict[str, Any]) -> dict[str, np.ndarray]:
+    """The contact pressure on the Rod-1 tip's nodes at peak force, by radius r; 3D also each node's x, y (the
+    nodes are not in rings and a misaligned patch is not axisymmetric: rows of one r differ by their angle)."""
+    slave = model.contact.slave
+    out = {"r": slave.r.copy()}
+    if slave.xy is not None:
+        out |= {"x": slave.xy[:, 0].copy(), "y": slave.xy[:, 1].copy()}
+    return out | {"p": np.asarray(peak.get("p", np.zeros(slave.r.size)), dtype=float)}
+
+
 def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np.ndarray]) -> dict[str, Any]:
     """Mesh, pressure profile and scene; 3D: symmetry, placement, patch at peak force, midpoint bending."""
     sc, rm = model.scene, model.rm
@@ -450,7 +460,7 @@ def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np
             "n_radial": rm.n_radial,
             "n_axial": list(rm.n_axial),
         },
-        "pressure_profile": {"r": model.contact.slave.r.tolist(), "p": np.asarray(peak.get("p", [])).tolist()},
+        "pressure_profile": {k: v.tolist() for k, v in pressure_profile(model, peak).items()},
         "scene_values": sc.as_dict(),
     }
     if model.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending

@@ -167,11 +167,15 @@ def _comparable(values: Mapping[str, Any], ignore: Sequence[str]) -> dict[str, A
     return out
 
 
+# pressure_profile.csv's columns (rods.fe.model.pressure_profile: x and y in 3D only)
+PROFILE_UNITS = {"r": "m", "x": "m", "y": "m", "p": "Pa"}
+
+
 def _write_fe(out: Path, res: Any, comm: Any, extra: Mapping[str, Any] | None = None) -> None:
     if comm.rank == 0:
         io.write_history(out / "history.csv", res.history, res.units)
         if res.pressure_profile:
-            io.write_history(out / "pressure_profile.csv", res.pressure_profile, {"r": "m", "p": "Pa"})
+            io.write_history(out / "pressure_profile.csv", res.pressure_profile, PROFILE_UNITS)
         io.write_summary(out / "summary.json", {**res.summary, **(extra or {})})
 
 
@@ -334,7 +338,7 @@ def submodel(
         sr.summary["status"] = "warnings"
     if comm.rank == 0:
         io.write_history(out / "history.csv", sr.result.history, sr.result.units)
-        io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, {"r": "m", "p": "Pa"})
+        io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, PROFILE_UNITS)
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
         io.write_summary(out / "summary.json", sr.summary)
     return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)

@@ -399,6 +399,10 @@ def test_centric_3d_matches_axisymmetric_to_peak():
     assert s3["peak_contact_force"] == pytest.approx(sa["peak_contact_force"], rel=0.01)
     assert rms < 10e-6
     assert s3["peak_force_time"] == pytest.approx(sa["peak_force_time"], abs=10e-6)
+    # the 3D tip's nodes are not in rings: its pressure profile names each node's x, y (rows of one r differ)
+    p3, pa = s3["pressure_profile"], sa["pressure_profile"]
+    assert list(pa) == ["r", "p"] and list(p3) == ["r", "x", "y", "p"]
+    assert np.allclose(np.hypot(p3["x"], p3["y"]), p3["r"]) and np.all(np.diff(p3["r"]) >= 0)
 
 
 @pytest.mark.slow
