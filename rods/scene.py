@@ -590,7 +590,8 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
         raw = []
     if not isinstance(raw, list) or not all(isinstance(s, Mapping) for s in raw):
         why = "must be an array of tables with rod, position and an optional name"
-        raise SceneError("station", raw, why, "[[station]] tables in a scene file, or --set 'station=[{rod = 1, position = 0.1}]'")
+        hint = "[[station]] tables in a scene file, or --set 'station=[{rod = 1, position = 0.1}]'"
+        raise SceneError("station", raw, why, hint)
     out = [Station(2, rods[1].length / 2, "rod2_mid")]
     for i, s in enumerate(raw):
         key = f"station[{i}]"
