@@ -76,33 +76,35 @@ def atomic_write_text(path: str | Path, text: str) -> None:
         raise
 
 
-def _jsonable(x: Any, null: bool = False) -> Any:
-    """Plain JSON types; a non-finite float becomes null (``null``) or its string ("nan", "inf")."""
+def _jsonable(x: Any) -> Any:
+    """Plain JSON types; a non-finite float becomes null (JSON has no inf or nan)."""
     if isinstance(x, Mapping):
-        return {str(k): _jsonable(v, null) for k, v in x.items()}
+        return {str(k): _jsonable(v) for k, v in x.items()}
     if isinstance(x, list | tuple):
-        return [_jsonable(v, null) for v in x]
+        return [_jsonable(v) for v in x]
     if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist(), null)
+        return _jsonable(x.tolist())
     if isinstance(x, np.generic):
-        return _jsonable(x.item(), null)
+        return _jsonable(x.item())
     if isinstance(x, float) and not math.isfinite(x):
-        return None if null else str(x)  # JSON has no inf/nan
+        return None
     return x
 
 
 def write_summary(path: str | Path, summary: Mapping[str, Any]) -> None:
-    """Write ``summary.json``; refuses a summary that misses a contract key."""
+    """Write ``summary.json``, strict JSON: a non-finite number is null (the kinematic contact's switching limit
+    ``dt_contact_switching``, inf, was the string "inf" where readers expect a number; the scene's own inf, a flat
+    tip, stays "inf" in ``scene_values``, as a scene file writes it); refuses a summary that misses a contract key."""
     missing = [k for k in SUMMARY_KEYS if k not in summary]
     if missing:
         raise KeyError(f"summary lacks contract keys {missing}")
-    atomic_write_text(path, json.dumps(_jsonable(summary), indent=2) + "\n")
+    atomic_write_text(path, json.dumps(_jsonable(summary), indent=2, allow_nan=False) + "\n")
 
 
 def write_data(path: str | Path, data: Mapping[str, Any]) -> None:
     """Write a stage's data file (e.g. ``table3.json``) atomically: strict JSON, NaN and inf written as null
     (readers see "no value", never a string where a number belongs)."""
-    atomic_write_text(path, json.dumps(_jsonable(data, null=True), indent=1, allow_nan=False) + "\n")
+    atomic_write_text(path, json.dumps(_jsonable(data), indent=1, allow_nan=False) + "\n")
 
 
 def write_history(
