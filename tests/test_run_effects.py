@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -216,8 +217,17 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
 
 
 def test_fields_only_when_asked(tmp_path):
-    _, s = run(tmp_path, "['fields']", "--set", "fe.field_interval=1e-4")
-    assert s["plan"]["fields"] and (tmp_path / "run" / "global" / "fields.xdmf").exists()
+    """effects = ["fields"] alone (no fe.field_interval) writes the series at the default interval: a frame every
+    DEFAULT_FIELD_INTERVAL over the 0.3 ms run, plus the final state where it is a step or more past the last;
+    the wave-response run (test above) writes none."""
+    from rods.scene import DEFAULT_FIELD_INTERVAL
+
+    _, s = run(tmp_path, "['fields']")
+    xdmf = tmp_path / "run" / "global" / "fields.xdmf"
+    assert s["plan"]["fields"] and xdmf.exists()
+    times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', xdmf.read_text())]
+    requested = [t for t in times if abs(t / DEFAULT_FIELD_INTERVAL - round(t / DEFAULT_FIELD_INTERVAL)) < 1e-6]
+    assert len(requested) == round(3e-4 / DEFAULT_FIELD_INTERVAL) + 1 and len(times) - len(requested) <= 1
 
 
 def test_unknown_effect_is_exit_2(tmp_path):

@@ -285,7 +285,7 @@ def test_hemispherical_tip_keeps_a_usable_step(monkeypatch):
 
 def test_bulk_viscosity_dissipates_and_balances():
     r = ExplicitModel(coarse("axisymmetric", "fe.bulk_viscosity=0.06", "simulation.end_time=1.5e-4")).run()
-    assert r.summary["energy_error"] < 1e-2
+    assert r.summary["energy_error"] < 1e-6
     assert r.history["dissipated_energy"][-1] > 0
 
 
@@ -453,7 +453,7 @@ def test_offset_impact(model, result):
     s, h = r.summary, r.history
     p = h["momentum"]
     assert np.abs(p - p[0]).max() <= 1e-10 * abs(p[0])
-    assert s["energy_error"] < 1e-2
+    assert s["energy_error"] < 1e-6
     assert s["contact_centroid_x"] == pytest.approx(e, abs=0.3e-3)  # sphere on a flat: contact under the apex
     assert s["contact_centroid_y"] == 0.0
     bend = s["midpoint_peak_bending_strain"]
