@@ -49,6 +49,10 @@ class Backend:
     name: str
     xp: ModuleType
     sparse: ModuleType
+    # the kinematic contact's predicted rates formed before the step's matrix product, their copy to the host
+    # started then and waited for after it is queued, so the host's LCP runs while the device multiplies
+    # (rods.fe.kinematic, "Overlap"); on by default where there is a device to overlap with
+    overlap: bool = False
 
     @property
     def on_device(self) -> bool:
@@ -62,6 +66,28 @@ class Backend:
     def to_host(self, a: Any) -> np.ndarray:
         """``a`` as a numpy array (the array itself on the host, a device-to-host copy otherwise)."""
         return a if isinstance(a, np.ndarray) else a.get()
+
+    def host_buffer(self, n: int) -> np.ndarray:
+        """A float64 host array of ``n`` entries that a device copies into without a wait (page-locked on a
+        device: :meth:`to_host_async`; a plain numpy array on the host)."""
+        if not self.on_device:
+            return np.empty(n)
+        import cupyx
+
+        return cupyx.empty_pinned((n,), dtype=np.float64)
+
+    def to_host_async(self, a: Any, out: np.ndarray) -> Callable[[], None]:
+        """Start copying ``a`` into the host array ``out`` (a :meth:`host_buffer`) and return the wait: call it
+        before reading ``out``. On a device the copy is queued on the current stream behind the work that
+        forms ``a`` and the call returns at once (cupy.asnumpy(blocking=False) and an event); on the host the
+        copy is made now and the wait does nothing."""
+        if not self.on_device:
+            out[...] = a
+            return _done
+        self.xp.asnumpy(a, out=out, blocking=False)
+        event = self.xp.cuda.Event(disable_timing=True)
+        event.record()
+        return event.synchronize
 
     def synchronize(self) -> None:
         """Wait for the work queued on the device (timings); nothing to wait for on the host."""
@@ -90,6 +116,10 @@ class Backend:
         return CSROperator(self, csr_of(A), scale)
 
 
+def _done() -> None:
+    """The wait of a copy that is made already."""
+
+
 def _numpy() -> Backend:
     return Backend("numpy", np, scipy.sparse)
 
@@ -98,7 +128,7 @@ def _cupy() -> Backend:
     import cupy
     import cupyx.scipy.sparse
 
-    return Backend("cupy", cupy, cupyx.scipy.sparse)
+    return Backend("cupy", cupy, cupyx.scipy.sparse, overlap=True)
 
 
 PETSC = Backend("petsc", np, scipy.sparse)  # the state in numpy, the operator a PETSc Mat

@@ -169,6 +169,12 @@ class CentralDifference:
         self.v[:] = backend.asarray(v0)
         arrays = (self.u, self.v, self._z, self.y, self._q, self._q_prev)
         self.op = backend.operator(A, -self.dt_inv_mass, arrays)
+        # the kinematic contact's rates before the product (rods.fe.kinematic, "Overlap"): serial CSR, undamped
+        self.overlap = bool(
+            backend.overlap and contact is not None and contact.predictive and contact.serial and not self.damped
+        )
+        if self.overlap:
+            contact.predict_with(self.op.A)
         self.n = 0  # index of the state's u_n
         self.pending = False  # the drift u_{n+1} = u_n + Δt v_{n+½} is due at the next step
         self.v_prev = None  # v_{n-½} (backend array) when kept
@@ -184,6 +190,8 @@ class CentralDifference:
         c = self.contact
         if c is not None:
             c.evaluate(u)  # contact at u_n
+            if self.overlap:  # its rates at v* = v_{n-½} + h A u_n, on their way to the host during the product
+                c.predict(v, u, 0.5 if self.n == 0 else 1.0)
         if keep:
             self.v_prev = v.copy()
         if self.damped:  # q = A u_n; y = A v_{n-½} = -Δt M^-1 K v: f_d,n = C v_{n-½} (class docstring)

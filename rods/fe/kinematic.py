@@ -36,6 +36,13 @@ entries), and the host keeps what the recorder reads (gaps, pressures, forces), 
 further copy. The forces go back through :meth:`PenaltyContact.add_force` only while a pair is closed: in
 the steps before and after contact (most of a run) the step adds nothing, which on a device saves the
 dozen small kernels of the upload, the master reaction and the scatter.
+
+Overlap (serial, undamped, the backend's ``overlap``: on a device by default): the predicted rates need the
+step's matrix product only on the tip rows, B v* = B v_{n-½} + h (B A) u_n with A = -Δt M^-1 K, so they are
+formed *before* the product from B A (n_s rows, built once by :meth:`KinematicContact.predict_with`), and
+their copy to the host (:meth:`rods.fe.backend.Backend.to_host_async`) is waited for *after* the product is
+queued: the host solves the LCP while the device multiplies, instead of after it. Same impulses to
+round-off (the two sums round differently; ``tests/fe/test_backend.py`` runs it on the NumPy backend).
 """
 
 from __future__ import annotations
@@ -138,6 +145,23 @@ class KinematicContact(PenaltyContact):
         ).tocsr()
         self.delassus = (B @ sp.diags(np.concatenate([ims, imm])) @ B.T).tocsr()  # D [1/kg]
         self._cache: dict = {}
+        self._BA = None  # B A on the backend when the rates are predicted before the product (Overlap)
+        self._pending = None  # (wait, host buffer) of the predicted gaps and rates on their way to the host
+
+    def predict_with(self, A) -> None:
+        """Predict the rates before the step's product from now on (module docstring, "Overlap"): ``A`` the
+        stepper's scaled operator -Δt M^-1 K as a CSR matrix of the backend (serial)."""
+        d = self._d
+        d.B = d.backend.csr(self.gap_matrix(A.shape[1]))
+        self._BA = d.B @ A  # [n_s x n]: the product's tip rows
+        self._buffer = self.backend.host_buffer(2 * self.ns)
+
+    def predict(self, v, u, h: float) -> None:
+        """Form g_n and the rates of v* = v_{n-½} + h A u_n (``v``, ``u`` before the product) and start their
+        copy to the host; :meth:`correct` waits for it."""
+        xp = self.backend.xp
+        rate = self._d.B @ v + h * (self._BA @ u)  # [m/s]
+        self._pending = (self.backend.to_host_async(xp.concatenate((self._g, rate)), self._buffer), self._buffer)
 
     def use(self, backend) -> None:
         """As :meth:`PenaltyContact.use` (the state starts at rest: no forces, no dissipation yet; pressure
@@ -158,8 +182,14 @@ class KinematicContact(PenaltyContact):
         """v += M^-1 Bᵀ P so that no pair penetrates at t_{n+1} (``v``: v*_{n+½} on the backend; ``h``: ½
         on the first half step, else 1; ``dt_inv_mass``: the stepper's Δt M^-1)."""
         xp, ns = self.backend.xp, self.ns
-        rate = self.normal_rates(v)  # d g/dt [m/s]
-        g_rate = self.backend.to_host(xp.concatenate((self._g, rate)))  # the step's one copy to the host
+        if self._pending is not None:  # predicted before the product (Overlap): wait for its copy now
+            wait, buffer = self._pending
+            self._pending = None
+            wait()
+            g_rate = buffer.copy()  # the buffer is the next step's
+        else:
+            rate = self.normal_rates(v)  # d g/dt [m/s]
+            g_rate = self.backend.to_host(xp.concatenate((self._g, rate)))  # the step's one copy to the host
         g, rate = g_rate[:ns], g_rate[ns:]
         g_pred = g + dt * rate
         if (self.inside & (g_pred < 0.0)).any():

@@ -181,27 +181,38 @@ def test_edge_radius_on_the_hertz_profile_wherever_the_edge_falls(h):
     assert np.abs(errors).max() < 0.006 * (h / 0.25e-3) ** 1.5 + 1e-4
 
 
+@pytest.mark.parametrize("overlap", [False, True], ids=["after-product", "overlap"])
 @pytest.mark.parametrize("speed", [0.5, -0.5], ids=["closing", "separating"])
-def test_one_copy_to_the_host_per_step_and_no_force_while_open(monkeypatch, speed):
+def test_one_copy_to_the_host_per_step_and_no_force_while_open(monkeypatch, speed, overlap):
     """On an array backend a step copies the tip state to the host once (on a device: its one synchronisation),
     and reading the gaps, pressures, forces and radius after it copies nothing more; while every pair is open
-    the contact adds no force (no upload, no scatter). Counted on the NumPy backend, the CuPy path's code."""
+    the contact adds no force (no upload, no scatter). Counted on the NumPy backend, the CuPy path's code; with
+    the device's overlap (rods.fe.kinematic, "Overlap") the one copy is the one started before the product."""
+    import dataclasses
+
     from rods.fe import backend as backends
     from rods.fe.contact import PenaltyContact
 
     copies, scatters = [0], [0]
     to_host, add_force = backends.Backend.to_host, PenaltyContact.add_force
+    to_host_async = backends.Backend.to_host_async
     monkeypatch.setattr(
         backends.Backend, "to_host", lambda self, a: copies.__setitem__(0, copies[0] + 1) or to_host(self, a)
+    )
+    monkeypatch.setattr(
+        backends.Backend,
+        "to_host_async",
+        lambda self, a, out: copies.__setitem__(0, copies[0] + 1) or to_host_async(self, a, out),
     )
     monkeypatch.setattr(
         PenaltyContact, "add_force", lambda *a: scatters.__setitem__(0, scatters[0] + 1) or add_force(*a)
     )
     K, mass, c, v0 = _cap_on_flat()
-    be = backends.select("numpy", 1)
+    be = dataclasses.replace(backends.select("numpy", 1), overlap=overlap)
     c.use(be)
     dt = 0.5 * 2.0 / float(np.sqrt(np.linalg.eigvalsh(K / mass[:, None]).max()))  # [s]
     s = CentralDifference(scipy.sparse.csr_matrix(K), mass, 1.0 / mass, dt, np.sign(speed) * v0, contact=c, backend=be)
+    assert s.overlap == overlap
     closed_steps = 0
     for _ in range(200):
         copies[0] = scatters[0] = 0
