@@ -45,6 +45,7 @@ test-cluster: venv
 bench: venv
 	$(PY) benchmarks/analytical_vs_ddeint.py
 	@if [ -f benchmarks/fe_throughput.py ]; then $(PY) benchmarks/fe_throughput.py; fi
+	.venv/bin/mpirun -n $(NPROC) $(PY) benchmarks/scene_probe.py
 
 lint: venv
 	.venv/bin/ruff format --check rods workflows tests benchmarks

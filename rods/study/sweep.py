@@ -29,6 +29,7 @@ __all__ = [
     "read_record",
     "scene_key",
     "sync_text",
+    "warning_key",
     "write_sweep_table",
 ]
 
@@ -168,11 +169,11 @@ def _number_text(v: object) -> str:
 def _cell(summary: Mapping[str, object], key: str) -> object:
     """A sweep table's cell of ``key`` from a run's summary: its warnings as the keys they name."""
     if key == "warnings":
-        return "; ".join(_warning_key(str(w)) for w in summary.get("warnings") or [])
+        return "; ".join(warning_key(str(w)) for w in summary.get("warnings") or [])
     return summary.get(key)
 
 
-def _warning_key(text: str) -> str:
+def warning_key(text: str) -> str:
     """The key a warning names ("key: why"; rods.checks), "yield" for the elastic yield criterion's (a sentence
     of its own, rods.hertz), "other" for any other sentence."""
     head = text.split(":", 1)[0]
