@@ -30,7 +30,7 @@ from rods.compare import percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 from rods.study.sweep import warning_key  # noqa: E402
-from rods.study.verification import TARGETS  # noqa: E402
+from rods.study.verification import TARGETS, passes  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 PHASE = 1.3  # the FE run's end, in contact phases [-]
@@ -90,11 +90,7 @@ def probe(name: str, out: Path, comm) -> dict | None:
         # the midpoint's plateaus lie past this short run: their warning says only that
         "warnings": [w for s in (sa, sf) for w in s.get("warnings", []) if not w.startswith("midpoint_peak_speed")],
     }
-    row["passes"] = {
-        "peak_force": abs(row["peak_force_pct"]) <= TARGETS["peak_force"],
-        "duration": abs(row["duration_difference"]) <= TARGETS["duration"],
-        "energy": row["energy_error"] <= TARGETS["energy"],
-    }
+    row["passes"] = passes(row["peak_force_pct"], row["duration_difference"], row["energy_error"])
     return row
 
 
@@ -141,9 +137,10 @@ def main(argv: list[str] | None = None) -> int:
     rows = [probe(name, Path(args.runs), comm) for name in args.probe or PROBES]
     if comm.rank == 0:
         data = {"ranks": comm.size, "targets": TARGETS, "wall_time": time.perf_counter() - t0, "rows": rows}
+        text = render(data)
         io.write_data(Path(args.out + ".json"), data)
-        io.atomic_write_text(Path(args.out + ".md"), render(data))
-        print(render(data))
+        io.atomic_write_text(Path(args.out + ".md"), text)
+        print(text)
     return 0
 
 

@@ -146,7 +146,7 @@ class KinematicContact(PenaltyContact):
         self.delassus = (B @ sp.diags(np.concatenate([ims, imm])) @ B.T).tocsr()  # D [1/kg]
         self._cache: dict = {}
         self._BA = None  # B A on the backend when the rates are predicted before the product (Overlap)
-        self._pending = None  # (wait, host buffer) of the predicted gaps and rates on their way to the host
+        self._pending = None  # the wait for the predicted gaps and rates on their way into self._buffer
 
     def predict_with(self, A) -> None:
         """Predict the rates before the step's product from now on (module docstring, "Overlap"): ``A`` the
@@ -161,7 +161,7 @@ class KinematicContact(PenaltyContact):
         copy to the host; :meth:`correct` waits for it."""
         xp = self.backend.xp
         rate = self._d.B @ v + h * (self._BA @ u)  # [m/s]
-        self._pending = (self.backend.to_host_async(xp.concatenate((self._g, rate)), self._buffer), self._buffer)
+        self._pending = self.backend.to_host_async(xp.concatenate((self._g, rate)), self._buffer)
 
     def use(self, backend) -> None:
         """As :meth:`PenaltyContact.use` (the state starts at rest: no forces, no dissipation yet; pressure
@@ -183,10 +183,9 @@ class KinematicContact(PenaltyContact):
         on the first half step, else 1; ``dt_inv_mass``: the stepper's Δt M^-1)."""
         xp, ns = self.backend.xp, self.ns
         if self._pending is not None:  # predicted before the product (Overlap): wait for its copy now
-            wait, buffer = self._pending
+            self._pending()
             self._pending = None
-            wait()
-            g_rate = buffer.copy()  # the buffer is the next step's
+            g_rate = self._buffer.copy()  # the buffer is the next step's
         else:
             rate = self.normal_rates(v)  # d g/dt [m/s]
             g_rate = self.backend.to_host(xp.concatenate((self._g, rate)))  # the step's one copy to the host

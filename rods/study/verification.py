@@ -54,6 +54,7 @@ __all__ = [
     "case_row",
     "finer",
     "gap_is_model_form",
+    "passes",
     "render_markdown",
     "run_matrix",
 ]
@@ -166,7 +167,7 @@ def case_row(
         "contact": sf.get("contact"),
         "penalty_factor": sf.get("penalty_factor"),
     }
-    row["passes"] = _passes(row["peak_force_pct"], d_dur, sf["energy_error"])
+    row["passes"] = passes(row["peak_force_pct"], d_dur, sf["energy_error"])
     if paper_law is not None:
         row["paper_law"] = _paper_law_row(fe, paper_law, window)
     return row
@@ -186,11 +187,11 @@ def _paper_law_row(fe: Mapping[str, Any], paper_law: Mapping[str, Any], window: 
         "strain_rms": rms,
         "strain_lag": lag,
     }
-    out["passes"] = _passes(out["peak_force_pct"], out["duration_difference"], sf["energy_error"])
+    out["passes"] = passes(out["peak_force_pct"], out["duration_difference"], sf["energy_error"])
     return out
 
 
-def _passes(peak_force_pct: float, duration_difference: float, energy_error: float) -> dict[str, bool]:
+def passes(peak_force_pct: float, duration_difference: float, energy_error: float) -> dict[str, bool]:
     """Each targeted column against :data:`TARGETS`."""
     return {
         "peak_force": abs(peak_force_pct) <= TARGETS["peak_force"],
