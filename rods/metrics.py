@@ -1,16 +1,17 @@
 """Scalar measures taken from histories, defined once and shared by every model.
 
-* Contact duration: time between the first instant the contact force exceeds a small threshold
-  (``1e-3`` of its peak, so that FE noise near zero does not count as contact) and the instant it
-  first falls back below it; both crossings are linearly interpolated. The electrical-continuity
-  trigger of the experiment measures the same first contact episode. Gaps shorter than
-  ``MIN_GAP`` = 1 µs do not end an episode: a stiff penalty makes FE contact nodes chatter on a
-  nanosecond scale, and the experiment (sampled every 2.26 µs) cannot see such gaps either.
-  :func:`contact_duration_spread` measures the same at half and twice the threshold: a Hertzian pulse ends
-  steeply and the two differ by about 1% of the duration (0.4-1.1% on ten scenes, both models), but a stiff,
-  wide contact ends in a long low tail (Rod 1 with a 1 m tip on the paper rods: 0.05-0.3% of the peak for
-  ~30 µs after the main pulse, in the analytical model as in the FE), where the duration is the threshold's
-  choice (there 154 µs at 0.2%, 196 µs at 0.05%, analytical) and not a property of the impact.
+* Contact duration: from first touch to separation, the first contact episode of the electrical-continuity trigger
+  of the experiment: the force counts as contact while above ``CONTACT_THRESHOLD`` = 1e-6 of its peak, a
+  round-off guard, not a physical level. Each end is placed between samples by the Hertz law: the compression
+  δ ∝ F^(2/3) goes through zero linearly in time at touch and at release, so F^(2/3) is extrapolated linearly from
+  the two samples inside the episode to zero, clipped to the sample interval that brackets the end (exact for a
+  sampled Hertz pulse to second order; on the analytical model it lands within 0.05 µs of the solver's release
+  event at 0.25 µs sampling). Gaps shorter than ``MIN_GAP`` = 1 µs do not end an episode: contact nodes chatter
+  on a nanosecond scale, and the experiment (sampled every 2.26 µs) cannot see such gaps either.
+  A threshold at a fraction of the peak (1e-3, used here before) is ill-conditioned: a stiff or wide contact ends
+  in a long low tail (Rod 1 with a 1 m tip on the paper rods, 5 mm rods: 0.05-0.3% of the peak for ~30 µs), the
+  duration there was the threshold's choice (1 m tip: 154 µs at 0.2%, 196 µs at 0.05%, analytical), and the FE
+  and analytical tails crossed it 4-12 µs apart while they separate within 1-3 µs (results/scene-probe.md).
 * Average peak speed (Table 2): the paper averages the Rod-2 midpoint speed over the first five
   plateaus, taking samples >= 1.0 m/s (``rods.paper_data``: ``plateau_threshold``). A fixed 1.0 m/s cannot apply to
   the 1.848 m/s trial (its plateaus sit near s1/2 = 0.92 m/s), so the default threshold here is
@@ -47,7 +48,6 @@ if TYPE_CHECKING:
 __all__ = [
     "contact_episodes",
     "contact_duration",
-    "contact_duration_spread",
     "edge_period_radius",
     "midpoint_peak_speed",
     "plateaus",
@@ -57,7 +57,7 @@ __all__ = [
     "time_lag",
 ]
 
-CONTACT_THRESHOLD = 1e-3  # fraction of the peak force that counts as contact [-]
+CONTACT_THRESHOLD = 1e-6  # fraction of the peak force below which it is zero (round-off guard) [-]
 MIN_GAP = 1e-6  # gaps shorter than this do not separate contact episodes [s]
 SMOOTHING = 2e-6  # sliding-average window of the smoothed peak force [s]
 PLATEAU_FRACTION = 0.9  # fraction of the largest midpoint speed that marks a plateau [-]
@@ -69,28 +69,38 @@ EDGE_MIN_SAMPLES = 8  # history samples the edge-period average needs in its swe
 STRAIN_PERIODS = 5  # periods 2 L2/c2 of the midpoint strain compared by the RMS difference [-]
 
 
-def _crossing(t0: float, t1: float, y0: float, y1: float, level: float) -> float:
-    return t0 + (level - y0) * (t1 - t0) / (y1 - y0) if y1 != y0 else t0
+def _hertz_end(t: np.ndarray, y: np.ndarray, inside: int, step: int, outside: int, level: float) -> float:
+    """Where y = F^(2/3) (∝ the Hertz compression, linear in time at touch and release) reaches zero: extrapolated
+    from the sample ``inside`` the episode and its neighbour ``inside - step`` further in, clipped to the interval
+    between ``inside`` and ``outside``; where the neighbour does not lie further in (a one-sample episode, or y not
+    falling towards the end), the interval's linear interpolation to ``level``."""
+    a, b = t[inside], t[outside]
+    far = inside - step
+    if 0 <= far < t.size and y[far] > y[inside]:
+        tc = a + y[inside] * (a - t[far]) / (y[far] - y[inside])
+    else:
+        tc = a + (y[inside] - level) * (b - a) / (y[inside] - y[outside]) if y[inside] != y[outside] else a
+    return float(min(max(tc, min(a, b)), max(a, b)))
 
 
 def contact_episodes(
     t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_THRESHOLD, min_gap: float = MIN_GAP
 ) -> list[tuple[float, float]]:
-    """Intervals [start, end] in which ``force`` (compressive magnitude, >= 0) exceeds ``threshold x peak``;
-    episodes separated by less than ``min_gap`` are one."""
+    """Intervals [start, end] in which ``force`` (compressive magnitude, >= 0) exceeds ``threshold x peak``, their
+    ends placed between samples by the Hertz law (module docstring); episodes separated by less than ``min_gap``
+    are one."""
     t, f = np.asarray(t, float), np.abs(np.asarray(force, float))
     if f.size == 0 or f.max() <= 0:
         return []
-    level = threshold * f.max()
-    on = f > level
+    y, level = f ** (2.0 / 3.0), (threshold * f.max()) ** (2.0 / 3.0)
+    on = f > threshold * f.max()
     edges = np.flatnonzero(np.diff(on.astype(np.int8)))
     out, start = [], (t[0] if on[0] else None)
     for i in edges:
-        tc = _crossing(t[i], t[i + 1], f[i], f[i + 1], level)
         if on[i + 1]:
-            start = tc
+            start = _hertz_end(t, y, i + 1, -1, i, level)
         elif start is not None:
-            out.append((start, tc))
+            out.append((start, _hertz_end(t, y, i, 1, i + 1, level)))
             start = None
     if start is not None:
         out.append((start, t[-1]))
@@ -107,15 +117,6 @@ def contact_duration(t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_
     """Duration of the first contact episode [s] (see module docstring); 0 if there is none."""
     ep = contact_episodes(t, force, threshold=threshold)
     return ep[0][1] - ep[0][0] if ep else 0.0
-
-
-def contact_duration_spread(t: ArrayLike, force: ArrayLike, factor: float = 2.0) -> tuple[float, float]:
-    """Durations [s] of the first contact episode at ``factor`` x and 1/``factor`` x the threshold (module
-    docstring): (shorter, longer); (0, 0) without contact."""
-    return (
-        contact_duration(t, force, CONTACT_THRESHOLD * factor),
-        contact_duration(t, force, CONTACT_THRESHOLD / factor),
-    )
 
 
 def edge_period_radius(

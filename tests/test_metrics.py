@@ -10,13 +10,28 @@ import pytest
 from rods import metrics
 
 
-def test_contact_duration_of_a_half_sine():
-    t = np.linspace(0, 300e-6, 30001)
-    F = np.where(t < 200e-6, 5000 * np.sin(np.pi * t / 200e-6), 0.0)
-    # threshold 1e-3 of the peak cuts (2/π)·asin(1e-3)·100 µs ≈ 0.064 µs off each end
-    expected = 200e-6 * (1 - 2 * np.arcsin(1e-3) / np.pi)
-    assert metrics.contact_duration(t, F) == pytest.approx(expected, rel=1e-6)
+def test_contact_duration_of_a_sampled_hertz_pulse():
+    """A Hertz pulse F = K δ^(3/2), δ a half sine over 200.37 µs, sampled every 0.5 µs (touch and release between
+    samples): the Hertz-law placement of both ends (F^(2/3) linear in time) recovers the duration to 1 ns, where
+    linear interpolation of F is off by up to a sample (the end then at the first zero sample)."""
+    T, h = 200.37e-6, 0.5e-6  # [s]
+    t = -0.2e-6 + h * np.arange(601)  # [s] touch at 0, between samples
+    δ = np.where((t > 0) & (t < T), 40e-6 * np.sin(np.pi * t / T), 0.0)  # [m]
+    F = 2.2e10 * δ**1.5  # [N]
+    assert metrics.contact_duration(t, F) == pytest.approx(T, abs=1e-9)
+    start, end = metrics.contact_episodes(t, F)[0]
+    assert start == pytest.approx(0.0, abs=1e-9) and end == pytest.approx(T, abs=1e-9)
     assert metrics.contact_duration(t, np.zeros_like(t)) == 0.0
+
+
+def test_a_low_tail_is_contact():
+    """A force tail at 0.12% of the peak for 40 µs after a half-sine pulse is contact (electrical continuity sees
+    it): the duration runs to the tail's end, which a threshold at 1e-3 of the peak made its own choice."""
+    t = np.arange(0.0, 300e-6, 0.25e-6)  # [s]
+    pulse = 5e3 * np.clip(np.sin(np.pi * t / 200e-6), 0, None) * (t < 200e-6)  # [N]
+    tail = 5e3 * 1.2e-3 * ((t >= 200e-6) & (t < 240e-6))  # [N]
+    assert metrics.contact_duration(t, pulse + tail) == pytest.approx(240e-6, abs=0.25e-6)
+    assert metrics.contact_duration(t, pulse + tail, threshold=2e-3) == pytest.approx(200e-6, abs=0.25e-6)
 
 
 def test_two_episodes_are_found():

@@ -142,7 +142,7 @@ def fe_row(data: dict[str, Any]) -> dict[str, Any]:
 
 def _definitions(data: dict[str, Any]) -> list[str]:
     d, fe = data["definitions"], fe_row(data)
-    contact = f"{d['contact_threshold']:.0e}".replace("e-0", "e-")  # 1e-3, as the metrics docstring writes it
+    contact = f"{d['contact_threshold']:.0e}".replace("e-0", "e-")  # 1e-6, as the metrics docstring writes it
     below = [r for r in data["trials"] if r["impact_speed"] / 2 < d["paper_plateau_threshold"]]
     fixed = (
         f" cannot apply to the {below[0]['impact_speed']:.3f} m/s trial, whose plateaus sit near s1/2 = "
@@ -157,8 +157,9 @@ def _definitions(data: dict[str, Any]) -> list[str]:
         f"fixed threshold ({d['paper_plateau_threshold']:.1f} m/s, i.e. "
         f"{d['paper_plateau_threshold'] / fe['midpoint_max_speed']:.2f} of the peak at {fe['impact_speed']} m/s)"
         f"{fixed}.",
-        f"- *contact duration*: first contact episode, from the first time the force exceeds {contact}"
-        " of its peak to the first time it falls below it again (linear interpolation at both crossings).",
+        f"- *contact duration*: first contact episode, touch to separation (the experiment's electrical continuity):"
+        f" the force counts while above {contact} of its peak (a round-off guard), each end placed between samples"
+        " by the Hertz law (F^(2/3) linear in time).",
         "- the RMS strain differences are the paper's (experiment against its analytical model); the experimental",
         "  records are not available, so they are quoted, not recomputed.",
     ]
