@@ -92,8 +92,8 @@ def contact_episodes(
     t, f = np.asarray(t, float), np.abs(np.asarray(force, float))
     if f.size == 0 or f.max() <= 0:
         return []
-    y, level = f ** (2.0 / 3.0), (threshold * f.max()) ** (2.0 / 3.0)
-    on = f > threshold * f.max()
+    cut = threshold * f.max()  # [N]
+    y, level, on = f ** (2.0 / 3.0), cut ** (2.0 / 3.0), f > cut
     edges = np.flatnonzero(np.diff(on.astype(np.int8)))
     out, start = [], (t[0] if on[0] else None)
     for i in edges:

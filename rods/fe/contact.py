@@ -380,9 +380,14 @@ class PenaltyContact:
         if not self.serial:
             xs, xm = self.gather(x)
             return _interp(d.J, d.W, xm) - xs
-        if d.B is None or d.B.shape[1] != x.size:
-            d.B = d.backend.csr(self.gap_matrix(x.size))
-        return d.B @ x
+        return self.gap_rows(d, x.size) @ x
+
+    def gap_rows(self, d, n: int):
+        """B of :meth:`gap_matrix` as a CSR matrix of ``d``'s backend (host or backend arrays, serial), built at
+        the first use for owned arrays of length ``n``."""
+        if d.B is None or d.B.shape[1] != n:
+            d.B = d.backend.csr(self.gap_matrix(n))
+        return d.B
 
     def gaps(self, u):
         """g_s = g0_s + Σ_j W_sj u_z,j - u_z,s [m] at the owned displacement ``u`` (host or backend arrays)."""

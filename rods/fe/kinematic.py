@@ -147,20 +147,19 @@ class KinematicContact(PenaltyContact):
         self._cache: dict = {}
         self._BA = None  # B A on the backend when the rates are predicted before the product (Overlap)
         self._pending = None  # the wait for the predicted gaps and rates on their way into self._buffer
+        self._buffer = None  # host array the predicted gaps and rates are copied into (Overlap)
 
     def predict_with(self, A) -> None:
         """Predict the rates before the step's product from now on (module docstring, "Overlap"): ``A`` the
         stepper's scaled operator -Δt M^-1 K as a CSR matrix of the backend (serial)."""
-        d = self._d
-        d.B = d.backend.csr(self.gap_matrix(A.shape[1]))
-        self._BA = d.B @ A  # [n_s x n]: the product's tip rows
+        self._BA = self.gap_rows(self._d, A.shape[1]) @ A  # [n_s x n]: the product's tip rows
         self._buffer = self.backend.host_buffer(2 * self.ns)
 
     def predict(self, v, u, h: float) -> None:
         """Form g_n and the rates of v* = v_{n-½} + h A u_n (``v``, ``u`` before the product) and start their
         copy to the host; :meth:`correct` waits for it."""
         xp = self.backend.xp
-        rate = self._d.B @ v + h * (self._BA @ u)  # [m/s]
+        rate = self.normal_rates(v) + h * (self._BA @ u)  # [m/s]
         self._pending = self.backend.to_host_async(xp.concatenate((self._g, rate)), self._buffer)
 
     def use(self, backend) -> None:
