@@ -9,7 +9,9 @@ paper-3d.toml, ``tiny`` = a quarter model of 30 mm rods at 4 x 1 mm, for checks)
 ``--backend`` and ``--steps`` steps are timed twice after a warm-up:
 
 * the full step, :meth:`rods.fe.explicit.CentralDifference.step` (drift, contact, multiply-add, impulse);
-* the SpMV alone, the operator's ``mult_add`` (v += A u, A = -Δt M^-1 K in CSR).
+* the SpMV alone, the operator's ``mult_add`` (v += A u, A = -Δt M^-1 K in CSR);
+* where the backend overlaps the kinematic contact's host work with the product (CuPy: rods.fe.kinematic,
+  "Overlap"), the full step again on a stepper without the overlap, on the same model: the A/B of that change.
 
 Rates are DOF-steps/s; the SpMV's memory traffic (CSR values 8 B and column indices 4 B per nonzero, row
 pointers 4 B per row, x read, y read and written: 24 B per DOF) is set against the copy rate of the same
@@ -26,6 +28,8 @@ path (CPU, serial) in this process: wall times and the largest history differenc
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import math
 import platform
 import sys
 import time
@@ -94,18 +98,26 @@ def throughput(model: ExplicitModel, mesh: str, be: backends.Backend, steps: int
     """Full step and SpMV of ``model`` (set up on ``be``): seconds per step, DOF-steps/s, SpMV traffic and
     its share of the copy rate ``copy`` [B/s]. A stepper of its own: the model's run starts afresh."""
     st = model.stepper()  # the stepper alone: no recorder
-    n = model.n_global
+    n, overlap = model.n_global, st.overlap
     t_step = timed(be, st.step, steps)
     t_spmv = timed(be, lambda: st.op.mult_add(st.u, st.v), steps)
     A = st.op.A
     nnz = A.nnz if hasattr(A, "nnz") else A.getInfo()["nz_used"]
     traffic = 12.0 * nnz + 4.0 * (n + 1) + 24.0 * n  # [B] per SpMV
     st.destroy()
-    row = {"mesh": mesh, "dofs": n, "nnz": int(nnz), "setup": model.setup_time, "step": t_step, "spmv": t_spmv}
+    t_serial = math.nan  # the same step with the host's contact work after the product (no overlap): A/B
+    if overlap:
+        model.backend = dataclasses.replace(be, overlap=False)
+        st = model.stepper()
+        t_serial = timed(be, st.step, steps)
+        st.destroy()
+        model.backend = be
+    row = {"mesh": mesh, "dofs": n, "nnz": int(nnz), "setup": model.setup_time, "step": t_step, "spmv": t_spmv,
+           "overlap": overlap, "step_serial": t_serial}  # fmt: skip
     row.update(step_rate=n / t_step, spmv_rate=n / t_spmv, spmv_bw=traffic / t_spmv, spmv_share=traffic / t_spmv / copy)
     msg = f"{mesh}: {n} DOFs, set-up {model.setup_time:.1f} s, step {t_step * 1e3:.3f} ms "
     msg += f"({n / t_step / 1e6:.1f} M DOF-steps/s), SpMV {t_spmv * 1e3:.3f} ms = {traffic / t_spmv / 1e9:.1f} GB/s "
-    msg += f"= {row['spmv_share']:.0%} of copy"
+    msg += f"= {row['spmv_share']:.0%} of copy" + (f"; without overlap step {t_serial * 1e3:.3f} ms" if overlap else "")
     print(msg, flush=True)
     return row
 
@@ -152,13 +164,14 @@ def report(args, be_name: str, copy: float, rows: list[dict], run: dict | None, 
         + (f" Scene overrides: `{' '.join(args.set)}`." if args.set else ""),
         "",
         "| mesh | DOFs | nonzeros | set-up [s] | step [ms] | M DOF-steps/s | SpMV [ms] | SpMV M DOF-steps/s "
-        "| SpMV GB/s | of copy |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| SpMV GB/s | of copy | step without overlap [ms] |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         cells = [r["mesh"], str(r["dofs"]), str(r["nnz"]), f"{r['setup']:.1f}", f"{r['step'] * 1e3:.3f}",
                  f"{r['step_rate'] / 1e6:.1f}", f"{r['spmv'] * 1e3:.3f}", f"{r['spmv_rate'] / 1e6:.1f}",
-                 f"{r['spmv_bw'] / 1e9:.1f}", f"{r['spmv_share']:.0%}"]  # fmt: skip
+                 f"{r['spmv_bw'] / 1e9:.1f}", f"{r['spmv_share']:.0%}",
+                 f"{r['step_serial'] * 1e3:.3f}" if r["overlap"] else "- (off)"]  # fmt: skip
         lines.append("| " + " | ".join(cells) + " |")
     if run is not None:
         s = run["summary"]
