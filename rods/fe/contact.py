@@ -213,12 +213,25 @@ def _interp(J, W, zm):
     return out
 
 
-def _transpose(xp, J, W, t, n_master: int):
-    """Wᵀ t: the slave values ``t`` distributed to the ``n_master`` master nodes (``xp``: numpy or cupy)."""
+def _transpose(xp, J, W, t, n_master: int, WT=None):
+    """Wᵀ t: the slave values ``t`` distributed to the ``n_master`` master nodes (``xp``: numpy or cupy).
+    ``WT``: Wᵀ as a sparse matrix of ``xp``'s namespace (:func:`transpose_matrix`), used where given: on a
+    device, where CuPy's bincount waits for the device (it reads max(J) and checks J >= 0 on the host), which
+    inside a step waits for the step's matrix product and undoes the kinematic contact's overlap."""
+    if WT is not None:
+        return WT @ t
     out = xp.bincount(J[:, 0], weights=W[:, 0] * t, minlength=n_master)
     for c in range(1, J.shape[1]):
         out = out + xp.bincount(J[:, c], weights=W[:, c] * t, minlength=n_master)
     return out
+
+
+def transpose_matrix(J: np.ndarray, W: np.ndarray, n_master: int) -> scipy.sparse.csr_matrix:
+    """Wᵀ as a host CSR matrix [n_master x n_slave]: (Wᵀ t)_m = Σ_(s,c: J_sc = m) W_sc t_s, the sum of
+    :func:`_transpose` (repeated masters of one slave summed)."""
+    ns, nw = J.shape
+    cols = np.repeat(np.arange(ns), nw)
+    return scipy.sparse.csr_matrix((W.ravel(), (J.ravel(), cols)), shape=(n_master, ns))
 
 
 @dataclass
@@ -226,7 +239,8 @@ class _Arrays:
     """What a step reads, in one array namespace: pairing (J, W, inside), initial gap g0 [m], nodal
     penalty stiffness k [N/m], the owned tip entries (local) and their sorted positions (pos), a buffer;
     serial, the gap operator B as a CSR matrix of that namespace (made at the first product, for the
-    owned array's length), with the backend that holds them."""
+    owned array's length), with the backend that holds them; on a device also Wᵀ as a CSR matrix (WT,
+    :func:`_transpose`)."""
 
     J: Any
     W: Any
@@ -240,6 +254,7 @@ class _Arrays:
     buf: Any
     backend: Backend
     B: Any = None
+    WT: Any = None
 
 
 class PenaltyContact:
@@ -294,10 +309,12 @@ class PenaltyContact:
 
     def _arrays(self, backend: Backend) -> _Arrays:
         s, m, put = self.slave, self.master, backend.asarray
+        WT = backend.csr(transpose_matrix(self.J, self.W, self.nm)) if backend.on_device else None
         return _Arrays(
             *(put(a) for a in (self.J, self.W, self.inside, self.g0, self.k, s.local, s.pos, m.local, m.pos)),
             backend.xp.zeros(self.ns + self.nm),
             backend,
+            WT=WT,
         )
 
     def use(self, backend: Backend) -> None:
@@ -407,7 +424,7 @@ class PenaltyContact:
             work = [w]
         sums = [F.sum(), twice_energy, *work]  # force [N], ...
         self._Fs = F
-        self._Fm = _transpose(xp, d.J, d.W, F, self.nm)
+        self._Fm = _transpose(xp, d.J, d.W, F, self.nm, d.WT)
         self._g, self._host = g, None
         self._p = self.ε * pen if self.ζ == 0.0 else F * self._inv_area
         sums = self.multiplicity * self.backend.to_host(xp.stack(sums))  # the step's one copy to the host
@@ -465,7 +482,7 @@ class PenaltyContact:
         d, xp = (self._host_arrays, np) if isinstance(x, np.ndarray) else (self._d, self.backend.xp)
         xs, xm = self.gather(x)
         t = d.k * (_interp(d.J, d.W, xm) - xs)
-        self._scatter(y, -t, _transpose(xp, d.J, d.W, t, self.nm))
+        self._scatter(y, -t, _transpose(xp, d.J, d.W, t, self.nm, d.WT))
 
     def pair_frequency(self, inv_mass: np.ndarray) -> float:
         """Largest angular frequency [rad/s] of an isolated contact pair: a slave and its master nodes

@@ -199,7 +199,7 @@ class KinematicContact(PenaltyContact):
         self._host = (g, F * self._inv_area_host, F)  # gap [m], pressure [Pa], forces [N]: read on the host
         if self._closed:
             self._Fs = self.backend.asarray(F) if xp is not np else F
-            self._Fm = _transpose(xp, self._d.J, self._d.W, self._Fs, self.nm)
+            self._Fm = _transpose(xp, self._d.J, self._d.W, self._Fs, self.nm, self._d.WT)
             self._p = self._Fs * self._inv_area
         else:
             self._Fs, self._Fm = self._no_force

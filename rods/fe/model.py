@@ -320,7 +320,8 @@ class ExplicitModel:
         before (c + ½)Δt) then implies that the frames up to step c are on disk, whenever the run is killed."""
         sc, dt = self.scene, self.dt
         guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"], self.dt_switching)
-        own: list[Observer] = [RunGuard(guard, recorder, self.inverted_cells, self.comm)]
+        run_guard = RunGuard(guard, recorder, self.inverted_cells, self.comm, self.backend.dot)  # reads a device's
+        own: list[Observer] = [run_guard]
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
             view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
             own.append(FieldOutput(self, out, sc.field_interval, view, step0))
@@ -334,8 +335,8 @@ class ExplicitModel:
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h, values))
             stop.on_stop = own[-1].save_now
         own.append(stop)
-        if self.backend.on_device:  # guards, checkpoints, fields read the state on the host
-            own = [backends.OnHost(o, self.backend) for o in own]
+        if self.backend.on_device:  # checkpoints, fields, the stop check: on the host
+            own = [o if o is run_guard else backends.OnHost(o, self.backend) for o in own]
         if progress is not None:
             own.append(Progress(progress, self.steps, start=max(step0 - 1, 0)))  # a resumed run: its checkpoint
         return own
@@ -366,7 +367,8 @@ class ExplicitModel:
         if not hasattr(self, "_corners"):
             msh = self.rm.mesh
             self._corners = CornerJacobians(self.V, self.n_local, msh.topology.index_map(msh.topology.dim).size_local)
-        return self._corners.count(self.backend.to_host(u_owned))
+            self._corners.use(self.backend)  # a device counts there (serial), else the host
+        return self._corners.count(u_owned)
 
     def _checkpoint_key(self, observers: Sequence[Any] = ()) -> str:
         """Identifies scene + step + partition + format (+ the observers' inputs, a submodel's cut record): a

@@ -257,3 +257,17 @@ def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch):
     diff = float(text.split("largest history difference ")[1].split(" ")[0])
     assert diff <= TOL
     assert (tmp_path / "r" / "tiny-numpy" / "history.csv").exists()
+
+
+def test_master_reaction_as_a_sparse_product_equals_the_bincount():
+    """Wᵀ t as the device's sparse product (rods.fe.contact.transpose_matrix: CuPy's bincount waits for the
+    device) equals the bincount sum, repeated masters of one slave included, to round-off."""
+    from rods.fe.contact import _transpose, transpose_matrix
+
+    rng = np.random.default_rng(3)
+    ns, nw, nm = 40, 4, 25
+    J, W, t = rng.integers(0, nm, size=(ns, nw)), rng.random((ns, nw)), rng.normal(size=ns) * 1e3  # [N]
+    J[0, 1] = J[0, 0]  # a master twice in one slave's row
+    expected = _transpose(np, J, W, t, nm)
+    product = _transpose(np, J, W, t, nm, transpose_matrix(J, W, nm))
+    np.testing.assert_allclose(product, expected, rtol=1e-14, atol=1e-11)
