@@ -29,6 +29,8 @@ goes wrong"):
   3D (gmsh's hexahedra) over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 11.4 s at 1.46M
   DOFs on 2 ranks; 3D 11.4 s at 132k, 148 s at 983k). Cache-resident small meshes run faster than the rate, so
   the estimate errs high there: time loop 2.1x at 48k DOFs, 1.2x at 199k axisymmetric, 1.7x in 3D (measured);
+* time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
+  steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
   per cell axisymmetric (measured; it tends to 2 on finer meshes), in 3D 3 per node of the O-grid's count
   (exact: tests/test_cost.py); a 3D cell's step is :func:`_third_dimension` of the quadrilateral's (the
@@ -86,6 +88,14 @@ BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
 DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
+# the time loop on one GPU (fe.backend = "cupy"; serial): a step = GPU_STEP_OVERHEAD + DOFs / GPU_DOF_STEPS_PER_SECOND,
+# the line through the 3D coarse and paper meshes' closed-contact steps on an H200 (results/gpu-throughput.md,
+# 2026-11-27: 1.899 ms at 132k DOFs, 4.040 ms at 7.58M; the medium mesh's 3.067 ms at 983k lies 43% above it, and
+# a run's open-contact steps should be cheaper: the estimate is rough); set-up on that machine's CPU, 3D: 157 s at
+# 7.58M DOFs with the device's eigenvalue solve (the CPU's SLEPc solve is in SETUP_SECONDS_PER_DOF)
+GPU_STEP_OVERHEAD = 1.86e-3  # [s] the host's kernel launches and the contact's copy per step
+GPU_DOF_STEPS_PER_SECOND = 3.5e9  # [1/s]
+GPU_SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 2.1e-5}  # [s] (axisymmetric: the CPU's, not measured)
 # the submodel's cut driver: its weights and traction operator, built one colour of band nodes at a time
 # (rods.fe.submodel.node_colouring) [s per cut node] (measured 2026-11-24, 2 ranks, mixed driving: paper scene
 # 0.056 s for 54 axisymmetric cut nodes, 0.049 s for 207; 4.3 s for 5250 in the 3D coarse model's full section,
@@ -259,10 +269,14 @@ def fe_cost(
     memory = (
         ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
     )
-    setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
+    if _on_gpu(scene, ranks):
+        setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]  # [s]
+        loop = steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND)  # [s]
+    else:
+        setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
+        loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
-    loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
     frames = 0
     if size is None and scene.field_interval > 0:  # the submodel writes none
         from rods.fe.fields import frame_count
@@ -282,6 +296,16 @@ def fe_cost(
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
     return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
+
+
+def _on_gpu(scene: Scene, ranks: int) -> bool:
+    """The time loop runs on a GPU: fe.backend "cupy", or "auto" serial where CuPy sees a device."""
+    backend = scene["fe.backend"]
+    if backend == "auto" and ranks == 1:
+        from rods.fe.backend import gpu_available
+
+        return gpu_available()
+    return backend == "cupy"
 
 
 def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | None) -> tuple[float, float]:

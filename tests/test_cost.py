@@ -247,3 +247,20 @@ def test_a_submodels_steps_follow_its_curved_tip(scene_with, tip):
     c = cost.fe_cost(sc, size=0.25e-3, end_time=1e-5)
     m = ExplicitModel(submodel_scene(sc, 0.25e-3, end_time=1e-5))
     assert c.steps == pytest.approx(m.steps, rel=0.15) and c.steps >= 0.98 * m.steps
+
+
+def test_a_gpu_run_is_estimated_at_the_gpu_rates(scene_with):
+    """fe.backend = "cupy": the plan's time is the GPU's (set-up on that machine's CPU + steps x the measured
+    step line), minutes for the paper's 3D mesh where the CPU estimate is hours; "auto" without a GPU (this
+    machine) is the CPU's."""
+    paper_3d = ("fe.kind=3d", "fe.axial_size=1e-3", "fe.radial_size=0.25e-3", "fe.symmetry=full")
+    cpu, gpu = (cost.fe_cost(scene_with(*paper_3d, f"fe.backend={b}")) for b in ("petsc", "cupy"))
+    assert gpu.dofs == cpu.dofs and gpu.steps == cpu.steps
+    loop = gpu.steps * (cost.GPU_STEP_OVERHEAD + gpu.dofs / cost.GPU_DOF_STEPS_PER_SECOND)
+    assert gpu.setup_time == pytest.approx(gpu.dofs * cost.GPU_SETUP_SECONDS_PER_DOF["3d"])
+    assert gpu.wall_time == pytest.approx(gpu.setup_time + loop)
+    assert 60.0 < gpu.wall_time < 1200.0 < 3600.0 < cpu.wall_time  # [s] minutes against hours
+    from rods.fe.backend import gpu_available
+
+    if not gpu_available():
+        assert cost.fe_cost(scene_with(*paper_3d, "fe.backend=auto")).wall_time == pytest.approx(cpu.wall_time)

@@ -59,6 +59,14 @@ class Backend:
         """True when the arrays live off the host (copies are needed to write them)."""
         return self.xp is not np
 
+    @property
+    def device(self) -> str:
+        """Where the time loop runs, for the run's summary: "CPU", or the GPU's name (CuPy's device 0)."""
+        if not self.on_device:
+            return "CPU"
+        name = self.xp.cuda.runtime.getDeviceProperties(self.xp.cuda.Device().id)["name"]
+        return name.decode() if isinstance(name, bytes) else str(name)
+
     def asarray(self, a: Any) -> Any:
         """``a`` in this namespace (no copy when it is there already)."""
         return self.xp.asarray(a)

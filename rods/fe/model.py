@@ -408,6 +408,8 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
             "dt_contact_switching": model.dt_switching,
             **energy,
             "ranks": model.comm.size,
+            "backend": model.backend.name,  # where the loop ran (fe.backend as resolved: "auto" is not one)
+            "device": model.backend.device,  # "CPU" or the GPU's name
             "contact": sc["fe.contact"],  # the law that ran; the penalty only where it is the penalty law's
             "penalty": model.ε_pen if penalty else None,
             "penalty_factor": sc["fe.penalty"] if penalty else None,

@@ -80,9 +80,11 @@ def _run_row(run: Run, scene: Scene, F_ref: float, ref: dict, window: tuple[floa
     s = run.summary
     F = s["peak_contact_force"]
     a_hertz = hertz.at_force(F, *hertz.contact_constants(scene.rod1, scene.rod2))["contact_radius"]
+    device = s.get("device", "CPU")  # runs before 2026-11-27 name none: they ran on the CPU
     return {
         "model": s["model"],
-        "label": run.label,
+        "label": run.label if device == "CPU" else f"{run.label} (GPU: {device})",
+        "device": device,
         "dofs": s.get("dofs", 0),
         "wall_time": float(s.get("wall_time", math.nan)) + float(s.get("setup_time", 0.0)),
         "peak_force_error": abs(F / F_ref - 1),
@@ -151,8 +153,9 @@ def render_md(data: dict[str, Any]) -> str:
         f"{ref['rtol']:.0e}: peak force {ref['peak_contact_force']:.2f} N; midpoint strain over the first "
         f"{metrics.STRAIN_PERIODS} periods 2 L2/c2, {ref['strain_window'][1] * 1e6:.0f} µs) and closed-form Hertz at "
         "each model's own peak force (contact radius). Wall time includes set-up where recorded; runs measured on "
-        "this 2-core machine (ranks in each run's summary); submodel rows exclude the global run that drives them. "
-        "`*` = on the Pareto front of that error against wall time.",
+        "this 2-core machine (ranks in each run's summary), except rows marked GPU, whose time loop ran on the "
+        'named GPU (fe.backend = "cupy"; set-up on that machine\'s CPU); submodel rows exclude the global run '
+        "that drives them. `*` = on the Pareto front of that error against wall time.",
         "",
         *render_table(data),
         "",

@@ -25,6 +25,7 @@ __all__ = [
     "ConfigError",
     "check_config",
     "code_key",
+    "gpu_choice",
     "point_key",
     "read_record",
     "scene_key",
@@ -53,7 +54,7 @@ FIELDS = (
 
 CONFIG_KEYS = (
     "scene", "speeds", "mesh_levels", "dt_fractions", "kinds", "fe_speed", "ranks", "mpi",
-    "paper_levels", "paper_phase_levels", "paper_global_meshes",
+    "paper_levels", "paper_phase_levels", "paper_global_meshes", "gpu",
 )  # fmt: skip
 
 
@@ -69,7 +70,7 @@ class ConfigError(ValueError):
 def check_config(config: Mapping[str, object]) -> None:
     """Refuse, before any job, a config the sweeps cannot run: unknown keys, a scene that does not load, speeds,
     mesh sizes, time-step fractions, model kinds, ranks and levels outside the scene schema's ranges (each value
-    is checked as the scene override it becomes)."""
+    is checked as the scene override it becomes), a gpu that is not auto/true/false."""
     from rods.scene import SUBMODEL_LEVELS, SceneError, load_scene
 
     unknown = sorted(set(config) - set(CONFIG_KEYS))
@@ -108,10 +109,19 @@ def check_config(config: Mapping[str, object]) -> None:
         raise ConfigError("ranks", config["ranks"], "must be an integer >= 1 (MPI ranks per FE run)")
     if config["mpi"] is not None and not isinstance(config["mpi"], str):  # --config mpi= gives None
         raise ConfigError("mpi", config["mpi"], "must be a launcher command ('' = the venv's mpirun)")
+    gpu_choice(config["gpu"])
     for key in ("paper_levels", "paper_phase_levels"):
         levels = config[key]
         if not isinstance(levels, list) or not all(isinstance(v, str) and v in SUBMODEL_LEVELS for v in levels):
             raise ConfigError(key, levels, f"must be a list of submodel levels: {', '.join(SUBMODEL_LEVELS)}")
+
+
+def gpu_choice(value: object) -> bool | str:
+    """The config's ``gpu`` as True, False or "auto" (YAML gives booleans, ``--config gpu=true`` a string)."""
+    choice = {"auto": "auto", "true": True, "false": False}.get(str(value).lower())
+    if choice is None:
+        raise ConfigError("gpu", value, "must be auto, true or false (the paper's 3D mesh on a GPU)")
+    return choice
 
 
 def _mesh_level(sizes: object) -> list[str]:

@@ -35,6 +35,18 @@ def test_errors_of_a_run_with_a_known_patch(scene_with, tmp_path):
     assert {p.suffix for p in tmp_path.iterdir()} == {".json", ".md", ".png"}
 
 
+def test_a_gpu_run_is_labelled_with_its_device(scene_with, tmp_path):
+    """A run whose time loop ran on a GPU (summary "device") says so in its row and in the text; one without
+    a device (before 2026-11-27) or on "CPU" is labelled as given."""
+    sc = scene_with("simulation.end_time=3e-4")
+    r = simulate(sc)
+    base = r.summary | {"model": "fe-3d", "contact_radius": 1e-3, "dofs": 10, "wall_time": 5.0}
+    runs = [Run("3d-paper", r.history, base | {"device": "NVIDIA H200"}), Run("old", r.history, base)]
+    d = accuracy_cost.write(sc, runs, tmp_path / "ac")
+    assert [row["label"] for row in d["rows"][-2:]] == ["3d-paper (GPU: NVIDIA H200)", "old"]
+    assert "| 3d-paper (GPU: NVIDIA H200) |" in (tmp_path / "ac.md").read_text()
+
+
 def test_table_renders_the_committed_rows():
     """The committed record: accuracy-cost.md's table is the rendering of accuracy-cost.json."""
     committed = (ROOT / "results" / "accuracy-cost.md").read_text()

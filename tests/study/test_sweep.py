@@ -27,6 +27,8 @@ def test_the_shipped_config_passes(config):
     check_config(config)
     check_config(config | {"speeds": ["1.0", "2.0"], "dt_fractions": ["0.5"]})  # --config gives strings
     check_config(config | {"mpi": None})  # --config mpi= (empty: the venv's mpirun)
+    for gpu in (True, False, "true", "False", "auto"):  # YAML booleans; --config gives strings
+        check_config(config | {"gpu": gpu})
 
 
 @pytest.mark.parametrize(
@@ -48,6 +50,7 @@ def test_the_shipped_config_passes(config):
         ({"mesh_levels": {"coarse": [1e-3]}}, ["'mesh_levels'", "[axial size, radial size]"]),
         ({"mesh_levels": {"coarse": {"a": 1}}}, ["'mesh_levels'", "[axial size, radial size]"]),
         ({"paper_levels": [["fine"]]}, ["'paper_levels'", "submodel levels"]),
+        ({"gpu": "maybe"}, ["'gpu'", "auto, true or false"]),
     ],
 )
 def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
@@ -110,3 +113,22 @@ def test_a_sweep_point_is_one_key_however_its_numbers_are_spelled():
     assert point_key("c", "s", sweep="dt", sizes=["4.0e-3", "1e-3"], dtf="0.5", kind="axisymmetric") == same
     assert point_key("c", "s", sweep="dt", sizes=[0.004, 0.001], dtf=0.9, kind="axisymmetric") != same
     assert point_key("c", "s", sweep="dt", sizes=[0.004, 0.001], dtf=0.5, kind="3d") != same
+
+
+@pytest.mark.skipif(not SNAKEMAKE.exists(), reason="snakemake is not installed beside the interpreter")
+def test_the_gpu_run_joins_the_accuracy_cost_study_only_when_asked(tmp_path):
+    """gpu=true: the dry run of the accuracy-cost rule plans the paper's 3D mesh on the GPU (rule
+    paper_global_gpu, fe.backend=cupy) and passes it as a run; gpu=false: no such job."""
+
+    def plan(gpu: str) -> str:
+        p = subprocess.run(
+            [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "1", "-n", "-p", "--forceall",
+             "paper_accuracy_cost", "--config", f"gpu={gpu}"],
+            cwd=ROOT, capture_output=True, text=True, timeout=300,
+        )  # fmt: skip
+        assert p.returncode == 0, p.stderr[-2000:]
+        return p.stdout + p.stderr
+
+    on, off = plan("true"), plan("false")
+    assert "rule paper_global_gpu" in on and "fe.backend=cupy" in on and "global 3d-paper=output/paper/gpu/" in on
+    assert "paper_global_gpu" not in off and "output/paper/gpu/" not in off
