@@ -195,8 +195,8 @@ class CornerJacobians:
     P1 cells, corner Jacobians from the edges to the corner's tensor-product neighbours).
 
     :meth:`use` moves the count to a serial device backend: there the cells, the reference coordinates and
-    signs are copied once and a count is a few kernels and one scalar back, where on the host it copies the
-    state back and loops over every cell on the host (2.44M hexahedra at the paper's 3D mesh, seconds each)."""
+    signs are copied once and a count is a few kernels and one scalar back, where the host copies the
+    state back and evaluates every cell there (2.44M hexahedra at the paper's 3D mesh: seconds a count)."""
 
     def __init__(self, V, n_local: int, n_owned_cells: int):
         import dolfinx
