@@ -129,12 +129,26 @@ def end_to_end(mesh: str, name: str, end_time: float | None, out: Path, model: E
 
     sc = model.scene if model is not None else scene(mesh, name, *ends(end_time))
     t = time.perf_counter()
-    st = stages.global_model(sc, out / f"{mesh}-{name}", MPI.COMM_SELF, model=model)
+    st = stages.global_model(sc, out / f"{mesh}-{name}", MPI.COMM_SELF, model=model, progress=progress_log(mesh))
     s = st.summary
     wall = time.perf_counter() - t + (s["setup_time"] if model is not None else 0.0)
     print(f"{mesh} on {name}: {wall:.1f} s end to end (set-up {s['setup_time']:.1f} s, loop {s['wall_time']:.1f} s), "
           f"status {s.get('status')}", flush=True)  # fmt: skip
     return {"mesh": mesh, "backend": name, "wall": wall, "summary": s, "history": st.history, "scene": sc}
+
+
+def progress_log(mesh: str, every: float = 10.0):
+    """A progress callback printing, about every ``every`` seconds, the steps done and the loop's rate since the
+    last line (a run killed at a time limit leaves its rates in the log; contact closed or open shows in them)."""
+    last = [0.0, 0]  # [elapsed s, step] of the last line
+
+    def progress(step: int, total: int, elapsed: float, *_start) -> None:
+        if elapsed - last[0] >= every or step == total:
+            rate = (step - last[1]) / max(elapsed - last[0], 1e-9)
+            print(f"  {mesh}: step {step}/{total}, {elapsed:.0f} s, {rate:.0f} steps/s since the last line", flush=True)
+            last[:] = [elapsed, step]
+
+    return progress
 
 
 def ends(end_time: float | None) -> list[str]:

@@ -235,7 +235,7 @@ def test_array_backend_refused_under_mpi(tmp_path: Path):
     assert p.returncode == 2 and "fe.backend" in p.stderr and "serial only" in p.stderr
 
 
-def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch):
+def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch, capsys):
     """benchmarks/gpu_throughput.py with --backend numpy (with the device's overlap, so the A/B column is
     measured) on its tiny mesh: the table, the end-to-end run and the comparison with the PETSc path (equal
     histories) are written to --out, the run's outputs to --run-out."""
@@ -252,6 +252,7 @@ def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch):
     assert bench.main(args) == 0
     text = out.read_text()
     assert "| tiny |" in text and "End to end, `tiny`" in text
+    assert "tiny: step 101/101" in capsys.readouterr().out  # the end-to-end runs' progress lines
     row = next(line for line in text.splitlines() if line.startswith("| tiny |"))
     assert float(row.split("|")[-2]) > 0.0  # the step without the overlap was timed (the A/B)
     diff = float(text.split("largest history difference ")[1].split(" ")[0])
