@@ -300,12 +300,9 @@ def fe_cost(
 
 def _on_gpu(scene: Scene, ranks: int) -> bool:
     """The time loop runs on a GPU: fe.backend "cupy", or "auto" serial where CuPy sees a device."""
-    backend = scene["fe.backend"]
-    if backend == "auto" and ranks == 1:
-        from rods.fe.backend import gpu_available
+    from rods.fe.backend import resolve
 
-        return gpu_available()
-    return backend == "cupy"
+    return resolve(scene["fe.backend"], ranks) == "cupy"
 
 
 def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | None) -> tuple[float, float]:

@@ -32,7 +32,7 @@ import scipy.sparse
 
 from rods.scene import FE_BACKENDS, SceneError
 
-__all__ = ["FE_BACKENDS", "PETSC", "Backend", "CSROperator", "HostView", "PetscOperator", "csr_of", "select"]
+__all__ = ["FE_BACKENDS", "PETSC", "Backend", "CSROperator", "HostView", "PetscOperator", "csr_of", "resolve", "select"]
 
 GPU_REMEDY = "install the GPU extra: pip install rods[gpu] (CuPy for CUDA 13)"
 
@@ -152,12 +152,19 @@ def gpu_available() -> bool:
         return False
 
 
+def resolve(name: str, ranks: int) -> str:
+    """The backend ``fe.backend`` = ``name`` runs on ``ranks`` MPI ranks: "auto" is "cupy" serial where CuPy
+    sees a device, else "petsc"; any other name is itself."""
+    if name == "auto":
+        return "cupy" if ranks == 1 and gpu_available() else "petsc"
+    return name
+
+
 def select(name: str, ranks: int) -> Backend:
     """The backend a scene's ``fe.backend`` names, on ``ranks`` MPI ranks (SceneError if it cannot run)."""
     if name not in FE_BACKENDS:
         raise SceneError("fe.backend", name, f"must be one of {FE_BACKENDS}")
-    if name == "auto":
-        name = "cupy" if ranks == 1 and gpu_available() else "petsc"
+    name = resolve(name, ranks)
     if name == "petsc":
         return PETSC
     if ranks > 1:

@@ -26,6 +26,8 @@ from typing import Any
 import numpy as np
 from mpi4py import MPI
 
+from rods.fe.backend import PETSC
+
 __all__ = [
     "DRIFT",
     "FINITE_EVERY",
@@ -144,8 +146,8 @@ class RunGuard:
     def __init__(self, guard: Guard, recorder, inverted, comm: MPI.Comm, dot=None):
         self.guard, self.recorder, self.inverted, self.comm = guard, recorder, inverted, comm
         # v·v as a float where the state lives (rods.fe.backend.Backend.dot: on a device one reduction there, not
-        # the whole state copied to the host); default: the host's, without BLAS
-        self.dot = dot if dot is not None else (lambda a, b: float(np.einsum("i,i->", a, b)))
+        # the whole state copied to the host); default: the host's
+        self.dot = dot if dot is not None else PETSC.dot
 
     def after_step(self, step: int, t: float, state) -> None:
         if self.recorder.last is not None:
@@ -231,12 +233,11 @@ class CornerJacobians:
         """Inverted owned cells at the displacement ``u_owned`` (owned array; collective scatter; an array of
         the device of :meth:`use` is counted there)."""
         if self._device is not None and not isinstance(u_owned, np.ndarray):
-            xp, cells, nbr, X, sign = self._device
-            x = X + u_owned.reshape(-1, self.bs)[:, : self.dim]
-            return int(xp.count_nonzero((self._dets(xp, x, cells, nbr) * sign <= 0).any(axis=1)))
-        uf = self.uf
-        uf.x.array[: self.n_local] = self._to_host(u_owned)
-        uf.x.scatter_forward()
-        x = self.X + uf.x.array.reshape(-1, self.bs)[:, : self.dim]
-        bad = self._dets(np, x, self.cells, self.nbr) * self.sign <= 0
-        return int(np.count_nonzero(bad.any(axis=1)[: self.n_owned_cells]))
+            (xp, cells, nbr, X, sign), u = self._device, u_owned
+        else:
+            xp, cells, nbr, X, sign = np, self.cells, self.nbr, self.X, self.sign
+            self.uf.x.array[: self.n_local] = self._to_host(u_owned)
+            self.uf.x.scatter_forward()
+            u = self.uf.x.array
+        bad = (self._dets(xp, X + u.reshape(-1, self.bs)[:, : self.dim], cells, nbr) * sign <= 0).any(axis=1)
+        return int(xp.count_nonzero(bad[: self.n_owned_cells]))
