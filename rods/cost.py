@@ -87,12 +87,15 @@ BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
 BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
 DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
-SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 1e-4}  # mesh, assembly, contact data, on one rank [s]
+# mesh, assembly, contact data and the step's eigenvalue, on one rank [s] (3D, 2026-11-27, serial: 2.9e-5 at 132k
+# DOFs, 3.1e-5 at 983k, since the eigenvalue is solved to the step's need, rods.fe.explicit.EIGEN_TOL; 7.7e-5 and
+# 1.6e-4 before)
+SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 3e-5}
 # the time loop on one GPU (fe.backend = "cupy"; serial): a step = GPU_STEP_OVERHEAD + DOFs / GPU_DOF_STEPS_PER_SECOND,
 # the line through the 3D coarse and paper meshes' closed-contact steps on an H200 (results/gpu-throughput.md,
 # 2026-11-27: 1.899 ms at 132k DOFs, 4.040 ms at 7.58M; the medium mesh's 3.067 ms at 983k lies 43% above it, and
 # a run's open-contact steps should be cheaper: the estimate is rough); set-up on that machine's CPU, 3D: 157 s at
-# 7.58M DOFs with the device's eigenvalue solve (the CPU's SLEPc solve is in SETUP_SECONDS_PER_DOF)
+# 7.58M DOFs with the device's eigenvalue solve to 1e-8 (before EIGEN_TOL; not remeasured)
 GPU_STEP_OVERHEAD = 1.86e-3  # [s] the host's kernel launches and the contact's copy per step
 GPU_DOF_STEPS_PER_SECOND = 3.5e9  # [1/s]
 GPU_SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 2.1e-5}  # [s] (axisymmetric: the CPU's, not measured)

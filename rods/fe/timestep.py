@@ -4,11 +4,13 @@
 
 * ω_max [rad/s] of M^-1 (K + K_c), K_c the contact stiffness at full engagement, by SLEPc Krylov-Schur on
   M^-½ (K + K_c) M^-½ (:func:`omega_max`; on a device backend thick-restart Lanczos there,
-  :func:`largest_eigenvalue_on`: the host's Krylov-Schur took ~80% of the set-up, 10.1 of 12.5 s on the
-  3D coarse mesh, and grows with the DOFs), and without contact (one solve when the contact law has no
-  springs, as the default kinematic law: the operator is the same); the linear limit
+  :func:`largest_eigenvalue_on`), to the step's need (an upper estimate within
+  :data:`rods.fe.explicit.EIGEN_TOL`: solved to round-off it was most of a 3D set-up, serial 2026-11-27:
+  10.2 s of set-up at 132k DOFs and 156.9 s at 983k, now 3.8 s and 30.6 s), and without contact (one solve
+  when the contact law has no springs, as the default kinematic law: the operator is the same); the linear limit
   Δt_crit = 2/ω_max (sqrt(1 + ξ²) - ξ) with the bulk-viscosity fraction ξ (:func:`rods.fe.explicit.stable_step`);
-* the Gershgorin bound ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i (:func:`gershgorin`), a check never marched at;
+* the Gershgorin bound ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i (:func:`gershgorin`), a check, marched at only
+  where the eigenvalue solve does not converge (a true upper bound: a smaller step, with a warning);
 * the contact-switching limit SWITCHING/ω_c of an isolated penalty pair (:func:`rods.fe.explicit.switching_step`);
 * the element estimate h_min/c_d, c_d the largest dilatational wave speed;
 * the step: ``fe.dt_fraction`` x Δt_crit capped by the switching limit when ``fe.dt`` is "auto", else
@@ -19,6 +21,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -30,7 +33,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from rods.fe.backend import Backend
-from rods.fe.explicit import largest_eigenvalue, stable_step, switching_step
+from rods.fe.explicit import EIGEN_TOL, largest_eigenvalue, stable_step, switching_step
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
 from rods.scene import SceneError
@@ -38,7 +41,7 @@ from rods.scene import SceneError
 if TYPE_CHECKING:
     from rods.fe.model import ExplicitModel
 
-__all__ = ["TimeStep", "gershgorin", "largest_eigenvalue_on", "omega_max", "time_step"]
+__all__ = ["TimeStep", "gershgorin", "largest_eigenvalue_on", "omega_max", "start_vector", "time_step"]
 
 
 @dataclass(frozen=True)
@@ -71,12 +74,12 @@ def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
         on_device = model.backend.on_device
         scaled = _scaled(model, with_contact, K_device if on_device else model.K)
         if on_device:
-            return math.sqrt(largest_eigenvalue_on(model.backend, scaled, model.n_local))
+            return math.sqrt(largest_eigenvalue_on(model.backend, scaled, model.n_local, start=start_vector(model)))
 
         def add_scaled(x: np.ndarray, y: np.ndarray) -> None:
             y += scaled(x)
 
-        return math.sqrt(largest_eigenvalue(add_scaled, model.n_local, model.comm))
+        return math.sqrt(largest_eigenvalue(add_scaled, model.n_local, model.comm, start=start_vector(model)))
     D = np.sqrt(model.inv_mass)
     z, Kz = np.zeros(model.n_local), np.zeros(model.n_local)
     zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
@@ -88,7 +91,18 @@ def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
             model.contact.apply_stiffness(z, Kz)
         y += D * Kz
 
-    return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm))
+    return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm, start=start_vector(model)))
+
+
+def start_vector(model: ExplicitModel) -> np.ndarray:
+    """The eigenvalue solves' start vector, owned entries: 1 + 0.1 sin(k·x + 7.9 c) at each DOF's node x [m]
+    and component c, k = (3.1, 4.3, 5.7)/h_ref with h_ref = 1e-4 m, so it has a part along every mode
+    (a wavelength of ~1e-4 m, below any element) and is the same vector on any rank count and DOF numbering
+    (the estimate of ω_max depends on the start at the level of its residual, rods.fe.explicit.EIGEN_TOL)."""
+    V, bs = model.V, model.bs
+    x = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local]  # [m] owned nodes
+    phase = x @ (np.array([3.1, 4.3, 5.7]) / 1e-4)
+    return (1.0 + 0.1 * np.sin(phase[:, None] + 7.9 * np.arange(bs)[None, :])).ravel()
 
 
 def _scaled(model: ExplicitModel, with_contact: bool, K: Any) -> Callable[[Any], Any]:
@@ -106,25 +120,32 @@ def _scaled(model: ExplicitModel, with_contact: bool, K: Any) -> Callable[[Any],
 
 
 def largest_eigenvalue_on(
-    backend: Backend, apply: Callable[[Any], Any], n: int, tol: float = 1e-8, ncv: int = 40, keep: int = 20
+    backend: Backend,
+    apply: Callable[[Any], Any],
+    n: int,
+    tol: float = EIGEN_TOL,
+    ncv: int = 40,
+    keep: int = 20,
+    start: np.ndarray | None = None,
 ) -> float:
-    """Largest eigenvalue of the symmetric operator x -> ``apply(x)`` (arrays of ``backend``) by thick-restart
-    Lanczos (Wu & Simon 2000; the Krylov-Schur restart of SLEPc for a symmetric operator), written once
-    against the backend's array namespace: on a device every vector operation stays there.
+    """Upper estimate θ + ‖A y - θ y‖ of the largest eigenvalue of the symmetric operator x -> ``apply(x)``
+    (arrays of ``backend``; as :func:`rods.fe.explicit.largest_eigenvalue`) by thick-restart Lanczos (Wu &
+    Simon 2000; the Krylov-Schur restart of SLEPc for a symmetric operator), written once against the
+    backend's array namespace: on a device every vector operation stays there.
 
     ``ncv`` basis vectors, fully reorthogonalised (classical Gram-Schmidt twice); the projected matrix
     T = V A Vᵀ (ncv x ncv) lives on the host. At each restart the ``keep`` largest Ritz pairs are kept and
     the residual direction is appended. Converged when the largest Ritz pair's residual
-    ‖A y - θ y‖ = β |s_last| <= ``tol`` θ (SLEPc's relative criterion, the same 1e-8 as
-    :func:`rods.fe.explicit.largest_eigenvalue`); the same deterministic start vector. A Ritz value is a
-    lower bound of the largest eigenvalue: RuntimeError after 100 n_cv products without convergence.
+    ‖A y - θ y‖ = β |s_last| <= ``tol`` θ (SLEPc's relative criterion and the same tolerance as
+    :func:`rods.fe.explicit.largest_eigenvalue`), returned as θ + β |s_last|; the same deterministic start
+    vector (or ``start``). RuntimeError after 100 n_cv products without convergence.
     (CuPy's own ``eigsh`` tests an absolute residual, which an operator of norm ~1e14 never meets.)"""
     xp = backend.xp
     ncv = max(2, min(ncv, n))
     keep = max(1, min(keep, ncv - 2))
     V = xp.zeros((ncv, n))
     T = np.zeros((ncv, ncv))
-    v0 = backend.asarray(1.0 + 0.1 * np.sin(np.arange(n, dtype=np.float64)))
+    v0 = backend.asarray(1.0 + 0.1 * np.sin(np.arange(n, dtype=np.float64)) if start is None else start)
     V[0] = v0 / float(xp.linalg.norm(v0))
     j, products = 0, 0
     while True:
@@ -143,8 +164,9 @@ def largest_eigenvalue_on(
                 V[j + 1] = w / β
             j += 1
         θ, S = np.linalg.eigh(T)  # ascending
-        if β * abs(S[-1, -1]) <= tol * abs(θ[-1]) or β == 0.0:
-            return float(θ[-1])
+        residual = β * abs(S[-1, -1])  # ‖A y - θ y‖ of the largest Ritz pair
+        if residual <= tol * abs(θ[-1]) or β == 0.0:
+            return float(θ[-1] + residual)
         if products >= 100 * ncv:
             raise RuntimeError(f"Lanczos: largest eigenvalue not converged after {products} products")
         top = S[:, -keep:]  # thick restart: the keep largest Ritz vectors, then the residual direction
@@ -165,13 +187,24 @@ def gershgorin(model: ExplicitModel) -> float:
     return model.comm.allreduce(float(np.max(rows * model.inv_mass, initial=0.0)), op=MPI.MAX)
 
 
+def _omega_or_bound(model: ExplicitModel, with_contact: bool, K_device: Any, ω_bound: float) -> float:
+    """:func:`omega_max`, or the Gershgorin bound ``ω_bound`` [rad/s] with a warning where the eigenvalue solve
+    does not converge (a smaller, safe step: never a Ritz value that may lie below ω_max)."""
+    try:
+        return omega_max(model, with_contact, K_device)
+    except RuntimeError as e:
+        warnings.warn(f"{e}; the step is set from the Gershgorin bound (smaller, safe)", RuntimeWarning, stacklevel=2)
+        return ω_bound
+
+
 def time_step(model: ExplicitModel) -> TimeStep:
     """The limits and the step of ``model`` (collective); see the module docstring."""
     sc, be = model.scene, model.backend
+    ω_bound = math.sqrt(gershgorin(model))  # [rad/s] a true upper bound, with the contact at full engagement
     K_device = be.csr(model.K) if be.on_device else None  # copied once for both eigenvalues
-    ω_K, ξ = omega_max(model, False, K_device), sc["fe.bulk_viscosity"]
+    ω_K, ξ = _omega_or_bound(model, False, K_device, ω_bound), sc["fe.bulk_viscosity"]
     # a law without springs adds nothing to the operator: the second solve would repeat the first exactly
-    ω = omega_max(model, True, K_device) if model.contact.stiffens else ω_K
+    ω = _omega_or_bound(model, True, K_device, ω_bound) if model.contact.stiffens else ω_K
     del K_device
     dt_critical = stable_step(ω, ξ)
     ω_contact = model.contact.pair_frequency(model.inv_mass)
@@ -199,7 +232,7 @@ def time_step(model: ExplicitModel) -> TimeStep:
         ξ=ξ,
         dt_critical=dt_critical,
         dt_critical_no_contact=stable_step(ω_K, ξ),
-        dt_gershgorin=stable_step(math.sqrt(gershgorin(model)), ξ),
+        dt_gershgorin=stable_step(ω_bound, ξ),
         ω_contact=ω_contact,
         dt_switching=dt_switching,
         h_min=h_min,

@@ -105,6 +105,22 @@ def test_the_step_limit_is_solved_once_without_contact_springs(scene_with, monke
     assert calls == [False, True] and pen.ω_max > pen.ω_max_K
 
 
+def test_an_unconverged_eigenvalue_solve_marches_at_the_gershgorin_bound(scene_with, monkeypatch):
+    """Where Krylov-Schur does not converge (a Ritz value may then lie below ω_max), the step comes from the
+    Gershgorin bound, a true upper bound of ω_max, with a warning: a smaller step, never an unstable one."""
+    from rods.fe import timestep
+
+    def fail(*_args, **_kw):
+        raise RuntimeError("Krylov-Schur: largest eigenvalue not converged")
+
+    ref = ExplicitModel(scene_with(*COARSE))
+    monkeypatch.setattr(timestep, "largest_eigenvalue", fail)
+    with pytest.warns(RuntimeWarning, match="Gershgorin"):
+        fe = ExplicitModel(scene_with(*COARSE))
+    assert fe.dt_critical == pytest.approx(fe.dt_gershgorin, rel=1e-14) and fe.dt_gershgorin < ref.dt_critical
+    assert fe.dt == pytest.approx(0.8 * fe.dt_gershgorin)
+
+
 def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
     """Why the switching limit exists: 100x the default penalty marched at 0.9 x the linear limit (1.77 x the
     switching limit) rattles and pumps energy: the guard stops it (measured: energy grown by 0.076 and 0.11 x E0
