@@ -41,7 +41,7 @@ from rods.scene import SceneError
 if TYPE_CHECKING:
     from rods.fe.model import ExplicitModel
 
-__all__ = ["TimeStep", "gershgorin", "largest_eigenvalue_on", "omega_max", "start_vector", "time_step"]
+__all__ = ["TimeStep", "abs_row_sums", "gershgorin", "largest_eigenvalue_on", "omega_max", "start_vector", "time_step"]
 
 
 @dataclass(frozen=True)
@@ -177,11 +177,33 @@ def largest_eigenvalue_on(
         j = keep
 
 
+def abs_row_sums(S: scipy.sparse.spmatrix, chunk: int = 1 << 22) -> np.ndarray:
+    """Σ_j |S_ij| of every row of a CSR or BSR matrix, ``chunk`` stored values at a time: ``abs(S)`` copies the
+    whole matrix, values and indices (3D, 983k DOFs, serial, one run each: 1.86 s for the CSR K, 0.33 s in chunks;
+    BSR 1.53 s, 0.59 s)."""
+    bsr = S.format == "bsr"
+    if not bsr and S.format != "csr":
+        S = S.tocsr()
+    bs, bc = S.blocksize if bsr else (1, 1)
+    data, indptr = S.data.reshape(-1, bs, bc), S.indptr
+    n_rows = indptr.size - 1  # (block) rows
+    out = np.zeros((n_rows, bs))
+    step = max(1, chunk * n_rows // max(int(indptr[-1]) * bs * bc, 1))  # (block) rows per chunk
+    for r0 in range(0, n_rows, step):
+        r1 = min(r0 + step, n_rows)
+        starts = indptr[r0:r1]
+        filled = np.flatnonzero(indptr[r0 + 1 : r1 + 1] > starts)  # reduceat needs every start inside
+        if filled.size:
+            seg = np.abs(data[indptr[r0] : indptr[r1]]).sum(axis=2)  # [stored blocks x bs]
+            out[r0 + filled] = np.add.reduceat(seg, starts[filled] - indptr[r0], axis=0)
+    return out.ravel()
+
+
 def gershgorin(model: ExplicitModel) -> float:
     """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
     # DOLFINx's own CSR matrix (owned rows, all columns): the array backends' K, else assembled for this
     S = model.K if scipy.sparse.issparse(model.K) else dolfinx.fem.assemble_matrix(model.stiffness).to_scipy()
-    rows = np.asarray(abs(S).sum(axis=1)).ravel()[: model.n_local]
+    rows = abs_row_sums(S)[: model.n_local]
     del S
     model.contact.add_abs_row_sums(rows)
     return model.comm.allreduce(float(np.max(rows * model.inv_mass, initial=0.0)), op=MPI.MAX)

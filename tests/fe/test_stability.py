@@ -11,6 +11,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rods.fe  # noqa: F401
 from rods import checks
@@ -196,3 +198,26 @@ def test_200k_steps_bounded_energy_drift(scene_with):
     E = r.history["kinetic_energy"] + r.history["strain_energy"] + r.history["contact_energy"]
     late = E[E.size // 2 :]
     assert np.ptp(late) / E[0] < 1e-4  # no secular growth in the second half
+
+
+@given(
+    n=st.integers(1, 40),
+    density=st.floats(0.0, 0.5),
+    bs=st.sampled_from([1, 2, 3]),
+    chunk=st.integers(1, 64),
+    seed=st.integers(0, 2**16),
+)
+@settings(max_examples=60, deadline=None)
+def test_abs_row_sums_equal_scipys(n, density, bs, chunk, seed):
+    """rods.fe.timestep.abs_row_sums (the Gershgorin bound's row sums, chunked, no copy of the matrix) equals
+    SciPy's abs(S).sum(axis=1) on CSR and BSR matrices with empty rows, for any chunk size."""
+    import scipy.sparse
+
+    from rods.fe.timestep import abs_row_sums
+
+    S = scipy.sparse.random(n * bs, n * bs, density=density, format="csr", random_state=seed) - 0.5 * (
+        scipy.sparse.random(n * bs, n * bs, density=density, format="csr", random_state=seed + 1)
+    )
+    expected = np.asarray(abs(S).sum(axis=1)).ravel()
+    for M in (S, S.tobsr(blocksize=(bs, bs))):
+        np.testing.assert_allclose(abs_row_sums(M, chunk), expected, rtol=1e-14, atol=0.0)
