@@ -96,9 +96,10 @@ def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
 
 def start_vector(model: ExplicitModel) -> np.ndarray:
     """The eigenvalue solves' start vector, owned entries: 1 + 0.1 sin(k·x + 7.9 c) at each DOF's node x [m]
-    and component c, k = (3.1, 4.3, 5.7)/h_ref with h_ref = 1e-4 m, so it has a part along every mode
-    (a wavelength of ~1e-4 m, below any element) and is the same vector on any rank count and DOF numbering
-    (the estimate of ω_max depends on the start at the level of its residual, rods.fe.explicit.EIGEN_TOL)."""
+    and component c, k = (3.1, 4.3, 5.7)/h_ref with h_ref = 1e-4 m: a wavelength below the elements, so it is
+    rough from node to node like the top modes and not orthogonal to them by any symmetry of the mesh, and the
+    same vector on any rank count and DOF numbering (the estimate of ω_max depends on the start at the level of
+    its residual, rods.fe.explicit.EIGEN_TOL)."""
     V, bs = model.V, model.bs
     x = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local]  # [m] owned nodes
     phase = x @ (np.array([3.1, 4.3, 5.7]) / 1e-4)
