@@ -251,19 +251,7 @@ def fe_cost(
         cells = _cells_axisymmetric(scene, h_r, h, g, lengths)
         dofs = DOFS_PER_CELL * cells
     end = scene.end_time if end_time is None else end_time
-    stable, switching = _step_limits(scene, h_r, h, g, size)
-    limit = min(stable, switching)
-    # as rods.fe.timestep: fe.dt_fraction of the stable step, at most the switching limit
-    key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
-    dt = given if given != "auto" else min(scene["fe.dt_fraction"] * stable, switching)
-    if given != "auto" and given > DT_REFUSE_FACTOR * limit:
-        raise (SceneError if size is None else InputError)(  # a scene key, or the submodel's --dt
-            key,
-            given,
-            f"must be <= the stable limit, about {limit:.3g} s on this mesh (estimated from its smallest element; "
-            "the set-up computes it exactly)",
-            "fe.dt = 'auto' takes fe.dt_fraction of it",
-        )
+    dt = _march_step(scene, h_r, h, g, size, dt)
     steps = math.ceil(end / dt)
     # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
@@ -299,6 +287,26 @@ def fe_cost(
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
     return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
+
+
+def _march_step(scene: Scene, h_r: float, h: float, g: float, size: float | None, dt: float | str) -> float:
+    """The step [s] the model will march at, as rods.fe.timestep: fe.dt_fraction of the estimated stable step, at
+    most the switching limit, or the given one (the global's fe.dt, a submodel's ``dt``), refused (exit 2) when it
+    is far above the estimated limit."""
+    stable, switching = _step_limits(scene, h_r, h, g, size)
+    limit = min(stable, switching)
+    key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
+    if given == "auto":
+        return min(scene["fe.dt_fraction"] * stable, switching)
+    if given > DT_REFUSE_FACTOR * limit:
+        raise (SceneError if size is None else InputError)(  # a scene key, or the submodel's --dt
+            key,
+            given,
+            f"must be <= the stable limit, about {limit:.3g} s on this mesh (estimated from its smallest element; "
+            "the set-up computes it exactly)",
+            "fe.dt = 'auto' takes fe.dt_fraction of it",
+        )
+    return given
 
 
 def _on_gpu(scene: Scene, ranks: int) -> bool:
