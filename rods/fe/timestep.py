@@ -69,17 +69,18 @@ def _vec(comm: MPI.Comm, a: np.ndarray, n_global: int, bs: int) -> PETSc.Vec:
 def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
     """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½: SLEPc on the host
     (K a PETSc Mat or the array backends' SciPy CSR), or thick-restart Lanczos on the device when the
-    backend is one (``K_device``: K there, :func:`largest_eigenvalue_on`)."""
+    backend is one (``K_device``: K there, :func:`largest_eigenvalue_on`), from :func:`start_vector`."""
+    start = start_vector(model)
     if scipy.sparse.issparse(model.K):  # the array backends: the operator on their arrays (:func:`_scaled`)
         on_device = model.backend.on_device
         scaled = _scaled(model, with_contact, K_device if on_device else model.K)
         if on_device:
-            return math.sqrt(largest_eigenvalue_on(model.backend, scaled, model.n_local, start=start_vector(model)))
+            return math.sqrt(largest_eigenvalue_on(model.backend, scaled, model.n_local, start=start))
 
         def add_scaled(x: np.ndarray, y: np.ndarray) -> None:
             y += scaled(x)
 
-        return math.sqrt(largest_eigenvalue(add_scaled, model.n_local, model.comm, start=start_vector(model)))
+        return math.sqrt(largest_eigenvalue(add_scaled, model.n_local, model.comm, start=start))
     D = np.sqrt(model.inv_mass)
     z, Kz = np.zeros(model.n_local), np.zeros(model.n_local)
     zv, Kzv = (_vec(model.comm, a, model.n_global, model.bs) for a in (z, Kz))
@@ -91,7 +92,7 @@ def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
             model.contact.apply_stiffness(z, Kz)
         y += D * Kz
 
-    return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm, start=start_vector(model)))
+    return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm, start=start))
 
 
 def start_vector(model: ExplicitModel) -> np.ndarray:
