@@ -43,6 +43,7 @@ from __future__ import annotations
 import bisect
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -206,27 +207,18 @@ class WaveModel:
         return out / Z
 
     # ---- integration ---------------------------------------------------------------------
-    def run(self, end_time: float) -> WaveModel:
-        """Integrate from first touch (t = 0, δ = 0, δ' = s1) to ``end_time``."""
-        s1, K, Zs, c = self.speed, self.K, 1.0 / self.Z[0] + 1.0 / self.Z[1], self.compliance
-        Tmin = min(self.T)
-        atol = np.array([self.rtol * self.delta_scale * 1e-2, self.rtol * 1e-2 * self.delta_scale * K * Tmin])
+    def _rhs(self, t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
+        """d/dt (δ_H, impulse) [m/s, N]: the compression rate (paper Eq. 6 with Eq. 5) under Hertz (Eq. 8) or the
+        rod-end law, and the contact force."""
+        root = math.sqrt(max(y[0], 0.0))
+        P = self.K * root**3
+        # dδ/dδ_H, 1 for the paper's law; floored for the integrator's trial stages only (checked after)
+        stiffening = max(1.0 + 1.5 * self.compliance * self.K * root, 0.1)
+        Zs = 1.0 / self.Z[0] + 1.0 / self.Z[1]
+        return np.array([(self.speed - self._delayed_force(t) - P * Zs) / stiffening, P])
 
-        breaks: list[float] = []
-
-        def add_breaks(te: float) -> None:
-            for T in self.T:
-                tb = te + T
-                while tb < end_time:
-                    bisect.insort(breaks, tb)
-                    tb += T
-
-        def rhs(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
-            root = math.sqrt(max(y[0], 0.0))
-            P = K * root**3
-            # dδ/dδ_H, 1 for the paper's law; floored for the integrator's trial stages only (checked after)
-            stiffening = max(1.0 + 1.5 * c * K * root, 0.1)
-            return np.array([(s1 - self._delayed_force(t) - P * Zs) / stiffening, P])
+    def _events(self) -> tuple[Callable, Callable]:
+        """(release, end_term_breaks): the terminal events of one integration leg (solve_ivp's protocol)."""
 
         def release(t: float, y: NDArray[np.float64]) -> float:
             return y[0]
@@ -238,15 +230,32 @@ class WaveModel:
 
         release.terminal = end_term_breaks.terminal = True  # type: ignore[attr-defined]
         end_term_breaks.direction = -1.0  # type: ignore[attr-defined]
+        return release, end_term_breaks
+
+    def _add_breaks(self, breaks: list[float], te: float, end_time: float) -> None:
+        """Insert the delay breaks te + k T_i (k >= 1) before ``end_time`` into the sorted ``breaks`` [s]: the
+        delayed force is not smooth there, so each integration leg ends at one."""
+        for T in self.T:
+            tb = te + T
+            while tb < end_time:
+                bisect.insort(breaks, tb)
+                tb += T
+
+    def run(self, end_time: float) -> WaveModel:
+        """Integrate from first touch (t = 0, δ = 0, δ' = s1) to ``end_time``."""
+        Tmin = min(self.T)
+        atol = np.array([self.rtol * self.delta_scale * 1e-2, self.rtol * 1e-2 * self.delta_scale * self.K * Tmin])
+        breaks: list[float] = []
+        release, end_term_breaks = self._events()
         t, y, touching = 0.0, np.zeros(2), True
         self.contacts.append([0.0, math.inf])
-        add_breaks(0.0)
+        self._add_breaks(breaks, 0.0, end_time)
         while t < end_time * (1 - 1e-14):
             nb = bisect.bisect_right(breaks, t * (1 + 1e-14) + 1e-18)
             t_stop = min(end_time, t + Tmin, breaks[nb] if nb < len(breaks) else math.inf)
             release.direction = -1.0 if touching else 1.0  # type: ignore[attr-defined]
             r = solve_ivp(
-                rhs, (t, t_stop), y, method="DOP853", rtol=self.rtol, atol=atol, dense_output=True,
+                self._rhs, (t, t_stop), y, method="DOP853", rtol=self.rtol, atol=atol, dense_output=True,
                 events=(release, end_term_breaks),
             )  # fmt: skip
             if r.status < 0:
@@ -264,7 +273,7 @@ class WaveModel:
                 else:
                     self.contacts.append([t, math.inf])
                 touching = not touching
-                add_breaks(t)
+                self._add_breaks(breaks, t, end_time)
             elif touching:
                 self.contacts[-1][1] = t  # provisional end, so delayed lookups see the open episode
         return self

@@ -268,17 +268,7 @@ def fe_cost(
         loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
-    frames = 0
-    if size is None and scene.field_interval > 0:  # the submodel writes none
-        from rods.fe.fields import frame_count
-
-        if scene.field_interval < 0.5 * dt:  # frames between two steps interpolate the same two states
-            raise SceneError(
-                "fe.field_interval", scene.field_interval, f"below half the time step (about {dt:.3g} s here): "
-                "frames between two steps are interpolations of the same two states", "an interval of a step or more",
-            )  # fmt: skip
-
-        frames = frame_count(scene.field_interval, dt, steps)
+    frames = _field_frames(scene, dt, steps) if size is None else 0  # the submodel writes none
     field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
     if size is None and scene["fe.checkpoint_interval"] > 0:  # the model's stride (rods.fe.checkpoint.stride)
@@ -287,6 +277,21 @@ def fe_cost(
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
     return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
+
+
+def _field_frames(scene: Scene, dt: float, steps: int) -> int:
+    """Field frames the global run writes at fe.field_interval with step ``dt`` [s] over ``steps``; a SceneError
+    where the interval is below half a step (frames between two steps interpolate the same two states)."""
+    if not scene.field_interval > 0:
+        return 0
+    from rods.fe.fields import frame_count
+
+    if scene.field_interval < 0.5 * dt:
+        raise SceneError(
+            "fe.field_interval", scene.field_interval, f"below half the time step (about {dt:.3g} s here): "
+            "frames between two steps are interpolations of the same two states", "an interval of a step or more",
+        )  # fmt: skip
+    return frame_count(scene.field_interval, dt, steps)
 
 
 def _march_step(scene: Scene, h_r: float, h: float, g: float, size: float | None, dt: float | str) -> float:

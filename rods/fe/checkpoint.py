@@ -63,6 +63,13 @@ def scene_hash(scene: Any) -> str:
     return hashlib.sha256(json.dumps(scene.as_dict(), sort_keys=True).encode()).hexdigest()[:16]
 
 
+def run_key(scene: Any, dt: float, ranks: int, dofs: int, fmt: int, inputs: list[Any]) -> str:
+    """Identifies scene + step ``dt`` [s] + partition (``ranks``, ``dofs``) + state format ``fmt`` (+ the observers'
+    ``inputs``, a submodel's cut record): a checkpoint is only resumed by the same run."""
+    text = json.dumps([scene.as_dict(), dt, ranks, dofs, fmt, *inputs], sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def _manifest(out: Path) -> dict[str, Any] | None:
     """``checkpoint.json`` of ``out`` (None: there is none); a damaged one raises CheckpointError."""
     m = Path(out) / MANIFEST

@@ -27,7 +27,6 @@ Sign conventions of the outputs: velocity along +z (the impact direction) positi
 
 from __future__ import annotations
 
-import hashlib
 import json
 import sys
 import time
@@ -266,7 +265,8 @@ class ExplicitModel:
         stepper = self.stepper()
         recorder = self.recorder(observers)
         parts = (stepper, recorder, *(o for o in observers if hasattr(o, "state")))  # what a checkpoint holds
-        key = self._checkpoint_key(observers)
+        inputs = [o.checkpoint_identity for o in observers if hasattr(o, "checkpoint_identity")]
+        key = checkpoint.run_key(self.scene, self.dt, self.comm.size, self.n_global, CHECKPOINT_FORMAT, inputs)
         step0 = self._restore(out, parts, key, progress) if restart and out is not None else 0
         if step0 == 0 and out is not None:  # afresh: an earlier run's field series here is not this run's
             fields.discard(out, self.comm)
@@ -369,15 +369,6 @@ class ExplicitModel:
             self._corners = CornerJacobians(self.V, self.n_local, msh.topology.index_map(msh.topology.dim).size_local)
             self._corners.use(self.backend)  # a device counts there (serial), else the host
         return self._corners.count(u_owned)
-
-    def _checkpoint_key(self, observers: Sequence[Any] = ()) -> str:
-        """Identifies scene + step + partition + format (+ the observers' inputs, a submodel's cut record): a
-        checkpoint is only resumed by the same run."""
-        inputs = [o.checkpoint_identity for o in observers if hasattr(o, "checkpoint_identity")]
-        text = json.dumps(
-            [self.scene.as_dict(), self.dt, self.comm.size, self.n_global, CHECKPOINT_FORMAT, *inputs], sort_keys=True
-        )
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, wall_loop: float) -> FEResult:

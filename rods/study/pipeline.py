@@ -104,23 +104,49 @@ def run_study(
             log,
         )  # fmt: skip
     if p.submodel_levels:
-        d = done["global"] if shared else _said(
-            stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log, resume=restart), log
-        )  # fmt: skip
-        done["driver"] = d
-        for level in p.submodel_levels:
-            done[f"submodel/{level}"] = _said(stages.submodel(
-                d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase,
-                progress=progress, resume=restart and d.kept, driver_summary=d.summary,
-            ), log)  # fmt: skip
+        _submodels(scene, p, done, shared, out, comm, progress, log, restart)
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
     waves = "wave_response" in p.effects and p.global_model
     if waves and root:
         _wave_figure(done, out / "compare")
+    summary = _study_summary(scene, p, done, comparison, waves, out, comm, t0)
+    if root:
+        io.write_summary(out / "summary.json", summary)
+    return Study(p, done, comparison, summary)
+
+
+def _submodels(
+    scene: Scene,
+    p: Any,
+    done: dict[str, stages.Stage],
+    shared: bool,
+    out: Path,
+    comm: Any,
+    progress: Any,
+    log: Any,
+    restart: bool,
+) -> None:
+    """The plan's submodel levels into ``done`` ("driver", "submodel/LEVEL"), driven by the study's global where it
+    records the cut (``shared``), else by a driver stage of its own."""
+    d = done["global"] if shared else _said(
+        stages.driver(scene, out / "driver", comm, p.contact_phase, progress, log, resume=restart), log
+    )  # fmt: skip
+    done["driver"] = d
+    for level in p.submodel_levels:
+        done[f"submodel/{level}"] = _said(stages.submodel(
+            d.scene, d.cut_file, out / "submodel" / level, comm, level, end_time=p.contact_phase,
+            progress=progress, resume=restart and d.kept, driver_summary=d.summary,
+        ), log)  # fmt: skip
+
+
+def _study_summary(
+    scene: Scene, p: Any, done: dict[str, stages.Stage], comparison: Any, waves: bool, out: Path, comm: Any, t0: float
+) -> dict[str, Any]:
+    """The study's summary: the most refined stage's values with their sources, the status, plan and folders."""
     values, sources = plan.most_refined(p, {k: s.summary for k, s in done.items()})
     folders = {k: str(s.folder) for k, s in done.items()}
     folders |= {"compare": str(out / "compare")} if (waves or p.submodel_levels) else {}
-    summary = {
+    return {
         "model": "workflow",
         "scene": scene.label,
         "impact_speed": scene.speed,
@@ -132,9 +158,6 @@ def run_study(
         "stages": folders,
         "scene_values": scene.as_dict(),
     }
-    if root:
-        io.write_summary(out / "summary.json", summary)
-    return Study(p, done, comparison, summary)
 
 
 def _set_up_global(g: Scene, out: Path, comm: Any, restart: bool, kw: dict[str, Any]) -> tuple[Any, Any]:

@@ -325,6 +325,17 @@ def submodel(
             e.partial.summary["model"] = submodel_name(name)
             _write_fe(out, e.partial, comm)
         raise
+    _finish_submodel(sr, scene, cut_file, end, phase, driver_summary, out, comm)
+    return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)
+
+
+def _finish_submodel(
+    sr: Any, scene: Scene, cut_file: Path, end: float, phase: int | None, driver_summary: Any, out: Path, comm: Any
+) -> None:
+    """Annotate the submodel run ``sr`` (rods.fe.submodel.run_submodel's) with its driver, phase member and checks
+    against ``scene`` (the driving global's) up to ``end`` [s], and write its files into ``out`` (rank 0)."""
+    from rods.fe.submodel import cut_identity
+
     sr.summary["cut_file"] = str(cut_file)
     # the driving global's scene: the submodel's own scene_values are the cut region's (rods L_s long, not a scene
     # of the schema), so the later stages check a submodel's bodies and impact against this one
@@ -341,7 +352,6 @@ def submodel(
         io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, PROFILE_UNITS)
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
         io.write_summary(out / "summary.json", sr.summary)
-    return Stage(f"submodel/{name}", out, scene, sr.summary, sr.result.history)
 
 
 def comparison(
