@@ -119,6 +119,7 @@ def _member_scatter(r: Mapping[str, Any], F_an: float, E_star: float, R_star: fl
         "member_h": sorted((float(m["h"]) for m in r["members"]), reverse=True),
         "spread_pct": {q: [min(e[q] for e in errs), max(e[q] for e in errs)] for q in QUANTITIES},
         "standard_error_pct": {q: float(np.std([e[q] for e in errs], ddof=1) / math.sqrt(n)) for q in QUANTITIES},
+        "standard_deviation_pct": {q: float(np.std([e[q] for e in errs], ddof=1)) for q in QUANTITIES},
     }
 
 
@@ -185,23 +186,33 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
     return flags
 
 
-SCATTER_SIGMAS = 2.0  # a phase-mean step under this many combined standard errors is the members' scatter [-]
+SCATTER_SIGMAS = 2.0  # a step under this many combined standard errors (deviations) is the scatter [-]
+
+
+def _scatter(lv: Mapping[str, Any]) -> tuple[Mapping[str, float], str] | None:
+    """A level's scatter per quantity [%] and what it is: a phase mean's standard error ("members"), or, for a
+    single-mesh level run with phase members, one member's standard deviation ("snapshot"); None for neither."""
+    if "standard_error_pct" in lv:
+        return lv["standard_error_pct"], "members"
+    if "snapshot_sd_pct" in lv:
+        return lv["snapshot_sd_pct"], "snapshot"
+    return None
 
 
 def step_vs_scatter(a: Mapping[str, Any], b: Mapping[str, Any], q: str) -> dict[str, Any]:
-    """The step of quantity ``q`` between two phase-mean levels [points], their combined standard error [points]
-    and whether the step is within :data:`SCATTER_SIGMAS` of it (the members' scatter) or a trend."""
+    """The step of quantity ``q`` between two levels [points], their combined scatter [points] (:func:`_scatter`:
+    the phase means' standard errors, or single meshes' standard deviations) and whether the step is within
+    :data:`SCATTER_SIGMAS` of it (scatter) or a trend."""
+    (sa, basis), (sb, _) = _scatter(a), _scatter(b)
     step = abs(b["error_pct"][q] - a["error_pct"][q])
-    s = math.hypot(a["standard_error_pct"][q], b["standard_error_pct"][q])
-    return {"step": step, "standard_error": s, "within_scatter": step < SCATTER_SIGMAS * s}
+    s = math.hypot(sa[q], sb[q])
+    return {"step": step, "standard_error": s, "within_scatter": step < SCATTER_SIGMAS * s, "basis": basis}
 
 
 def turns_vs_scatter(levels: Sequence[Mapping[str, Any]], q: str, turns: Sequence[str]) -> list[dict[str, Any]]:
-    """For phase-mean levels (with ``standard_error_pct``): at each interior level in ``turns``, the smaller of its
-    two steps of quantity ``q`` [points], the two levels' combined standard error [points] and whether the step is
-    within :data:`SCATTER_SIGMAS` of it (the members' scatter) or a trend; [] for levels without members."""
-    if not all("standard_error_pct" in lv for lv in levels):
-        return []
+    """At each interior level in ``turns``: the smaller of its two steps of quantity ``q`` [points], the two levels'
+    combined scatter [points] and whether the step is within :data:`SCATTER_SIGMAS` of it (:func:`step_vs_scatter`);
+    a turn whose step joins a level without a scatter (no phase members) is left out."""
     names = [lv["level"] for lv in levels]
     e = [lv["error_pct"][q] for lv in levels]
     out = []
@@ -210,19 +221,36 @@ def turns_vs_scatter(levels: Sequence[Mapping[str, Any]], q: str, turns: Sequenc
         if not 0 < j < len(levels) - 1:
             continue
         k = j - 1 if abs(e[j] - e[j - 1]) < abs(e[j + 1] - e[j]) else j + 1  # the smaller step's other end
+        if _scatter(levels[j]) is None or _scatter(levels[k]) is None:
+            continue
         out.append({"level": t, **step_vs_scatter(levels[j], levels[k], q)})
     return out
 
 
 def _turns_text(turns: Sequence[Mapping[str, Any]]) -> str:
     """The flag's tail for :func:`turns_vs_scatter`'s entries."""
-    parts = [
-        f"at {t['level']} the smaller step is {t['step']:.3f} points against a standard error of "
-        f"{t['standard_error']:.3f}: "
-        + ("within the members' scatter" if t["within_scatter"] else "larger than the members' scatter")
-        for t in turns
-    ]
+    what = {
+        "members": ("a standard error", "the members' scatter"),
+        "snapshot": ("the two meshes' combined standard deviation over their phase members", "a single mesh's scatter"),
+    }
+    parts = []
+    for t in turns:
+        measure, scatter = what[t.get("basis", "members")]
+        parts.append(
+            f"at {t['level']} the smaller step is {t['step']:.3f} points against {measure} of "
+            f"{t['standard_error']:.3f}: " + (f"within {scatter}" if t["within_scatter"] else f"larger than {scatter}")
+        )
     return ("; " + "; ".join(parts)) if parts else ""
+
+
+def _snapshot_scatter(levels: dict[str, list[dict[str, Any]]]) -> None:
+    """Give each single-mesh submodel level whose phase members ran (family :data:`PHASE_FAMILY`) one member's
+    standard deviation, ``snapshot_sd_pct``: the scatter of a single mesh's value, against which its turns are
+    judged."""
+    phase = {lv["level"]: lv for lv in levels.get(PHASE_FAMILY, [])}
+    for lv in levels.get("submodel", []):
+        if lv["level"] in phase and "standard_deviation_pct" in phase[lv["level"]]:
+            lv["snapshot_sd_pct"] = phase[lv["level"]]["standard_deviation_pct"]
 
 
 def compute(
@@ -236,13 +264,15 @@ def compute(
             raise KeyError(f"convergence record {dict(r)!r} lacks {missing}")
     records = [r for r in records if r.get("phase") is None] + _phase_means(records)
     families = sorted({str(r["model"]) for r in records}, key=_rank)
-    models = {}
+    models, by_family = {}, {}
     for m in families:
         recs = sorted((r for r in records if r["model"] == m), key=lambda r: -float(r["h"]))
-        levels = [_level(r, analytical_force, E_star, R_star) for r in recs]
-        for lv, r in zip(levels, recs, strict=True):
+        by_family[m] = [_level(r, analytical_force, E_star, R_star) for r in recs]
+        for lv, r in zip(by_family[m], recs, strict=True):
             if "members" in r:
                 lv.update(_member_scatter(r, analytical_force, E_star, R_star))
+    _snapshot_scatter(by_family)
+    for m, levels in by_family.items():
         est = _estimates(levels) if len(levels) >= 3 else None
         models[m] = {"levels": levels, "estimates": est, "flags": _flags(m, levels, est)}
         if est is not None:

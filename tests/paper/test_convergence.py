@@ -247,3 +247,26 @@ def test_phase_family_turn_is_weighed_against_the_members_scatter():
     assert "within the members' scatter" in small[0]
     large = [f for f in flags(0.008) if f.startswith("submodel (phase mean) contact area error")]
     assert len(large) == 1 and "larger than the members' scatter" in large[0]
+
+
+def test_a_single_mesh_turn_is_weighed_against_one_meshs_scatter_over_its_phase_members():
+    """The plain family's levels are single meshes (the middle member, offset 0): a turn there is judged against
+    the two meshes' standard deviations over their phase members, not the means' standard errors, and a level
+    without members (no scatter) is left out. Members spread ±0.3 points; own runs 1.0, 0.5, 0.51 or 0.8 %."""
+
+    def plain_flag(fine_mean, spread=0.003):
+        recs = []
+        for name, h, mean in zip(NAMES, H, (0.01, 0.005, fine_mean), strict=False):
+            recs += phase_members(name, h, F_AN, [mean + x for x in (spread, -spread, 0.7 * spread, -0.7 * spread, 0)])
+        d = convergence.compute(recs, F_AN, E_STAR, R_STAR)
+        fine = d["models"]["submodel"]["levels"][2]
+        sd = d["models"][convergence.PHASE_FAMILY]["levels"][2]["standard_deviation_pct"]["contact_area"]
+        assert fine["snapshot_sd_pct"]["contact_area"] == pytest.approx(sd)
+        flags = [f for f in d["models"]["submodel"]["flags"] if f.startswith("submodel contact area error")]
+        return flags[0] if flags else ""
+
+    small = plain_flag(0.0051)
+    assert "at mid the smaller step is 0.010 points" in small and "within a single mesh's scatter" in small
+    assert "larger than a single mesh's scatter" in plain_flag(0.0051, spread=0.00001)
+    levels = [{"level": n, "error_pct": {"a": e}} for n, e in zip(NAMES, (1.0, 0.5, 0.51), strict=False)]
+    assert convergence.turns_vs_scatter(levels, "a", ["mid"]) == []  # no members: no scatter claimed
