@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz
-from rods.convergence import FS_GOOD, FS_POOR, credible_order
+from rods.convergence import FS_GOOD, credible_order, estimate
 
 __all__ = [
     "SIGMA_EDGE_BAND",
@@ -94,8 +94,8 @@ class Richardson:
     """Three-level Richardson extrapolation; f1 finest. ``order`` is NaN for non-monotone data; for
     monotone data whose differences grow under refinement (p <= 0: not in the asymptotic range) the order is
     kept but there is no extrapolation or GCI (NaN). An order outside rods.convergence.P_CREDIBLE is not taken
-    at face value (as in rods.convergence.estimate): its GCI has the safety factor 3, and it is not
-    :attr:`credible`, so no claim rests on its extrapolation."""
+    at face value (as in rods.convergence.estimate): the extrapolation and GCI are the fixed-order fits' with the
+    safety factor 3, and it is not :attr:`credible`, so no comparison rests on its extrapolation."""
 
     f1: float
     f2: float
@@ -124,8 +124,10 @@ class Richardson:
 
 
 def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0) -> Richardson:
-    """Observed order, extrapolated value and GCI_fine (Roache; ASME V&V 20) from three levels; the safety factor
-    1.25 at a credible order, 3 otherwise (rods.convergence, Eça & Hoekstra)."""
+    """Observed order, extrapolated value and GCI_fine (Roache; ASME V&V 20) from three levels. At an order outside
+    rods.convergence.P_CREDIBLE the observed order's extrapolation is no estimate (p = 0.13 put a pressure 14% past
+    its data): the extrapolation and the band are then the fixed-order fits' of rods.convergence.estimate (orders 1
+    or 2, whichever fits closer; safety factor 3), the same three levels' estimate as convergence.md's."""
     f1, f2, f3 = float(f_fine), float(f_mid), float(f_coarse)
     e21, e32 = f1 - f2, f2 - f3
     monotone = e21 != 0 and e32 / e21 > 0
@@ -134,11 +136,11 @@ def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0)
     p = math.log(e32 / e21) / math.log(ratio)
     if p <= 0:  # the differences grow as h shrinks: extrapolating would move away from the data
         return Richardson(f1, f2, f3, ratio, p, math.nan, math.nan, True)
+    if not credible_order(p):  # not taken at face value: Eça & Hoekstra's fixed-order fits, Fs = 3 (one definition)
+        est = estimate((ratio**2, ratio, 1.0), (f3, f2, f1))
+        return Richardson(f1, f2, f3, ratio, p, est.extrapolated, est.uncertainty / abs(f1), True)
     denom = ratio**p - 1.0
-    f_ext = f1 + e21 / denom
-    safety = SAFETY_FACTOR if credible_order(p) else FS_POOR
-    gci = safety * abs(e21 / f1) / denom
-    return Richardson(f1, f2, f3, ratio, p, f_ext, gci, True)
+    return Richardson(f1, f2, f3, ratio, p, f1 + e21 / denom, SAFETY_FACTOR * abs(e21 / f1) / denom, True)
 
 
 PLATEAU = 0.95  # samples with F >= PLATEAU x F_max form the force plateau [-]

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from rods import compare, hertz
+from rods.convergence import estimate
 
 
 @pytest.mark.parametrize("p", [1.0, 1.5, 2.0])
@@ -71,13 +72,19 @@ def test_plateau_radius_error_against_hertz_at_the_same_force():
     assert abs(compare.plateau_radius_error(F, off * a, E_star, R_star)[0]) < 1e-12
 
 
-def test_an_order_outside_the_credible_range_gets_the_safety_factor_3_and_no_claim():
+def test_an_order_outside_the_credible_range_gets_the_fixed_order_fits_and_no_claim():
     """Three levels that agree to 0.002% (a submodel's force: 25081.6, 24976.3, 24975.7 N coarse to fine, measured on
-    30 mm rods) give p = 7.5: not an order (rods.convergence.P_CREDIBLE); the GCI takes Fs = 3, as the least-squares
-    estimate does, and the extrapolation is not credible. A credible order keeps Roache's 1.25."""
-    f = (24975.7, 24976.3, 25081.6)
-    r = compare.richardson(*f)
-    assert r.monotone and r.asymptotic and r.order > 2.1 and not r.credible
-    assert r.gci_fine == pytest.approx(3.0 * abs((f[0] - f[1]) / f[0]) / (2**r.order - 1), rel=1e-12)
+    30 mm rods) give p = 7.5, and a titanium Rod 2's peak pressure (1.6252, 1.6521, 1.6765 GPa) p = 0.14: neither is
+    an order (rods.convergence.P_CREDIBLE). The extrapolation and the GCI are then the least-squares estimate's
+    fixed-order fits with Fs = 3 (its extrapolation at p = 0.14 was 1.93 GPa, 14% past the data, GCI 45%), and they
+    are not credible. A credible order keeps Roache's 1.25."""
+    for f in ((24975.7, 24976.3, 25081.6), (1.6765, 1.6521, 1.6252)):
+        r = compare.richardson(*f)
+        assert r.monotone and r.asymptotic and not r.credible
+        est = estimate((4.0, 2.0, 1.0), f[::-1])
+        assert est.branch.startswith("fixed order") and est.safety_factor == 3.0
+        assert r.extrapolated == est.extrapolated and r.gci_fine == pytest.approx(est.uncertainty / f[0], rel=1e-12)
+    low = compare.richardson(1.6765, 1.6521, 1.6252)
+    assert low.order < 0.5 and 1.6765 < low.extrapolated < 1.70 and low.gci_fine < 0.05
     g = [3.7 + 0.8 * (0.1 * 2**k) ** 1.5 for k in range(3)]
     assert compare.richardson(*g).credible

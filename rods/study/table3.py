@@ -304,9 +304,10 @@ def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
         "extrapolation is the converged radius error itself.",
         "",
         "p = ln((f3 − f2)/(f2 − f1))/ln r, f_ext = f1 + (f1 − f2)/(r^p − 1), GCI_fine = 1.25 |(f1 − f2)/f1|/(r^p − 1) "
-        "(Roache; ASME V&V 20); an order outside 0.5-2.1 is not credible (rods.convergence): GCI with 3 in place of "
-        "1.25 and no comparison of its extrapolation with Hertz. '–': no extrapolation: non-monotone (no order), or "
-        "p <= 0 (the differences grow under refinement: the levels are not in the asymptotic range).",
+        "(Roache; ASME V&V 20); an order outside 0.5-2.1 is not credible (rods.convergence): the extrapolation and "
+        "GCI are then the fixed-order fits' (f0 + α h or f0 + α h², whichever fits closer; 3 in place of 1.25; "
+        "Eça & Hoekstra) and the extrapolation is not compared with Hertz. '–': no extrapolation: non-monotone (no "
+        "order), or p <= 0 (the differences grow under refinement: the levels are not in the asymptotic range).",
     ]
 
 

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from rods import compare, hertz, io, paper_data
+from rods.convergence import estimate
 from rods.study.table3 import COLUMNS, ModelRun, render_csv, render_markdown, table3
 
 from ..conftest import ROOT
@@ -102,9 +103,9 @@ def test_models_that_follow_hertz_have_no_hertz_error_and_richardson_finds_the_l
 
 
 def test_an_incredible_order_claims_nothing_against_hertz(runs):
-    """Submodel forces that converge at order 3 (outside 0.5-2.1, rods.convergence.P_CREDIBLE): extrapolated with
-    the GCI's safety factor 3 and not compared with Hertz; the radius, still Hertz at those forces, is then judged
-    at the finest level's force. The markdown says why."""
+    """Submodel forces that converge at order 3 (outside 0.5-2.1, rods.convergence.P_CREDIBLE): extrapolated by the
+    fixed-order fits with the safety factor 3 and not compared with Hertz; the radius, still Hertz at those forces,
+    is then judged at the finest level's force. The markdown says why."""
     sc, models = runs
     steep = []
     for m in models:
@@ -116,7 +117,9 @@ def test_an_incredible_order_claims_nothing_against_hertz(runs):
     d = table3(sc, ANALYTICAL, steep)
     q = d["richardson"]["quantities"]["peak_contact_force"]
     assert q["order"] == pytest.approx(3.0, rel=1e-9) and q["asymptotic"] and not q["credible"]
-    assert q["gci_fine"] == pytest.approx(3.0 * abs((q["f1"] - q["f2"]) / q["f1"]) / (2.0**3 - 1), rel=1e-9)
+    fixed = estimate([4.0, 2.0, 1.0], [q["f3"], q["f2"], q["f1"]])  # the fixed-order fits, Fs = 3 (rods.convergence)
+    assert fixed.safety_factor == 3.0 and q["extrapolated"] == pytest.approx(fixed.extrapolated, rel=1e-12)
+    assert q["gci_fine"] == pytest.approx(fixed.uncertainty / abs(q["f1"]), rel=1e-9)
     assert math.isnan(q["vs_hertz_pct"])
     qp = d["richardson"]["quantities"]["plateau_radius_error_pct"]  # its extrapolation is its error against Hertz
     assert qp["order"] == pytest.approx(3.0, rel=1e-6) and not qp["credible"] and math.isnan(qp["vs_hertz_pct"])
