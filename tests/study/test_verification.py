@@ -222,4 +222,9 @@ def test_scene_probe_benchmark_runs_one_probe(tmp_path):
     row = json.loads(out.with_suffix(".json").read_text())["rows"][0]
     assert all(row["passes"].values()) and abs(row["peak_force_pct"]) < 0.3, row
     assert "| 25 mm rods, 0.2 / 0.4 m, 50 mm tip |" in out.with_suffix(".md").read_text()
-    assert "| yield |" in out.with_suffix(".md").read_text()
+    md = out.with_suffix(".md").read_text()
+    assert "| yield |" in md
+    # each model's warnings under its name (the analytical and the FE yield check differ in their force)
+    assert set(row["warnings"]) == {"analytical", "FE"}
+    assert "* 25 mm rods, 0.2 / 0.4 m, 50 mm tip, analytical: Hertz peak pressure" in md
+    assert "* 25 mm rods, 0.2 / 0.4 m, 50 mm tip, FE: Hertz peak pressure" in md
