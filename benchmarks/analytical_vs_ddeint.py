@@ -1,6 +1,6 @@
 """Accuracy and speed of the analytical model's DDE solver, and a benchmark against ``ddeint``.
 
-    .venv/bin/python benchmarks/analytical_vs_ddeint.py [--end-time 3e-4]
+    .venv/bin/python benchmarks/analytical_vs_ddeint.py [--end-time 3e-4] [--out results]
 
 Both solvers integrate the same system (rods.analytical's δ' with the delayed Hertz forces, state
 (δ, I)) at the paper scene from first touch to ``--end-time`` (default 0.3 ms: the whole first
@@ -8,7 +8,7 @@ contact and the first returning waves). The reference is rods.analytical at rtol
 Errors: relative error of the peak contact force, and the max-norm error of the force history
 on a common 0.05 µs grid, relative to the peak force. Wall times are the best of three runs
 measured in this one process (the machine is shared; compare ratios, not absolute times).
-Writes results/analytical-convergence.{md,png} and results/analytical-vs-ddeint.md.
+Writes analytical-vs-ddeint.md and analytical-convergence.png into --out (default results/).
 """
 
 from __future__ import annotations
@@ -72,13 +72,9 @@ def ddeint_force(model: WaveModel, end_time: float, n: int, tight: bool = False)
     return tt, K * np.maximum(y[:, 0], 0.0) ** 1.5
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--end-time", type=float, default=3e-4)
-    ap.add_argument("--scene", default=str(ROOT / "workflows/scenes/paper.toml"))
-    args = ap.parse_args()
-    scene = load_scene(args.scene)
-    T_end = args.end_time
+def measure(scene, T_end: float) -> tuple[list[tuple], float]:
+    """Rows (solver, setting, rtol or step [-, s], steps, wall [s], peak-force error, history error [-]) of both
+    solvers against rods.analytical at rtol 1e-13, and that reference's peak force [N]."""
 
     def ours(rtol):
         return WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol).run(T_end)
@@ -87,7 +83,6 @@ def main() -> None:
     grid = np.linspace(0, T_end, int(round(T_end / 0.05e-6)) + 1)
     P_ref = ref.force(grid)
     F_ref = ref.peak()[1]
-
     rows = []
     for rtol in [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]:
         wall, m = best_of(lambda r=rtol: ours(r))
@@ -104,21 +99,27 @@ def main() -> None:
                 ("ddeint" + (" (vode rtol 1e-10)" if tight else ""), f"n={n}", T_end / n, n, wall, e_peak, e_hist)
             )
             print(rows[-1])
+    return rows, F_ref
 
-    ours_rows = [r for r in rows if r[0] == "rods.analytical"]
-    dde_rows = [r for r in rows if r[0].startswith("ddeint")]
-    e_dde = np.array([r[6] for r in dde_rows if r[0] == "ddeint"])
-    dt_dde = np.array([r[2] for r in dde_rows if r[0] == "ddeint"])
 
-    # observed order of the error against the tolerance and against the mean step
-    rt = np.array([r[2] for r in ours_rows])
-    eh = np.array([r[6] for r in ours_rows])
-    st = np.array([r[3] for r in ours_rows], float)
+def orders(rows: list[tuple]) -> tuple[float, float, float]:
+    """Observed orders: rods.analytical's history error in rtol and in its mean step (rtol 1e-11..1e-6), and
+    ddeint's (as shipped) in Δt over its three finest grids."""
+    ours = [r for r in rows if r[0] == "rods.analytical"]
+    dde = [r for r in rows if r[0] == "ddeint"]
+    rt, eh = np.array([r[2] for r in ours]), np.array([r[6] for r in ours])
+    st = np.array([r[3] for r in ours], float)
     fit = (rt >= 1e-11) & (rt <= 1e-6)
     p_tol = np.polyfit(np.log(rt[fit]), np.log(eh[fit]), 1)[0]
     p_step = -np.polyfit(np.log(st[fit]), np.log(eh[fit]), 1)[0]
-    p_dde = np.polyfit(np.log(dt_dde[-3:]), np.log(e_dde[-3:]), 1)[0]
+    p_dde = np.polyfit(np.log([r[2] for r in dde][-3:]), np.log([r[6] for r in dde][-3:]), 1)[0]
+    return p_tol, p_step, p_dde
 
+
+def render(rows: list[tuple], F_ref: float, T_end: float) -> list[str]:
+    """analytical-vs-ddeint.md, as lines."""
+    p_tol, p_step, p_dde = orders(rows)
+    ours_rows = [r for r in rows if r[0] == "rods.analytical"]
     lines = [
         "# Analytical model: convergence and speed against ddeint",
         "",
@@ -145,15 +146,19 @@ def main() -> None:
         "| ddeint run | its error | its time [s] | rods.analytical | its error | its time [s] | speed-up |",
         "|---|---:|---:|---|---:|---:|---:|",
     ]
-    for d in dde_rows:
-        ok = [o for o in ours_rows if o[6] <= d[6]]
-        o = min(ok, key=lambda r: r[4])
+    for d in (r for r in rows if r[0].startswith("ddeint")):
+        o = min((o for o in ours_rows if o[6] <= d[6]), key=lambda r: r[4])
         lines.append(
             f"| {d[0]} {d[1]} | {d[6]:.2e} | {d[4]:.3f} | {o[1]} | {o[6]:.2e} | {o[4]:.4f} | {d[4] / o[4]:.0f}x |"
         )
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "analytical-vs-ddeint.md").write_text("\n".join(lines) + "\n")
+    return lines
 
+
+def plot(rows: list[tuple], path: Path) -> None:
+    """analytical-convergence.png: error against rtol, and accuracy against wall time for both solvers."""
+    p_tol = orders(rows)[0]
+    ours_rows = [r for r in rows if r[0] == "rods.analytical"]
+    rt, eh = [r[2] for r in ours_rows], [r[6] for r in ours_rows]
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].loglog(rt, eh, "o-", label="history error")
     ax[0].loglog(rt, [r[5] for r in ours_rows], "s--", label="peak-force error")
@@ -162,12 +167,27 @@ def main() -> None:
     ax[0].legend()
     ax[1].loglog([r[4] for r in ours_rows], eh, "o-", label="rods.analytical (DOP853, method of steps)")
     for name in ("ddeint", "ddeint (vode rtol 1e-10)"):
-        rr = [r for r in dde_rows if r[0] == name]
+        rr = [r for r in rows if r[0] == name]
         ax[1].loglog([r[4] for r in rr], [r[6] for r in rr], "s-", label=name)
     ax[1].set(xlabel="wall time [s]", ylabel="history error (rel. to peak force)", title="accuracy against cost")
     ax[1].legend()
     fig.tight_layout()
-    fig.savefig(RESULTS / "analytical-convergence.png", dpi=120)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--end-time", type=float, default=3e-4)
+    ap.add_argument("--scene", default=str(ROOT / "workflows/scenes/paper.toml"))
+    ap.add_argument("--out", default=str(RESULTS), help="folder of the table and the figure (default results/)")
+    args = ap.parse_args()
+    rows, F_ref = measure(load_scene(args.scene), args.end_time)
+    lines = render(rows, F_ref, args.end_time)
+    out = Path(args.out)
+    out.mkdir(exist_ok=True)
+    (out / "analytical-vs-ddeint.md").write_text("\n".join(lines) + "\n")
+    plot(rows, out / "analytical-convergence.png")
     print("\n".join(lines))
 
 

@@ -111,6 +111,42 @@ def paper_size() -> tuple[int, int]:
     return int(c.cells), int(c.dofs)
 
 
+def paper_estimate(rows: list[dict]) -> list[str]:
+    """The paper-resolution 3D model's cost from the paper-section rows (one per rank count): steps, memory and
+    wall time, measured rank counts as measured, more extrapolated at the largest count's efficiency."""
+    cells, dofs = paper_size()
+    sc_end = 1.5e-3
+    dt = rows[0]["dt"]
+    steps = math.ceil(sc_end / dt)
+    # memory: bytes per DOF from the run with the most DOFs per rank (base: a rank's RSS at import)
+    base_rss = 125 * 2**20  # [B] python + dolfinx + petsc + gmsh per rank after import (measured 123 MiB)
+    r1 = rows[0]
+    bpd = (sum(r1["rss_per_rank"]) - base_rss * r1["ranks"]) / r1["dofs"]
+    lines = [
+        "",
+        "## Estimate: paper-resolution 3D model (`workflows/scenes/paper-3d.toml`)",
+        "",
+        f"{cells:,} hexahedra, {dofs:,} DOFs; stable step {dt:.3g} s (measured at the paper section) -> "
+        f"{steps:,} steps for 1.5 ms, i.e. {dofs * steps:.3g} DOF-steps. Memory ~{bpd:.0f} B/DOF measured "
+        f"-> ~{bpd * dofs / 2**30:.1f} GiB in total plus ~{base_rss / 2**20:.0f} MiB per rank (rank 0 also "
+        "holds the gmsh model while meshing).",
+        "",
+        "| ranks | basis | M DOF-steps/s | wall time | memory per rank |",
+        "|---:|---|---:|---:|---:|",
+    ]
+    e_last = rows[-1]["dof_steps_per_second"] / (rows[-1]["ranks"] * rows[0]["dof_steps_per_second"])
+    for p in sorted({*(r["ranks"] for r in rows), 8, 16, 32, 64}):
+        meas = next((r for r in rows if r["ranks"] == p), None)
+        if meas is not None:
+            rate, basis = meas["dof_steps_per_second"], "measured"
+        else:
+            rate, basis = rows[0]["dof_steps_per_second"] * p * e_last, f"extrapolated (E = {e_last:.0%})"
+        wall = dofs * steps / rate
+        mem = bpd * dofs / p + base_rss
+        lines.append(f"| {p} | {basis} | {rate / 1e6:.1f} | {wall / 3600:.1f} h | {mem / 2**30:.1f} GiB |")
+    return lines
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ranks", type=int, default=2, help="largest rank count N (runs 1, 2, 4, ..., N)")
@@ -157,37 +193,7 @@ def main() -> int:
                 f"{max(r['rss_per_rank']) / 2**20:.0f} |"
             )
     if not args.no_paper_estimate and "paper-section" in results:
-        rows = results["paper-section"]
-        cells, dofs = paper_size()
-        sc_end = 1.5e-3
-        dt = rows[0]["dt"]
-        steps = math.ceil(sc_end / dt)
-        # memory: bytes per DOF from the run with the most DOFs per rank (base: a rank's RSS at import)
-        base_rss = 125 * 2**20  # [B] python + dolfinx + petsc + gmsh per rank after import (measured 123 MiB)
-        r1 = rows[0]
-        bpd = (sum(r1["rss_per_rank"]) - base_rss * r1["ranks"]) / r1["dofs"]
-        lines += [
-            "",
-            "## Estimate: paper-resolution 3D model (`workflows/scenes/paper-3d.toml`)",
-            "",
-            f"{cells:,} hexahedra, {dofs:,} DOFs; stable step {dt:.3g} s (measured at the paper section) -> "
-            f"{steps:,} steps for 1.5 ms, i.e. {dofs * steps:.3g} DOF-steps. Memory ~{bpd:.0f} B/DOF measured "
-            f"-> ~{bpd * dofs / 2**30:.1f} GiB in total plus ~{base_rss / 2**20:.0f} MiB per rank (rank 0 also "
-            "holds the gmsh model while meshing).",
-            "",
-            "| ranks | basis | M DOF-steps/s | wall time | memory per rank |",
-            "|---:|---|---:|---:|---:|",
-        ]
-        e_last = rows[-1]["dof_steps_per_second"] / (rows[-1]["ranks"] * rows[0]["dof_steps_per_second"])
-        for p in sorted({*(r["ranks"] for r in rows), 8, 16, 32, 64}):
-            meas = next((r for r in rows if r["ranks"] == p), None)
-            if meas is not None:
-                rate, basis = meas["dof_steps_per_second"], "measured"
-            else:
-                rate, basis = rows[0]["dof_steps_per_second"] * p * e_last, f"extrapolated (E = {e_last:.0%})"
-            wall = dofs * steps / rate
-            mem = bpd * dofs / p + base_rss
-            lines.append(f"| {p} | {basis} | {rate / 1e6:.1f} | {wall / 3600:.1f} h | {mem / 2**30:.1f} GiB |")
+        lines += paper_estimate(results["paper-section"])
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
