@@ -7,7 +7,7 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
   model alike) still open at the run's end time: ``contact_duration`` is unknown and written as null;
 * **low tail**: the first contact ending in a tail below :data:`TAIL_FRACTION` of its peak force for longer than
   :data:`TAIL_OK` (:func:`tail_warning`): the rods part at nearly equal speeds, so where the contact ends is set by
-  forces of a few newtons and is ill-conditioned: models that agree on the force within 0.1% differ there by about
+  forces below that level and is ill-conditioned: models that agree on the force within 0.1% differ there by about
   2% of the tail (measured, FE at default settings against the analytical model, tails of 49, 65, 68 and 305 µs:
   separation 1.0, 1.1, 2.7 and 6.8 µs apart; 20 m/s on the paper rods, 5 mm rods, a 1 m tip, 10 mm rods 1 m / 2 m
   long), and the tail amplifies the FE's own error too (the 10 mm rods on a mesh 2 x coarser both ways: 11.1 µs
@@ -455,7 +455,7 @@ def tail_warning(history: Mapping[str, np.ndarray] | None) -> str | None:
     return (
         f"contact_duration: the first contact ends in a low tail, its force below {TAIL_FRACTION:.0%} of the peak "
         f"for the last {tail * 1e6:.3g} µs of {(end - start) * 1e6:.4g} µs: the rods part at nearly equal speeds, so "
-        "the end of contact is set by forces of a few newtons and is ill-conditioned (models that agree on the force "
+        "the end of contact is set by forces below that level and is ill-conditioned (models that agree on the force "
         "differ there by about 2% of the tail); compare the peak force and the loading, not the duration"
     )
 

@@ -125,9 +125,9 @@ class Richardson:
 
 def richardson(f_fine: float, f_mid: float, f_coarse: float, ratio: float = 2.0) -> Richardson:
     """Observed order, extrapolated value and GCI_fine (Roache; ASME V&V 20) from three levels. At an order outside
-    rods.convergence.P_CREDIBLE the observed order's extrapolation is no estimate (p = 0.13 put a pressure 14% past
-    its data): the extrapolation and the band are then the fixed-order fits' of rods.convergence.estimate (orders 1
-    or 2, whichever fits closer; safety factor 3), the same three levels' estimate as convergence.md's."""
+    rods.convergence.P_CREDIBLE the observed order's extrapolation is no estimate (p = 0.13 put a pressure 15% past
+    its finest level): the extrapolation and the band are then the fixed-order fits' of rods.convergence.estimate
+    (orders 1 or 2, whichever fits closer; safety factor 3), the same three levels' estimate as convergence.md's."""
     f1, f2, f3 = float(f_fine), float(f_mid), float(f_coarse)
     e21, e32 = f1 - f2, f2 - f3
     monotone = e21 != 0 and e32 / e21 > 0

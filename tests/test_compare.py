@@ -76,8 +76,8 @@ def test_an_order_outside_the_credible_range_gets_the_fixed_order_fits_and_no_cl
     """Three levels that agree to 0.002% (a submodel's force: 25081.6, 24976.3, 24975.7 N coarse to fine, measured on
     30 mm rods) give p = 7.5, and a titanium Rod 2's peak pressure (1.6252, 1.6521, 1.6765 GPa) p = 0.14: neither is
     an order (rods.convergence.P_CREDIBLE). The extrapolation and the GCI are then the least-squares estimate's
-    fixed-order fits with Fs = 3 (its extrapolation at p = 0.14 was 1.93 GPa, 14% past the data, GCI 45%), and they
-    are not credible. A credible order keeps Roache's 1.25."""
+    fixed-order fits with Fs = 3 (its extrapolation at p = 0.14 was 1.93 GPa, 15% past the finest level, GCI 45%),
+    and they are not credible. A credible order keeps Roache's 1.25."""
     for f in ((24975.7, 24976.3, 25081.6), (1.6765, 1.6521, 1.6252)):
         r = compare.richardson(*f)
         assert r.monotone and r.asymptotic and not r.credible
