@@ -236,9 +236,11 @@ def _turns_text(turns: Sequence[Mapping[str, Any]]) -> str:
     parts = []
     for t in turns:
         measure, scatter = what[t.get("basis", "members")]
+        within = f"under {SCATTER_SIGMAS:g} x that, within {scatter}"
+        verdict = within if t["within_scatter"] else f"{SCATTER_SIGMAS:g} x that or more, larger than {scatter}"
         parts.append(
             f"at {t['level']} the smaller step is {t['step']:.3f} points against {measure} of "
-            f"{t['standard_error']:.3f}: " + (f"within {scatter}" if t["within_scatter"] else f"larger than {scatter}")
+            f"{t['standard_error']:.3f}: {verdict}"
         )
     return ("; " + "; ".join(parts)) if parts else ""
 
