@@ -266,7 +266,8 @@ def test_a_single_mesh_turn_is_weighed_against_one_meshs_scatter_over_its_phase_
         return flags[0] if flags else ""
 
     small = plain_flag(0.0051)
-    assert "at mid the smaller step is 0.010 points" in small and "under 2 x that, within a single mesh's scatter" in small
+    assert "at mid the smaller step is 0.010 points" in small
+    assert "under 2 x that, within a single mesh's scatter" in small
     assert "larger than a single mesh's scatter" in plain_flag(0.0051, spread=0.00001)
     levels = [{"level": n, "error_pct": {"a": e}} for n, e in zip(NAMES, (1.0, 0.5, 0.51), strict=False)]
     assert convergence.turns_vs_scatter(levels, "a", ["mid"]) == []  # no members: no scatter claimed
