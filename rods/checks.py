@@ -196,16 +196,22 @@ def rattle_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray]
     )
 
 
+def _force_trace(history: Mapping[str, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray] | None:
+    """(time [s], contact force [N]) of ``history`` as float arrays; None without two samples of both."""
+    F, t = (history.get("contact_force"), history.get("time")) if history else (None, None)
+    if F is None or t is None or len(F) < 2:
+        return None
+    return np.asarray(t, float), np.asarray(F, float)
+
+
 def _analytical_force(
     summary: Mapping[str, Any], history: Mapping[str, np.ndarray]
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """(time [s], contact force [N]) of an analytical model's run with a positive force, else None: the 1D model's
     own checks (:func:`bar_theory_warning`, :func:`reflection_warning`) judge nothing else."""
-    F, t = history.get("contact_force"), history.get("time")
-    if summary.get("model") != "analytical" or F is None or t is None or len(F) < 2:
+    if summary.get("model") != "analytical" or (trace := _force_trace(history)) is None:
         return None
-    F, t = np.asarray(F, float), np.asarray(t, float)
-    return (t, F) if F.max() > 0 else None
+    return trace if trace[1].max() > 0 else None
 
 
 def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray], scene: Any) -> str | None:
@@ -419,9 +425,9 @@ def contact_warning(
     """A warning when the first contact episode has not ended by ``end_time`` [s]: the episodes above the contact
     threshold of ``history`` (rods.metrics.contact_episodes, the contact duration's own definition), else the
     summary's."""
-    F, t = (history.get("contact_force"), history.get("time")) if history else (None, None)
     last = end_time  # [s] where an open episode ends: the last sample of a history (end_time need not be one)
-    if F is not None and t is not None and len(F) > 1:
+    if (trace := _force_trace(history)) is not None:
+        t, F = trace
         episodes, last = metrics.contact_episodes(t, F), min(end_time, float(t[-1]))
     else:
         episodes = summary.get("contact_episodes") or []
@@ -436,10 +442,9 @@ def contact_warning(
 def tail_warning(history: Mapping[str, np.ndarray] | None) -> str | None:
     """A warning when the first contact episode of ``history`` (time [s], contact_force [N]; rods.metrics) ends in a
     tail below :data:`TAIL_FRACTION` of the episode's peak force longer than :data:`TAIL_OK` (module docstring)."""
-    F, t = (history.get("contact_force"), history.get("time")) if history else (None, None)
-    if F is None or t is None or len(F) < 2:
+    if (trace := _force_trace(history)) is None:
         return None
-    t, F = np.asarray(t, float), np.asarray(F, float)
+    t, F = trace
     episodes = metrics.contact_episodes(t, F)
     if not episodes:
         return None

@@ -114,12 +114,13 @@ def _member_scatter(r: Mapping[str, Any], F_an: float, E_star: float, R_star: fl
     range (min, max) and the standard error of the mean, s/sqrt(n) [%] (stratified members: an upper bound)."""
     errs = [_level(m, F_an, E_star, R_star)["error_pct"] for m in r["members"]]
     n = len(errs)
+    sd = {q: float(np.std([e[q] for e in errs], ddof=1)) for q in QUANTITIES}  # one member's scatter [%]
     return {
         "members": n,
         "member_h": sorted((float(m["h"]) for m in r["members"]), reverse=True),
         "spread_pct": {q: [min(e[q] for e in errs), max(e[q] for e in errs)] for q in QUANTITIES},
-        "standard_error_pct": {q: float(np.std([e[q] for e in errs], ddof=1) / math.sqrt(n)) for q in QUANTITIES},
-        "standard_deviation_pct": {q: float(np.std([e[q] for e in errs], ddof=1)) for q in QUANTITIES},
+        "standard_error_pct": {q: sd[q] / math.sqrt(n) for q in QUANTITIES},
+        "standard_deviation_pct": sd,
     }
 
 
