@@ -26,7 +26,7 @@ sys.path.insert(0, str(ROOT))
 from mpi4py import MPI  # noqa: E402
 
 from rods import io, plan  # noqa: E402
-from rods.compare import percent  # noqa: E402
+from rods.compare import cell, difference, percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 from rods.study.sweep import warning_key  # noqa: E402
@@ -90,7 +90,7 @@ def probe(name: str, out: Path, comm) -> dict | None:
         "peak_force_fe": sf["peak_contact_force"],
         "peak_force_pct": percent(sf["peak_contact_force"], sa["peak_contact_force"]),
         "duration_analytical": sa["contact_duration"],
-        "duration_difference": sf["contact_duration"] - sa["contact_duration"],
+        "duration_difference": difference(sf["contact_duration"], sa["contact_duration"]),  # NaN: not ended
         "energy_error": sf["energy_error"],
         "dofs": sf["dofs"],
         "steps": sf["steps"],
@@ -126,7 +126,8 @@ def render(data: dict) -> str:
         warn = "; ".join(dict.fromkeys(warning_key(w) for ws in r["warnings"].values() for w in ws)) or "–"
         lines.append(
             f"| {r['description']} | {r['peak_force_fe']:.1f} | {r['peak_force_pct']:+.3f}%{mark['peak_force']} "
-            f"| {r['duration_analytical'] * 1e6:.2f} | {r['duration_difference'] * 1e6:+.2f}{mark['duration']} "
+            f"| {cell(r['duration_analytical'], '.2f', scale=1e6, missing='not ended')} "
+            f"| {cell(r['duration_difference'], '+.2f', scale=1e6)}{mark['duration']} "
             f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} | {warn} |"
         )
     n = sum(all(r["passes"].values()) for r in data["rows"])

@@ -32,6 +32,7 @@ __all__ = [
     "SIGMA_EDGE_BAND",
     "Richardson",
     "cell",
+    "difference",
     "hertz_stresses",
     "percent",
     "plateau_radius_error",
@@ -43,15 +44,21 @@ __all__ = [
 SAFETY_FACTOR = FS_GOOD  # GCI factor of safety for three-grid studies at a credible order (Roache) [-]
 
 
-def percent(x: float, ref: float) -> float:
-    """Relative difference 100 (x - ref)/ref [%]."""
-    return 100.0 * (x - ref) / ref
+def percent(x: float | None, ref: float | None) -> float:
+    """Relative difference 100 (x - ref)/ref [%]; NaN where either is None (a quantity a run could not measure:
+    a contact not ended, a midpoint without plateaus, written as null)."""
+    return math.nan if x is None or ref is None else 100.0 * (x - ref) / ref
 
 
-def cell(x: Any, spec: str, unit: str = "", scale: float = 1.0) -> str:
-    """A table cell: ``x * scale`` formatted by ``spec`` plus ``unit``; '–' where the value is missing (None) or
-    not finite (NaN from JSON null, a quantity a run could not measure)."""
-    return "–" if x is None or not math.isfinite(x) else format(x * scale, spec) + unit
+def difference(x: float | None, ref: float | None) -> float:
+    """x - ref; NaN where either is None (as :func:`percent`)."""
+    return math.nan if x is None or ref is None else x - ref
+
+
+def cell(x: Any, spec: str, unit: str = "", scale: float = 1.0, missing: str = "–") -> str:
+    """A table cell: ``x * scale`` formatted by ``spec`` plus ``unit``; ``missing`` where the value is missing
+    (None) or not finite (NaN from JSON null, a quantity a run could not measure)."""
+    return missing if x is None or not math.isfinite(x) else format(x * scale, spec) + unit
 
 
 def hertz_stresses(

@@ -157,6 +157,12 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["field frames"],
     ),
     "verify unstable step": ("verify.py", ["--set", "fe.dt=1e-3", "--out", "o"], ["fe.dt", "stable"]),
+    # found by a probe (2026-11-27): a contact outlasting end_time ran both globals, then crashed (TypeError)
+    "verify end before the contact ends": (
+        "verify.py",
+        ["--case", "paper", "--set", "simulation.end_time=1e-4", "--out", "o"],
+        ["simulation.end_time", "has not ended", "lengthen"],
+    ),
     "submodel default end beyond the record": (  # the end is the driver's, not the user's: named by --global
         "submodel.py",
         ["--global", "short", "--out", "o"],

@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from rods import io, metrics
-from rods.compare import cell, percent
+from rods.compare import cell, difference, percent
 from rods.paper.data import Run, write_json
 from rods.scene import scene_from_summary
 
@@ -34,11 +34,6 @@ def _contact_overrides(run: Run, reference: dict[str, Any]) -> dict[str, Any]:
     return {k: fe[k] for k in CONTACT_SETTINGS if k in fe and fe[k] != reference.get(k)}
 
 
-def _difference(a: float | None, b: float | None) -> float | None:
-    """a - b, None where either is (a duration or speed a run could not measure)."""
-    return None if a is None or b is None else a - b
-
-
 def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_fe: dict) -> dict[str, Any]:
     s, sa, h, ha = run.summary, analytical.summary, run.history, analytical.history
     return {
@@ -47,7 +42,7 @@ def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_
         "peak_contact_force": s["peak_contact_force"],
         "force_vs_analytical": percent(s["peak_contact_force"], sa["peak_contact_force"]) / 100,
         "contact_duration": s["contact_duration"],  # None: the contact had not ended (rods.checks)
-        "duration_vs_analytical": _difference(s["contact_duration"], sa["contact_duration"]),
+        "duration_vs_analytical": difference(s["contact_duration"], sa["contact_duration"]),
         "midpoint_peak_speed": s["midpoint_peak_speed"],
         "strain_rms_difference": metrics.rms_difference(
             h["time"], h["rod2_mid_strain"], ha["time"], ha["rod2_mid_strain"], window

@@ -39,6 +39,29 @@ def test_row_targets_and_markdown():
     assert "+2.50 ✗" in md and "+0.400%" in md and "0 of 1 cases" in md
 
 
+def test_a_contact_open_at_end_time_fails_its_duration_and_renders(tmp_path):
+    """FE first contact still open at end_time (duration null), no midpoint plateaus: the row fails the duration
+    target without a number, and the table renders "not ended" from the data and from its JSON (nulls)."""
+    sc = load_scene(PAPER)
+    t = np.linspace(0.0, 1e-4, 401)
+    ana = {"summary": {"peak_contact_force": 5000.0, "contact_duration": None, "midpoint_peak_speed": None},
+           "history": _history(t, 0 * t, 0 * t, 0 * t)}  # fmt: skip
+    fe_s = {"peak_contact_force": 5001.0, "contact_duration": None, "midpoint_peak_speed": None,
+            "energy_error": 1e-9, "wall_time": 1.0, "dofs": 10, "steps": 10}  # fmt: skip
+    fe = {"summary": fe_s, "history": _history(t, 0 * t, 0 * t, 0 * t)}
+    row = verification.case_row("paper", ana, fe, sc, fe_s, {"summary": ana["summary"], "history": ana["history"]})
+    assert math.isnan(row["duration_difference"]) and math.isnan(row["duration_mesh_change"])
+    assert row["passes"] == {"peak_force": True, "duration": False, "energy": True}
+    assert not row["duration_gap_is_model_form"] and math.isnan(row["peak_speed_pct"])
+    data = {"base_scene": "paper", "extra_overrides": [], "targets": verification.TARGETS, "ranks": 1, "rows": [row]}
+    md = verification.render_markdown(data)
+    assert "| not ended | – ✗ |" in md and "lengthen simulation.end_time" in md and "0 of 1 cases" in md
+    from rods import io
+
+    io.write_data(tmp_path / "v.json", data)
+    assert verification.render_markdown(json.loads((tmp_path / "v.json").read_text())) == md
+
+
 def test_mesh_check_attributes_a_duration_gap_and_the_lag_is_measured():
     """FE 3 µs shorter than the analytical model, its strain 1.5 µs ahead: with a 0.1 µs mesh change the gap
     is the reference's model form; with a 1 µs change that closes it (more than an eighth of it) it is not."""
