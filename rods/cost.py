@@ -171,6 +171,9 @@ class Cost:
     setup_time: float = 0.0  # [s] the part of wall_time before the time loop
     frames: float = 0.0  # field frames written [-]
     field_bytes: float = 0.0  # [B] their files
+    # the setting that chose this stage, named first in a refusal's remedy (a study's submodel level: the user set
+    # no size for it, submodel.levels did) [-]
+    remedy: str = ""
 
     def describe(self) -> str:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
@@ -234,10 +237,11 @@ def fe_cost(
     axial_size: float | None = None,
     end_time: float | None = None,
     dt: float | str = "auto",
+    remedy: str = "",
 ) -> Cost:
     """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] (uniform
     across, ``axial_size`` along, no grading, rods cut to fe.submodel_length) to ``end_time`` [s] at its own
-    step ``dt`` [s] ("auto": the stable one; the global's is fe.dt)."""
+    step ``dt`` [s] ("auto": the stable one; the global's is fe.dt). ``remedy``: :attr:`Cost.remedy`."""
     kind = scene["fe.kind"]
     if size is None:
         h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
@@ -276,7 +280,7 @@ def fe_cost(
 
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
-    return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes)
+    return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy)
 
 
 def _field_frames(scene: Scene, dt: float, steps: int) -> int:
@@ -400,11 +404,12 @@ def check(cost: Cost, force: bool = False) -> Cost:
     ``force``)."""
     free = available_memory()
     fe = cost.dofs > 0  # else the analytical model, whose steps a contact stiff against thin rods sets
+    first = f"{cost.remedy}, " if cost.remedy else ""
     if cost.memory > free:
         raise InputError(
             cost.what, f"{cost.memory / 1e9:.3g} GB", f"needs more memory than available ({free / 1e9:.3g} GB): "
             f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
-            "coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time" if fe else
+            f"{first}coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time" if fe else
             f"thicker rods (a contact this stiff against their impedance takes {cost.steps:.3g} solver steps), a "
             "larger simulation.output_interval or a shorter end_time",
         )  # fmt: skip
@@ -424,5 +429,5 @@ def check(cost: Cost, force: bool = False) -> Cost:
     for name, amount, budget, said, meaning, remedy in budgets:
         if not force and amount > budget:
             why = f"above the {name} budget {budget:g} ({meaning})"
-            raise InputError(cost.what, said, why, f"{remedy}, or --force")
+            raise InputError(cost.what, said, why, f"{first}{remedy}, or --force")
     return cost

@@ -264,3 +264,24 @@ def test_a_gpu_run_is_estimated_at_the_gpu_rates(scene_with):
 
     if not gpu_available():
         assert cost.fe_cost(scene_with(*paper_3d, "fe.backend=auto")).wall_time == pytest.approx(cpu.wall_time)
+
+
+def test_a_study_level_above_the_machine_names_submodel_levels(scene_with, monkeypatch):
+    """A 3D scene's contact_patch study: "auto" picks the levels, not the user, so a level refused for memory (or a
+    budget) names submodel.levels first in its remedy (found on paper-3d-coarse, 2026-11-27: fine, 5.4e7 DOFs and
+    118 GB, was refused with "coarser sizes" only)."""
+    from rods import plan
+    from rods.study.pipeline import stage_costs
+
+    sc = scene_with("fe.kind='3d'", "fe.axial_size=4e-3", "fe.radial_size=1e-3", "fe.tip_grading=0.25",
+                    "effects=['contact_patch']")  # fmt: skip
+    costs = {c.what: c for c in stage_costs(sc, plan.make_plan(sc), 1)}
+    fine = costs["the submodel fine"]
+    assert fine.remedy.startswith("submodel.levels without 'fine'") and costs["the global"].remedy == ""
+    monkeypatch.setattr(cost, "available_memory", lambda: 0.5 * fine.memory)
+    with pytest.raises(InputError, match=r"more memory .*; submodel.levels without 'fine' \(the plan's: coarse, mid"):
+        cost.check(fine)
+    monkeypatch.setattr(cost, "STEP_BUDGET", 0.5 * fine.steps)
+    monkeypatch.setattr(cost, "available_memory", lambda: 2.0 * fine.memory)
+    with pytest.raises(InputError, match=r"step budget .*\); submodel.levels without 'fine'"):
+        cost.check(fine)

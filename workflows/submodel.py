@@ -139,7 +139,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     h = args.size or plan.submodel_size(scene, args.level, args.phase)
     what = f"the submodel {level}"
     own = _own_settings(scene, h, args, end, dt)  # its contact law and outputs, as it will run
-    c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt)
+    remedy = "a larger --size" if args.size else "a coarser --level"
+    c = cost.fe_cost(
+        scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt, remedy=remedy
+    )
     log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
     if args.restart:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy

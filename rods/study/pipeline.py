@@ -42,7 +42,10 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
         if not plan.global_drives(p):
             costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
         for lv in p.submodel_levels:
-            costs.append(cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=SUBMODEL_LEVEL_SIZES[lv]))
+            # the user set no size for a level: submodel.levels (or its "auto") chose it, so a refusal names that
+            remedy = f"submodel.levels without '{lv}' (the plan's: {', '.join(p.submodel_levels)})"
+            size = SUBMODEL_LEVEL_SIZES[lv]
+            costs.append(cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=size, remedy=remedy))
     return costs
 
 
