@@ -182,9 +182,11 @@ class ExplicitModel:
 
     # ------------------------------------------------------------------------------------------
     def _assemble_stiffness(self) -> PETSc.Mat:
-        """K as a PETSc block matrix (BAIJ, 2x2 node blocks). Measured at the paper mesh (51.5k DOFs, one
-        process): MatMult 0.30 ms as BAIJ, 0.46 ms as AIJ with inodes, 0.50 ms without. A MatDuplicate
-        copy multiplied ~4x slower in the same test, so a second matrix is assembled afresh instead."""
+        """K as a PETSc block matrix (BAIJ, 2x2 node blocks) as DOLFINx assembles it; the time loop multiplies its
+        plain AIJ form (rods.fe.backend.plain_aij: 1.2-1.5 ms against 0.47 ms a product at 52k DOFs, 2026-11-27;
+        an earlier session measured the BAIJ product at 0.30 ms and AIJ at 0.46-0.50 ms on this machine). A
+        MatDuplicate copy multiplied ~4x slower in that earlier test, so a second matrix is assembled afresh
+        instead."""
         K = dolfinx.fem.petsc.assemble_matrix(self.stiffness, kind="baij")
         K.assemble()
         return K
