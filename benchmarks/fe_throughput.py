@@ -4,7 +4,7 @@
 
 For meshes from the paper's (~52k DOFs) up to ~400k DOFs, runs ``--steps`` steps of
 :meth:`rods.fe.model.ExplicitModel.run` and reports DOF-steps/s and the memory traffic of one step
-(block matrix values + block column indices + row pointers, and the vectors: the multiply-add
+(matrix values + column indices + row pointers of the plain AIJ form, and the vectors: the multiply-add
 reads u, v and writes v, the update reads u, v and writes u: 48 B/DOF) divided by the step time,
 as a fraction of a STREAM-like bandwidth measured in the same run with numpy (the 'Add' kernel
 a = b + c on 3 x 160 MB arrays, 24 B per element). Matrices that fit in the last-level cache can
@@ -52,11 +52,8 @@ def stream_add(n: int = 20_000_000, reps: int = 5) -> float:
 
 def step_bytes(model: ExplicitModel) -> float:
     """Memory traffic of one time step [B] (see module docstring)."""
-    nz = model.K.getInfo()["nz_used"]
-    bs = model.bs
-    blocks = nz / bs**2
-    rows = model.n_local / bs
-    return nz * 8 + blocks * 4 + (rows + 1) * 4 + 48 * model.n_local
+    nz = model.K.getInfo()["nz_used"]  # the time loop's plain AIJ form (rods.fe.backend.plain_aij): one index each
+    return nz * (8 + 4) + (model.n_local + 1) * 4 + 48 * model.n_local
 
 
 def main() -> int:
@@ -97,8 +94,9 @@ def main() -> int:
         f"{args.steps} steps per mesh, best of 3. Bandwidth bound: numpy STREAM-like add a = b + c "
         f"(3 x 160 MB) = **{bw / 1e9:.1f} GB/s** measured in the same run.",
         "",
-        "Per step: one BAIJ (2x2 blocks) multiply-add `v += A u` with A = -dt M^-1 K, the contact "
-        "impulse on the tip entries, `u += dt v`. Traffic = matrix values + block indices + vectors (48 B/DOF).",
+        "Per step: one AIJ multiply-add `v += A u` (PETSc's plain loop, rods.fe.backend.plain_aij) with "
+        "A = -dt M^-1 K, the contact impulse on the tip entries, `u += dt v`. Traffic = matrix values + column "
+        "indices + row pointers + vectors (48 B/DOF).",
         "",
         "| axial [mm] | radial [mm] | DOFs | ms/step | M DOF-steps/s | GB/s | fraction of bound |",
         "|---:|---:|---:|---:|---:|---:|---:|",

@@ -1,7 +1,8 @@
 """The paper's explicit FE model (Sec. 2.2), axisymmetric or 3D: both rods, penalty contact, explicit dynamics.
 
-:class:`ExplicitModel` sets everything up once — mesh, stiffness K (one PETSc block matrix, BAIJ with block
-size 2 axisymmetric, 3 in 3D; a SciPy CSR matrix on the serial array backends), row-sum lumped mass,
+:class:`ExplicitModel` sets everything up once — mesh, stiffness K (one PETSc matrix as DOLFINx assembles it,
+multiplied in the loop as plain AIJ, :func:`rods.fe.backend.plain_aij`; a SciPy CSR matrix on the serial array
+backends), row-sum lumped mass,
 constraints, contact, probes, stable step, plan — for the global model and for the submodel alike
 (:mod:`rods.fe.submodel` runs the same class on a shorter region). :meth:`ExplicitModel.run` is the loop: the
 central-difference stepper (:class:`rods.fe.explicit.CentralDifference` on the array backend ``fe.backend``
