@@ -285,3 +285,15 @@ def test_a_study_level_above_the_machine_names_submodel_levels(scene_with, monke
     monkeypatch.setattr(cost, "available_memory", lambda: 2.0 * fine.memory)
     with pytest.raises(InputError, match=r"step budget .*\); submodel.levels without 'fine'"):
         cost.check(fine)
+
+
+@pytest.mark.parametrize("ξ", [0.0, 0.3, 0.99])
+def test_bulk_viscosity_shortens_the_estimated_step_as_the_scheme_does(scene_with, ξ):
+    """The estimate's damped factor is the integrator's (rods.fe.explicit.stable_step), and the steps estimated
+    for the paper scene's driver at ξ follow the set-up's within the undamped estimate's own 20%."""
+    from rods.fe.explicit import stable_step
+    from rods.fe.model import ExplicitModel
+
+    sc = scene_with(f"fe.bulk_viscosity={ξ!r}", "simulation.end_time=2e-6", *TINY[:2])
+    assert cost.damped_step_factor(sc) == pytest.approx(stable_step(1.0, ξ) / stable_step(1.0), rel=1e-15)
+    assert cost.fe_cost(sc).steps == pytest.approx(ExplicitModel(sc).steps, rel=0.2)
