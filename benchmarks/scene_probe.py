@@ -36,6 +36,9 @@ PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 PHASE = 1.3  # the FE run's end, in contact phases [-]
 ALUMINIUM = ("youngs_modulus=70e9", "density=2700.0", "poisson_ratio=0.33", "yield_strength='none'")
 PEEK = ("youngs_modulus=3.6e9", "density=1300.0", "poisson_ratio=0.4", "yield_strength='none'")
+GLASS = ("youngs_modulus=70e9", "density=2500.0", "poisson_ratio=0.22", "yield_strength='none'")
+TITANIUM = ("youngs_modulus=114e9", "density=4430.0", "poisson_ratio=0.34", "yield_strength='none'")
+NO_YIELD = ("rod1.material.yield_strength='none'", "rod2.material.yield_strength='none'")
 PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of the paper scene)
     "both-tips": (
         "two 0.5 m rods, both tips 35 mm, 1.0 m/s",
@@ -68,6 +71,42 @@ PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of 
         "10 mm rods, 1.0 m onto 2.0 m",
         ("rod1.diameter=0.01", "rod2.diameter=0.01", "rod1.length=1.0", "rod2.length=2.0"),
     ),
+    # added 2026-11-27 (a second round: Poisson ratios at and below 0, unequal diameters both ways, two curved tips,
+    # high speeds, other materials, millimetre rods)
+    "auxetic": (
+        "ν = -0.3 on both rods, 2 m/s",
+        ("rod1.material.poisson_ratio=-0.3", "rod2.material.poisson_ratio=-0.3", *NO_YIELD, "impact.speed=2.0"),
+    ),
+    "nu-0": ("ν = 0 on both rods", ("rod1.material.poisson_ratio=0.0", "rod2.material.poisson_ratio=0.0")),
+    "thick-onto-thin": (
+        "25 mm Rod 1 onto a 6 mm Rod 2, 1 m/s",
+        ("rod1.diameter=0.025", "rod2.diameter=0.006", "impact.speed=1.0"),
+    ),
+    "thin-onto-thick": (
+        "6 mm Rod 1 onto a 25 mm Rod 2, 2 m/s",
+        ("rod1.diameter=0.006", "rod2.diameter=0.025", "impact.speed=2.0"),
+    ),
+    "two-tips": (
+        "tips of 20 mm and 50 mm, 3 m/s",
+        ("rod1.tip_radius=0.02", "rod2.tip_radius=0.05", "impact.speed=3.0"),
+    ),
+    "fast": ("paper rods at 15 m/s", ("impact.speed=15.0",)),
+    "v100": ("paper rods at 100 m/s (the schema's maximum)", ("impact.speed=100.0",)),
+    "glass-on-titanium": (
+        "glass Rod 1 onto a titanium Rod 2, 1.5 m/s",
+        (*(f"rod1.material.{k}" for k in GLASS), *(f"rod2.material.{k}" for k in TITANIUM), "impact.speed=1.5"),
+    ),
+    "mini": (
+        "2 mm rods 20 / 40 mm long, 5 mm tip, 1 m/s",
+        (
+            "rod1.diameter=0.002",
+            "rod2.diameter=0.002",
+            "rod1.length=0.02",
+            "rod2.length=0.04",
+            "rod1.tip_radius=0.005",
+            "impact.speed=1.0",
+        ),
+    ),  # fmt: skip
 }
 
 
