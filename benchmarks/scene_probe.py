@@ -30,7 +30,7 @@ from rods.compare import cell, difference, percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 from rods.study.sweep import warning_key  # noqa: E402
-from rods.study.verification import TARGETS, passes  # noqa: E402
+from rods.study.verification import NOT_ENDED, TARGETS, passes  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 PHASE = 1.3  # the FE run's end, in contact phases [-]
@@ -165,7 +165,7 @@ def render(data: dict) -> str:
         warn = "; ".join(dict.fromkeys(warning_key(w) for ws in r["warnings"].values() for w in ws)) or "–"
         lines.append(
             f"| {r['description']} | {r['peak_force_fe']:.1f} | {r['peak_force_pct']:+.3f}%{mark['peak_force']} "
-            f"| {cell(r['duration_analytical'], '.2f', scale=1e6, missing='not ended')} "
+            f"| {cell(r['duration_analytical'], '.2f', scale=1e6, missing=NOT_ENDED)} "
             f"| {cell(r['duration_difference'], '+.2f', scale=1e6)}{mark['duration']} "
             f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} | {warn} |"
         )

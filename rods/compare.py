@@ -34,6 +34,7 @@ __all__ = [
     "cell",
     "difference",
     "hertz_stresses",
+    "measured",
     "percent",
     "plateau_radius_error",
     "richardson",
@@ -55,10 +56,15 @@ def difference(x: float | None, ref: float | None) -> float:
     return math.nan if x is None or ref is None else x - ref
 
 
+def measured(x: Any) -> bool:
+    """A value a run measured: neither None (JSON null) nor NaN/inf (a quantity it could not measure)."""
+    return x is not None and math.isfinite(x)
+
+
 def cell(x: Any, spec: str, unit: str = "", scale: float = 1.0, missing: str = "–") -> str:
-    """A table cell: ``x * scale`` formatted by ``spec`` plus ``unit``; ``missing`` where the value is missing
-    (None) or not finite (NaN from JSON null, a quantity a run could not measure)."""
-    return missing if x is None or not math.isfinite(x) else format(x * scale, spec) + unit
+    """A table cell: ``x * scale`` formatted by ``spec`` plus ``unit``; ``missing`` where the value is not
+    :func:`measured`."""
+    return format(x * scale, spec) + unit if measured(x) else missing
 
 
 def hertz_stresses(

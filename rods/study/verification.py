@@ -44,12 +44,13 @@ from typing import Any
 
 from rods import checks, io, metrics, plan
 from rods.analytical import PAPER_LAW
-from rods.compare import cell, difference, percent
+from rods.compare import cell, difference, measured, percent
 from rods.scene import Scene, SceneError
 
 __all__ = [
     "CASES",
     "MESH_CHECK",
+    "NOT_ENDED",
     "TARGETS",
     "case_row",
     "finer",
@@ -81,6 +82,7 @@ TARGETS = {"peak_force": 100 * checks.AGREE_FORCE, "duration": checks.AGREE_DURA
 MESH_CHECK = 2.0  # the scene's element sizes / the mesh check's [-]
 MODEL_FORM_RATIO = 8.0  # a gap this many times the mesh change is the reference's model form [-]
 MAX_STRAIN_LAG = 10e-6  # [s] the lag search's range
+NOT_ENDED = "not ended"  # a table cell: the first contact was still open at end_time (its duration null)
 
 
 def gap_is_model_form(gap: float, change: float) -> bool:
@@ -268,14 +270,6 @@ def run_matrix(
     return data
 
 
-NOT_ENDED = "not ended"  # a table cell: the first contact was still open at end_time (its duration null)
-
-
-def _finite(x: Any) -> bool:
-    """A measured value: neither None (JSON null) nor NaN."""
-    return x is not None and math.isfinite(x)
-
-
 def _mark(ok: bool) -> str:
     return "" if ok else " ✗"
 
@@ -317,7 +311,7 @@ def render_markdown(data: Mapping[str, Any]) -> str:
     n_pass = sum(all(r["passes"].values()) for r in data["rows"])
     lines += ["", f"{n_pass} of {len(data['rows'])} cases meet every target."]
     misses = [r for r in data["rows"] if not r["passes"]["duration"]]
-    open_rows = [r["description"] for r in data["rows"] if not _finite(r["duration_fe"])]
+    open_rows = [r["description"] for r in data["rows"] if not measured(r["duration_fe"])]
     if open_rows:
         lines[-1] += (
             f" {NOT_ENDED}: the FE's first contact had not ended by end_time ({'; '.join(open_rows)}), so its "
@@ -371,7 +365,7 @@ def _paper_law_table(rows: Sequence[Mapping[str, Any]]) -> list[str]:
             f"| {cell(e['strain_rms'], '.2f', scale=1e6)} | {cell(e['strain_lag'], '+.2f', scale=1e6)} |"
         )
     n_pass = sum(all(r["paper_law"]["passes"].values()) for r in rows)
-    gaps = [abs(d) for r in rows if _finite(d := r["paper_law"]["duration_difference"])]
+    gaps = [abs(d) for r in rows if measured(d := r["paper_law"]["duration_difference"])]
     within = f"; durations within {max(gaps) * 1e6:.2f} µs" if gaps else ""
     lines += ["", f"{n_pass} of {len(rows)} cases meet every target{within}."]
     return lines
