@@ -13,7 +13,7 @@ SNAKE := .venv/bin/snakemake -s workflows/Snakefile --workflow-profile workflows
 paper: venv
 	$(SNAKE) paper
 
-## The main job plus the ultra-fine level's four other phase members (about 75 more minutes on 2 cores).
+## The main job plus the ultra-fine level's four other phase members (4 x the ultra-fine level: 75 min to 3 h on 2 cores, with the machine's memory rate).
 paper-full: venv
 	$(SNAKE) paper --config 'paper_phase_levels=[coarse,mid,fine,extra-fine,ultra-fine]'
 

@@ -22,13 +22,16 @@ goes wrong"):
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
 * time: set-up (mesh, assembly, the contact's data) + steps x (a fixed cost per step + DOFs / (rate x ranks)).
   The fixed cost (contact, cut driving, recorder, Python: 6.6e-5 s per step on a 13.6k-DOF global, ~1.9e-4 s
-  on the 6.2k-DOF coarse submodel) dominates small models; the rate is the DRAM-bound one of large models,
-  9e7 DOF-steps/s per rank axisymmetric (results/fe-throughput.md: 99e6 at 396k DOFs on one rank; the 1.46M-DOF
-  ultra-fine submodel ran 1.7e8 on 2 ranks) and 2e7 in 3D (serial: 2.9e7 at 132k DOFs, 3.1e7 at 983k;
-  results/fe-scaling.md: 14.6e6 per rank on 2 at 567k DOFs); set-up 1.2e-5 s per DOF axisymmetric and 1e-4 in
-  3D (gmsh's hexahedra) over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 11.4 s at 1.46M
-  DOFs on 2 ranks; 3D 11.4 s at 132k, 148 s at 983k). Cache-resident small meshes run faster than the rate, so
-  the estimate errs high there: time loop 2.1x at 48k DOFs, 1.2x at 199k axisymmetric, 1.7x in 3D (measured);
+  on the 6.2k-DOF coarse submodel) dominates small models; the rate is the memory-bound one of large models,
+  measured 2026-11-27 on an idle machine: 3.3e7 DOF-steps/s per rank axisymmetric (1.57M DOFs: 3.35e7 serial,
+  3.16e7 per rank on 2; 398k DOFs: 3.31e7 serial) and 8.5e6 in 3D (serial: 8.2e6 at 132k DOFs, 8.6e6 at 422k);
+  set-up 1.2e-5 s per DOF axisymmetric and 3e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s
+  at 199k; 3D 4.2 s at 132k). That memory-bound rate is the machine's, and it moves: the same 396k-DOF loop ran
+  9.9e7 DOF-steps/s on 2026-11-22 and 3.3e7 on 2026-11-27, here. So where a run's memory-bound loop is estimated
+  above :data:`PROBE_ABOVE`, the entry points scale it by :func:`machine_speed` (:func:`calibrated`): an
+  out-of-cache sparse product timed once (about 0.3 s), against :data:`PROBE_RATE_REFERENCE`, its rate on the day
+  the rates above were measured. Cache-resident small meshes run faster than the rate, so the estimate errs
+  high there (the 52k-DOF paper mesh: 2.2x, 2026-11-27);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
@@ -39,8 +42,11 @@ goes wrong"):
 
 from __future__ import annotations
 
+import functools
 import math
-from dataclasses import asdict, dataclass
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -59,8 +65,10 @@ __all__ = [
     "analytical_cost",
     "analytical_steps",
     "available_memory",
+    "calibrated",
     "check",
     "fe_cost",
+    "machine_speed",
 ]
 
 STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
@@ -85,7 +93,12 @@ BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
 BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
-DOF_STEPS_PER_SECOND = {"axisymmetric": 9e7, "3d": 2e7}  # per rank, DRAM-bound [1/s]
+DOF_STEPS_PER_SECOND = {"axisymmetric": 3.3e7, "3d": 8.5e6}  # per rank, memory-bound, 2026-11-27 [1/s]
+# the memory-bound rate's probe (machine_speed): a banded CSR matrix of PROBE_ROWS rows, each the 18 entries of an
+# axisymmetric stiffness row (9 nodes x 2 components; ~0.22 GB, past any core's share of a cache), y = A x
+PROBE_ROWS = 1_000_000  # [-]
+PROBE_RATE_REFERENCE = 4.0e7  # [rows/s] the probe where and when DOF_STEPS_PER_SECOND was measured (2026-11-27)
+PROBE_ABOVE = 30.0  # [s] memory-bound loop time above which a plan measures the machine (calibrated)
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 # mesh, assembly, contact data and the step's eigenvalue, on one rank [s] (3D, 2026-11-27, serial: 2.9e-5 at 132k
 # DOFs, 3.1e-5 at 983k, since the eigenvalue is solved to the step's need, rods.fe.explicit.EIGEN_TOL; 7.7e-5 and
@@ -121,18 +134,27 @@ H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # 0.87 on the meshes measured; between the estimate and this, the set-up's exact limit decides)
 DT_REFUSE_FACTOR = 2.0  # [-]
 # axisymmetric global: Δt of a curved tip / the estimate above, against its rim angle asin(d/2r) [deg, -]: the cells
-# where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°). Measured on the
-# paper rods at the auto mesh (tip radius 35, 15, 10, 8, 7.2, 6.75, 6.5, 6.35 mm; 6.35 mm at 0.5 mm too: 0.69)
+# where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°), times 0.99.
+# Measured on the paper rods at the auto mesh, 2026-11-27 (tip radius 35, 25, 15, 12.5, 10, 9, 8, 7.5, 7.2, 7, 6.8,
+# 6.77, 6.75, 6.5, 6.35 mm); the table before, measured before a curved tip's face was divided along its arc
+# (rods.fe.mesh.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long
 CAP_STEP_FACTOR = (
     (0.0, 1.0),
     (10.5, 1.0),
-    (25.0, 0.78),
-    (39.4, 0.73),
-    (52.5, 0.69),
-    (61.9, 0.57),
-    (70.2, 0.46),
-    (77.7, 0.57),
-    (90.0, 0.69),
+    (14.7, 0.96),
+    (25.0, 0.77),
+    (30.5, 0.68),
+    (39.4, 0.58),
+    (44.9, 0.52),
+    (52.5, 0.44),
+    (57.9, 0.38),
+    (61.9, 0.33),
+    (65.1, 0.30),
+    (69.7, 0.24),
+    (70.0, 0.24),
+    (70.2, 0.47),
+    (77.7, 0.56),
+    (90.0, 0.68),
 )
 # axisymmetric submodel (uniform size h, no grading, rods.fe.submodel.submodel_scene): Δt of its curved tip / the
 # estimate above, against the rim angle [deg, -]. Measured at h = 0.25 and 0.125 mm (the same to 2%; the lower kept)
@@ -174,14 +196,26 @@ class Cost:
     # the setting that chose this stage, named first in a refusal's remedy (a study's submodel level: the user set
     # no size for it, submodel.levels did) [-]
     remedy: str = ""
+    memory_bound_time: float = 0.0  # [s] the part of wall_time that scales with the machine's memory bandwidth
+    speed: float | None = None  # [-] the machine_speed it was scaled by (None: the reference rates)
 
     def describe(self) -> str:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
+        machine = (
+            "" if self.speed is None else f" (this machine's memory-bound rate {self.speed:.2f} x the reference's)"
+        )
         return (
             f"cost of {self.what}: {self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps, "
             f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, memory "
-            f"{self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}"
+            f"{self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}{machine}"
         )
+
+    def at_speed(self, speed: float) -> Cost:
+        """This cost on a machine whose memory-bound rate is ``speed`` x the reference's: the loop's memory-bound
+        part divided by it, the set-up and the per-step fixed cost as they are."""
+        bound = self.memory_bound_time / speed
+        wall = self.wall_time - self.memory_bound_time + bound
+        return replace(self, wall_time=wall, memory_bound_time=bound, speed=speed)
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -267,9 +301,11 @@ def fe_cost(
     if _on_gpu(scene, ranks):
         setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]  # [s]
         loop = steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND)  # [s]
+        bound = 0.0  # the device's rate is its own (not the host's probe)
     else:
         setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
-        loop = steps * (STEP_OVERHEAD + dofs / (DOF_STEPS_PER_SECOND[kind] * ranks))  # [s]
+        bound = steps * dofs / (DOF_STEPS_PER_SECOND[kind] * ranks)  # [s] the memory-bound part
+        loop = steps * STEP_OVERHEAD + bound  # [s]
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
     frames = _field_frames(scene, dt, steps) if size is None else 0  # the submodel writes none
@@ -280,7 +316,9 @@ def fe_cost(
 
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
-    return Cost(what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy)
+    return Cost(
+        what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound
+    )
 
 
 def _field_frames(scene: Scene, dt: float, steps: int) -> int:
@@ -336,6 +374,8 @@ def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | Non
         stable *= _third_dimension(h_r, g * h)
     else:
         stable *= _cap_step_factor(scene, CAP_STEP_FACTOR if size is None else SUBMODEL_CAP_STEP_FACTOR)
+        if size is None:
+            stable *= _rim_factor(scene, h, g)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
     factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
@@ -354,6 +394,29 @@ def _third_dimension(a: float, b: float) -> float:
     """Step of a hexahedron (a x a across, b along) over that of the quadrilateral a x b: a cell's highest mode
     scales as ω² ∝ Σ 1/h_i² (a cube: sqrt(2/3) of a square's step). Measured: see :data:`DT_PER_ELEMENT_STEP`."""
     return math.sqrt((1 / a**2 + 1 / b**2) / (2 / a**2 + 1 / b**2))
+
+
+def _rim_fraction(rod: Any, h: float, g: float) -> float:
+    """The rim column's share of a curved tip's graded block, (L_g - c)/L_g for a block of length L_g over a cap of
+    height c (rods.fe.mesh.axial_spacing): the mesher grades every column of the block alike, so the rim's tip cell
+    is this fraction of the axis's (1 for a flat tip, an ungraded mesh or a butterfly cap)."""
+    from rods.fe.mesh import axial_spacing, butterfly
+
+    sp = axial_spacing(rod, h, g)
+    if sp.n_graded == 0 or rod.cap_height <= 0 or butterfly(rod) is not None:
+        return 1.0
+    return (sp.graded_length - rod.cap_height) / sp.graded_length
+
+
+def _rim_factor(scene: Scene, h: float, g: float) -> float:
+    """An axisymmetric global's step on axial size ``h`` [m] and grading ``g`` over its step on the scene's auto mesh,
+    where :data:`CAP_STEP_FACTOR` and :data:`H_MIN_FRACTION` were measured, as far as the rim cells set it: the
+    smallest ratio of the two meshes' :func:`_rim_fraction` over both tips, at most 1. A finer mesh's graded block is
+    short against the cap (kept at 2 c + h), so its rim cells are thinner: measured on the paper rods, 0.5 x
+    0.125 / 0.25 x 0.125 / 0.125 x 0.0625 mm meshes ran 0.90/0.75/0.68 of the step estimated without it."""
+    auto = scene.with_overrides("fe.axial_size='auto'", "fe.radial_size='auto'", "fe.tip_grading='auto'")
+    h0, g0 = auto.axial_size, auto.tip_grading
+    return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
 
 
 def _cap_step_factor(scene: Scene, table: tuple[tuple[float, float], ...]) -> float:
@@ -405,6 +468,42 @@ def available_memory() -> float:
     except OSError:
         pass
     return math.inf
+
+
+@functools.cache
+def machine_speed() -> float:
+    """This machine's memory-bound rate over the reference's [-]: the best of four products y = A x of a banded CSR
+    matrix too large for a core's cache (:data:`PROBE_ROWS` rows of the axisymmetric row's 18 entries, spread as a
+    structured mesh's; ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE`. Measured once per
+    process; 1.0 where the memory for it is not available."""
+    import scipy.sparse
+
+    nodes = np.array([-501, -500, -499, -1, 0, 1, 499, 500, 501])  # a node's neighbours, 500 nodes a mesh row
+    offsets = (2 * nodes[:, None] + np.arange(2)).ravel()  # [-] 2 components per node
+    n, k = PROBE_ROWS, offsets.size
+    if available_memory() < 4 * n * k * 12:  # values (8 B) and column indices (4 B), with room to spare
+        return 1.0
+    columns = ((np.arange(n)[:, None] + offsets) % n).astype(np.int32).ravel()
+    a = scipy.sparse.csr_matrix((np.ones(n * k), columns, np.arange(0, n * k + 1, k, dtype=np.int32)), shape=(n, n))
+    x, best = np.ones(n), math.inf
+    for _ in range(4):
+        t0 = time.perf_counter()
+        a @ x
+        best = min(best, time.perf_counter() - t0)
+    return n / best / PROBE_RATE_REFERENCE
+
+
+def calibrated(costs: Sequence[Cost], comm: Any = None) -> list[Cost]:
+    """``costs`` at this machine's memory-bound rate (:func:`machine_speed`, measured on rank 0 of ``comm`` and
+    broadcast, so that every rank plans and refuses alike) where one of them has more than :data:`PROBE_ABOVE` of
+    memory-bound loop; as they are otherwise (a short run is not worth the probe, and its mesh may sit in cache).
+    Every rank must call it with the same costs (they follow from the scene alone)."""
+    if not any(c.memory_bound_time > PROBE_ABOVE for c in costs):
+        return list(costs)
+    speed = machine_speed() if comm is None or comm.rank == 0 else None
+    if comm is not None and comm.size > 1:
+        speed = comm.bcast(speed, root=0)
+    return [c.at_speed(speed) if c.memory_bound_time > 0 else c for c in costs]
 
 
 def check(cost: Cost, force: bool = False) -> Cost:

@@ -113,13 +113,14 @@ def planning(analytical: Any) -> str:
     return f"planning: the analytical model to its first contact (at most about {analytical.wall_time:.3g} s)"
 
 
-def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print) -> None:
+def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print, comm: Any = None) -> None:
     """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
-    --force, above the step/history budgets; before anything heavy is allocated. With --dry-run, stop here:
+    --force, above the step/history budgets; before anything heavy is allocated. A long run's time is this
+    machine's (rods.cost.calibrated: measured on rank 0 of ``comm``, every rank alike). With --dry-run, stop here:
     exit 0, nothing run, nothing written (every rank alike)."""
     from rods import cost
 
-    for c in costs:
+    for c in cost.calibrated(costs, comm):
         cost.check(c, args.force)
         log(c.describe())
     if getattr(args, "dry_run", False):

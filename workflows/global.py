@@ -58,7 +58,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     what = "the driving global" if args.driver else "the global"
     log(f"{plan.fe_stage(sc, what)} -> {out}")
     _cli.backend(scene, comm.size)
-    _cli.afford(args, cost.fe_cost(sc, comm.size, what=what), log=log)
+    _cli.afford(args, cost.fe_cost(sc, comm.size, what=what), log=log, comm=comm)
     if args.driver:
         s = stages.driver(scene, out, comm, phase, progress=progress, log=log).summary
     else:

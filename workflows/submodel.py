@@ -147,7 +147,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.restart:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)
-    _cli.afford(args, c, log=log)
+    _cli.afford(args, c, log=log, comm=comm)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
         scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end, dt=dt,

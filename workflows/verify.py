@@ -38,7 +38,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     costs = [c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size)]
     for name in cases:
         _cli.backend(verification.case_scene(base, name, args.overrides), comm.size)
-    _cli.afford(args, *costs, log=log)  # every case's runs, before the first is started
+    _cli.afford(args, *costs, log=log, comm=comm)  # every case's runs, before the first is started
     data = verification.run_matrix(base, out, comm, cases, args.overrides, log, progress, args.tables)
     if comm.rank == 0:
         log(verification.render_markdown(data))
