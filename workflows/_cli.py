@@ -120,6 +120,8 @@ def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = pri
     exit 0, nothing run, nothing written (every rank alike)."""
     from rods import cost
 
+    for c in costs:  # the memory first (--force never lifts it): no probe for a run that cannot start
+        cost.check(c, force=True)
     for c in cost.calibrated(costs, comm):
         cost.check(c, args.force)
         log(c.describe())
