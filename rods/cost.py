@@ -29,8 +29,8 @@ goes wrong"):
   at 199k; 3D 4.2 s at 132k). That memory-bound rate is the machine's, and it moves: the same 396k-DOF loop ran
   9.9e7 DOF-steps/s on 2026-11-22 and 3.3e7 on 2026-11-27, here. So where a run's memory-bound loop is estimated
   above :data:`PROBE_ABOVE`, the entry points scale it by :func:`machine_speed` (:func:`calibrated`): an
-  out-of-cache sparse product timed once (about 0.3 s), against :data:`PROBE_RATE_REFERENCE`, its rate on the day
-  the rates above were measured. Cache-resident small meshes run faster than the rate, so the estimate errs
+  out-of-cache sparse product timed once, on every rank at once (about 0.3 s), against
+  :data:`PROBE_RATE_REFERENCE`, its rate on the day the rates above were measured. Cache-resident small meshes run faster than the rate, so the estimate errs
   high there (the 52k-DOF paper mesh: 2.2x, 2026-11-27);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
@@ -471,16 +471,16 @@ def available_memory() -> float:
 
 
 @functools.cache
-def machine_speed() -> float:
+def machine_speed(rows: int = PROBE_ROWS) -> float:
     """This machine's memory-bound rate over the reference's [-]: the best of four products y = A x of a banded CSR
-    matrix too large for a core's cache (:data:`PROBE_ROWS` rows of the axisymmetric row's 18 entries, spread as a
-    structured mesh's; ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE`. Measured once per
-    process; 1.0 where the memory for it is not available."""
+    matrix too large for a core's cache (``rows`` rows of the axisymmetric row's 18 entries, spread as a structured
+    mesh's; :data:`PROBE_ROWS`: ~0.22 GB, ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE`.
+    Measured once per process and size; 1.0 where the memory for it is not available."""
     import scipy.sparse
 
     nodes = np.array([-501, -500, -499, -1, 0, 1, 499, 500, 501])  # a node's neighbours, 500 nodes a mesh row
     offsets = (2 * nodes[:, None] + np.arange(2)).ravel()  # [-] 2 components per node
-    n, k = PROBE_ROWS, offsets.size
+    n, k = rows, offsets.size
     if available_memory() < 4 * n * k * 12:  # values (8 B) and column indices (4 B), with room to spare
         return 1.0
     columns = ((np.arange(n)[:, None] + offsets) % n).astype(np.int32).ravel()
@@ -494,15 +494,19 @@ def machine_speed() -> float:
 
 
 def calibrated(costs: Sequence[Cost], comm: Any = None) -> list[Cost]:
-    """``costs`` at this machine's memory-bound rate (:func:`machine_speed`, measured on rank 0 of ``comm`` and
-    broadcast, so that every rank plans and refuses alike) where one of them has more than :data:`PROBE_ABOVE` of
-    memory-bound loop; as they are otherwise (a short run is not worth the probe, and its mesh may sit in cache).
-    Every rank must call it with the same costs (they follow from the scene alone)."""
+    """``costs`` at this machine's memory-bound rate (:func:`machine_speed`) where one of them has more than
+    :data:`PROBE_ABOVE` of memory-bound loop; as they are otherwise (a short run is not worth the probe, and its mesh
+    may sit in cache). Under MPI every rank of ``comm`` probes at once, on 1/size of the rows (at least a quarter),
+    as the run's ranks will share a node's memory bandwidth, and all take the slowest (2026-11-27, 2 ranks here:
+    0.97 each against 1.05 alone; the FE loop ran 0.94 per rank of its serial rate). Every rank must call it with the
+    same costs (they follow from the scene alone), so every rank plans and refuses alike."""
     if not any(c.memory_bound_time > PROBE_ABOVE for c in costs):
         return list(costs)
-    speed = machine_speed() if comm is None or comm.rank == 0 else None
-    if comm is not None and comm.size > 1:
-        speed = comm.bcast(speed, root=0)
+    if comm is None or comm.size == 1:
+        speed = machine_speed()
+    else:
+        comm.Barrier()
+        speed = min(comm.allgather(machine_speed(max(PROBE_ROWS // comm.size, PROBE_ROWS // 4))))
     return [c.at_speed(speed) if c.memory_bound_time > 0 else c for c in costs]
 
 

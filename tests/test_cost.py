@@ -184,8 +184,9 @@ def test_calibration_scales_the_memory_bound_part_only(scene_with, monkeypatch):
 
 @pytest.mark.mpi
 def test_every_rank_plans_at_rank_0s_probe(tmp_path):
-    """Under mpirun -n 2 a long run's plan is calibrated once, on rank 0, and broadcast: the dry run prints one
-    calibrated estimate and exits 0 on both ranks (a probe per rank could refuse on one rank and not the other)."""
+    """Under mpirun -n 2 a long run's plan is calibrated by both ranks' probe at once, the slower taken by both: the
+    dry run prints one calibrated estimate and exits 0 on both ranks (a rate per rank could refuse on one rank and
+    not the other)."""
     r = run_workflow(
         "global.py",
         ["--scene", str(SCENES / "paper.toml"), "--set", "fe.axial_size=0.25e-3", "--set", "fe.radial_size=0.125e-3",

@@ -116,8 +116,8 @@ def planning(analytical: Any) -> str:
 def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print, comm: Any = None) -> None:
     """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
     --force, above the step/history budgets; before anything heavy is allocated. A long run's time is this
-    machine's (rods.cost.calibrated: measured on rank 0 of ``comm``, every rank alike). With --dry-run, stop here:
-    exit 0, nothing run, nothing written (every rank alike)."""
+    machine's (rods.cost.calibrated: measured by every rank of ``comm`` at once, the slowest taken by all).
+    With --dry-run, stop here: exit 0, nothing run, nothing written (every rank alike)."""
     from rods import cost
 
     for c in costs:  # the memory first (--force never lifts it): no probe for a run that cannot start
