@@ -30,8 +30,8 @@ goes wrong"):
   9.9e7 DOF-steps/s on 2026-11-22 and 3.3e7 on 2026-11-27, here. So where a run's memory-bound loop is estimated
   above :data:`PROBE_ABOVE`, the entry points scale it by :func:`machine_speed` (:func:`calibrated`): an
   out-of-cache sparse product timed once, on every rank at once (about 0.3 s), against
-  :data:`PROBE_RATE_REFERENCE`, its rate on the day the rates above were measured. Cache-resident small meshes run faster than the rate, so the estimate errs
-  high there (the 52k-DOF paper mesh: 2.2x, 2026-11-27);
+  :data:`PROBE_RATE_REFERENCE`, its rate on the day the rates above were measured. Cache-resident small meshes
+  run faster than the rate, so the estimate errs high there (the 52k-DOF paper mesh: 2.2x, 2026-11-27);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
