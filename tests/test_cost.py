@@ -377,3 +377,26 @@ def test_bulk_viscosity_shortens_the_estimated_step_as_the_scheme_does(scene_wit
     sc = scene_with(f"fe.bulk_viscosity={ξ!r}", "simulation.end_time=2e-6", *TINY[:2])
     assert cost.damped_step_factor(sc) == pytest.approx(stable_step(1.0, ξ) / stable_step(1.0), rel=1e-15)
     assert cost.fe_cost(sc).steps == pytest.approx(ExplicitModel(sc).steps, rel=0.2)
+
+
+def test_afford_refuses_memory_before_probing_and_prints_the_calibrated_plan(scene_with, monkeypatch, capsys):
+    """workflows/_cli.afford: a run above the free memory is refused (exit 2 at the entry points) before the
+    machine probe (no 0.2 GB product for a run that cannot start); a long run that fits is printed at the probed
+    rate."""
+    import argparse
+
+    import _cli  # workflows/ (tests/conftest.py puts it on the path)
+
+    def no_probe(rows: int = cost.PROBE_ROWS) -> float:
+        raise AssertionError("probed before the memory check")
+
+    monkeypatch.setattr(cost, "machine_speed", no_probe)
+    args = argparse.Namespace(force=True, dry_run=False)
+    huge = cost.fe_cost(scene_with("fe.axial_size=1e-7"))
+    assert huge.memory_bound_time > cost.PROBE_ABOVE
+    with pytest.raises(InputError, match="more memory than available"):  # the entry points' exit 2
+        _cli.afford(args, huge)
+    monkeypatch.setattr(cost, "machine_speed", lambda rows=cost.PROBE_ROWS: 0.5)
+    long = cost.fe_cost(scene_with("fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"))
+    _cli.afford(args, long)
+    assert "memory-bound rate 0.50 x the reference's" in capsys.readouterr().out
