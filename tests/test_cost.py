@@ -4,9 +4,12 @@ entry points refusing, exit 2 with one line and no folder, what would run into t
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from rods import cost
 from rods.preflight import InputError
@@ -400,3 +403,33 @@ def test_afford_refuses_memory_before_probing_and_prints_the_calibrated_plan(sce
     long = cost.fe_cost(scene_with("fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"))
     _cli.afford(args, long)
     assert "memory-bound rate 0.50 x the reference's" in capsys.readouterr().out
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    tip=st.one_of(st.just("inf"), st.floats(min_value=1e-3, max_value=2.0)),  # [m] at least the rod radius
+    diameter=st.floats(min_value=2e-3, max_value=40e-3),  # [m]
+    axial=st.floats(min_value=5e-5, max_value=5e-3),  # [m]
+    ratio=st.floats(min_value=0.1, max_value=2.0),  # radial / axial size [-]
+    grading=st.one_of(st.just("'auto'"), st.floats(min_value=0.05, max_value=1.0)),
+)
+def test_any_axisymmetric_mesh_gets_a_finite_estimate_or_a_refusal(scene_with, tip, diameter, axial, ratio, grading):
+    """Whatever tip, rod and mesh sizes a scene holds, the estimate (with the rim factor's look at the scene's auto
+    mesh) is finite and positive, or a SceneError naming a key: never a crash."""
+    flat = tip == "inf"  # then Rod 2's tip is the curved one (two flats have no Hertz contact)
+    tips = (
+        ("rod1.tip_radius=inf", "rod2.tip_radius=0.035")
+        if flat
+        else (f"rod1.tip_radius={max(tip, diameter / 2 * 1.0001)!r}",)
+    )
+    try:
+        sc = scene_with(
+            *tips, f"rod1.diameter={diameter!r}", f"fe.axial_size={axial!r}", f"fe.radial_size={axial * ratio!r}",
+            f"fe.tip_grading={grading}", "simulation.end_time=1e-5",
+        )  # fmt: skip
+        c = cost.fe_cost(sc)
+    except SceneError as e:
+        assert e.key
+        return
+    assert 0 < c.wall_time < math.inf and c.steps >= 1 and 0 < c.memory_bound_time <= c.wall_time
+    assert 0 < cost._rim_factor(sc, sc["fe.axial_size"], sc.tip_grading) <= 1.0
