@@ -414,8 +414,7 @@ def _rim_factor(scene: Scene, h: float, g: float) -> float:
     smallest ratio of the two meshes' :func:`_rim_fraction` over both tips, at most 1. A finer mesh's graded block is
     short against the cap (kept at 2 c + h), so its rim cells are thinner: measured on the paper rods, 0.5 x
     0.125 / 0.25 x 0.125 / 0.125 x 0.0625 mm meshes ran 0.90/0.75/0.68 of the step estimated without it."""
-    auto = scene.with_overrides("fe.axial_size='auto'", "fe.radial_size='auto'", "fe.tip_grading='auto'")
-    h0, g0 = auto.axial_size, auto.tip_grading
+    h0, g0 = scene.auto_axial_size, scene.auto_tip_grading
     return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
 
 

@@ -443,6 +443,12 @@ class Station:
     name: str
 
 
+def square_tip_grading(radial: float, axial: float) -> float:
+    """``fe.tip_grading`` "auto": the first tip element ``radial`` long on an axial size ``axial`` [m] (square
+    elements at the contact, so the patch is resolved as finely across as along), within [0.05, 1]."""
+    return min(1.0, max(0.05, radial / axial))
+
+
 @dataclass(frozen=True)
 class Scene:
     name: str
@@ -520,8 +526,11 @@ class Scene:
         kinematic contact, peak force against the analytical model: 4.4 elements across the patch +0.05%, 2.2
         elements -0.40%, 1 element (0.05 m/s at 0.25 mm) +2.3%; auto at 0.05 m/s (0.077 mm) +0.11%."""
         v = self.values["fe.radial_size"]
-        if v != "auto":
-            return float(v)
+        return self.auto_radial_size if v == "auto" else float(v)
+
+    @cached_property
+    def auto_radial_size(self) -> float:
+        """What "auto" gives ``fe.radial_size`` on this scene [m], whatever the key holds (:attr:`radial_size`)."""
         bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS
         return min(bar, self._impedance_patch[1] / PATCH_ELEMENTS)
 
@@ -536,20 +545,25 @@ class Scene:
         force against the finest mesh (0.2 mm x 0.25 mm, +0.67% from the 1D analytical model, which has no
         ringing): 1 mm +0.69%, 0.5 mm (auto) -0.02%. Where the rise is slow, auto is the diameter rule."""
         v = self.values["fe.axial_size"]
-        if v != "auto":
-            return float(v)
+        return self.auto_axial_size if v == "auto" else float(v)
+
+    @cached_property
+    def auto_axial_size(self) -> float:
+        """What "auto" gives ``fe.axial_size`` on this scene [m], whatever the key holds (:attr:`axial_size`)."""
         diameter = min(r.diameter for r in self.rods) / AXIAL_PER_DIAMETER
         c = min(r.material.wave_speed for r in self.rods)  # [m/s]
         return min(diameter, c * self._impedance_patch[2] / self.speed / RISE_ELEMENTS)
 
     @property
     def tip_grading(self) -> float:
-        """``fe.tip_grading`` resolved [-]: "auto" makes the first tip element fe.radial_size long (square
-        elements at the contact, so the patch is resolved as finely across as along), within [0.05, 1]."""
+        """``fe.tip_grading`` resolved [-]: "auto" is :func:`square_tip_grading` of the resolved sizes."""
         g = self.values["fe.tip_grading"]
-        if g == "auto":
-            return min(1.0, max(0.05, self["fe.radial_size"] / self["fe.axial_size"]))
-        return float(g)
+        return square_tip_grading(self["fe.radial_size"], self["fe.axial_size"]) if g == "auto" else float(g)
+
+    @property
+    def auto_tip_grading(self) -> float:
+        """What "auto" gives ``fe.tip_grading`` on the auto mesh (:attr:`auto_radial_size`, :attr:`auto_axial_size`)."""
+        return square_tip_grading(self.auto_radial_size, self.auto_axial_size)
 
     @property
     def rods(self) -> tuple[Rod, Rod]:

@@ -230,6 +230,18 @@ def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     assert scene_with("fe.radial_size=0.5e-3")["fe.radial_size"] == 0.5e-3
 
 
+@pytest.mark.parametrize("scene_overrides", [[], ["rod1.tip_radius=1.0"], ["impact.speed=0.05", "rod2.diameter=0.008"]])
+def test_auto_sizes_read_without_resolving_a_scene_again(scene_with, scene_overrides):
+    """auto_radial_size, auto_axial_size, auto_tip_grading: what "auto" would give, whatever the keys hold (the cost
+    model compares a given mesh with the auto one); equal to a scene re-parsed with "auto" on every mesh key."""
+    given = scene_with(*scene_overrides, "fe.radial_size=0.1e-3", "fe.axial_size=0.4e-3", "fe.tip_grading=0.5")
+    auto = given.with_overrides("fe.radial_size='auto'", "fe.axial_size='auto'", "fe.tip_grading='auto'")
+    assert (given["fe.radial_size"], given["fe.axial_size"], given.tip_grading) == (0.1e-3, 0.4e-3, 0.5)
+    assert given.auto_radial_size == auto["fe.radial_size"]
+    assert given.auto_axial_size == auto["fe.axial_size"]
+    assert given.auto_tip_grading == auto.tip_grading
+
+
 # ---- the phase members of a submodel level (rods.scene.submodel_phase_size) ----
 
 
