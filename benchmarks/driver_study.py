@@ -7,7 +7,7 @@
 Two driving globals over the contact phase (rods.study.stages.driver: the scene's own global, recorded at
 the cuts), one per contact law: the kinematic (penalty-free, the default) and the penalty law at its default
 factor (the paper's Abaqus practice). Each drives submodels at every level, with the cut driven by the
-global's displacement (rods.fe.submodel.CutDriver), by its traction, or mixed: its traction plus a
+global's displacement (rods.fe.cut.CutDriver), by its traction, or mixed: its traction plus a
 bar-impedance dashpot to its velocity (rods.fe.traction; the default), the submodel's own contact under
 either law. Rows: peak force (raw and smoothed over rods.metrics.SMOOTHING)
 and first-contact duration against the analytical model, contact area and peak pressure against Hertz at

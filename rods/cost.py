@@ -113,7 +113,7 @@ GPU_STEP_OVERHEAD = 1.86e-3  # [s] the host's kernel launches and the contact's 
 GPU_DOF_STEPS_PER_SECOND = 3.5e9  # [1/s]
 GPU_SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 2.1e-5}  # [s] (axisymmetric: the CPU's, not measured)
 # the submodel's cut driver: its weights and traction operator, built one colour of band nodes at a time
-# (rods.fe.submodel.node_colouring) [s per cut node] (measured 2026-11-24, 2 ranks, mixed driving: paper scene
+# (rods.fe.cut.node_colouring) [s per cut node] (measured 2026-11-24, 2 ranks, mixed driving: paper scene
 # 0.056 s for 54 axisymmetric cut nodes, 0.049 s for 207; 4.3 s for 5250 in the 3D coarse model's full section,
 # 730 s for those 5250 before, one interpolation per band node)
 CUT_SECONDS_PER_NODE = {"axisymmetric": 1e-3, "3d": 1e-3}

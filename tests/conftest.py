@@ -36,8 +36,8 @@ def scene_with(paper_dict):
 def recorded_global(overrides: list[str], tmp_path_factory, name: str = "global"):
     """Run the paper scene with ``overrides`` as a global model recording its cut band (submodel tests):
     returns (scene, model, result, path of cut.h5)."""
+    from rods.fe.cut import CutRecorder
     from rods.fe.model import ExplicitModel
-    from rods.fe.submodel import CutRecorder
     from rods.scene import load_scene
 
     sc = load_scene(PAPER, overrides)

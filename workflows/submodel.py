@@ -27,7 +27,8 @@ from mpi4py import MPI
 import _cli
 from rods import cost, plan
 from rods.fe import checkpoint
-from rods.fe.submodel import recorded_until, submodel_scene
+from rods.fe.cut import recorded_until
+from rods.fe.submodel import submodel_scene
 from rods.preflight import InputError, input_dir
 from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, scene_from_summary
 from rods.study import stages

@@ -1,7 +1,7 @@
 """Traction and mixed driving of a submodel at its cuts: the global's cut stress as nodal forces, with a
 bar-impedance dashpot to the global's cut velocity in mixed driving (``submodel.driving``).
 
-The displacement driver (:class:`rods.fe.submodel.CutDriver`) prescribes the global's motion at the cut, so
+The displacement driver (:class:`rods.fe.cut.CutDriver`) prescribes the global's motion at the cut, so
 a submodel inherits whatever compliance the global has between the cut and the contact (a penalty layer's
 penetration, the paper's Abaqus practice). Surface-based submodelling (Abaqus) drives the cut with the
 global's traction instead: the submodel's cut nodes move freely under
@@ -53,8 +53,8 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe import forms
+from rods.fe.cut import CutDriver, band_adjacency, band_space, cut_space, cut_weights, node_colouring
 from rods.fe.model import ExplicitModel
-from rods.fe.submodel import CutDriver, _band_space, _cut, _cut_weights, band_adjacency, node_colouring
 
 __all__ = ["TractionDriver", "cut_force_operator"]
 
@@ -102,11 +102,11 @@ def cut_force_operator(
     model: ExplicitModel, d: dict, tol: float = 1e-6
 ) -> tuple[scipy.sparse.csr_matrix, np.ndarray, np.ndarray]:
     """T (owned cut entries x band entries) with f_cut = T U_band.ravel() [N], the cut nodes (parents) and their
-    tributary areas A_i [m^2], for the band record ``d`` (:func:`rods.fe.submodel._read_cut`)."""
-    Vb, node_of_dof = _band_space(d, model.comm)
-    V0, nodes0, cut_cells, cut_nodes = _cut(model)
+    tributary areas A_i [m^2], for the band record ``d`` (:func:`rods.fe.cut.read_cut`)."""
+    Vb, node_of_dof = band_space(d, model.comm)
+    V0, nodes0, cut_cells, cut_nodes = cut_space(model)
     n_nodes = d["nodes"].shape[0]
-    W = _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["cells"], n_nodes, tol)
+    W = cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["cells"], n_nodes, tol)
     T, area = _force_operator(model, Vb, node_of_dof, d["cells"], n_nodes, cut_nodes, W)
     return T, cut_nodes, area
 
@@ -114,7 +114,7 @@ def cut_force_operator(
 def _band_traction_matrix(model: ExplicitModel, Vb, node_of_dof, cells: np.ndarray, n_nodes: int):
     """B (band entries x band entries, every rank): t = B u, the lumped-projected traction of a band displacement
     (:class:`_BandTraction`, linear in u). Its columns from unit fields on one colour of nodes and one component
-    at a time (:func:`rods.fe.submodel.node_colouring`, two hops: each node k then has at most one node j of the
+    at a time (:func:`rods.fe.cut.node_colouring`, two hops: each node k then has at most one node j of the
     colour among the nodes it shares a cell with, the only ones its traction depends on, so t_k is column j's
     entry); bs x 125 projections for structured hexahedra instead of bs per band node."""
     bs = model.bs
@@ -150,7 +150,7 @@ def _band_traction_matrix(model: ExplicitModel, Vb, node_of_dof, cells: np.ndarr
 
 def _force_operator(model, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, cut_nodes, W):
     """T and A_i of :func:`cut_force_operator` on a built band space, cut and cut weights W
-    (:func:`rods.fe.submodel._cut_weights`): σ is linear in u, so T = diag(A_i) (W ⊗ I) B, the band traction
+    (:func:`rods.fe.cut.cut_weights`): σ is linear in u, so T = diag(A_i) (W ⊗ I) B, the band traction
     (:func:`_band_traction_matrix`) interpolated onto the cut nodes with W per component (the non-matching
     interpolation of the P1 traction, as one field) times the cut nodes' tributary areas A_i."""
     bs = model.bs

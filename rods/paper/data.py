@@ -167,7 +167,7 @@ def _scene_values(summary: Any, kind: str) -> Mapping[str, Any] | None:
         return summary["driver_scene_values"]
     cut = summary.get("cut_file")
     if cut and Path(cut).is_file():
-        from rods.fe.submodel import recorded_until
+        from rods.fe.cut import recorded_until
 
         return recorded_until(cut)[1]
     return None

@@ -136,7 +136,7 @@ def finished(
 
 def _read_finished(out: Path, scene: Scene, cut_until: float | None, ignore: Sequence[str]) -> tuple[dict, dict] | None:
     """(summary, history) of a finished run of ``scene`` in ``out`` (:func:`finished`); None: none there."""
-    from rods.fe.submodel import recorded_until
+    from rods.fe.cut import recorded_until
 
     ours = _comparable(scene.as_dict(), ignore)
     try:
@@ -203,9 +203,9 @@ def global_model(
     caller has set it up already (a benchmark that times its stepper first). ``resume`` (a study's restart): a
     run finished in ``out`` for ``scene`` is kept (:func:`finished`), else the run resumes from a checkpoint
     there where it can (not while recording the cut, which is not checkpointed) or starts afresh."""
+    from rods.fe.cut import CutRecorder
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
-    from rods.fe.submodel import CutRecorder
 
     if restart and record_cut:
         raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
@@ -303,8 +303,9 @@ def submodel(
     ``resume`` (a study's restart, from a kept driver): a run finished in ``out`` for this submodel scene and cut
     file is kept (:func:`finished`), else it resumes from a checkpoint there or starts afresh. ``driver_summary``:
     the driving global's summary, whose peak force the submodel's is checked against (rods.checks.driver_warning)."""
+    from rods.fe.cut import cut_identity
     from rods.fe.guards import SimulationError
-    from rods.fe.submodel import cut_identity, run_submodel, submodel_name, submodel_scene
+    from rods.fe.submodel import run_submodel, submodel_name, submodel_scene
 
     comm = world(comm)
     h = size or plan.submodel_size(scene, level, phase)
@@ -334,7 +335,7 @@ def _finish_submodel(
 ) -> None:
     """Annotate the submodel run ``sr`` (rods.fe.submodel.run_submodel's) with its driver, phase member and checks
     against ``scene`` (the driving global's) up to ``end`` [s], and write its files into ``out`` (rank 0)."""
-    from rods.fe.submodel import cut_identity
+    from rods.fe.cut import cut_identity
 
     sr.summary["cut_file"] = str(cut_file)
     # the driving global's scene: the submodel's own scene_values are the cut region's (rods L_s long, not a scene

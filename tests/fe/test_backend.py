@@ -19,11 +19,12 @@ import scipy.sparse
 from mpi4py import MPI
 
 from rods.fe import backend
+from rods.fe.cut import CutDriver
 from rods.fe.explicit import EIGEN_TOL, CentralDifference, stable_step
 from rods.fe.model import ExplicitModel
 from rods.fe.observers import march
 from rods.fe.recorder import Recorder
-from rods.fe.submodel import CutDriver, submodel_scene
+from rods.fe.submodel import submodel_scene
 from rods.scene import SCHEMA, SceneError, load_scene
 
 from ..conftest import MPIRUN, PAPER, ROOT, recorded_global, run_workflow, set_args

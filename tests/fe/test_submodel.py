@@ -18,9 +18,10 @@ import numpy as np
 import pytest
 
 from rods import io
+from rods.fe.cut import MAX_EXTRAPOLATION, CutDriver
 from rods.fe.mesh3d import section_counts
 from rods.fe.model import ExplicitModel
-from rods.fe.submodel import MAX_EXTRAPOLATION, CutDriver, run_submodel, submodel_scene, surface_gauss_stress
+from rods.fe.submodel import run_submodel, submodel_scene, surface_gauss_stress
 from rods.scene import load_scene
 
 from ..conftest import MPIRUN, PAPER, recorded_global, run_workflow, set_args
@@ -40,7 +41,7 @@ PENALTY = [
     "submodel.penalty=1.0",
     "fe.contact_damping=0.0",
 ]
-# the displacement driver (rods.fe.submodel.CutDriver) is what these tests check; mixed and traction driving:
+# the displacement driver (rods.fe.cut.CutDriver) is what these tests check; mixed and traction driving:
 # tests/fe/test_traction.py
 COMMON = [*PENALTY, "simulation.end_time=1e-4", "fe.submodel_length=12e-3", "submodel.driving='displacement'"]
 TINY = {

@@ -10,8 +10,9 @@ import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
 import numpy as np
 import pytest
 
+from rods.fe.cut import read_cut
 from rods.fe.model import ExplicitModel
-from rods.fe.submodel import _read_cut, run_submodel, submodel_scene
+from rods.fe.submodel import run_submodel, submodel_scene
 from rods.fe.traction import cut_force_operator
 
 from ..conftest import recorded_global
@@ -62,7 +63,7 @@ def test_cut_forces_of_a_uniform_uniaxial_stress(tiny, tmp_path_factory, kind):
 
     sc, _, _, path = tiny if kind == "axisymmetric" else recorded_global(TINY_3D, tmp_path_factory, "global-3d")
     model = ExplicitModel(submodel_scene(sc, 1.5e-3))  # a size nesting with neither global size
-    d = _read_cut(path)
+    d = read_cut(path)
     T, cut, _ = cut_force_operator(model, d)
     X, ε, gdim = d["nodes"], 1e-4, model.bs  # [m], [-]
     xc = model.V.tabulate_dof_coordinates()[cut]
@@ -149,11 +150,11 @@ def _per_node_operators(model, d, tol=1e-6):
     import ufl
 
     from rods.fe import forms
-    from rods.fe.submodel import _band_space, _cut
+    from rods.fe.cut import band_space, cut_space
     from rods.fe.traction import _BandTraction
 
-    Vb, node_of_dof = _band_space(d, model.comm)
-    V0, nodes0, cut_cells, cut_nodes = _cut(model)
+    Vb, node_of_dof = band_space(d, model.comm)
+    V0, nodes0, cut_cells, cut_nodes = cut_space(model)
     n_nodes, bs = d["nodes"].shape[0], model.bs
     own = np.arange(Vb.dofmap.index_map.size_local)
     dof_of_node = np.full(n_nodes, -1, dtype=np.int64)
@@ -195,11 +196,11 @@ def _per_node_operators(model, d, tol=1e-6):
 def test_coloured_cut_operators_equal_the_per_node_ones(tiny, tmp_path_factory, kind):
     """W (cut displacements) and T (cut forces), built one colour of band nodes at a time, equal the per-node
     build to round-off (1e-12 of their largest entry) on a submodel whose cut nests with neither global size."""
-    from rods.fe.submodel import CutDriver
+    from rods.fe.cut import CutDriver
 
     sc, _, _, path = tiny if kind == "axisymmetric" else recorded_global(TINY_3D, tmp_path_factory, "global-3d")
     model = ExplicitModel(submodel_scene(sc, 1.5e-3))
-    d = _read_cut(path)
+    d = read_cut(path)
     W_ref, T_ref = _per_node_operators(model, d)
     W = CutDriver(model, path).W
     T, _, _ = cut_force_operator(model, d)

@@ -1,0 +1,423 @@
+"""The cut band of a submodel (paper Sec. 2.2): recorded by the global run, read to drive the submodel.
+
+Storage (global side, :class:`CutRecorder`): during the global run an observer copies the owned
+entries of u_n and v_{n+1/2} of a *band* of nodes — every global cell whose nodes all lie within
+±2 global axial elements of a cut plane (both rods) — at every global step up to ``record_until``
+(the band is small: ~270 nodes on the paper mesh). Rank 0 gathers and writes ``cut.h5`` (h5py):
+
+    /times (n_rec,) [s]            times t_n of the recorded steps
+    /u, /v (n_rec, n_nodes, gdim)  u_n [m] and v_{n+1/2} [m/s] at the band nodes
+    /nodes (n_nodes, gdim) [m]     band node coordinates
+    /cells (n_cells, n_verts)      band cells (DOLFINx vertex order), indices into /nodes
+    attrs: cell_type, gdim, kind, dt, every, halfwidth, cut_planes, scene_values (JSON),
+           record_id (a fresh random id per recording: :func:`cut_identity`)
+
+Driving (submodel side, :class:`CutDriver`): the band is rebuilt as a DOLFINx mesh on the submodel's
+communicator and the stored P1 field is interpolated onto the submodel's cut-boundary nodes with
+DOLFINx non-matching interpolation (``create_interpolation_data`` + ``interpolate_nonmatching`` on
+the cut cells only). Interpolation is linear, so it is done once per band node (unit fields) to
+build a sparse matrix W (owned cut nodes x band nodes); at run time u_cut(t) = W U_band(t). Works
+for meshes that do not nest node for node, for any number of ranks (the cut nodes may be on any
+rank), and for 2D (axisymmetric) and 3D (hexahedral) band cells alike. In 3D the submodel keeps the
+global ``fe.symmetry`` (half/quarter: the band and the cut share the symmetry planes, whose normal
+displacement is zero in both), and a submodel section finer than the global one puts circle nodes
+outside the band's polygonal section (by its sagitta, 0.03 mm for 1 mm global cells): DOLFINx
+extrapolates them linearly from the nearest band cell, bounded by :data:`MAX_EXTRAPOLATION`. In
+time, U_band is interpolated linearly
+between recorded steps: the central-difference displacement is itself piecewise linear in time
+(u_{n+1} = u_n + Δt v_{n+1/2}), so this reproduces the global trajectory exactly at any submodel time.
+
+Prescription in the explicit scheme: after v_{n+1/2} is computed, its cut entries are overwritten by
+(u_cut(t_{n+1}) - u_n)/Δt, so u_{n+1} = u_cut(t_{n+1}) exactly. Initial state = the global one
+(u = 0, Rod 1 at s1, Rod 2 at rest), consistent with the recorded u_0 = 0. The overwrite is an impulse
+R = M (v_prescribed - v_scheme) of the cut reaction; its work R · (v_{n-1/2} + v_{n+1/2})/2 is summed
+(``CutDriver.work``) and enters the model's energy balance, so a driven submodel is guarded like a global
+run (balance closes to O(Δt): ~1e-3 on the tests' meshes).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+import uuid
+from pathlib import Path
+from typing import Any
+
+import basix.ufl
+import dolfinx
+import dolfinx.mesh
+import numpy as np
+import scipy.sparse
+import ufl
+from mpi4py import MPI
+
+from rods.fe.model import ExplicitModel
+from rods.scene import Scene, SceneError
+
+__all__ = [
+    "BAND_ELEMENTS",
+    "MAX_EXTRAPOLATION",
+    "CutDriver",
+    "CutRecorder",
+    "band_adjacency",
+    "band_space",
+    "cut_identity",
+    "cut_planes",
+    "cut_space",
+    "cut_weights",
+    "node_colouring",
+    "read_cut",
+    "recorded_until",
+]
+
+BAND_ELEMENTS = 2  # band half-width in global axial elements [-]
+# most negative interpolation weight accepted [-]: a cut node at most ~this fraction of a band cell outside it
+# (3D: a finer submodel's circle bulges past the band's polygonal section by its sagitta, 0.03 mm on 1 mm cells)
+MAX_EXTRAPOLATION = 0.1
+
+
+def cut_planes(scene: Scene) -> tuple[float, float]:
+    """Axial coordinates of the cut planes [m]: Rod 1 at -L_s, Rod 2 at +L_s."""
+    L_s = scene["fe.submodel_length"]
+    return -L_s, L_s
+
+
+def _dof_to_geometry(V: dolfinx.fem.FunctionSpace) -> np.ndarray:
+    """Geometry node of every local P1 dof (degree-1 Lagrange on a degree-1 mesh: cell-local order agrees)."""
+    msh = V.mesh
+    gdm = msh.geometry.dofmaps[0]
+    dm = V.dofmap.list
+    if dm.shape != gdm.shape:
+        raise ValueError("cut recording needs P1 fields on a linear (Q1/hex8) mesh")
+    out = np.full(V.dofmap.index_map.size_local + V.dofmap.index_map.num_ghosts, -1, dtype=np.int64)
+    out[dm.ravel()] = gdm.ravel()
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# storage (global run)
+# ----------------------------------------------------------------------------------------------
+class CutRecorder:
+    """Observer of the global run (:mod:`rods.fe.observers`): records u_n, v_{n+1/2} of the cut band every
+    ``every`` steps up to ``record_until`` [s]; :meth:`write` gathers to rank 0 and writes ``cut.h5``."""
+
+    def __init__(self, model: ExplicitModel, record_until: float | None = None, every: int = 1):
+        sc, V = model.scene, model.V
+        msh = V.mesh
+        self.model, self.every = model, max(1, int(every))
+        self.axial = model.axial
+        gdim = msh.geometry.dim
+        self.gdim = gdim
+        self.halfwidth = BAND_ELEMENTS * sc["fe.axial_size"]  # [m]
+        self.planes = cut_planes(sc)
+        tol = 1e-9 * max(sc.rod1.length, sc.rod2.length)
+        w = self.halfwidth + tol
+
+        def in_band(z: np.ndarray) -> np.ndarray:
+            return (np.abs(z - self.planes[0]) <= w) | (np.abs(z - self.planes[1]) <= w)
+
+        imap = V.dofmap.index_map
+        n_own = imap.size_local
+        X = V.tabulate_dof_coordinates()[:n_own]
+        band = np.flatnonzero(in_band(X[:, self.axial]))
+        self.band = band
+        self.idx = (band[:, None] * model.bs + np.arange(model.bs)[None, :]).ravel()  # owned entries
+        gidx = msh.geometry.input_global_indices
+        d2g = _dof_to_geometry(V)
+        self.keys = np.asarray(gidx, dtype=np.int64)[d2g[band]]
+        self.coords = X[band, :gdim]
+        # band cells: owned cells all of whose nodes lie in the band
+        n_cells = msh.topology.index_map(msh.topology.dim).size_local
+        gdm = msh.geometry.dofmaps[0][:n_cells]
+        zc = msh.geometry.x[gdm, self.axial]
+        cells = np.flatnonzero(in_band(zc).all(axis=1))
+        self.cell_keys = np.asarray(gidx, dtype=np.int64)[gdm[cells]]
+        self.cell_type = msh.topology.cell_name()
+        until = sc.end_time if record_until is None else min(record_until, sc.end_time)
+        # records cover [0, until]: one past it (capped at the run's last step N)
+        n_rec = min(int(math.ceil(until / (model.dt * self.every) - 1e-9)), model.steps // self.every) + 1
+        self.last = (n_rec - 1) * self.every  # last recorded step
+        self.times = np.arange(n_rec) * self.every * model.dt
+        self.U = np.zeros((n_rec, self.idx.size))
+        self.idx_step = model.backend.asarray(self.idx)  # the band's entries where the state lives
+        self.Vv = np.zeros((n_rec, self.idx.size))
+        self.n = 0
+
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
+        if step > self.last or step % self.every:
+            return
+        host, idx = self.model.backend.to_host, self.idx_step  # the band's entries only leave the device
+        self.U[self.n] = host(state.u[idx])  # u_n
+        self.Vv[self.n] = host(state.v[idx])  # v_{n+1/2}
+        self.n += 1
+
+    def write(self, path: str | Path) -> None:
+        """Gather the band to rank 0 and write ``path`` (HDF5; layout in the module docstring)."""
+        comm = self.model.comm
+        n = self.n
+        parts = comm.gather((self.keys, self.coords, self.cell_keys, self.U[:n], self.Vv[:n]), root=0)
+        if comm.rank != 0:
+            comm.barrier()
+            return
+        import h5py
+
+        keys = np.concatenate([p[0] for p in parts])
+        coords = np.vstack([p[1] for p in parts])
+        cells = np.vstack([p[2] for p in parts if len(p[2])])
+        gd = self.gdim
+        U = np.concatenate([p[3].reshape(n, -1, gd) for p in parts], axis=1)
+        Vv = np.concatenate([p[4].reshape(n, -1, gd) for p in parts], axis=1)
+        used = np.unique(cells)
+        order = np.argsort(keys)
+        keys, coords, U, Vv = keys[order], coords[order], U[:, order], Vv[:, order]
+        keep = np.isin(keys, used)
+        keys, coords, U, Vv = keys[keep], coords[keep], U[:, keep], Vv[:, keep]
+        if not np.array_equal(keys, used):
+            raise RuntimeError("cut band: a band cell node was not recorded")
+        cells_local = np.searchsorted(keys, cells)
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".h5.tmp")
+        m = self.model
+        with h5py.File(tmp, "w") as f:
+            f["times"] = self.times[:n]
+            f["u"] = U
+            f["v"] = Vv
+            f["nodes"] = coords
+            f["cells"] = cells_local.astype(np.int64)
+            f.attrs["cell_type"] = self.cell_type
+            f.attrs["gdim"] = gd
+            f.attrs["kind"] = m.kind
+            f.attrs["axial"] = self.axial
+            f.attrs["dt"] = m.dt
+            f.attrs["every"] = self.every
+            f.attrs["halfwidth"] = self.halfwidth
+            f.attrs["cut_planes"] = np.array(self.planes)
+            f.attrs["scene_values"] = json.dumps(m.scene.as_dict())
+            f.attrs["note"] = "u = u_n [m], v = v_{n+1/2} [m/s] at t_n = times; nodes [m]"
+            f.attrs["record_id"] = uuid.uuid4().hex  # this recording's identity, wherever the file is copied
+        tmp.replace(path)
+        comm.barrier()
+
+
+# ----------------------------------------------------------------------------------------------
+# driving (submodel run)
+# ----------------------------------------------------------------------------------------------
+def cut_identity(path: str | Path) -> str:
+    """The identity of the cut record at ``path``: the random id its recording wrote (``record_id``), so the
+    same record wherever its study folder is copied or however it is spelled, and another for each recording
+    (a global rerun into the same folder). A checkpoint of the submodel it drove
+    (CutDriver.checkpoint_identity) and a study's restart (its summary's ``cut_record``) tell them apart. A
+    record written before the id existed: its resolved path, size and modification time."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        record = f.attrs.get("record_id")
+    if record is not None:
+        return f"record:{record}"
+    stat = Path(path).stat()
+    return f"{Path(path).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"
+
+
+def recorded_until(path: str | Path) -> tuple[float, dict[str, Any]]:
+    """(the last time [s] of a cut record, the recording global's scene values): the submodels it drives can run
+    to that time, and only on that scene's bodies and impact."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        return float(f["times"][-1]), json.loads(f.attrs["scene_values"])
+
+
+def read_cut(path: Path) -> dict[str, Any]:
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        d = {k: f[k][()] for k in ("times", "u", "v", "nodes", "cells")}
+        d.update({k: f.attrs[k] for k in f.attrs})
+    return d
+
+
+def band_space(d: dict[str, Any], comm: MPI.Comm) -> tuple[dolfinx.fem.FunctionSpace, np.ndarray]:
+    """The recorded band as a P1 space on ``comm`` (rank 0 holds the input) and the band node of each dof."""
+    gdim = int(d["gdim"])
+    el = basix.ufl.element("Lagrange", str(d["cell_type"]), 1, shape=(gdim,))
+    root = comm.rank == 0
+    cells = d["cells"] if root else np.empty((0, d["cells"].shape[1]), dtype=np.int64)
+    x = d["nodes"] if root else np.empty((0, gdim))
+    band = dolfinx.mesh.create_mesh(comm, cells, ufl.Mesh(el), x)
+    Vb = dolfinx.fem.functionspace(band, ("Lagrange", 1))
+    return Vb, np.asarray(band.geometry.input_global_indices, dtype=np.int64)[_dof_to_geometry(Vb)]
+
+
+def cut_space(model: ExplicitModel) -> tuple[dolfinx.fem.FunctionSpace, np.ndarray, np.ndarray, np.ndarray]:
+    """The submodel's cut: scalar P1 space V0, its owned cut dofs, the cells incident to the cut facets,
+    and the model's (parent) node of each owned cut dof."""
+    msh, rm, tags = model.V.mesh, model.rm, model.tags
+    fdim, tdim = msh.topology.dim - 1, msh.topology.dim
+    facets = np.concatenate([rm.facet_tags.find(tags["rod1_end"]), rm.facet_tags.find(tags["rod2_end"])])
+    msh.topology.create_connectivity(fdim, tdim)
+    cut_cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim).astype(np.int32)
+    V0, to_parent = model.V.sub(0).collapse()
+    nodes0 = dolfinx.fem.locate_dofs_topological(V0, fdim, facets)
+    nodes0 = nodes0[nodes0 < V0.dofmap.index_map.size_local]
+    to_parent = np.asarray(to_parent[0] if isinstance(to_parent, list | tuple) else to_parent)
+    return V0, nodes0, cut_cells, to_parent[nodes0] // model.bs  # parent dof of component 0 is node * bs
+
+
+def band_adjacency(cells: np.ndarray, n_nodes: int) -> scipy.sparse.csr_matrix:
+    """The band's node graph (input indices): A_jk = 1 where nodes j and k share a cell (the diagonal included)."""
+    n_cells, per_cell = cells.shape
+    C = scipy.sparse.csr_matrix(
+        (np.ones(cells.size), (np.repeat(np.arange(n_cells), per_cell), cells.ravel())), shape=(n_cells, n_nodes)
+    )
+    A = (C.T @ C).tocsr()
+    A.data[:] = 1.0
+    return A
+
+
+def node_colouring(A: scipy.sparse.csr_matrix, hops: int) -> np.ndarray:
+    """Colours of the nodes of graph ``A`` (:func:`band_adjacency`) such that two nodes within ``hops`` steps
+    differ (greedy, in index order: every rank computes the same from the same cells). A unit field on all
+    nodes of one colour is then, within reach of any point, a unit field on one node: one solve or
+    interpolation serves a whole colour instead of each node (structured hexahedra: 27 colours at one hop, 125
+    at two)."""
+    R = A
+    for _ in range(hops - 1):
+        R = R @ A
+    R = R.tocsr()
+    colour = np.full(A.shape[0], -1, dtype=np.int64)
+    for j in range(A.shape[0]):
+        taken = colour[R.indices[R.indptr[j] : R.indptr[j + 1]]]
+        free = np.ones(taken.size + 1, dtype=bool)
+        free[taken[(taken >= 0) & (taken <= taken.size)]] = False
+        colour[j] = int(np.argmax(free))
+    return colour
+
+
+def cut_weights(
+    V0, nodes0, cut_cells, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, tol: float
+) -> scipy.sparse.csr_matrix:
+    """W (owned cut dofs x band nodes): each band node's unit scalar field interpolated onto the cut cells
+    (DOLFINx non-matching interpolation; linear). One colour of nodes (:func:`node_colouring`, one hop: no two
+    share a cell) at a time: a cut point lies in one band cell, which holds at most one node of the colour, so
+    the interpolated unit field there is that node's weight, and the field (index + 1) over it names the node.
+    Two interpolations per colour instead of one per band node (the 3D coarse submodel's cut: minutes to
+    seconds); the weights are the per-node ones to round-off (tests/fe/test_submodel.py)."""
+    data = dolfinx.fem.create_interpolation_data(V0, Vb, cut_cells, padding=1e-10)
+    fb, g = dolfinx.fem.Function(Vb), dolfinx.fem.Function(V0)
+    own = np.arange(Vb.dofmap.index_map.size_local)
+    colour = node_colouring(band_adjacency(cells, n_nodes), 1)
+    rows, cols, vals = [], [], []
+
+    def interpolated(values: np.ndarray) -> np.ndarray:
+        fb.x.array[:] = 0.0
+        fb.x.array[own] = values
+        fb.x.scatter_forward()
+        g.x.array[:] = 0.0
+        g.interpolate_nonmatching(fb, cut_cells, data, tol=tol)
+        return g.x.array[nodes0].copy()
+
+    for κ in range(int(colour.max(initial=-1)) + 1):  # collective: every rank has every colour
+        on = colour[node_of_dof[own]] == κ
+        w = interpolated(on.astype(float))
+        named = interpolated(np.where(on, node_of_dof[own] + 1.0, 0.0))
+        nz = np.flatnonzero(np.abs(w) > 1e-14)
+        j = np.rint(named[nz] / w[nz]).astype(np.int64) - 1
+        if nz.size and (j.min() < 0 or j.max() >= n_nodes or np.any(colour[j] != κ)):
+            raise RuntimeError("cut weights: a cut point sees two band nodes of one colour (band cells overlap?)")
+        rows.append(nz)
+        cols.append(j)
+        vals.append(w[nz])
+    return scipy.sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nodes0.size, n_nodes)
+    )
+
+
+class CutDriver:
+    """Observer of the submodel run: prescribes u at the cut nodes from a global ``cut.h5``; its work on
+    the submodel (``external_work()``) enters the energy balance."""
+
+    def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6):
+        comm = model.comm
+        d = read_cut(Path(cut_file))  # every rank reads (small, read-only)
+        self.times, self.U = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim)
+        # the last step may end past the record by less than one record spacing or one submodel step (a submodel
+        # step longer than the global's: a kinematic submodel under a penalty global): band_state extrapolates
+        spacing = self.times[-1] - self.times[-2] if self.times.size > 1 else 0.0
+        if model.steps * model.dt > self.times[-1] + max(spacing, model.dt):
+            raise SceneError(
+                "simulation.end_time",
+                model.scene.end_time,
+                f"must be <= the recorded global time {self.times[-1]:g} s (global run's --record-until)",
+            )
+        Vb, node_of_dof = band_space(d, comm)
+        V0, nodes0, cut_cells, self.cut_nodes = cut_space(model)
+        bs = model.bs
+        self.idx = self.cut_nodes[:, None] * bs + np.arange(bs)[None, :]  # (n_cut, bs) owned entries
+        t0 = time.perf_counter()
+        self.W = cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, d["cells"], d["nodes"].shape[0], tol)
+        self.band = (Vb, node_of_dof, d["cells"], d["nodes"].shape[0])  # the band space for a traction operator
+        self.cut_cells = cut_cells
+        self.build_time = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
+        # partition of unity: each cut node must be covered by the band (row sums 1). DOLFINx assigns a point
+        # outside every cell but inside a candidate's bounding box to the closest cell and extrapolates (row sums
+        # stay 1): bound how far, through the most negative weight
+        rs = np.asarray(self.W.sum(axis=1)).ravel()
+        bad = np.flatnonzero(np.abs(rs - 1.0) > 1e-8)
+        if comm.allreduce(bad.size) > 0:
+            raise RuntimeError(f"{bad.size} cut nodes are not covered by the recorded band (row sums != 1)")
+        self.w_min = comm.allreduce(float(self.W.data.min(initial=0.0)), op=MPI.MIN)  # [-]
+        if self.w_min < -MAX_EXTRAPOLATION:
+            raise RuntimeError(
+                f"cut nodes lie outside the recorded band (interpolation weight {self.w_min:.3g} < "
+                f"-{MAX_EXTRAPOLATION}): the submodel cut is not inside the global model"
+            )
+        self.n_cut = comm.allreduce(nodes0.size)
+        self.dt = model.dt
+        # on the model's array backend (copied to a device once): the band history, W, the cut entries
+        be = self.be = model.backend
+        self.xp, self.U, self.W_step, self.idx_step = be.xp, be.asarray(self.U), be.csr(self.W), be.asarray(self.idx)
+        # a checkpoint resumes only with the record it was driven by (rods.fe.model)
+        self.checkpoint_identity = cut_identity(cut_file)
+        # work done by the cut on the submodel (this rank's cut entries) [J]: the prescription adds the impulse
+        # R = M (v_prescribed - v_free) [N s] per step, which moves through (v_{n-1/2} + v_{n+1/2})/2 Δt
+        self.m_cut = be.asarray(model.mass[self.idx])  # [kg]
+        self.v_prev = be.asarray(model.initial_velocity()[self.idx])  # v_{n-1/2} at the cut [m/s], v_0 at first
+        self.work = 0.0
+        self.cut_x = V0.tabulate_dof_coordinates()[nodes0]
+
+    def state(self, step: int) -> dict[str, Any]:  # noqa: ARG002
+        """What a restart needs (this rank, on the host): the cut's work so far and its last v_{n+1/2}."""
+        return {"cut_work": self.work, "cut_v_prev": self.be.to_host(self.v_prev)}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        self.work = float(state["cut_work"])
+        self.v_prev = self.be.asarray(state["cut_v_prev"])
+
+    def band_state(self, t: float):
+        """The band's u at time t [s], linear in time between records (the scheme's own u(t)). (n_nodes, gdim)"""
+        T = self.times
+        if T.size == 1:
+            return self.U[0]
+        k = int(np.clip(np.searchsorted(T, t, side="right") - 1, 0, T.size - 2))
+        θ = (t - T[k]) / (T[k + 1] - T[k])
+        return (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
+
+    def displacement(self, t: float) -> np.ndarray:
+        """u at the owned cut nodes at time t [s]: :meth:`band_state`, W in space. (n_cut, gdim)"""
+        return self.W_step @ self.band_state(t)
+
+    def external_work(self) -> float:
+        """Work done by the cut on the submodel so far (this rank's cut entries) [J]."""
+        return self.work
+
+    def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
+        """Overwrite v_{n+1/2} at the cut so that u_{n+1} = u_cut(t_{n+1})."""
+        u, v, idx = state.u, state.v, self.idx_step
+        target = self.displacement(t + self.dt)
+        v_new = (target - u[idx]) / self.dt
+        R = self.m_cut * (v_new - v[idx])  # impulse of the cut reaction [N s]
+        self.work += float(self.xp.sum(R * 0.5 * (self.v_prev + v_new)))
+        self.v_prev = v_new
+        v[idx] = v_new
