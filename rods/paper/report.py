@@ -187,7 +187,7 @@ def _submodel_text(t3: dict[str, Any]) -> str:
     f = subs[-1]
     return (
         f"Each submodel level is compared with Hertz at its *own* force: at the finest level ({f['model']}) the area "
-        f"is {f['d_area_vs_hertz_pct']:+.1f}% and the peak pressure {f['d_p0_vs_hertz_pct']:+.1f}% from Hertz, σ_r "
+        f"is {f['d_area_vs_hertz_pct']:+.2f}% and the peak pressure {f['d_p0_vs_hertz_pct']:+.2f}% from Hertz, σ_r "
         f"within {f['sigma_r_err_depth_pct']:.1f}% of the closed form at the Gauss-point depth away from the contact "
         "edge. " + _richardson_text(t3.get("richardson"))
     )

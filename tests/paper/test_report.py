@@ -79,7 +79,7 @@ def test_measured_numbers_follow_the_data(stages):
     for r in stages["fig4.json"]["runs"]:
         r["strain_rms_difference"] = 13.9e-6
     assert "the midpoint strain differs by up to 13.9 µε RMS" in render(stages)
-    assert "the area is +0.4%" in text and "gives 0.33%" in text
+    assert "the area is +0.42%" in text and "gives 0.33%" in text
 
 
 def test_richardson_sentence_when_nothing_extrapolates(stages, tmp_path):
