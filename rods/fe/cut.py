@@ -230,6 +230,7 @@ def recorded_until(path: str | Path) -> tuple[float, dict[str, Any]]:
 
 
 def read_cut(path: Path) -> dict[str, Any]:
+    """A whole cut record (layout in the module docstring): its datasets and attributes in one dict."""
     import h5py
 
     with h5py.File(path, "r") as f:
