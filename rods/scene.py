@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import difflib
 import math
 import tomllib
 from collections.abc import Callable, Iterable, Mapping
@@ -367,9 +368,24 @@ def _apply_override(data: dict[str, Any], key: str, value: Any) -> None:
 
 
 def _unknown_msg(key: str) -> str:
+    """'unknown key', the nearest known key when one is close (a typo, a missing table: 'end_time' ->
+    'simulation.end_time'), then the keys of its table (or all keys)."""
     head = key.split(".")[0]
     near = sorted(k for k in SCHEMA if k.split(".")[0] == head)
-    return "unknown key" + (f"; keys in [{head}]: {', '.join(near)}" if near else f"; known keys: {', '.join(SCHEMA)}")
+    listing = f"; keys in [{head}]: {', '.join(near)}" if near else f"; known keys: {', '.join(SCHEMA)}"
+    return "unknown key" + (f"; did you mean '{hint}'?" if (hint := _nearest_key(key)) else "") + listing
+
+
+def _nearest_key(key: str) -> str | None:
+    """The known key closest to ``key`` by its whole spelling or, failing that, by its last part alone."""
+    whole = difflib.get_close_matches(key, list(SCHEMA), n=1, cutoff=0.8)
+    if whole:
+        return whole[0]
+    by_leaf = {}
+    for k in SCHEMA:
+        by_leaf.setdefault(k.rsplit(".", 1)[-1], []).append(k)
+    leaf = difflib.get_close_matches(key.rsplit(".", 1)[-1], list(by_leaf), n=1, cutoff=0.8)
+    return by_leaf[leaf[0]][0] if leaf and len(by_leaf[leaf[0]]) == 1 else None
 
 
 # --------------------------------------------------------------------------------------------
