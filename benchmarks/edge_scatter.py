@@ -20,7 +20,7 @@ import sys
 import warnings
 from pathlib import Path
 
-import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))

@@ -229,9 +229,25 @@ def _pct(v: Any, d: int) -> str:
     return "–" if math.isnan(v) else f"{v:+.{d}f}%"
 
 
+def _fpct(v: Any, d: int) -> str:
+    """An unsigned percentage cell; '–' where there is none (not '–%')."""
+    v = _num(v)
+    return "–" if math.isnan(v) else f"{v:.{d}f}%"
+
+
 def _f(v: Any, d: int = 3) -> str:
     v = _num(v)
     return "–" if isinstance(v, float) and math.isnan(v) else (f"{v:.{d}f}" if isinstance(v, float) else str(v))
+
+
+def _sigma_r_cell(r: Mapping[str, Any]) -> str:
+    """σ_r error at the surface / at the Gauss-point depth; '–' for a model that samples none (the global)."""
+    surface, depth = _num(r["sigma_r_err_surface_pct"]), _num(r["sigma_r_err_depth_pct"])
+    return "–" if math.isnan(surface) and math.isnan(depth) else f"{_fpct(surface, 1)} / {_fpct(depth, 1)}"
+
+
+def _band(band: Any) -> str:
+    return "–" if math.isnan(_num(band)) else f"±{_f(band, 2)} points"
 
 
 def _model_rows(data: Mapping[str, Any]) -> list[str]:
@@ -248,7 +264,7 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
             f"| {_pct(r['d_area_vs_hertz_pct'], 2)} | {_pct(r['d_p0_vs_hertz_pct'], 2)} "
             f"| {_pct(r['d_force_vs_analytical_pct'], 2)} "
             f"| {_pct(r['d_area_vs_analytical_pct'], 1)} | {_pct(r['d_area_vs_exp_pct'], 1)} "
-            f"| {_f(r['sigma_r_err_surface_pct'], 1)}% / {_f(r['sigma_r_err_depth_pct'], 1)}% "
+            f"| {_sigma_r_cell(r)} "
             f"| {_f(r['paper_force_N'], 0)} | {_f(r['paper_area_mm2'], 2)} | {r['dofs']} | {r['wall_s']:.1f} |"
         )
     an, exp, pa = data["analytical"], data["experiment"], data["paper"]
@@ -289,13 +305,13 @@ def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
         ext = _num(q["extrapolated"]) * k
         L.append(
             f"| {label} [{unit}] | {q['f3'] * k:.5g} | {q['f2'] * k:.5g} | {q['f1'] * k:.5g} | {_order(q)} "
-            f"| {_f(ext, 4)} | {_f(100 * _num(q['gci_fine']), 2)}% | {_f(href, 4)} | {_f(q['vs_hertz_pct'], 2)}% |"
+            f"| {_f(ext, 4)} | {_fpct(100 * _num(q['gci_fine']), 2)} | {_f(href, 4)} | {_pct(q['vs_hertz_pct'], 2)} |"
         )
     q = rich["quantities"]["plateau_radius_error_pct"]
     L.append(
         f"| radius vs Hertz at the same force, plateau mean [%] | {q['f3']:+.3f} | {q['f2']:+.3f} | {q['f1']:+.3f} "
-        f"| {_order(q)} | {_f(q['extrapolated'], 3)} | ±{_f(q['error_band'], 2)} points | 0 "
-        f"| {_f(q['vs_hertz_pct'], 2)}% |"
+        f"| {_order(q)} | {_f(q['extrapolated'], 3)} | {_band(q['error_band'])} | 0 "
+        f"| {_pct(q['vs_hertz_pct'], 2)} |"
     )
     return [
         *L,

@@ -126,7 +126,9 @@ def test_an_incredible_order_claims_nothing_against_hertz(runs):
     assert d["richardson"]["quantities"]["contact_radius"]["hertz_at_extrapolated"] == pytest.approx(
         hertz.at_force(q["f1"], *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"], rel=1e-12
     )
-    assert "not credible" in render_markdown(d)
+    md = render_markdown(d)
+    assert "not credible" in md
+    assert "–%" not in md and "±–" not in md  # a missing value is a bare dash, not a dash with a unit
 
 
 def test_renderings_come_from_the_data_and_its_json(runs, tmp_path):
