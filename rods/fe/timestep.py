@@ -24,7 +24,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import dolfinx
 import numpy as np
@@ -37,9 +37,6 @@ from rods.fe.explicit import EIGEN_TOL, largest_eigenvalue, stable_step, switchi
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
 from rods.scene import SceneError
-
-if TYPE_CHECKING:
-    from rods.fe.model import ExplicitModel
 
 __all__ = ["TimeStep", "abs_row_sums", "gershgorin", "largest_eigenvalue_on", "omega_max", "start_vector", "time_step"]
 
@@ -61,12 +58,31 @@ class TimeStep:
     steps: int  # steps to the scene's end time
 
 
+class SetUpModel(Protocol):
+    """What the step is computed from: an explicit model after its set-up (:class:`rods.fe.model.ExplicitModel`
+    is one; named here by what is read, so that this module does not import the model that calls it)."""
+
+    scene: Any  # rods.scene.Scene
+    kind: str  # "axisymmetric" | "3d"
+    comm: MPI.Comm
+    backend: Backend
+    V: dolfinx.fem.FunctionSpace
+    rm: Any  # the rods' mesh (rods.fe.mesh), its .mesh the DOLFINx mesh
+    stiffness: dolfinx.fem.Form  # the stiffness form K
+    K: Any  # K assembled: a PETSc Mat, or a SciPy CSR matrix on the array backends
+    inv_mass: np.ndarray  # owned lumped inverse mass [1/kg], 0 on constrained entries
+    contact: Any  # rods.fe.contact.PenaltyContact or rods.fe.kinematic.KinematicContact
+    n_local: int  # owned DOFs
+    n_global: int
+    bs: int  # block size (the displacement's components)
+
+
 def _vec(comm: MPI.Comm, a: np.ndarray, n_global: int, bs: int) -> PETSc.Vec:
     """A PETSc Vec that shares the memory of the owned numpy array ``a``."""
     return PETSc.Vec().createWithArray(a, size=(a.size, n_global), bsize=bs, comm=comm)
 
 
-def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
+def omega_max(model: SetUpModel, with_contact: bool, K_device=None) -> float:
     """ω_max [rad/s] of M^-1 (K [+ K_c at full engagement]) via M^-½ (K + K_c) M^-½: SLEPc on the host
     (K a PETSc Mat or the array backends' SciPy CSR), or thick-restart Lanczos on the device when the
     backend is one (``K_device``: K there, :func:`largest_eigenvalue_on`), from :func:`start_vector`."""
@@ -95,7 +111,7 @@ def omega_max(model: ExplicitModel, with_contact: bool, K_device=None) -> float:
     return math.sqrt(largest_eigenvalue(apply, model.n_local, model.comm, start=start))
 
 
-def start_vector(model: ExplicitModel) -> np.ndarray:
+def start_vector(model: SetUpModel) -> np.ndarray:
     """The eigenvalue solves' start vector, owned entries: 1 + 0.1 sin(k·x + 7.9 c) at each DOF's node x [m]
     and component c, k = (3.1, 4.3, 5.7)/h_ref with h_ref = 1e-4 m: a wavelength below the elements, so it is
     rough from node to node like the top modes and not orthogonal to them by any symmetry of the mesh, and the
@@ -107,7 +123,7 @@ def start_vector(model: ExplicitModel) -> np.ndarray:
     return (1.0 + 0.1 * np.sin(phase[:, None] + 7.9 * np.arange(bs)[None, :])).ravel()
 
 
-def _scaled(model: ExplicitModel, with_contact: bool, K: Any) -> Callable[[Any], Any]:
+def _scaled(model: SetUpModel, with_contact: bool, K: Any) -> Callable[[Any], Any]:
     """x -> M^-½ (K [+ K_c]) M^-½ x on the backend's arrays (``K`` there: a CSR matrix)."""
     D = model.backend.asarray(np.sqrt(model.inv_mass))
 
@@ -201,7 +217,7 @@ def abs_row_sums(S: scipy.sparse.spmatrix, chunk: int = 1 << 22) -> np.ndarray:
     return out.ravel()
 
 
-def gershgorin(model: ExplicitModel) -> float:
+def gershgorin(model: SetUpModel) -> float:
     """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
     # DOLFINx's own CSR matrix (owned rows, all columns): the array backends' K, else assembled for this
     S = model.K if scipy.sparse.issparse(model.K) else dolfinx.fem.assemble_matrix(model.stiffness).to_scipy()
@@ -211,7 +227,7 @@ def gershgorin(model: ExplicitModel) -> float:
     return model.comm.allreduce(float(np.max(rows * model.inv_mass, initial=0.0)), op=MPI.MAX)
 
 
-def _omega_or_bound(model: ExplicitModel, with_contact: bool, K_device: Any, ω_bound: float) -> float:
+def _omega_or_bound(model: SetUpModel, with_contact: bool, K_device: Any, ω_bound: float) -> float:
     """:func:`omega_max`, or the Gershgorin bound ``ω_bound`` [rad/s] with a warning where the eigenvalue solve
     does not converge (a smaller, safe step: never a Ritz value that may lie below ω_max)."""
     try:
@@ -221,7 +237,7 @@ def _omega_or_bound(model: ExplicitModel, with_contact: bool, K_device: Any, ω_
         return ω_bound
 
 
-def time_step(model: ExplicitModel) -> TimeStep:
+def time_step(model: SetUpModel) -> TimeStep:
     """The limits and the step of ``model`` (collective); see the module docstring."""
     sc, be = model.scene, model.backend
     ω_bound = math.sqrt(gershgorin(model))  # [rad/s] a true upper bound, with the contact at full engagement
