@@ -1,0 +1,86 @@
+"""The commands a newcomer copies: every whole entry-point command in README.md and in the entry points' own
+docstrings names options the script has, and those that need no earlier run's folder pass their dry run
+as typed (scene, overrides, costs; nothing runs, nothing is written)."""
+
+from __future__ import annotations
+
+import re
+import shlex
+import subprocess
+import sys
+from functools import cache
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+WORKFLOWS = ROOT / "workflows"
+DRY_RUN = {"analytical.py", "global.py", "submodel.py", "run.py"}  # the entry points with --dry-run
+NEEDS_A_RUN = {"--global", "--submodel", "--fields", "--run", "--fe", "--restart"}  # a folder an earlier run wrote
+COMMAND = re.compile(r"^(?:\S*mpirun\s+-n\s+\d+\s+)?(?:\S*/)?python3?\s+workflows/(\w+\.py)(\s.*)?$")
+PLACEHOLDERS = {"S", "DIR", "GDIR"}  # folders and scenes a usage line leaves to the reader
+
+
+def _candidates(text: str) -> list[str]:
+    """Command lines in fenced blocks and in inline code spans (comments cut)."""
+    lines = [ln for block in re.findall(r"```[a-z]*\n(.*?)```", text, re.S) for ln in block.splitlines()]
+    lines += re.findall(r"`([^`\n]+)`", text)
+    docs = [ln.strip() for ln in text.splitlines() if ln.startswith("    python ") or ln.startswith("    mpirun ")]
+    return [ln.split(" # ")[0].split("  #")[0].strip() for ln in lines + docs]
+
+
+def commands() -> list[tuple[str, str, list[str]]]:
+    """(where, script, arguments) of every command but those with '...' or optional '[--x]' parts; a usage line
+    continued with a backslash counts with its first line's arguments."""
+    sources = {"README.md": (ROOT / "README.md").read_text()}
+    sources |= {f"workflows/{p.name}": p.read_text() for p in sorted(WORKFLOWS.glob("*.py"))}
+    found: dict[str, tuple[str, str, list[str]]] = {}
+    for where, text in sources.items():
+        for line in _candidates(text):
+            m = COMMAND.match(line)
+            if not m or "..." in line or "[--" in line:
+                continue
+            args = shlex.split((m.group(2) or "").removesuffix("\\"))
+            found.setdefault(line, (where, m.group(1), args))
+    return sorted(found.values())
+
+
+@cache
+def _help(script: str) -> str:
+    r = subprocess.run([sys.executable, str(WORKFLOWS / script), "--help"], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def test_the_readme_has_commands_to_check():
+    found = commands()
+    scripts = {s for _, s, _ in found}
+    assert len(found) >= 15 and {"analytical.py", "global.py", "submodel.py", "run.py", "compare.py"} <= scripts
+
+
+@pytest.mark.parametrize(("where", "script", "args"), commands(), ids=lambda v: v if isinstance(v, str) else None)
+def test_command_names_options_its_script_has(where, script, args):
+    assert (WORKFLOWS / script).is_file(), f"{where}: no workflows/{script}"
+    options = {a.split("=")[0] for a in args if a.startswith("--")}
+    unknown = sorted(o for o in options if not re.search(rf"(?<![\w-]){re.escape(o)}(?![\w-])", _help(script)))
+    assert not unknown, f"{where}: workflows/{script} has no option {', '.join(unknown)}"
+
+
+DRY = [
+    c
+    for c in commands()
+    if c[1] in DRY_RUN
+    and not NEEDS_A_RUN & {a.split("=")[0] for a in c[2]}
+    and not any(a in PLACEHOLDERS and c[2][i - 1] != "--out" for i, a in enumerate(c[2]))
+]
+
+
+@pytest.mark.parametrize(("where", "script", "args"), DRY, ids=lambda v: v if isinstance(v, str) else None)
+def test_command_passes_its_dry_run_as_typed(where, script, args, tmp_path):
+    """Serial (a dry run allocates nothing, so the rank count does not matter), from the repository root, with
+    the command's own arguments; --out, where given, is moved under tmp_path (a dry run writes nothing anyway)."""
+    args = [str(tmp_path / a) if i and args[i - 1] == "--out" else a for i, a in enumerate(args)]
+    argv = [sys.executable, str(WORKFLOWS / script), *args, *([] if "--dry-run" in args else ["--dry-run"])]
+    r = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, f"{where}: {shlex.join(argv[1:])}\n{r.stderr[-2000:]}"
+    assert "dry run" in r.stdout and not any(tmp_path.iterdir())
