@@ -29,6 +29,7 @@ import json
 import math
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import time
@@ -88,7 +89,8 @@ def worker(mesh: str, steps: int) -> None:
 
 def run_worker(ranks: int, mesh: str, steps: int) -> dict:
     cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", mesh, "--steps", str(steps)]
-    mpirun = Path(sys.executable).parent / "mpirun"
+    mpirun = Path(sys.executable).parent / "mpirun"  # the mpich wheel's, beside the interpreter; else PATH's
+    mpirun = mpirun if mpirun.exists() else Path(shutil.which("mpirun") or "mpirun")
     cmd = [str(mpirun), "-n", str(ranks), *cmd]
     env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
     p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env)

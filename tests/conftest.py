@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -13,7 +14,8 @@ ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "workflows" / "scenes"
 PAPER = SCENES / "paper.toml"
 PY = Path(sys.executable)  # the interpreter running the tests (.venv/bin/python under make test)
-MPIRUN = PY.parent / "mpirun"  # the mpich wheel's launcher beside it
+# the mpich wheel's launcher beside the interpreter; another install's (conda, a container) on PATH
+MPIRUN = PY.parent / "mpirun" if (PY.parent / "mpirun").exists() else Path(shutil.which("mpirun") or "mpirun")
 sys.path.insert(0, str(ROOT / "workflows"))
 
 
