@@ -86,6 +86,7 @@ from typing import Any
 import numpy as np
 
 from rods import hertz, metrics
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
 
 __all__ = [
     "AGREE_DURATION",
@@ -591,8 +592,7 @@ def submodel_warnings(table: Mapping[str, Any]) -> list[str]:
                 f"its error grew from {e[-2]:+.2%} with refinement: the contact departs from Hertz here (a large "
                 "patch, yield; see the rim and yield warnings), which no finer level removes"
                 if growing
-                else "the patch is not converged (add a finer level to submodel.levels) or not Hertzian (see the rim "
-                "and yield warnings)"
+                else f"the patch is not converged ({_finer(subs[-1])}) or not Hertzian (see the rim and yield warnings)"
             )
             found.append(
                 f"{key}: the finest submodel level ({subs[-1]['level']}, h = {subs[-1]['h_mm']:.4g} mm) is "
@@ -605,16 +605,28 @@ def submodel_warnings(table: Mapping[str, Any]) -> list[str]:
         if steps and math.isfinite(steps[-1]) and steps[-1] > HERTZ_OK and not shrank_inside:
             found.append(
                 f"{key}: its error against Hertz moves from {e[-2]:+.2%} at submodel level {subs[-2]['level']} to "
-                f"{e[-1]:+.2%} at {subs[-1]['level']}, by more than {HERTZ_OK:.0%}: not converged; add a finer level "
-                "to submodel.levels"
+                f"{e[-1]:+.2%} at {subs[-1]['level']}, by more than {HERTZ_OK:.0%}: not converged; {_finer(subs[-1])}"
             )
         elif len(steps) == 2 and steps[-1] > max(0.5 * HERTZ_OK, steps[0]):
             found.append(
                 f"{key}: its error against Hertz moves by {100 * steps[0]:.2f} then {100 * steps[1]:.2f} points over "
-                f"the last two refinements ({e[0]:+.2%}, {e[1]:+.2%}, {e[2]:+.2%}): not converging; add a finer level "
-                "to submodel.levels"
+                f"the last two refinements ({e[0]:+.2%}, {e[1]:+.2%}, {e[2]:+.2%}): not converging; {_finer(subs[-1])}"
             )
     return found
+
+
+def _finer(row: Mapping[str, Any]) -> str:
+    """The remedy for a finest level that is not fine enough: the next level of the ladder, or, past its end, a
+    submodel run at half the size (workflows/submodel.py --size)."""
+    level = row.get("level")
+    finer = [lv for lv in SUBMODEL_LEVELS if SUBMODEL_LEVEL_SIZES[lv] < SUBMODEL_LEVEL_SIZES.get(level, 0.0)]
+    if finer:
+        return f"add '{finer[0]}' to submodel.levels"
+    h = 0.5e-3 * row["h_mm"]  # [m]
+    return (
+        f"{level or 'this size'} is the finest level of the ladder: run workflows/submodel.py --global DRIVER "
+        f"--size {h:.3g} (half its size)"
+    )
 
 
 def apply(

@@ -31,7 +31,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, Scene, SceneError, submodel_phase_size
+from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, Scene, SceneError, submodel_phase_size
 
 __all__ = [
     "CONTACT_KEYS",
@@ -178,10 +178,12 @@ UNDRIVEN_SUFFIXES = (".yield_strength",)  # the yield check's, not the motion's
 def scene_difference(scene: Scene, other: Scene, cut: bool = True) -> tuple[str, Any, Any] | None:
     """The first (key, scene's value, other's value) where two scenes' bodies or impact differ (yield strengths
     aside), and with ``cut`` the model kind, symmetry and cut length as well; None where they agree."""
-    for key, value in scene.values.items():
+    for key in scene.values:
         shared = key.startswith(DRIVEN_PREFIXES) or (cut and key in DRIVEN_KEYS)
-        if shared and not key.endswith(UNDRIVEN_SUFFIXES) and value != other.values.get(key):
-            return key, value, other.values.get(key)
+        if shared and not key.endswith(UNDRIVEN_SUFFIXES) and key in other.values and scene[key] != other[key]:
+            return key, scene[key], other[key]  # resolved: "auto" and the length it gives are one cut
+        if shared and key not in other.values:
+            return key, scene[key], None
     return None
 
 
@@ -261,7 +263,8 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
         reasons.append(
             f"no submodel level is finer than the global mesh across the contact (finest: {finest}, "
             f"{SUBMODEL_LEVEL_SIZES[finest] * 1e3:.4g} mm; global {scene.radial_size * 1e3:.4g} mm): the submodels "
-            "add cost, not resolution (the ladder ends at ultra-fine); the global's contact values are as resolved"
+            f"add cost, not resolution (the ladder ends at {SUBMODEL_LEVELS[-1]}); the global's contact values are "
+            "as resolved"
         )
     if wave:
         reasons.append("wave_response: the global run covers the whole end_time; no submodel needed for it")

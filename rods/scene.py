@@ -48,14 +48,19 @@ SYMMETRIES = ("full", "half", "quarter")
 # array backends of the explicit loop (rods.fe.backend): petsc = the MPI path; numpy, cupy serial; auto = cupy on a GPU
 FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
-# mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The one
-# definition: rods.fe.submodel.LEVEL_SIZES is this table (kept here so that scenes validate without DOLFINx).
+# mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
+# ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
+# 1 m/s, a = 0.127 mm, had -2.2% peak pressure at ultra-fine, 8 elements across). The one definition:
+# rods.fe.submodel.LEVEL_SIZES is this table (kept here so that scenes validate without DOLFINx).
 SUBMODEL_LEVEL_SIZES = {
     "coarse": 0.25e-3,  # [m]
     "mid": 0.125e-3,  # [m]
     "fine": 0.0625e-3,  # [m]
     "extra-fine": 0.03125e-3,  # [m]
     "ultra-fine": 0.015625e-3,  # [m]
+    "ultra-fine-x2": 0.0078125e-3,  # [m]
+    "ultra-fine-x4": 0.00390625e-3,  # [m]
+    "ultra-fine-x8": 0.001953125e-3,  # [m]
 }
 SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
 # meshes per submodel level in the phase-averaged convergence study (submodel_phase_size); the middle one is the
@@ -88,7 +93,12 @@ SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that ru
 
 
 # keys whose "auto" a Scene resolves -> the property that does ([] reads the resolved value)
-_RESOLVED = {"fe.radial_size": "radial_size", "fe.axial_size": "axial_size", "submodel.levels": "submodel_levels"}
+_RESOLVED = {
+    "fe.radial_size": "radial_size",
+    "fe.axial_size": "axial_size",
+    "submodel.levels": "submodel_levels",
+    "fe.submodel_length": "submodel_length",
+}
 RESOLVED_KEYS = (*_RESOLVED, "fe.tip_grading")  # the keys whose "auto" follows from others (as_dict resolves them)
 
 
@@ -205,6 +215,11 @@ DEFAULT_FIELD_INTERVAL = 10e-6  # [s] field frames when the "fields" effect asks
 PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected contact radius [-] (Scene.radial_size)
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
 AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's diameter / this (the paper's 1 mm) [-]
+# fe.submodel_length = "auto": the cut planes this many diameters of the thicker rod from the tips [-]: past the
+# contact's Saint-Venant zone (about one diameter), where the section's stress is the bar's (the paper's 14 mm cut
+# on its 12.7 mm rods, so the paper scene's auto is its 14 mm exactly); > 2 cap heights by construction (a cap is
+# at most a radius high)
+SUBMODEL_DIAMETERS = 14e-3 / 12.7e-3
 RISE_ELEMENTS = 50  # ... and at most the wavelength c t_rise of the contact force's rise / this [-] (Scene.axial_size)
 
 SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
@@ -249,7 +264,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.bulk_viscosity": ("float", 0.0, _interval(0.0, 1.0, closed_lo=True)),
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
-    "fe.submodel_length": ("float", 14e-3, _positive("m", hi=1.0)),
+    # auto: SUBMODEL_DIAMETERS x the thicker rod's diameter (the paper's 14 mm on its 12.7 mm rods;
+    # Scene.submodel_length)
+    "fe.submodel_length": ("float|auto", "auto", _positive("m", hi=1.0)),
     "fe.checkpoint_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no checkpoints)", closed_lo=True)),
     # the guard catches instabilities, which grow the energy by orders of magnitude; below 1e-5 the round-off of the
     # energy sums (~1e-9 of E0 on the default contact) and the penalty law's O(Δt²) energy wobble (3e-7 damped, 1.1e-6
@@ -521,8 +538,8 @@ class Scene:
         """``submodel.levels`` resolved. "auto": three consecutive levels (:data:`SUBMODEL_LEVEL_SIZES`, the last
         three where fewer remain) from the coarsest with :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P
         at the impedance-bound force (:attr:`radial_size`). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
-        paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): fine, extra-fine,
-        ultra-fine, where the paper's three put 0.4, 0.8 and 1.7 elements across the patch."""
+        paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): ultra-fine and the
+        two below it, 6.7, 13 and 27 elements across the patch, where the paper's three put 0.4, 0.8 and 1.7."""
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
@@ -571,6 +588,12 @@ class Scene:
         return min(diameter, c * self._impedance_patch[2] / self.speed / RISE_ELEMENTS)
 
     @property
+    def submodel_length(self) -> float:
+        """``fe.submodel_length`` resolved [m]: "auto" is :func:`auto_submodel_length` of the rods."""
+        v = self.values["fe.submodel_length"]
+        return auto_submodel_length(self.rods) if v == "auto" else float(v)
+
+    @property
     def tip_grading(self) -> float:
         """``fe.tip_grading`` resolved [-]: "auto" is :func:`square_tip_grading` of the resolved sizes."""
         g = self.values["fe.tip_grading"]
@@ -595,7 +618,7 @@ class Scene:
             *parents, leaf = k.split(".")
             for p in parents:
                 node = node.setdefault(p, {})
-            if json_safe and k in ("fe.radial_size", "fe.axial_size"):
+            if json_safe and k in ("fe.radial_size", "fe.axial_size", "fe.submodel_length"):
                 v = self[k]  # a record holds the size the run used ("auto" resolved)
             node[leaf] = "inf" if json_safe and isinstance(v, float) and math.isinf(v) else v
         out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations[1:]]
@@ -688,7 +711,8 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         return Rod(values[f"{p}.length"], values[f"{p}.diameter"], values[f"{p}.tip_radius"], mat)
 
     rods = (rod(1), rod(2))
-    check_submodel_length(values["fe.submodel_length"], rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
+    L_s = auto_submodel_length(rods) if values["fe.submodel_length"] == "auto" else values["fe.submodel_length"]
+    check_submodel_length(L_s, rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
     return Scene(
         name=values["name"] or (Path(source).stem if source else "scene"),
         rod1=rods[0],
@@ -719,6 +743,14 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
         ):
             if v[k] != "auto" and v[k] > lim:  # auto: within the thinner rod's radius by construction
                 raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {what})")
+
+
+def auto_submodel_length(rods: Iterable[Rod]) -> float:
+    """What "auto" gives ``fe.submodel_length`` [m]: :data:`SUBMODEL_DIAMETERS` x the thicker rod's diameter (the
+    paper's 14 mm on 12.7 mm rods; 2.2 mm on 2 mm rods, where 14 mm made the submodel most of a 20 mm striker and
+    its finest level six times dearer), at most half the shorter rod (a short thin rod struck by a thick one)."""
+    rods = tuple(rods)
+    return min(SUBMODEL_DIAMETERS * max(rod.diameter for rod in rods), 0.5 * min(rod.length for rod in rods))
 
 
 def check_submodel_length(L_s: float, rods: Iterable[Rod], caps: bool = True) -> None:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from rods.scene import SUBMODEL_LEVEL_SIZES, SceneError, load_scene, parse_override, scene_from_dict
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, SceneError, load_scene, parse_override, scene_from_dict
 
 from .conftest import SCENES
 
@@ -69,6 +69,14 @@ def test_none_drops_an_optional_value_of_a_base_scene(scene_with, tmp_path):
         scene_with("rod2.material.yield_strength='weak'")
 
 
+MINI = (  # 2 mm rods 20 / 40 mm long, 5 mm tip, 1 m/s: a patch of 0.127 mm (results/scene-probe.md's "mini")
+    "rod1.diameter=0.002",
+    "rod2.diameter=0.002",
+    "rod1.length=0.02",
+    "rod2.length=0.04",
+    "rod1.tip_radius=0.005",
+    "impact.speed=1.0",
+)
 MICRO = (  # 1 mm rods, 5 mm tip: a patch of 0.105 mm
     "rod1.diameter=0.001",
     "rod2.diameter=0.001",
@@ -146,15 +154,36 @@ def test_both_flat_tips_and_off_axis_axisymmetric_are_contradictions(scene_with)
 
 
 def test_a_submodel_that_cannot_hold_the_cap_is_refused_with_the_scene(scene_with):
-    """A 12.7 mm hemispherical tip on a 25.4 mm rod: the 14 mm submodel cannot hold twice its cap. With a submodel
+    """A 12.7 mm hemispherical tip on a 25.4 mm rod: a 14 mm submodel cannot hold twice its cap. With a submodel
     effect that is a scene error (before: found by the submodel stage, after the global and the driver had run and
-    written their folders); without one the cut never happens and the scene is fine."""
+    written their folders); without one the cut never happens and the scene is fine. The default ("auto", 1.1
+    diameters of the thicker rod: 28 mm) holds it."""
     big = ("rod1.diameter=0.0254", "rod1.tip_radius=0.0127")
     assert scene_with(*big).rod1.cap_height == pytest.approx(0.0127)
     for effect in ("contact_patch", "subsurface_stress"):
         with pytest.raises(SceneError, match=r"2 x the cap height of rod 1 = 0.0254 m.*fe.submodel_length=0.0279"):
-            scene_with(*big, f"effects=['{effect}']")
+            scene_with(*big, f"effects=['{effect}']", "fe.submodel_length=0.014")
     assert scene_with(*big, "effects=['contact_patch']", "fe.submodel_length=0.03").rod1.cap_height > 0
+    assert scene_with(*big, "effects=['contact_patch']")["fe.submodel_length"] == pytest.approx(0.028, abs=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("overrides", "length"),
+    [
+        ((), 14e-3),  # the paper's 14 mm on its 12.7 mm rods, exactly
+        (("rod1.diameter=0.002", "rod2.diameter=0.002", "rod1.length=0.02", "rod2.length=0.04"), 2.2047e-3),
+        (("rod2.diameter=0.025",), 27.559e-3),  # the thicker rod's Saint-Venant zone
+        (("rod1.diameter=0.006", "rod1.length=0.02", "rod2.diameter=0.025"), 10e-3),  # at most half the shorter rod
+        (("fe.submodel_length=0.02",), 20e-3),  # a length is taken as given
+    ],
+)
+def test_auto_submodel_length_follows_the_rods(scene_with, overrides, length):
+    """fe.submodel_length = "auto" (the default): 1.1 diameters of the thicker rod (the paper's 14 mm cut on 12.7
+    mm rods), at most half the shorter rod; summaries record the length (as_dict resolves it)."""
+    s = scene_with(*overrides, "effects=['contact_patch']")
+    assert s["fe.submodel_length"] == s.submodel_length == pytest.approx(length, rel=1e-4)
+    assert s.as_dict()["fe"]["submodel_length"] == s.submodel_length
+    assert scene_with()["fe.submodel_length"] == 14e-3  # bitwise: the paper's results do not move
 
 
 def test_files(tmp_path):
@@ -253,7 +282,8 @@ def test_auto_sizes_read_without_resolving_a_scene_again(scene_with, scene_overr
         ((), ["coarse", "mid", "fine"]),  # the paper's: 4.4 elements across a_P = 1.09 mm at coarse
         (("impact.speed=1.0",), ["mid", "fine", "extra-fine"]),  # a_P = 0.84 mm: coarse has 3.4
         (("impact.speed=0.05",), ["fine", "extra-fine", "ultra-fine"]),  # 0.31 mm: fine is the first with 4.9
-        (MICRO, ["fine", "extra-fine", "ultra-fine"]),  # 0.105 mm: none has 4, the finest three
+        (MICRO, ["ultra-fine", "ultra-fine-x2", "ultra-fine-x4"]),  # 0.105 mm: ultra-fine is the first with 6.7
+        (MINI, ["extra-fine", "ultra-fine", "ultra-fine-x2"]),  # 0.127 mm: 4.1 at extra-fine
         (("submodel.levels=['mid']",), ["mid"]),  # a list is taken as given
     ],
 )
@@ -263,7 +293,7 @@ def test_auto_submodel_levels_resolve_the_patch(scene_with, overrides, levels):
     s = scene_with(*overrides)
     assert s["submodel.levels"] == s.submodel_levels == levels
     first = SUBMODEL_LEVEL_SIZES[levels[0]]
-    if len(levels) == 3 and levels[-1] != "ultra-fine":
+    if len(levels) == 3 and levels[-1] != SUBMODEL_LEVELS[-1]:
         assert s._impedance_patch[1] / first >= 4 > s._impedance_patch[1] / (2 * first)
 
 

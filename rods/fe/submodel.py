@@ -72,6 +72,7 @@ def submodel_scene(
             "tip_grading": 1.0,
             "dt": dt,
             "penalty": scene["submodel.penalty"],
+            "submodel_length": L_s,  # resolved: "auto" on the cut rods would give another length
         }
     )
     end = scene.end_time if end_time is None else end_time

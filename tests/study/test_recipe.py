@@ -78,11 +78,14 @@ def _summary(F: float, a: float = 1e-3, speed: float = 1.1) -> dict:
 
 
 def test_plan_says_when_no_submodel_level_is_finer_than_the_global(scene_with):
-    """The level ladder ends at ultra-fine (0.0156 mm); at 0.1 mm/s the auto global is finer across the patch (0.0097
-    mm), and the plan says that the submodels add cost, not resolution. On the paper scene (0.27 mm) it says nothing,
-    nor for coarse levels given by hand under a coarser global."""
-    slow = scene_with("impact.speed=1e-4", "effects=['contact_patch']")
-    assert slow["submodel.levels"] == ["fine", "extra-fine", "ultra-fine"] and slow.radial_size < 0.0156e-3
+    """The level ladder ends at ultra-fine-x8 (1.95 µm); at 0.5 µm/s the auto global is finer across the patch (1.67
+    µm), and the plan says that the submodels add cost, not resolution. On the paper scene (0.27 mm) it says nothing,
+    nor for coarse levels given by hand under a coarser global; at 0.1 mm/s (global 9.7 µm) the ladder's finest
+    three lie below the global's size."""
+    slow = scene_with("impact.speed=5e-7", "effects=['contact_patch']")
+    finest = ["ultra-fine-x2", "ultra-fine-x4", "ultra-fine-x8"]
+    assert slow["submodel.levels"] == finest and slow.radial_size < SUBMODEL_LEVEL_SIZES["ultra-fine-x8"]
+    assert not any("no submodel level" in r for r in make_plan(slow.with_overrides("impact.speed=1e-4"), 2e-4).reasons)
     assert any("no submodel level is finer than the global mesh" in r for r in make_plan(slow, 2e-4).reasons)
     paper = scene_with("effects=['contact_patch']")
     assert not any("no submodel level" in r for r in make_plan(paper, 2e-4).reasons)
@@ -128,7 +131,9 @@ def test_most_refined_model_wins(scene_with):
 
 
 def test_level_sizes_are_one_table_halving_per_level():
-    assert SUBMODEL_LEVELS == tuple(SUBMODEL_LEVEL_SIZES) == ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
+    fine = ("ultra-fine-x2", "ultra-fine-x4", "ultra-fine-x8")  # below the paper's ladder: small rods' patches
+    paper = ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
+    assert SUBMODEL_LEVELS == tuple(SUBMODEL_LEVEL_SIZES) == (*paper, *fine)
     h = list(SUBMODEL_LEVEL_SIZES.values())
     assert h[0] == 0.25e-3 and all(a / b == 2.0 for a, b in zip(h, h[1:], strict=False))
 
