@@ -50,9 +50,15 @@ FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
 # ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
-# 1 m/s, a = 0.127 mm, had -2.2% peak pressure at ultra-fine, 8 elements across). The one definition:
+# 1 m/s, a = 0.127 mm, had -2.2% peak pressure at ultra-fine, 8 elements across); the four above coarse serve
+# large ones (a_P > 2 mm: 100 mm rods with a 200 mm tip at 1 m/s, a_P = 5.9 mm, put 24/48/95 elements across the
+# patch at coarse/mid/fine, 3.7 h for the fine level on one core). The one definition:
 # rods.fe.submodel.LEVEL_SIZES is this table (kept here so that scenes validate without DOLFINx).
 SUBMODEL_LEVEL_SIZES = {
+    "ultra-coarse-x4": 4e-3,  # [m]
+    "ultra-coarse-x2": 2e-3,  # [m]
+    "ultra-coarse": 1e-3,  # [m]
+    "extra-coarse": 0.5e-3,  # [m]
     "coarse": 0.25e-3,  # [m]
     "mid": 0.125e-3,  # [m]
     "fine": 0.0625e-3,  # [m]

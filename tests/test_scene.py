@@ -77,6 +77,7 @@ MINI = (  # 2 mm rods 20 / 40 mm long, 5 mm tip, 1 m/s: a patch of 0.127 mm (res
     "rod1.tip_radius=0.005",
     "impact.speed=1.0",
 )
+FAT = ("rod1.diameter=0.1", "rod2.diameter=0.1", "rod1.tip_radius=0.2", "impact.speed=1.0")  # a_P = 5.9 mm
 MICRO = (  # 1 mm rods, 5 mm tip: a patch of 0.105 mm
     "rod1.diameter=0.001",
     "rod2.diameter=0.001",
@@ -284,6 +285,7 @@ def test_auto_sizes_read_without_resolving_a_scene_again(scene_with, scene_overr
         (("impact.speed=0.05",), ["fine", "extra-fine", "ultra-fine"]),  # 0.31 mm: fine is the first with 4.9
         (MICRO, ["ultra-fine", "ultra-fine-x2", "ultra-fine-x4"]),  # 0.105 mm: ultra-fine is the first with 6.7
         (MINI, ["extra-fine", "ultra-fine", "ultra-fine-x2"]),  # 0.127 mm: 4.1 at extra-fine
+        (FAT, ["ultra-coarse", "extra-coarse", "coarse"]),  # 5.9 mm: 5.9 at 1 mm (the paper's three: 24/48/95)
         (("submodel.levels=['mid']",), ["mid"]),  # a list is taken as given
     ],
 )

@@ -132,10 +132,11 @@ def test_most_refined_model_wins(scene_with):
 
 def test_level_sizes_are_one_table_halving_per_level():
     fine = ("ultra-fine-x2", "ultra-fine-x4", "ultra-fine-x8")  # below the paper's ladder: small rods' patches
+    coarse = ("ultra-coarse-x4", "ultra-coarse-x2", "ultra-coarse", "extra-coarse")  # above it: large patches
     paper = ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
-    assert SUBMODEL_LEVELS == tuple(SUBMODEL_LEVEL_SIZES) == (*paper, *fine)
+    assert SUBMODEL_LEVELS == tuple(SUBMODEL_LEVEL_SIZES) == (*coarse, *paper, *fine)
     h = list(SUBMODEL_LEVEL_SIZES.values())
-    assert h[0] == 0.25e-3 and all(a / b == 2.0 for a, b in zip(h, h[1:], strict=False))
+    assert SUBMODEL_LEVEL_SIZES["coarse"] == 0.25e-3 and all(a / b == 2.0 for a, b in zip(h, h[1:], strict=False))
 
 
 def test_richardson_takes_the_three_finest_levels_with_constant_ratio():
