@@ -555,7 +555,8 @@ def driver_warning(summary: Mapping[str, Any], driver: Mapping[str, Any], scene:
     remedy = (
         "the default mixed driving passes the global's waves without its contact compliance: submodel.driving = 'mixed'"
         if driving != "mixed"
-        else "a finer level, or a finer driving global (fe.radial_size)"
+        else "a finer level, or a finer driving global (fe.radial_size, and fe.axial_size on thick rods, whose ringing "
+        "the auto axial mesh of diameter/12.7 may not resolve)"
     )
     return (
         f"peak_contact_force: the submodel's {F:.5g} N is {F / Fd - 1:+.2%} from its driving global's {Fd:.5g} N, "
