@@ -272,7 +272,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
     # auto: SUBMODEL_DIAMETERS x the thicker rod's diameter (the paper's 14 mm on its 12.7 mm rods;
     # Scene.submodel_length)
-    "fe.submodel_length": ("float|auto", "auto", _positive("m", hi=1.0)),
+    "fe.submodel_length": ("float|auto", "auto", _positive("m", hi=20.0)),
     "fe.checkpoint_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no checkpoints)", closed_lo=True)),
     # the guard catches instabilities, which grow the energy by orders of magnitude; below 1e-5 the round-off of the
     # energy sums (~1e-9 of E0 on the default contact) and the penalty law's O(Δt²) energy wobble (3e-7 damped, 1.1e-6
