@@ -543,15 +543,18 @@ class Scene:
     def submodel_levels(self) -> list[str]:
         """``submodel.levels`` resolved. "auto": three consecutive levels (:data:`SUBMODEL_LEVEL_SIZES`, the last
         three where fewer remain) from the coarsest with :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P
-        at the impedance-bound force (:attr:`radial_size`). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
+        at the impedance-bound force and :data:`BAR_ELEMENTS` across the thinner rod's radius (the global's auto
+        mesh, :attr:`auto_radial_size`). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
         paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): ultra-fine and the
         two below it, 6.7, 13 and 27 elements across the patch, where the paper's three put 0.4, 0.8 and 1.7."""
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
         a_P = self._impedance_patch[1]
+        bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS  # [m] as fine as the global's auto across the rod
         n = len(SUBMODEL_LEVELS)
-        first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if a_P / h >= PATCH_ELEMENTS), n)
+        sizes = SUBMODEL_LEVEL_SIZES.values()
+        first = next((i for i, h in enumerate(sizes) if a_P / h >= PATCH_ELEMENTS and h <= bar), n)
         start = min(first, n - 3)  # the finest three where fewer than three remain
         return list(SUBMODEL_LEVELS[start : start + 3])
 
@@ -749,6 +752,18 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
         ):
             if v[k] != "auto" and v[k] > lim:  # auto: within the thinner rod's radius by construction
                 raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {what})")
+    radius = min(v["rod1.diameter"], v["rod2.diameter"]) / 2  # [m]
+    levels = v["submodel.levels"]
+    if set(v["effects"]) & set(SUBMODEL_EFFECTS) and levels != "auto":  # auto: within it by construction
+        for lv in levels:
+            if SUBMODEL_LEVEL_SIZES[lv] > radius:  # the submodel mesh's limit, as fe.radial_size's: before any run
+                fit = [k for k, h in SUBMODEL_LEVEL_SIZES.items() if h <= radius]
+                raise SceneError(
+                    "submodel.levels",
+                    lv,
+                    f"its {SUBMODEL_LEVEL_SIZES[lv]:g} m elements are wider than the thinner rod's radius {radius:g} m",
+                    f"use {fit[0]} or finer" if fit else "no level fits: use workflows/submodel.py --size",
+                )
 
 
 def auto_submodel_length(rods: Iterable[Rod]) -> float:

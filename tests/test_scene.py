@@ -77,6 +77,11 @@ MINI = (  # 2 mm rods 20 / 40 mm long, 5 mm tip, 1 m/s: a patch of 0.127 mm (res
     "rod1.tip_radius=0.005",
     "impact.speed=1.0",
 )
+RUBBER = tuple(
+    f"rod{n}.material.{k}"
+    for n in (1, 2)
+    for k in ("youngs_modulus=5e6", "density=1100.0", "poisson_ratio=0.45", "yield_strength='none'")
+)
 FAT = ("rod1.diameter=0.1", "rod2.diameter=0.1", "rod1.tip_radius=0.2", "impact.speed=1.0")  # a_P = 5.9 mm
 MICRO = (  # 1 mm rods, 5 mm tip: a patch of 0.105 mm
     "rod1.diameter=0.001",
@@ -277,6 +282,16 @@ def test_auto_sizes_read_without_resolving_a_scene_again(scene_with, scene_overr
 # ---- the phase members of a submodel level (rods.scene.submodel_phase_size) ----
 
 
+def test_submodel_levels_wider_than_a_rod_are_refused_with_the_scene(scene_with):
+    """A listed level coarser than the thinner rod's radius fails the submodel's mesh; with a submodel effect that is
+    a scene error naming the coarsest level that fits (before: after the global had run and written its folder)."""
+    with pytest.raises(
+        SceneError, match=r"'ultra-coarse-x4'.*wider than the thinner rod's radius 0.001 m.*ultra-coarse or"
+    ):
+        scene_with(*MINI, "effects=['contact_patch']", "submodel.levels=['ultra-coarse-x4', 'coarse']")
+    assert scene_with(*MINI, "submodel.levels=['ultra-coarse-x4']")  # no submodel runs: nothing to refuse
+
+
 @pytest.mark.parametrize(
     ("overrides", "levels"),
     [
@@ -286,6 +301,8 @@ def test_auto_sizes_read_without_resolving_a_scene_again(scene_with, scene_overr
         (MICRO, ["ultra-fine", "ultra-fine-x2", "ultra-fine-x4"]),  # 0.105 mm: ultra-fine is the first with 6.7
         (MINI, ["extra-fine", "ultra-fine", "ultra-fine-x2"]),  # 0.127 mm: 4.1 at extra-fine
         (FAT, ["ultra-coarse", "extra-coarse", "coarse"]),  # 5.9 mm: 5.9 at 1 mm (the paper's three: 24/48/95)
+        # 2 mm rubber rods: a patch as wide as the rod (0.99 mm); 8 across the 1 mm radius, as the global's auto mesh
+        ((*MINI, *RUBBER), ["mid", "fine", "extra-fine"]),
         (("submodel.levels=['mid']",), ["mid"]),  # a list is taken as given
     ],
 )
