@@ -46,6 +46,7 @@ bench: venv
 	$(PY) benchmarks/analytical_vs_ddeint.py
 	@if [ -f benchmarks/fe_throughput.py ]; then $(PY) benchmarks/fe_throughput.py; fi
 	.venv/bin/mpirun -n $(NPROC) $(PY) benchmarks/scene_probe.py
+	.venv/bin/mpirun -n $(NPROC) $(PY) benchmarks/submodel_probe.py
 
 lint: venv
 	.venv/bin/ruff format --check rods workflows tests benchmarks
