@@ -253,6 +253,7 @@ def test_scene_probe_benchmark_runs_one_probe(tmp_path):
     assert "* 25 mm rods, 0.2 / 0.4 m, 50 mm tip, FE: Hertz peak pressure" in md
 
 
+@pytest.mark.slow  # 21 s serial: the default suite keeps to its 5 minutes
 def test_submodel_probe_benchmark_runs_one_probe(tmp_path):
     """benchmarks/submodel_probe.py on its cheapest probe (the paper rods at 15 m/s: auto levels extra-coarse /
     coarse / mid, the whole study serial in about 20 s): the finest level meets the targets (measured on 2 ranks:
