@@ -550,11 +550,8 @@ class Scene:
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
-        a_P = self._impedance_patch[1]
-        bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS  # [m] as fine as the global's auto across the rod
-        n = len(SUBMODEL_LEVELS)
-        sizes = SUBMODEL_LEVEL_SIZES.values()
-        first = next((i for i, h in enumerate(sizes) if a_P / h >= PATCH_ELEMENTS and h <= bar), n)
+        n, h_auto = len(SUBMODEL_LEVELS), self.auto_radial_size  # [m] the global's auto mesh: one rule for both
+        first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if h <= h_auto), n)
         start = min(first, n - 3)  # the finest three where fewer than three remain
         return list(SUBMODEL_LEVELS[start : start + 3])
 
@@ -598,9 +595,8 @@ class Scene:
 
     @property
     def submodel_length(self) -> float:
-        """``fe.submodel_length`` resolved [m]: "auto" is :func:`auto_submodel_length` of the rods."""
-        v = self.values["fe.submodel_length"]
-        return auto_submodel_length(self.rods) if v == "auto" else float(v)
+        """``fe.submodel_length`` resolved [m] (:func:`resolve_submodel_length`)."""
+        return resolve_submodel_length(self.values["fe.submodel_length"], self.rods)
 
     @property
     def tip_grading(self) -> float:
@@ -720,7 +716,7 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         return Rod(values[f"{p}.length"], values[f"{p}.diameter"], values[f"{p}.tip_radius"], mat)
 
     rods = (rod(1), rod(2))
-    L_s = auto_submodel_length(rods) if values["fe.submodel_length"] == "auto" else values["fe.submodel_length"]
+    L_s = resolve_submodel_length(values["fe.submodel_length"], rods)
     check_submodel_length(L_s, rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
     return Scene(
         name=values["name"] or (Path(source).stem if source else "scene"),
@@ -766,10 +762,13 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
                 )
 
 
-def auto_submodel_length(rods: Iterable[Rod]) -> float:
-    """What "auto" gives ``fe.submodel_length`` [m]: :data:`SUBMODEL_DIAMETERS` x the thicker rod's diameter (the
-    paper's 14 mm on 12.7 mm rods; 2.2 mm on 2 mm rods, where 14 mm made the submodel most of a 20 mm striker and
-    its finest level six times dearer), at most half the shorter rod (a short thin rod struck by a thick one)."""
+def resolve_submodel_length(value: float | str, rods: Iterable[Rod]) -> float:
+    """``fe.submodel_length`` [m] for ``value``: a length as given; "auto" :data:`SUBMODEL_DIAMETERS` x the thicker
+    rod's diameter (the paper's 14 mm on 12.7 mm rods; 2.2 mm on 2 mm rods, where 14 mm made the submodel most of a
+    20 mm striker and its finest level six times dearer), at most half the shorter rod (a short thin rod struck by
+    a thick one)."""
+    if value != "auto":
+        return float(value)
     rods = tuple(rods)
     return min(SUBMODEL_DIAMETERS * max(rod.diameter for rod in rods), 0.5 * min(rod.length for rod in rods))
 

@@ -229,12 +229,6 @@ def _pct(v: Any, d: int) -> str:
     return "–" if math.isnan(v) else f"{v:+.{d}f}%"
 
 
-def _fpct(v: Any, d: int) -> str:
-    """An unsigned percentage cell; '–' where there is none (not '–%')."""
-    v = _num(v)
-    return "–" if math.isnan(v) else f"{v:.{d}f}%"
-
-
 def _f(v: Any, d: int = 3) -> str:
     v = _num(v)
     return "–" if isinstance(v, float) and math.isnan(v) else (f"{v:.{d}f}" if isinstance(v, float) else str(v))
@@ -242,8 +236,8 @@ def _f(v: Any, d: int = 3) -> str:
 
 def _sigma_r_cell(r: Mapping[str, Any]) -> str:
     """σ_r error at the surface / at the Gauss-point depth; '–' for a model that samples none (the global)."""
-    surface, depth = _num(r["sigma_r_err_surface_pct"]), _num(r["sigma_r_err_depth_pct"])
-    return "–" if math.isnan(surface) and math.isnan(depth) else f"{_fpct(surface, 1)} / {_fpct(depth, 1)}"
+    surface, depth = (compare.cell(r[k], ".1f", "%") for k in ("sigma_r_err_surface_pct", "sigma_r_err_depth_pct"))
+    return "–" if surface == depth == "–" else f"{surface} / {depth}"
 
 
 def _band(band: Any) -> str:
@@ -305,7 +299,8 @@ def _richardson_rows(rich: Mapping[str, Any]) -> list[str]:
         ext = _num(q["extrapolated"]) * k
         L.append(
             f"| {label} [{unit}] | {q['f3'] * k:.5g} | {q['f2'] * k:.5g} | {q['f1'] * k:.5g} | {_order(q)} "
-            f"| {_f(ext, 4)} | {_fpct(100 * _num(q['gci_fine']), 2)} | {_f(href, 4)} | {_pct(q['vs_hertz_pct'], 2)} |"
+            f"| {_f(ext, 4)} | {compare.cell(q['gci_fine'], '.2f', '%', scale=100)} | {_f(href, 4)} "
+            f"| {_pct(q['vs_hertz_pct'], 2)} |"
         )
     q = rich["quantities"]["plateau_radius_error_pct"]
     L.append(
