@@ -178,17 +178,23 @@ def render(data: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--probe", action="append", choices=list(PROBES), help="probe (repeatable; default all)")
-    ap.add_argument("--out", default=str(ROOT / "results" / "scene-probe"), help="tables: OUT.json, OUT.md")
-    ap.add_argument("--runs", default=str(ROOT / "output" / "scene-probe"), help="folder of the runs")
+    return run_probes(argv, __doc__, "scene-probe", PROBES, probe, render, TARGETS)
+
+
+def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, targets: dict) -> int:
+    """A probe benchmark's command line (also benchmarks/submodel_probe.py's): run ``probes`` (``run(name, runs,
+    comm)``: a row on rank 0), then write OUT.json and OUT.md (``render_data``) on rank 0 and print the table."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--probe", action="append", choices=list(probes), help="probe (repeatable; default all)")
+    ap.add_argument("--out", default=str(ROOT / "results" / name), help="tables: OUT.json, OUT.md")
+    ap.add_argument("--runs", default=str(ROOT / "output" / name), help="folder of the runs")
     args = ap.parse_args(argv)
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()
-    rows = [probe(name, Path(args.runs), comm) for name in args.probe or PROBES]
+    rows = [run(p, Path(args.runs), comm) for p in args.probe or probes]
     if comm.rank == 0:
-        data = {"ranks": comm.size, "targets": TARGETS, "wall_time": time.perf_counter() - t0, "rows": rows}
-        text = render(data)
+        data = {"ranks": comm.size, "targets": targets, "wall_time": time.perf_counter() - t0, "rows": rows}
+        text = render_data(data)
         io.write_data(Path(args.out + ".json"), data)
         io.atomic_write_text(Path(args.out + ".md"), text)
         print(text)

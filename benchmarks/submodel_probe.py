@@ -15,7 +15,6 @@ places at 16 or more elements across the patch): force within :data:`FORCE`, are
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -24,46 +23,24 @@ from pathlib import Path
 import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]  # the library; scene_probe beside this file
 
-from mpi4py import MPI  # noqa: E402
+import scene_probe  # noqa: E402  (its probes' scenes and its command line)
 
-from rods import io  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study.pipeline import run_study  # noqa: E402
 from rods.study.sweep import warning_key  # noqa: E402
+from rods.study.verification import CASES  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 FORCE = 0.5  # [%] the finest level's peak force against the analytical model
 HERTZ = 2.0  # [%] its contact area and peak pressure against Hertz at its own force
-NO_YIELD = ("rod1.material.yield_strength='none'", "rod2.material.yield_strength='none'")
-ALUMINIUM = ("youngs_modulus=70e9", "density=2700.0", "poisson_ratio=0.33")
-TITANIUM = ("youngs_modulus=114e9", "density=4430.0", "poisson_ratio=0.34")
+SHARED = ("aluminium", "flat-rod1", "tip-1m", "fast", "mini")  # scene_probe's probes, run here as studies
 PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of the paper scene)
     "paper": ("the paper scene", ()),
     "tip-20mm": ("Rod 1 with a 20 mm tip, 3 m/s", ("rod1.tip_radius=0.02", "impact.speed=3.0")),
-    "titanium": (
-        "titanium Rod 2, 2.5 m/s (the verification matrix's)",
-        (*(f"rod2.material.{k}" for k in TITANIUM), "impact.speed=2.5"),
-    ),
-    "aluminium": (
-        "aluminium rods, 3 m/s",
-        (*(f"rod{i}.material.{k}" for i in (1, 2) for k in ALUMINIUM), *NO_YIELD, "impact.speed=3.0"),
-    ),
-    "flat-rod1": ("flat Rod 1 onto a 35 mm Rod 2 tip", ("rod1.tip_radius=inf", "rod2.tip_radius=0.035")),
-    "tip-1m": ("Rod 1 with a 1 m tip, 2 m/s", ("rod1.tip_radius=1.0", "impact.speed=2.0")),
-    "fast": ("paper rods at 15 m/s", ("impact.speed=15.0",)),
-    "mini": (
-        "2 mm rods 20 / 40 mm long, 5 mm tip, 1 m/s",
-        (
-            "rod1.diameter=0.002",
-            "rod2.diameter=0.002",
-            "rod1.length=0.02",
-            "rod2.length=0.04",
-            "rod1.tip_radius=0.005",
-            "impact.speed=1.0",
-        ),
-    ),  # fmt: skip
+    "titanium": ("titanium Rod 2, 2.5 m/s (the verification matrix's)", CASES["titanium-rod2"][1]),
+    **{name: scene_probe.PROBES[name] for name in SHARED},
     "fat": (
         "100 mm rods, 200 mm tip, 1 m/s",
         ("rod1.diameter=0.1", "rod2.diameter=0.1", "rod1.tip_radius=0.2", "impact.speed=1.0"),
@@ -152,22 +129,8 @@ def render(data: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--probe", action="append", choices=list(PROBES), help="probe (repeatable; default all)")
-    ap.add_argument("--out", default=str(ROOT / "results" / "submodel-probe"), help="tables: OUT.json, OUT.md")
-    ap.add_argument("--runs", default=str(ROOT / "output" / "submodel-probe"), help="folder of the studies")
-    args = ap.parse_args(argv)
-    comm = MPI.COMM_WORLD
-    t0 = time.perf_counter()
-    rows = [probe(name, Path(args.runs), comm) for name in args.probe or PROBES]
-    if comm.rank == 0:
-        targets = {"force": FORCE, "hertz": HERTZ}
-        data = {"ranks": comm.size, "targets": targets, "wall_time": time.perf_counter() - t0, "rows": rows}
-        text = render(data)
-        io.write_data(Path(args.out + ".json"), data)
-        io.atomic_write_text(Path(args.out + ".md"), text)
-        print(text)
-    return 0
+    targets = {"force": FORCE, "hertz": HERTZ}
+    return scene_probe.run_probes(argv, __doc__, "submodel-probe", PROBES, probe, render, targets)
 
 
 if __name__ == "__main__":
