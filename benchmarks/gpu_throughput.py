@@ -11,7 +11,10 @@ paper-3d.toml, ``tiny`` = a quarter model of 30 mm rods at 4 x 1 mm, for checks)
 * the full step, :meth:`rods.fe.explicit.CentralDifference.step` (drift, contact, multiply-add, impulse);
 * the SpMV alone, the operator's ``mult_add`` (v += A u, A = -Δt M^-1 K in CSR);
 * where the backend overlaps the kinematic contact's host work with the product (CuPy: rods.fe.kinematic,
-  "Overlap"), the full step again on a stepper without the overlap, on the same model: the A/B of that change.
+  "Overlap"), the full step again on a stepper without the overlap, on the same model: the A/B of that change;
+* on the array backends, the same product element by element (rods.fe.matrixfree, ``fe.operator =
+  "matrix-free"``: per-cell geometry at the Gauss points, no assembled matrix), against the SpMV: the issue's
+  "keep the faster" (``--set fe.operator=matrix-free`` runs the steps and the end-to-end run with it).
 
 Rates are DOF-steps/s; the SpMV's memory traffic (CSR values 8 B and column indices 4 B per nonzero, row
 pointers 4 B per row, x read, y read and written: 24 B per DOF) is set against the copy rate of the same
@@ -46,6 +49,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from rods.fe import backend as backends  # noqa: E402
+from rods.fe import forms, matrixfree  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.scene import Scene, load_scene  # noqa: E402
 
@@ -65,7 +69,8 @@ SETS: list[str] = []  # --set overrides, applied to every scene of the run
 
 def scene(mesh: str, backend: str, *extra: str) -> Scene:
     path, over = MESHES[mesh]
-    return load_scene(path, [*over, *SETS, f"fe.backend='{backend}'", *extra])
+    assembled = ["fe.operator='assembled'"] if backend == "petsc" else []  # the PETSc path has no element kernel
+    return load_scene(path, [*over, *SETS, f"fe.backend='{backend}'", *assembled, *extra])
 
 
 def copy_rate(be: backends.Backend, mib: int = 256, reps: int = 5) -> float:
@@ -101,10 +106,20 @@ def throughput(model: ExplicitModel, mesh: str, be: backends.Backend, steps: int
     st = model.stepper()  # the stepper alone: no recorder
     n, overlap = model.n_global, st.overlap
     t_step = timed(be, st.step, steps)
-    t_spmv = timed(be, lambda: st.op.mult_add(st.u, st.v), steps)
-    A = st.op.A
+    # the assembled product (the stepper's own, or built from the model's K when the scene's is the element kernel)
+    spmv = st.op if not isinstance(st.op, matrixfree.ElementOperator) else be.operator(model.K, -st.dt_inv_mass, ())
+    t_spmv = timed(be, lambda: spmv.mult_add(st.u, st.v), steps)
+    A = spmv.A
     nnz = A.nnz if hasattr(A, "nnz") else A.getInfo()["nz_used"]
     traffic = 12.0 * nnz + 4.0 * (n + 1) + 24.0 * n  # [B] per SpMV
+    t_element = math.nan  # the same product element by element (rods.fe.matrixfree), on the array backends
+    if be is not backends.PETSC:
+        form = forms.stiffness_form(model.V, model.mat, model.kind)
+        element = matrixfree.element_stiffness(model.V, model.mat, model.kind, form, model.K).operator(
+            be, -st.dt_inv_mass
+        )
+        t_element = timed(be, lambda: element.mult_add(st.u, st.v), steps)
+        element.destroy()
     st.destroy()
     t_serial = math.nan  # the same step with the host's contact work after the product (no overlap): A/B
     if overlap:
@@ -114,11 +129,12 @@ def throughput(model: ExplicitModel, mesh: str, be: backends.Backend, steps: int
         st.destroy()
         model.backend = be
     row = {"mesh": mesh, "dofs": n, "nnz": int(nnz), "setup": model.setup_time, "step": t_step, "spmv": t_spmv,
-           "overlap": overlap, "step_serial": t_serial}  # fmt: skip
+           "overlap": overlap, "step_serial": t_serial, "element": t_element}  # fmt: skip
     row.update(step_rate=n / t_step, spmv_rate=n / t_spmv, spmv_bw=traffic / t_spmv, spmv_share=traffic / t_spmv / copy)
     msg = f"{mesh}: {n} DOFs, set-up {model.setup_time:.1f} s, step {t_step * 1e3:.3f} ms "
     msg += f"({n / t_step / 1e6:.1f} M DOF-steps/s), SpMV {t_spmv * 1e3:.3f} ms = {traffic / t_spmv / 1e9:.1f} GB/s "
     msg += f"= {row['spmv_share']:.0%} of copy" + (f"; without overlap step {t_serial * 1e3:.3f} ms" if overlap else "")
+    msg += f"; element kernel {t_element * 1e3:.3f} ms" if t_element == t_element else ""
     print(msg, flush=True)
     return row
 
@@ -182,14 +198,16 @@ def report(args, be_name: str, copy: float, rows: list[dict], run: dict | None, 
         + (f" Scene overrides: `{' '.join(args.set)}`." if args.set else ""),
         "",
         "| mesh | DOFs | nonzeros | set-up [s] | step [ms] | M DOF-steps/s | SpMV [ms] | SpMV M DOF-steps/s "
-        "| SpMV GB/s | of copy | step without overlap [ms] |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| SpMV GB/s | of copy | step without overlap [ms] | element kernel [ms] | element / SpMV |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         cells = [r["mesh"], str(r["dofs"]), str(r["nnz"]), f"{r['setup']:.1f}", f"{r['step'] * 1e3:.3f}",
                  f"{r['step_rate'] / 1e6:.1f}", f"{r['spmv'] * 1e3:.3f}", f"{r['spmv_rate'] / 1e6:.1f}",
                  f"{r['spmv_bw'] / 1e9:.1f}", f"{r['spmv_share']:.0%}",
-                 f"{r['step_serial'] * 1e3:.3f}" if r["overlap"] else "- (off)"]  # fmt: skip
+                 f"{r['step_serial'] * 1e3:.3f}" if r["overlap"] else "- (off)",
+                 *((f"{r['element'] * 1e3:.3f}", f"{r['element'] / r['spmv']:.2f}") if r["element"] == r["element"]
+                   else ("-", "-"))]  # fmt: skip
         lines.append("| " + " | ".join(cells) + " |")
     if run is not None:
         s = run["summary"]

@@ -109,6 +109,11 @@ SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 3e-5}
 # 2026-11-27: 1.899 ms at 132k DOFs, 4.040 ms at 7.58M; the medium mesh's 3.067 ms at 983k lies 43% above it, and
 # a run's open-contact steps should be cheaper: the estimate is rough); set-up on that machine's CPU, 3D: 157 s at
 # 7.58M DOFs with the device's eigenvalue solve to 1e-8 (before EIGEN_TOL; not remeasured)
+# fe.operator = "matrix-free" on the CPU (NumPy, serial; rods.fe.matrixfree): the element kernel's product, measured
+# 2026-11-28 on this 2-core machine, idle: 3D coarse (132k DOFs) 65.8 ms, 2.0e6 DOF-steps/s, 6.1x the CSR product
+# (benchmarks/gpu_throughput.py --backend numpy); the axisymmetric paper mesh (48k DOFs, 4 x 4 Gauss points) 61.6 ms,
+# 7.8e5, 25x the CSR product. On a GPU not measured: there the assembled rate below stands in for it
+MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND = {"axisymmetric": 7.8e5, "3d": 2.0e6}  # [1/s]
 GPU_STEP_OVERHEAD = 1.86e-3  # [s] the host's kernel launches and the contact's copy per step
 GPU_DOF_STEPS_PER_SECOND = 3.5e9  # [1/s]
 GPU_SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 2.1e-5}  # [s] (axisymmetric: the CPU's, not measured)
@@ -304,7 +309,8 @@ def fe_cost(
         bound = 0.0  # the device's rate is its own (not the host's probe)
     else:
         setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
-        bound = steps * dofs / (DOF_STEPS_PER_SECOND[kind] * ranks)  # [s] the memory-bound part
+        rate = MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND if scene["fe.operator"] == "matrix-free" else DOF_STEPS_PER_SECOND
+        bound = steps * dofs / (rate[kind] * ranks)  # [s] the memory-bound part
         loop = steps * STEP_OVERHEAD + bound  # [s]
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]

@@ -162,8 +162,9 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
         law += f" ({scene['fe.penalty']:g} x element stiffness)"
     t_end = scene.end_time if end_time is None else end_time
     fields = f"fields every {scene.field_interval:g} s" if scene.field_interval > 0 else "no fields"
+    backend = scene["fe.backend"] + (", K element by element" if scene["fe.operator"] == "matrix-free" else "")
     return (
-        f"plan: {what} ({scene['fe.kind']}{sym}, {mesh}, {law} contact, backend {scene['fe.backend']}, {fields}), "
+        f"plan: {what} ({scene['fe.kind']}{sym}, {mesh}, {law} contact, backend {backend}, {fields}), "
         f"scene '{scene.label}', s1 = {scene.speed:g} m/s, t_end = {t_end:g} s every {scene.output_interval:g} s"
     )
 

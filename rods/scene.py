@@ -47,6 +47,8 @@ FE_KINDS = ("axisymmetric", "3d")
 SYMMETRIES = ("full", "half", "quarter")
 # array backends of the explicit loop (rods.fe.backend): petsc = the MPI path; numpy, cupy serial; auto = cupy on a GPU
 FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
+# how the loop applies K (rods.fe.matrixfree): the assembled matrix, or element by element on an array backend
+FE_OPERATORS = ("assembled", "matrix-free")
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
 # ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
@@ -288,6 +290,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
         ),
     ),
     "fe.backend": ("str", "petsc", _choice(FE_BACKENDS)),
+    "fe.operator": ("str", "assembled", _choice(FE_OPERATORS)),
     # auto: three consecutive levels from the coarsest that resolves the expected patch (Scene.submodel_levels)
     "submodel.levels": ("list[str]|auto", "auto", _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
@@ -843,6 +846,10 @@ def _cross_checks(v: dict[str, Any]) -> None:
         key = "impact.offset" if v["impact.offset"] > 0 else "impact.tilt"
         raise SceneError(key, v[key], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)")
     _misaligned_contact_on_the_tips(v)
+    if v["fe.operator"] == "matrix-free" and v["fe.backend"] == "petsc":
+        raise SceneError(
+            "fe.operator", "matrix-free", "runs on the serial array backends", "set fe.backend = 'numpy' or 'cupy'"
+        )
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
     # the 3D model's mirrors: half (y -> -y) holds for an offset along x and a tilt about y; quarter (x and y)

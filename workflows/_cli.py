@@ -136,7 +136,7 @@ def backend(scene: Scene, ranks: int) -> None:
     stage had written its folder)."""
     from rods.fe.backend import select
 
-    select(scene["fe.backend"], ranks)
+    select(scene["fe.backend"], ranks, scene["fe.operator"])
 
 
 def status(summary: Mapping[str, Any], rank: int = 0) -> None:

@@ -116,8 +116,15 @@ class Backend:
         return S if self.xp is np else self.sparse.csr_matrix(scipy.sparse.csr_matrix(S))
 
     def operator(self, A: Any, scale: Any, arrays: tuple[Any, ...]) -> PetscOperator | CSROperator:
-        """The operator A_scaled = diag(scale) A (a PETSc Mat, a SciPy matrix or a callable returning one)
-        acting on the state ``arrays`` (allocated by the caller before A is assembled)."""
+        """The operator A_scaled = diag(scale) A (a PETSc Mat, a SciPy matrix or a callable returning one, or the
+        element kernel's arrays, :class:`rods.fe.matrixfree.ElementStiffness`) acting on the state ``arrays``
+        (allocated by the caller before A is assembled)."""
+        if hasattr(A, "operator"):  # the element kernel (rods.fe.matrixfree, fe.operator = "matrix-free")
+            if self.name == "petsc":
+                raise SceneError(
+                    "fe.operator", "matrix-free", "runs on the serial array backends: fe.backend = 'numpy' or 'cupy'"
+                )
+            return A.operator(self, scale)
         A = A() if callable(A) and not hasattr(A, "getSize") else A
         if self.name == "petsc":
             return PetscOperator(A, scale, arrays)
@@ -160,11 +167,17 @@ def resolve(name: str, ranks: int) -> str:
     return name
 
 
-def select(name: str, ranks: int) -> Backend:
-    """The backend a scene's ``fe.backend`` names, on ``ranks`` MPI ranks (SceneError if it cannot run)."""
+def select(name: str, ranks: int, operator: str = "assembled") -> Backend:
+    """The backend a scene's ``fe.backend`` names, on ``ranks`` MPI ranks, for its ``fe.operator`` (SceneError if
+    it cannot run; "auto" with the element kernel is "cupy" on a GPU, else "numpy")."""
     if name not in FE_BACKENDS:
         raise SceneError("fe.backend", name, f"must be one of {FE_BACKENDS}")
-    name = resolve(name, ranks)
+    asked, name = name, resolve(name, ranks)
+    if name == "petsc" and operator == "matrix-free":
+        if asked != "auto" or ranks > 1:
+            why = f"runs on the serial array backends, not with fe.backend = '{asked}' on {ranks} MPI rank(s)"
+            raise SceneError("fe.operator", operator, why, "set fe.backend = 'numpy' or 'cupy' and run serial")
+        name = "numpy"
     if name == "petsc":
         return PETSC
     if ranks > 1:
@@ -296,6 +309,14 @@ class CSROperator:
             K.data *= row_scale
             self._spmv = _spmv_numpy(K)
             self._axpy = None
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.A.shape
+
+    def rows(self, R: Any) -> Any:
+        """R A as a CSR matrix of the backend (R: a few rows of the backend, the contact's)."""
+        return R @ self.A
 
     def mult(self, x: Any, y: Any) -> None:
         """y = A x."""

@@ -181,7 +181,7 @@ class CentralDifference:
             backend.overlap and contact is not None and contact.predictive and contact.serial and not self.damped
         )
         if self.overlap:
-            contact.predict_with(self.op.A)
+            contact.predict_with(self.op)
         self.n = 0  # index of the state's u_n
         self.pending = False  # the drift u_{n+1} = u_n + Δt v_{n+½} is due at the next step
         self.v_prev = None  # v_{n-½} (backend array) when kept

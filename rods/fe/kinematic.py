@@ -149,10 +149,11 @@ class KinematicContact(PenaltyContact):
         self._pending = None  # the wait for the predicted gaps and rates on their way into self._buffer
         self._buffer = None  # host array the predicted gaps and rates are copied into (Overlap)
 
-    def predict_with(self, A) -> None:
-        """Predict the rates before the step's product from now on (module docstring, "Overlap"): ``A`` the
-        stepper's scaled operator -Δt M^-1 K as a CSR matrix of the backend (serial)."""
-        self._BA = self.gap_rows(self._d, A.shape[1]) @ A  # [n_s x n]: the product's tip rows
+    def predict_with(self, op) -> None:
+        """Predict the rates before the step's product from now on (module docstring, "Overlap"): ``op`` the
+        stepper's scaled operator A = -Δt M^-1 K on a serial array backend (``op.rows(R)`` = R A as a CSR matrix
+        of the backend)."""
+        self._BA = op.rows(self.gap_rows(self._d, op.shape[1]))  # [n_s x n]: the product's tip rows
         self._buffer = self.backend.host_buffer(2 * self.ns)
 
     def predict(self, v, u, h: float) -> None:

@@ -46,7 +46,7 @@ from petsc4py import PETSc
 
 from rods import hertz, metrics
 from rods.fe import backend as backends
-from rods.fe import checkpoint, fields, forms
+from rods.fe import checkpoint, fields, forms, matrixfree
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
 from rods.fe.explicit import CentralDifference
 from rods.fe.fields import FieldOutput
@@ -85,7 +85,7 @@ class ExplicitModel:
         self.kind = kind = scene["fe.kind"]
         if kind not in forms.KINDS:
             raise SceneError("fe.kind", kind, f"must be one of {forms.KINDS}")
-        self.backend = backends.select(scene["fe.backend"], comm.size)  # refused early, before the mesh
+        self.backend = backends.select(scene["fe.backend"], comm.size, scene["fe.operator"])  # refused before the mesh
         three_d = kind == "3d"
         self.axial = 2 if three_d else 1  # index of the axial (z) component
         self.tags = tags = TAGS_3D if three_d else TAGS
@@ -105,6 +105,12 @@ class ExplicitModel:
         # array backends DOLFINx's own CSR, kept for the step's limits and the stepper (never assembled again)
         self.stiffness = dolfinx.fem.form(forms.stiffness_form(V, self.mat, kind))
         self.K = self._assemble_stiffness() if self.backend is backends.PETSC else forms.assemble_csr(self.stiffness)
+        # fe.operator = "matrix-free": the loop applies K element by element (rods.fe.matrixfree); K stays for the
+        # step's limits and the contact's rows
+        self.element = None
+        if scene["fe.operator"] == "matrix-free":
+            ufl_form = forms.stiffness_form(V, self.mat, kind)
+            self.element = matrixfree.element_stiffness(V, self.mat, kind, ufl_form, self.K)
 
         self.mass = self._assemble_owned(forms.lumped_mass_form(V, self.mat, kind))  # row-sum lumped [kg]
         self._constraints()
@@ -297,7 +303,7 @@ class ExplicitModel:
         self.contact.use(self.backend)
         kept = self.backend is not backends.PETSC and scipy.sparse.issparse(self.K)  # the array backends' CSR
         return CentralDifference(
-            self.K if kept else self._assemble_stiffness,
+            self.element or (self.K if kept else self._assemble_stiffness),
             self.mass,
             self.inv_mass,
             self.dt,
@@ -404,6 +410,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
             "ranks": model.comm.size,
             "backend": model.backend.name,  # where the loop ran (fe.backend as resolved: "auto" is not one)
             "device": model.backend.device,  # "CPU" or the GPU's name
+            "operator": sc["fe.operator"],  # how the loop applied K: the assembled matrix or the element kernel
             "contact": sc["fe.contact"],  # the law that ran; the penalty only where it is the penalty law's
             "penalty": model.ε_pen if penalty else None,
             "penalty_factor": sc["fe.penalty"] if penalty else None,
