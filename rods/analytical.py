@@ -49,8 +49,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
 
 from rods import hertz, metrics
 from rods.scene import Rod, Scene
@@ -243,6 +241,8 @@ class WaveModel:
 
     def run(self, end_time: float) -> WaveModel:
         """Integrate from first touch (t = 0, δ = 0, δ' = s1) to ``end_time``."""
+        from scipy.integrate import solve_ivp  # here: scipy.integrate costs every entry point ~0.6 s at start
+
         Tmin = min(self.T)
         atol = np.array([self.rtol * self.delta_scale * 1e-2, self.rtol * 1e-2 * self.delta_scale * self.K * Tmin])
         breaks: list[float] = []
@@ -322,6 +322,8 @@ class WaveModel:
 
     def peak(self) -> tuple[float, float]:
         """(time, value) of the largest contact force, refined on the dense output."""
+        from scipy.optimize import minimize_scalar
+
         h = self._history
         # the stored step ends plus midpoints bracket the maximum; refine inside the best step
         tt = np.sort(np.concatenate([h.t_lo, np.asarray(h.t_lo) + 0.5 * np.asarray(h.h), [h.t_end]]))

@@ -46,7 +46,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import least_squares
 
 __all__ = ["P_CREDIBLE", "GridConvergence", "credible_order", "estimate"]
 
@@ -153,6 +152,8 @@ def _power_fit(x: NDArray, g: NDArray, w: NDArray) -> tuple[float, float, float]
 
     def res(v: NDArray) -> NDArray:
         return sw * (g - v[0] - v[1] * x ** v[2])
+
+    from scipy.optimize import least_squares  # here: scipy.optimize costs every entry point ~1 s at start
 
     lo, hi = _P_SCAN[0] - 1.0, _P_SCAN[-1] + 1.0
     sol = least_squares(

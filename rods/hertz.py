@@ -20,7 +20,6 @@ from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import minimize_scalar
 
 __all__ = [
     "YIELD_FACTOR",
@@ -352,6 +351,8 @@ def max_shear(a: float, p0: float, nu: float) -> tuple[float, float]:
     ν = 0.3). It is the subsurface maximum of the whole field, where first yield occurs.
     Assumes frictionless, elastic half-space.
     """
+
+    from scipy.optimize import minimize_scalar  # here: scipy.optimize costs every entry point 0.7 s at start
 
     def neg_τ(ζ: float) -> float:
         sz, sr = _axis(np.asarray(ζ, dtype=float), nu)

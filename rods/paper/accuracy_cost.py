@@ -20,16 +20,13 @@ import time
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from rods import hertz, io, metrics
 from rods.analytical import simulate
 from rods.paper.data import Run, write_json
 from rods.scene import Scene
+from rods.study.figures import pyplot
 
 __all__ = ["ERRORS", "compute", "pareto", "plot", "render_md", "render_table", "write"]
 
@@ -179,6 +176,7 @@ def _panel(a: Any, rows: list[dict], cost: list[float], err: np.ndarray, shown: 
 def plot(data: dict[str, Any], path: Path) -> None:
     """Each error against wall time and against DOFs (log-log), one marker per model, Pareto fronts dashed."""
     rows = data["rows"]
+    plt = pyplot()
     fig, axes = plt.subplots(2, 3, figsize=(15, 8.5))
     models = sorted({r["model"] for r in rows})
     marker = dict(zip(models, "osD^v<>p", strict=False))

@@ -33,16 +33,13 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from rods import hertz, io
 from rods.compare import cell, percent
 from rods.convergence import estimate
 from rods.paper.data import write_json
+from rods.study.figures import pyplot
 
 __all__ = [
     "KEYS",
@@ -441,6 +438,7 @@ def _positive(x: Sequence[float], y: Sequence[float]) -> tuple[np.ndarray, np.nd
 def plot(data: Mapping[str, Any], path: str | Path) -> None:
     """Log-log, per quantity: |error| [%] against h with the least-squares fit |e0 + α h^p| (top), and the
     discretisation error |e - e0| with α h^p, a line of slope p (bottom); one colour per model family."""
+    plt = pyplot()
     fig, axes = plt.subplots(2, len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 7.5), squeeze=False)
     for c, (m, fam) in enumerate(data["models"].items()):
         colour, h = f"C{c}", np.array([lv["h"] for lv in fam["levels"]])

@@ -11,15 +11,11 @@ import math
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
 from rods import io, metrics
 from rods.compare import cell, difference, percent
 from rods.paper.data import Run, write_json
 from rods.scene import scene_from_summary
+from rods.study.figures import pyplot
 
 __all__ = ["compute", "plot", "render_md", "render_table", "write"]
 
@@ -128,6 +124,7 @@ def render_md(data: dict[str, Any], png: str = "fig4.png") -> str:
 
 def plot(analytical: Run, fe: list[Run], data: dict[str, Any], path: Path) -> None:
     """Three panels (midpoint speed, midpoint strain, contact force), every run over the analytical curves."""
+    plt = pyplot()
     fig, ax = plt.subplots(3, 1, figsize=(9, 9))
     columns = [("rod2_mid_velocity", 1.0), ("rod2_mid_strain", 1e6), ("contact_force", 1.0)]
     for run, style in [(analytical, {"color": "k", "lw": 1.4}), *((r, {"lw": 0.9}) for r in fe)]:

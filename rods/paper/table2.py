@@ -16,10 +16,6 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from rods import io, metrics, paper_data
@@ -28,6 +24,7 @@ from rods.compare import percent
 from rods.hertz import YieldWarning
 from rods.paper.data import pct, write_json
 from rods.scene import Scene, load_scene
+from rods.study.figures import pyplot
 from rods.uncertainty import PAPER_UNCERTAINTY, propagate
 
 __all__ = ["compute", "plot", "plot_fig4_analytical", "render_csv", "render_md", "run_trials", "write"]
@@ -225,6 +222,7 @@ def render_md(data: dict[str, Any], png: str = "table2.png") -> str:
 def plot(data: dict[str, Any], path: Path) -> None:
     """Contact radius and average peak speed per trial: experiment, paper's model, ours with its band."""
     rows = data["trials"]
+    plt = pyplot()
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     x = list(range(len(rows)))
     labels = [f"{r['specimen']}-{r['trial']}\n{r['impact_speed']:.3f} m/s" for r in rows]
@@ -255,6 +253,7 @@ def plot(data: dict[str, Any], path: Path) -> None:
 def plot_fig4_analytical(history: dict[str, Any], speed: float, path: Path) -> None:
     """Fig. 4's analytical curves: Rod-2 midpoint speed and strain, contact force."""
     t_us = history["time"] * 1e6
+    plt = pyplot()
     fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     ax[0].plot(t_us, history["rod2_mid_velocity"], lw=1)
     ax[0].set(ylabel="speed [m/s]", title="a) Rod-2 midpoint speed")

@@ -12,16 +12,23 @@ import numpy as np
 
 from rods import compare, hertz, io
 
-__all__ = ["fig5c", "fig6"]
+__all__ = ["fig5c", "fig6", "pyplot"]
 
 
-def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
-    """σ_r against r at the Gauss points nearest the surface: FE levels and the closed form."""
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (files, no screen), imported at the first figure: at module level it
+    cost every entry point 0.6 s at start, bad input included."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    return plt
+
+
+def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
+    """σ_r against r at the Gauss points nearest the surface: FE levels and the closed form."""
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for s in subs:
         prof = s.get("sigma_r_profile")
@@ -67,11 +74,7 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
 def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None:
     """Contact pressure on the Rod-1 tip at peak force: the axisymmetric p(r) revolved into a disc (pyvista,
     off-screen), and p(r) against Hertz at the same force (matplotlib)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     r, p = np.asarray(s["pressure_profile"]["r"]), np.asarray(s["pressure_profile"]["p"])
     H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
     fig, ax = plt.subplots(figsize=(6, 4))
