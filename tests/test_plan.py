@@ -85,6 +85,7 @@ def test_a_submodel_shares_its_drivers_bodies_impact_and_cut_only(scene_with):
     for own in ("fe.contact=penalty", "simulation.output_interval=1e-6", "rod1.material.yield_strength=3e9",
                 "effects=['contact_patch']", "fe.backend=numpy"):  # fmt: skip
         plan.check_driven_scene(scene_with(own), driver)
+    plan.check_driven_scene(scene_with("fe.backend=numpy", "fe.operator=matrix-free"), driver)  # how K is applied
     for key, other in (("impact.speed", "1.0"), ("rod2.material.youngs_modulus", "70e9"),
                        ("fe.submodel_length", "0.01"), ("fe.kind", "'3d'")):  # fmt: skip
         with pytest.raises(SceneError, match=f"'{key}'.*driving global"):

@@ -7,7 +7,8 @@ its stable step), :mod:`~rods.fe.observers` (the loop's observer protocol), :mod
 :mod:`~rods.fe.fields` (observers), :mod:`~rods.fe.contact` (penalty contact), :mod:`~rods.fe.probes`,
 :mod:`~rods.fe.forms`, :mod:`~rods.fe.mesh` / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.submodel` (cut
 recording and driving, σ_r at the Gauss points, levels), :mod:`~rods.fe.backend` (the array backends of the
-stepper: PETSc Mat/Vec, NumPy/SciPy, CuPy).
+stepper: PETSc Mat/Vec, NumPy/SciPy, CuPy), :mod:`~rods.fe.matrixfree` (K applied element by element on the array
+backends, ``fe.operator = "matrix-free"``).
 
 Importing this package loads the PyPI wheel's ``dolfinx_solver`` shim first when it is installed
 (it must precede dolfinx/petsc4py there); any other DOLFINx 0.11 install works without it.
