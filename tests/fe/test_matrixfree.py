@@ -1,7 +1,7 @@
 """The element kernel (rods.fe.matrixfree, ``fe.operator = "matrix-free"``): K x element by element equals the
 assembled product to round-off (axisymmetric with two materials, 3D half model with graded, capped cells), a
 model stepped with it gives the PETSc path's histories (kinematic and penalty contact, damped, the CuPy order
-of a kinematic step), and the key's refusals."""
+of a kinematic step, a driven submodel), and the key's refusals."""
 
 from __future__ import annotations
 
@@ -98,3 +98,23 @@ def test_scene_key_and_refusals():
         backend.select("auto", 2, "matrix-free")  # auto under MPI is the PETSc path
     if not backend.gpu_available():
         assert backend.select("auto", 1, "matrix-free").name == "numpy"
+
+
+def test_driven_submodel_histories(tmp_path_factory):
+    """A submodel driven at its cut (mixed driving, the default) stepped with the element kernel: its histories,
+    the cut's external work included, equal the PETSc path's (tests/fe/test_backend.py's driven case)."""
+    from rods.fe.cut import CutDriver
+    from rods.fe.submodel import submodel_scene
+
+    from ..conftest import recorded_global
+
+    overrides = ["rod1.length=0.1", "rod2.length=0.1", "fe.axial_size=2e-3", "fe.radial_size=1e-3",
+                 "simulation.end_time=2e-5", "fe.submodel_length=12e-3"]  # fmt: skip
+    sc, _, _, cut = recorded_global(overrides, tmp_path_factory, "global-matrix-free")
+    ref = ExplicitModel(submodel_scene(sc, 1e-3))
+    ref = ref.run(observers=(CutDriver(ref, cut),))
+    m = ExplicitModel(submodel_scene(sc.with_overrides("fe.backend='numpy'", "fe.operator='matrix-free'"), 1e-3))
+    assert isinstance(m.stepper().op, matrixfree.ElementOperator)
+    res = m.run(observers=(CutDriver(m, cut),))
+    assert np.abs(ref.history["external_work"]).max() > 0
+    assert_same_histories(ref.history, res.history, floors={"dissipated_energy": ref.history["kinetic_energy"][0]})
