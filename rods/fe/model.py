@@ -103,14 +103,14 @@ class ExplicitModel:
 
         # stiffness: assembled once, block AIJ (bs x bs node blocks: 2 axisymmetric, 3 in 3D); on the serial
         # array backends DOLFINx's own CSR, kept for the step's limits and the stepper (never assembled again)
-        self.stiffness = dolfinx.fem.form(forms.stiffness_form(V, self.mat, kind))
+        stiffness = forms.stiffness_form(V, self.mat, kind)
+        self.stiffness = dolfinx.fem.form(stiffness)
         self.K = self._assemble_stiffness() if self.backend is backends.PETSC else forms.assemble_csr(self.stiffness)
         # fe.operator = "matrix-free": the loop applies K element by element (rods.fe.matrixfree); K stays for the
         # step's limits and the contact's rows
         self.element = None
         if scene["fe.operator"] == "matrix-free":
-            ufl_form = forms.stiffness_form(V, self.mat, kind)
-            self.element = matrixfree.element_stiffness(V, self.mat, kind, ufl_form, self.K)
+            self.element = matrixfree.element_stiffness(V, self.mat, kind, stiffness, self.K)
 
         self.mass = self._assemble_owned(forms.lumped_mass_form(V, self.mat, kind))  # row-sum lumped [kg]
         self._constraints()
@@ -303,7 +303,7 @@ class ExplicitModel:
         self.contact.use(self.backend)
         kept = self.backend is not backends.PETSC and scipy.sparse.issparse(self.K)  # the array backends' CSR
         return CentralDifference(
-            self.element or (self.K if kept else self._assemble_stiffness),
+            self.element if self.element is not None else self.K if kept else self._assemble_stiffness,
             self.mass,
             self.inv_mass,
             self.dt,
