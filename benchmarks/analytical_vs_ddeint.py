@@ -17,16 +17,13 @@ import argparse
 import time
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from ddeint import ddeint
 from ddeint.ddeint import dde, ddeVar
 
 from rods.analytical import WaveModel
 from rods.scene import load_scene
+from rods.study.figures import pyplot
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "results"
@@ -159,6 +156,7 @@ def plot(rows: list[tuple], path: Path) -> None:
     p_tol = orders(rows)[0]
     ours_rows = [r for r in rows if r[0] == "rods.analytical"]
     rt, eh = [r[2] for r in ours_rows], [r[6] for r in ours_rows]
+    plt = pyplot()
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].loglog(rt, eh, "o-", label="history error")
     ax[0].loglog(rt, [r[5] for r in ours_rows], "s--", label="peak-force error")

@@ -27,10 +27,6 @@ from pathlib import Path
 import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 # isort: split
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -41,6 +37,7 @@ from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
 from rods.paper.data import write_json  # noqa: E402
 from rods.scene import SCHEMA, load_scene  # noqa: E402
+from rods.study.figures import pyplot  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 # scene -> (overrides, strain RMS wanted: the whole 1.5 ms run; else the first contact only)
@@ -188,6 +185,7 @@ def render_md(data: dict) -> str:
 
 def plot(data: dict, curves: list[dict], path: Path) -> None:
     scenes = list(SCENES)
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4))
     for ax, sc in zip(axes, scenes, strict=True):
         pairs = [(r, c) for r, c in zip(data["rows"], curves, strict=True) if r["scene"] == sc]

@@ -28,10 +28,6 @@ from pathlib import Path
 import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 # isort: split
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from mpi4py import MPI  # noqa: E402
 
@@ -44,6 +40,7 @@ from rods.hertz import YieldWarning  # noqa: E402
 from rods.paper.data import write_json  # noqa: E402
 from rods.scene import SUBMODEL_DRIVINGS, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
+from rods.study.figures import pyplot  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 # (global contact law, submodel contact law, cut driving): the paper's practice, the default, and the crossings
@@ -108,6 +105,7 @@ def render_md(data: dict) -> str:
 
 
 def plot(curves: dict, analytical: dict, path: Path) -> None:
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     ax.plot(analytical["time"] * 1e6, analytical["contact_force"] / 1e3, "k-", lw=2, label="analytical")
     for name, c in curves.items():
