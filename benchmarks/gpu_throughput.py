@@ -113,11 +113,12 @@ def throughput(model: ExplicitModel, mesh: str, be: backends.Backend, steps: int
     nnz = A.nnz if hasattr(A, "nnz") else A.getInfo()["nz_used"]
     traffic = 12.0 * nnz + 4.0 * (n + 1) + 24.0 * n  # [B] per SpMV
     t_element = math.nan  # the same product element by element (rods.fe.matrixfree), on the array backends
-    if be is not backends.PETSC:
-        form = forms.stiffness_form(model.V, model.mat, model.kind)
-        element = matrixfree.element_stiffness(model.V, model.mat, model.kind, form, model.K).operator(
-            be, -st.dt_inv_mass
-        )
+    if be is not backends.PETSC:  # the model's own kernel arrays where its scene asks for them
+        es = model.element
+        if es is None:
+            form = forms.stiffness_form(model.V, model.mat, model.kind)
+            es = matrixfree.element_stiffness(model.V, model.mat, model.kind, form, model.K)
+        element = es.operator(be, -st.dt_inv_mass)
         t_element = timed(be, lambda: element.mult_add(st.u, st.v), steps)
         element.destroy()
     st.destroy()

@@ -144,6 +144,17 @@ def probe(name: str, out: Path, comm) -> dict | None:
     return row
 
 
+def misses(passes: dict[str, bool]) -> dict[str, str]:
+    """Each target's mark in a probe table: " ✗" where the probe misses it, nothing where it meets it."""
+    return {k: "" if ok else " ✗" for k, ok in passes.items()}
+
+
+def tally(rows: list[dict]) -> list[str]:
+    """The lines under a probe table: how many probes meet every target."""
+    n = sum(all(r["passes"].values()) for r in rows)
+    return ["", f"{n} of {len(rows)} probes meet every target.", ""]
+
+
 def render(data: dict) -> str:
     """scene-probe.md from the data."""
     t = data["targets"]
@@ -160,8 +171,7 @@ def render(data: dict) -> str:
         "|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in data["rows"]:
-        p = r["passes"]
-        mark = {k: "" if ok else " ✗" for k, ok in p.items()}
+        mark = misses(r["passes"])
         warn = "; ".join(dict.fromkeys(warning_key(w) for ws in r["warnings"].values() for w in ws)) or "–"
         lines.append(
             f"| {r['description']} | {r['peak_force_fe']:.1f} | {r['peak_force_pct']:+.3f}%{mark['peak_force']} "
@@ -169,8 +179,7 @@ def render(data: dict) -> str:
             f"| {cell(r['duration_difference'], '+.2f', scale=1e6)}{mark['duration']} "
             f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} | {warn} |"
         )
-    n = sum(all(r["passes"].values()) for r in data["rows"])
-    lines += ["", f"{n} of {len(data['rows'])} probes meet every target.", ""]
+    lines += tally(data["rows"])
     for r in data["rows"]:
         for model, ws in r["warnings"].items():
             lines += [f"* {r['description']}, {model}: {w}" for w in ws]

@@ -110,7 +110,7 @@ def render(data: dict) -> str:
         "|---|---|---:|---:|---:|---:|---|---|---|---:|",
     ]
     for r in data["rows"]:
-        mark = {k: "" if ok else " ✗" for k, ok in r["passes"].items()}
+        mark = scene_probe.misses(r["passes"])
         errs = {
             q: " / ".join(f"{e:+.2f}" for e in r[f"{q}_pct"]) + (" ↓" if r[f"{q}_monotone"] else "") + mark[q]
             for q in ("area", "p0")
@@ -121,8 +121,7 @@ def render(data: dict) -> str:
             f"| {r['submodel_length_mm']:.3g} | {r['force_pct']:+.2f}%{mark['force']} | {errs['area']} "
             f"| {errs['p0']} | {r['status']} ({keys}) | {r['wall_time']:.0f} |"
         )
-    n = sum(all(r["passes"].values()) for r in data["rows"])
-    lines += ["", f"{n} of {len(data['rows'])} probes meet every target.", ""]
+    lines += scene_probe.tally(data["rows"])
     for r in data["rows"]:
         lines += [f"* {r['description']}: {w}" for w in r["warnings"]]
     return "\n".join(lines) + "\n"

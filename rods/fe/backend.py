@@ -119,11 +119,7 @@ class Backend:
         """The operator A_scaled = diag(scale) A (a PETSc Mat, a SciPy matrix or a callable returning one, or the
         element kernel's arrays, :class:`rods.fe.matrixfree.ElementStiffness`) acting on the state ``arrays``
         (allocated by the caller before A is assembled)."""
-        if hasattr(A, "operator"):  # the element kernel (rods.fe.matrixfree, fe.operator = "matrix-free")
-            if self.name == "petsc":
-                raise SceneError(
-                    "fe.operator", "matrix-free", "runs on the serial array backends: fe.backend = 'numpy' or 'cupy'"
-                )
+        if hasattr(A, "operator"):  # the element kernel (rods.fe.matrixfree; select refuses it where it cannot run)
             return A.operator(self, scale)
         A = A() if callable(A) and not hasattr(A, "getSize") else A
         if self.name == "petsc":
@@ -292,6 +288,18 @@ def _spmv_cupy(A: Any) -> Callable[[Any, Any], None]:
     return spmv_fallback
 
 
+def axpy_of(backend: Backend) -> Callable[[Any, float, Any], None]:
+    """y += a x in place on ``backend``'s arrays: on a device one fused kernel (no temporary a x each step)."""
+    if not backend.on_device:
+
+        def axpy(y: Any, a: float, x: Any) -> None:
+            y += a * x
+
+        return axpy
+    kernel = backend.xp.ElementwiseKernel("float64 a, float64 x", "float64 y", "y += a * x", "rods_axpy")
+    return lambda y, a, x: kernel(a, x, y)
+
+
 class CSROperator:
     """A = diag(scale) K as a CSR matrix of ``backend`` (``K``: a host CSR matrix, scaled in place, then
     copied to the device once), applied in place."""
@@ -303,12 +311,11 @@ class CSROperator:
             parts = (K.data * row_scale, K.indices.astype(np.int32), K.indptr.astype(np.int32))
             self.A = backend.sparse.csr_matrix(tuple(xp.asarray(a) for a in parts), shape=K.shape)
             self._spmv = _spmv_cupy(self.A)
-            self._axpy = self.xp.ElementwiseKernel("float64 a, float64 x", "float64 y", "y += a * x", "rods_axpy")
         else:  # a copy: K may be the model's, kept for later steppers
             self.A = K = scipy.sparse.csr_matrix(K, copy=True)
             K.data *= row_scale
             self._spmv = _spmv_numpy(K)
-            self._axpy = None
+        self.axpy = axpy_of(backend)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -326,13 +333,6 @@ class CSROperator:
     def mult_add(self, x: Any, y: Any) -> None:
         """y += A x."""
         self._spmv(x, y)
-
-    def axpy(self, y: Any, a: float, x: Any) -> None:
-        """y += a x (on the device one fused kernel)."""
-        if self._axpy is None:
-            y += a * x
-        else:
-            self._axpy(a, x, y)
 
     def destroy(self) -> None:
         self.A = None

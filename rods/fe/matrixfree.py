@@ -38,6 +38,7 @@ import scipy.sparse
 import ufl
 from ufl.algorithms import compute_form_data
 
+from rods.fe.backend import axpy_of
 from rods.fe.forms import Materials
 
 __all__ = ["ElementOperator", "ElementStiffness", "element_stiffness", "quadrature_degree"]
@@ -162,6 +163,7 @@ class ElementOperator:
         self.es = es.to(backend)
         self.scale = backend.asarray(scale)
         self._K, self._scale_host = es.K, backend.to_host(scale)
+        self.axpy = axpy_of(backend)  # y += a x
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -174,10 +176,6 @@ class ElementOperator:
     def mult_add(self, x: Any, y: Any) -> None:
         """y += A x."""
         y += self.scale * self.es.product(x, self.xp)
-
-    def axpy(self, y: Any, a: float, x: Any) -> None:
-        """y += a x."""
-        y += a * x
 
     def rows(self, R: Any) -> Any:
         """R A as a CSR matrix of the backend (R: a few rows, the contact's; formed once on the host)."""

@@ -26,9 +26,9 @@ ROUND_OFF = 1e-13  # K x against the assembled product, relative to its largest 
 
 
 def kernel(overrides: list[str]) -> tuple[ExplicitModel, matrixfree.ElementStiffness]:
-    m = ExplicitModel(load_scene(PAPER, [*overrides, "fe.backend='numpy'"]))
-    form = forms.stiffness_form(m.V, m.mat, m.kind)
-    return m, matrixfree.element_stiffness(m.V, m.mat, m.kind, form, m.K)
+    """The model of the scene with ``overrides`` set up with the element kernel, and the kernel's arrays."""
+    m = ExplicitModel(load_scene(PAPER, [*overrides, "fe.backend='numpy'", "fe.operator='matrix-free'"]))
+    return m, m.element
 
 
 @pytest.mark.parametrize("overrides", [[*SMALL, *TITANIUM], [*THREE_D, *TITANIUM]], ids=["axisymmetric", "3d"])
