@@ -25,10 +25,11 @@ sweep: venv
 verify: venv
 	.venv/bin/mpirun -n $(NPROC) $(PY) workflows/verify.py --tables results
 
-## The default test suite (no slow cases); what CI runs. The serial cases run on NPROC workers (pytest-xdist);
+## The default test suite (no slow cases); what CI runs. The serial cases run on NPROC workers (pytest-xdist, a
+## worker that runs out of cases takes some of the other's: one long case last no longer idles the other core);
 ## the MPI cases (their own ranks) and the wall-time measurements (marker alone) after them, one at a time.
 test: venv
-	@rc=0; $(PY) -m pytest -m "not slow and not mpi and not alone" -q -n $(NPROC) || rc=$$?; \
+	@rc=0; $(PY) -m pytest -m "not slow and not mpi and not alone" -q -n $(NPROC) --dist worksteal || rc=$$?; \
 	$(PY) -m pytest -m "not slow and (mpi or alone)" -q || rc=$$?; exit $$rc
 
 ## The long cases (stability matrix, paper-resolution FE validation).

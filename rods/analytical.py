@@ -78,6 +78,7 @@ class _History:
         self.F: list[NDArray[np.float64]] = []  # (7, 2) per step, reversed for Horner
         self.d0: list[float] = []  # δ components as plain floats for the scalar path
         self.dF: list[tuple[float, ...]] = []
+        self._stacked: tuple[NDArray[np.float64], ...] | None = None
 
     def append(self, sol: Any) -> None:
         for ip in sol.interpolants:
@@ -102,18 +103,24 @@ class _History:
             y = (y + f) * (x if i % 2 == 0 else xm)
         return y + self.d0[j]
 
+    def _arrays(self) -> tuple[NDArray[np.float64], ...]:
+        """(t_lo, h, F, y0) as arrays, stacked once per stored length (not per call: the peak search calls
+        the vectorised path hundreds of times on thousands of steps)."""
+        if self._stacked is None or self._stacked[0].size != len(self.t_lo):
+            self._stacked = (np.asarray(self.t_lo), np.asarray(self.h), np.stack(self.F), np.stack(self.y0))
+        return self._stacked
+
     def __call__(self, t: NDArray[np.float64], comp: int) -> NDArray[np.float64]:
         """Component ``comp`` of y at the times ``t`` (clipped to the stored range)."""
-        lo = np.asarray(self.t_lo)
+        lo, h, F_all, y0 = self._arrays()
         tt = np.clip(t, lo[0], self.t_end)
         j = np.clip(np.searchsorted(lo, tt, side="right") - 1, 0, lo.size - 1)
-        h = np.asarray(self.h)[j]
-        x = (tt - lo[j]) / h
-        F = np.stack(self.F)[j, :, comp]  # (n, 7)
+        x = (tt - lo[j]) / h[j]
+        F = F_all[j, :, comp]  # (n, 7)
         y = np.zeros_like(tt)
         for i in range(F.shape[1]):
             y = (y + F[:, i]) * (x if i % 2 == 0 else 1.0 - x)
-        return y + np.stack(self.y0)[j, comp]
+        return y + y0[j, comp]
 
 
 @dataclass
@@ -200,9 +207,18 @@ class WaveModel:
             τ = t - k * T
             if not np.any(τ > 0):
                 break
-            out += self.force(np.where(τ > 0, τ, -1.0))
+            touching = self._touching(τ)  # the force is 0 elsewhere: evaluate it only inside the episodes
+            out[touching] += self.force(τ[touching])
             k += 1
         return out / Z
+
+    def _touching(self, τ: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Where the times τ [s] lie inside a contact episode [a, b) (vectorised :meth:`_in_contact`); an episode
+        still open at the stored end counts beyond it, where the dense output holds its last value."""
+        bounds = np.asarray(self.contacts, dtype=float).ravel()  # a0, b0, a1, b1, ... ascending
+        if bounds.size and bounds[-1] >= self._history.t_end:
+            bounds[-1] = math.inf
+        return np.searchsorted(bounds, τ, side="right") % 2 == 1
 
     # ---- integration ---------------------------------------------------------------------
     def _rhs(self, t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:

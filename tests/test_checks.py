@@ -435,6 +435,7 @@ def test_a_station_near_a_rods_end_is_outside_the_bar_model(paper_dict, scene_wi
     assert w.startswith("station rod2_mid: 12.7 mm from rod 2's")
 
 
+@pytest.mark.slow  # 12 s: the paper global at its default mesh (the tiny mesh's samples hid the fault)
 def test_the_fe_force_checks_read_every_step_not_the_output_samples(tmp_path):
     """The paper global at a 50 µs output interval: its duration-spread check reads the per-step force (FEResult's
     force_trace), so no "202.8 µs, but 234.9 µs at 0.20%" warning from the coarse samples (found by a probe)."""

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from .conftest import MPIRUN, PY, ROOT, SCENES
+from .conftest import MPIRUN, PY, ROOT, SCENES, in_process
 
 W = ROOT / "workflows"
 TINY = ["--set", "fe.axial_size=4e-3", "--set", "fe.radial_size=1e-3"]
@@ -243,6 +243,27 @@ if importlib.util.find_spec("cupy") is None:  # where CuPy is there, this study 
 @pytest.mark.parametrize("case", list(CASES))
 def test_bad_input_is_one_line_and_leaves_no_folder(here, case):
     script, args, words = CASES[case]
+    refused(in_process(script, *args, cwd=here), *words)
+    assert not (here / "o").exists() and not (here / "output").exists()
+
+
+# one case per entry point, the cheapest of its cases (each refused before any model is built)
+FROM_THE_SHELL = ["out is a file", "out under a file", "submodel dt abc", "compare missing", "study fe.degree 2",
+                  "verify unstable step", "convergence empty out", "report out a folder", "paper empty results",
+                  "fig4 missing run", "accuracy-cost without runs", "contact picture without fields"]  # fmt: skip
+
+
+def test_every_entry_point_has_a_shell_case():
+    assert {CASES[c][0] for c in FROM_THE_SHELL} == {s for s, _, _ in CASES.values()} and set(FROM_THE_SHELL) <= set(
+        CASES
+    )
+
+
+@pytest.mark.parametrize("case", FROM_THE_SHELL)
+def test_bad_input_from_the_shell(here, case):
+    """One case per entry point in a fresh interpreter, as a user's shell runs it: its imports add nothing to the
+    one line (a library's warning printed at import would), and the exit code is the process's."""
+    script, args, words = CASES[case]
     refused(run(script, *args, cwd=here), *words)
     assert not (here / "o").exists() and not (here / "output").exists()
 
@@ -257,7 +278,7 @@ def test_a_refused_study_leaves_an_earlier_study_in_its_folder_as_it_was(tmp_pat
     files = {f: f.read_bytes() for f in (tmp_path / "o").rglob("*") if f.is_file()}
     assert tmp_path / "o" / "global" / "summary.json" in files
     for restart in ([], ["--restart"]):
-        refused(run("run.py", *args, "--set", "fe.dt=1.6e-7", *restart, cwd=tmp_path), "fe.dt", "'auto'")
+        refused(in_process("run.py", *args, "--set", "fe.dt=1.6e-7", *restart, cwd=tmp_path), "fe.dt", "'auto'")
         assert {f: f.read_bytes() for f in (tmp_path / "o").rglob("*") if f.is_file()} == files
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -15,7 +14,7 @@ from rods import cost
 from rods.preflight import InputError
 from rods.scene import SceneError
 
-from .conftest import PY, ROOT, SCENES, run_workflow
+from .conftest import SCENES, in_process, run_workflow
 
 TINY = ("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=1e-4")
 
@@ -65,7 +64,7 @@ def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
     [
         *([f"rod1.tip_radius={r}"] for r in (0.035, 0.012, 0.008, 0.0068, 0.00635)),  # rim angles 10.5° to 90°
         ["fe.axial_size=0.5e-3", "fe.radial_size=0.125e-3"],  # finer than auto: a graded block short on the cap
-        ["fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"],
+        pytest.param(["fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"], marks=pytest.mark.slow),  # 7 s
     ],
 )
 def test_a_curved_tips_step_is_estimated_within_the_measured_band(scene_with, extra):
@@ -277,20 +276,14 @@ def test_entry_points_refuse_what_would_run_into_the_ground(tmp_path, fake_drive
     script, args = CASES[case]
     args = [a.format(driver=fake_driver, stations=_stations(tmp_path, 5000) if "{stations}" in a else "") for a in args]
     out = tmp_path / "out"
-    p = subprocess.run(
-        [str(PY), str(ROOT / "workflows" / script), *args, "--out", str(out)],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+    p = in_process(script, *args, "--out", str(out), cwd=tmp_path)  # the shell's own start: test_cli_errors
     lines = p.stderr.strip().splitlines()
     assert p.returncode == 2 and len(lines) == 1 and len(lines[0]) < 1000, p.stderr[-2000:]
     assert "budget" in lines[0] or "memory" in lines[0]
     assert not out.exists()
 
 
-@pytest.mark.parametrize("d", [1e-4, 5e-5])
+@pytest.mark.parametrize("d", [1e-4, pytest.param(5e-5, marks=pytest.mark.slow)])  # 8 s: the growth, in make test-slow
 def test_analytical_steps_follow_the_contacts_stiffness_against_thin_rods(scene_with, d):
     """Thin rods (diameter d [m]) under the paper's 35 mm tip: the explicit DOP853's steps grow as d^(-4/3) (the
     contact's rate against the rods' impedance, rods.cost.analytical_steps). The estimate takes the whole run as

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from .conftest import in_process
+
 ROOT = Path(__file__).resolve().parents[1]
 WORKFLOWS = ROOT / "workflows"
 DRY_RUN = {"analytical.py", "global.py", "submodel.py", "run.py"}  # the entry points with --dry-run
@@ -80,9 +82,11 @@ def test_command_passes_its_dry_run_as_typed(where, script, args, tmp_path):
     """Serial (a dry run allocates nothing, so the rank count does not matter), from the repository root, with
     the command's own arguments; --out, where given, is moved under tmp_path (a dry run writes nothing anyway).
     With --force: the time budget's verdict on the hours-long 3D paper mesh depends on this machine's measured
-    memory-bound rate (refused here beside another job, 43.8 h estimated), not on the command's spelling."""
+    memory-bound rate (refused here beside another job, 43.8 h estimated), not on the command's spelling.
+    In this process (tests/conftest.py's in_process: the entry point's main through its error path): the shell's
+    own start is the same for every command, and tests/test_cli_errors.py's shell cases run it."""
     args = [str(tmp_path / a) if i and args[i - 1] == "--out" else a for i, a in enumerate(args)]
-    argv = [sys.executable, str(WORKFLOWS / script), *args, *([] if "--dry-run" in args else ["--dry-run"]), "--force"]
-    r = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, f"{where}: {shlex.join(argv[1:])}\n{r.stderr[-2000:]}"
+    argv = [*args, *([] if "--dry-run" in args else ["--dry-run"]), "--force"]
+    r = in_process(script, *argv, cwd=ROOT)
+    assert r.returncode == 0, f"{where}: {shlex.join([script, *argv])}\n{r.stderr[-2000:]}"
     assert "dry run" in r.stdout and not any(tmp_path.iterdir())

@@ -13,7 +13,7 @@ import pytest
 from rods import checks
 from rods.io import read_history
 
-from .conftest import ROOT
+from .conftest import ROOT, in_process
 
 TINY = ["--set", "fe.axial_size=4e-3", "--set", "fe.radial_size=1e-3", "--set", "simulation.end_time=3e-4"]
 
@@ -62,9 +62,20 @@ def test_wave_response_runs_analytical_and_global_only(tmp_path):
     assert s["sources"]["peak_contact_force"] == s["sources"]["contact_duration"] == "global"
 
 
-def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_early(tmp_path):
-    _, s = run(tmp_path, "['contact_patch']", "--set", "submodel.levels=['coarse']")
-    run_dir = tmp_path / "run"
+PATCH_STUDY = ("['contact_patch']", "--set", "submodel.levels=['coarse']")  # analytical, driver, one level
+
+
+@pytest.fixture(scope="module")
+def patch_study(tmp_path_factory):
+    """One finished contact-patch study (its folder and summary): what the study writes is read from it, and the
+    restart tests copy it."""
+    base = tmp_path_factory.mktemp("patch-study")
+    _, summary = run(base, *PATCH_STUDY)
+    return base / "run", summary
+
+
+def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_early(patch_study):
+    run_dir, s = patch_study
     assert set(s["stages"]) == {"analytical", "global", "driver", "submodel/coarse", "compare"}
     # the scene's own global drives the submodels (no driver settings): one run, recording the cut, not two
     assert s["stages"]["driver"] == s["stages"]["global"] and not (run_dir / "driver").exists()
@@ -101,17 +112,6 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     ]
     # one coarse level (4.4 elements across the patch) misses Hertz's peak pressure by 4.5%: not a signed result
     assert any(w.startswith("compare: peak_contact_pressure: the finest submodel level (coarse") for w in s["warnings"])
-
-
-PATCH_STUDY = ("['contact_patch']", "--set", "submodel.levels=['coarse']")  # analytical, driver, one level
-
-
-@pytest.fixture(scope="module")
-def patch_study(tmp_path_factory):
-    """One finished contact-patch study (its folder and summary), which the restart tests copy."""
-    base = tmp_path_factory.mktemp("patch-study")
-    _, summary = run(base, *PATCH_STUDY)
-    return base / "run", summary
 
 
 def copied(study, tmp_path):
@@ -160,6 +160,7 @@ def test_restart_keeps_a_copied_study_spelled_otherwise_with_checkpoints_turned_
         assert f"{stage}: finished in {Path('run') / stage} for this scene, kept" in p.stdout, stage
 
 
+@pytest.mark.slow  # 13 s: a regression case of the restart's cut-record id; the restart itself is in the default suite
 def test_restart_reruns_a_submodel_level_driven_by_an_earlier_cut_record(patch_study, tmp_path):
     """A fresh run that rewrote the global (its cut.h5) and was killed before reaching a submodel level leaves
     that level's earlier summary in the folder: the restart keeps the global, not the level (another record
@@ -203,16 +204,10 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
     assert "submodel levels: coarse, mid, fine" in p.stdout and "cost of the submodel fine" in p.stdout
     assert "dry run" in p.stdout and not out.exists()
     for script in ("analytical.py", "global.py"):  # the single-model doors too
-        p = subprocess.run(
-            [sys.executable, str(ROOT / "workflows" / script), "--dry-run", "--out", str(out)],
-            capture_output=True, text=True, cwd=ROOT,
-        )  # fmt: skip
+        p = in_process(script, "--dry-run", "--out", str(out), cwd=ROOT)
         assert p.returncode == 0 and "cost of" in p.stdout and "dry run" in p.stdout, (script, p.stderr)
         assert p.stdout.startswith("plan: ") and not out.exists()  # what would run, then what it costs
-    p = subprocess.run(
-        [sys.executable, str(ROOT / "workflows" / "global.py"), "--driver", "--dry-run", "--out", str(out)],
-        capture_output=True, text=True, cwd=ROOT,
-    )  # fmt: skip
+    p = in_process("global.py", "--driver", "--dry-run", "--out", str(out), cwd=ROOT)
     assert "plan: the driving global (axisymmetric" in p.stdout and "t_end = 0.000244" in p.stdout  # the contact phase
 
 

@@ -11,7 +11,7 @@ import pytest
 
 from rods.io import SUMMARY_KEYS, read_history
 
-from .conftest import MPIRUN, PY, ROOT, SCENES
+from .conftest import MPIRUN, PY, ROOT, SCENES, in_process
 
 
 def run(script: str, *args: str) -> subprocess.CompletedProcess:
@@ -54,7 +54,7 @@ def test_analytical_workflow_writes_summary_and_history(tmp_path):
 )
 def test_bad_input_exits_2_and_writes_nothing(tmp_path, args):
     out = tmp_path / "out"
-    p = run("analytical.py", *args, "--out", str(out))
+    p = in_process("analytical.py", *args, "--out", str(out), cwd=ROOT)
     assert p.returncode == 2
     assert "error" in p.stderr and "Traceback" not in p.stderr
     assert not out.exists()
