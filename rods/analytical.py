@@ -439,7 +439,7 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         "peak_contact_pressure": p0,
         "contact_duration": metrics.contact_duration(trace["time"], trace["contact_force"]),
         "contact_episodes": [[a_, b_] for a_, b_ in model.contacts],
-        "midpoint_peak_speed": metrics.midpoint_peak_speed(hist["time"], v_mid),
+        "midpoint_peak_speed": metrics.midpoint_peak_speed(hist["time"], v_mid, gap=metrics.plateau_gap(scene.rod2)),
         "midpoint_peak_strain": float(ε_mid.min()),
         "rigid_velocity_rod1": V1,
         "rigid_velocity_rod2": V2,

@@ -130,6 +130,10 @@ __all__ = [
 ]
 
 MIN_PLATEAU_SAMPLES = 3  # a run above the threshold shorter than this is a spike, not a plateau [-]
+# least share of a plateau's samples at or above its threshold: the dips that rods.metrics.plateau_gap lets through
+# are ringing at a plateau's ends (4% of the samples on the probe that needed the rule); a "plateau" of spikes that
+# cross the threshold every few samples is mostly below it [-]
+MIN_PLATEAU_FILL = 0.5
 SPIKE_QUANTILE = 0.95  # the plateau level that ringing spikes cannot set: this quantile of the motion above ½ max [-]
 SPIKE_SHIFT = 0.02  # largest change of the average peak speed at the quantile's threshold in an "ok" run [-]
 ENERGY_OK = 1e-2  # largest energy-balance error of a run whose status is "ok" [-]
@@ -466,11 +470,14 @@ def tail_warning(history: Mapping[str, np.ndarray] | None) -> str | None:
     )
 
 
-def plateau_warning(t: np.ndarray, v: np.ndarray, period: float = math.inf, floor: float = 0.0) -> str | None:
+def plateau_warning(
+    t: np.ndarray, v: np.ndarray, period: float = math.inf, floor: float = 0.0, gap: float = 0.0
+) -> str | None:
     """A warning when the plateaus behind ``midpoint_peak_speed`` are missing, too few or not flat; ``period`` [s]:
     Rod 2's round trip 2 L2/c2 (a run that spans enough of them and still has too few has no plateaus to find);
-    ``floor`` [m/s]: the speed of the wave's arrival (rods.metrics.plateaus)."""
-    runs = metrics.plateaus(t, v, floor=floor)
+    ``floor`` [m/s]: the speed of the wave's arrival, ``gap`` [s]: the shortest dip between two plateaus
+    (rods.metrics.plateaus)."""
+    runs = metrics.plateaus(t, v, floor=floor, gap=gap)
     if not runs:  # at a relative threshold only when it never moves forward: a slow Rod 2 or a short end_time
         return (
             "midpoint_peak_speed: the midpoint does not move forward by end_time (null); lengthen simulation.end_time"
@@ -484,9 +491,13 @@ def plateau_warning(t: np.ndarray, v: np.ndarray, period: float = math.inf, floo
     elif len(runs) < metrics.PLATEAU_COUNT:
         problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time")
     shortest = min(r.stop - r.start for r in runs)
+    level = metrics.plateau_level(np.asarray(v, float))
+    fill = min(float(np.mean(v[r] >= level)) for r in runs)
     if shortest < MIN_PLATEAU_SAMPLES:
         problems.append(f"a plateau of {shortest} sample(s): spikes above the plateau level, not plateaus")
-    elif (shift := spike_shift(t, v)) > SPIKE_SHIFT:
+    elif fill < MIN_PLATEAU_FILL:
+        problems.append(f"a plateau {fill:.0%} of whose samples reach its level: spikes above it, not a plateau")
+    elif (shift := spike_shift(t, v, gap)) > SPIKE_SHIFT:
         problems.append(
             f"ringing spikes above the plateaus set the threshold (the average moves by {shift:.1%} with it at 0.9 x "
             f"the {SPIKE_QUANTILE:.0%} quantile of the motion above half the largest speed)"
@@ -494,16 +505,17 @@ def plateau_warning(t: np.ndarray, v: np.ndarray, period: float = math.inf, floo
     return f"midpoint_peak_speed: {'; '.join(problems)}; the average is unreliable" if problems else None
 
 
-def spike_shift(t: np.ndarray, v: np.ndarray) -> float:
+def spike_shift(t: np.ndarray, v: np.ndarray, gap: float = 0.0) -> float:
     """|relative change| of ``midpoint_peak_speed`` when its threshold is 0.9 x the :data:`SPIKE_QUANTILE` quantile
-    of the samples above half the largest speed instead of 0.9 x the largest speed (module docstring)."""
+    of the samples above half the largest speed instead of 0.9 x the largest speed (module docstring; ``gap`` [s]:
+    rods.metrics.plateaus)."""
     v = np.asarray(v, float)
-    raw = metrics.midpoint_peak_speed(t, v)
+    raw = metrics.midpoint_peak_speed(t, v, gap=gap)
     wide = metrics.plateaus(t, v, count=v.size, fraction=0.5)
     if not wide or not raw > 0:
         return 0.0
     level = float(np.quantile(np.concatenate([v[s] for s in wide]), SPIKE_QUANTILE))
-    robust = metrics.midpoint_peak_speed(t, v, threshold=metrics.PLATEAU_FRACTION * level)
+    robust = metrics.midpoint_peak_speed(t, v, threshold=metrics.PLATEAU_FRACTION * level, gap=gap)
     return abs(robust / raw - 1.0) if math.isfinite(robust) else 0.0
 
 
@@ -651,14 +663,14 @@ def apply(
         found.append(w)
     mid = f"{scene.stations[0].name}_velocity"
     period = scene.rod2.transit_time  # [s] 2 L2/c2
-    arrival = metrics.ARRIVAL * scene.speed  # [m/s]
+    arrival, gap = metrics.ARRIVAL * scene.speed, metrics.plateau_gap(scene.rod2)  # [m/s], [s]
     if (
         mid in history
         and "midpoint_peak_speed" in summary
-        and (w := plateau_warning(history["time"], history[mid], period, arrival))
+        and (w := plateau_warning(history["time"], history[mid], period, arrival, gap))
     ):
         found.append(w)
-        if not metrics.plateaus(history["time"], history[mid], floor=arrival):
+        if not metrics.plateaus(history["time"], history[mid], floor=arrival, gap=gap):
             summary["midpoint_peak_speed"] = None
     for w in (bar_theory_warning(summary, force, scene), reflection_warning(summary, force, scene)):
         if w is not None:

@@ -44,6 +44,9 @@ def test_plateau_assumptions():
     assert "only 2 of 5" in checks.plateau_warning(t, square * (t < 0.3))
     spiky = square * (1 + 0.3 * (np.arange(t.size) % 3 == 0))  # overshoot spikes above the plateaus
     assert "spikes" in checks.plateau_warning(t, spiky)
+    # the gap rule (rods.metrics.plateau_gap) joins spikes 3 samples apart into runs: mostly below their level
+    assert "of whose samples reach its level" in checks.plateau_warning(t, spiky, gap=5 * (t[1] - t[0]))  # 34%
+    assert checks.plateau_warning(t, square, gap=5 * (t[1] - t[0])) is None
     rippled = square * (1 + 0.05 * np.sin(2 * np.pi * 50 * t))  # ripple on plateaus: still plateaus
     assert checks.plateau_warning(t, rippled) is None
     assert "does not move forward" in checks.plateau_warning(t, -np.ones_like(t))

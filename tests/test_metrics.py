@@ -49,6 +49,36 @@ def test_average_peak_speed_of_square_plateaus():
     assert len(metrics.plateaus(t, v)) == 5
 
 
+def test_ringing_dips_shorter_than_the_gap_do_not_split_a_plateau():
+    """Plateaus at 1.0 barely above the 0.9 x max threshold (max 1.05), each ending in ringing that dips below
+    the threshold for 0.2-2 µs (the FE model on a titanium-on-aluminium scene, rods.metrics): without the gap rule
+    those dips leave 1-sample "plateaus" in the average; with it each plateau is one, the average is the plateaus'
+    level over the samples above the threshold, and the 17 µs dips between plateaus (from the last spike) still
+    separate them."""
+    dt = 0.25e-6  # [s] the output interval
+    i = np.arange(2400)  # samples: 600 µs
+    t, k = i * dt, i % 400  # [s]; the sample within its 100 µs period
+    v = np.where(k < 320, 1.0, 0.5)  # [m/s] a plateau of 80 µs every 100 µs, from t = 0
+    v[k == 319] = 1.05  # the largest speed: the threshold is 0.945
+    v[(k >= 324) & (k <= 332) & (k % 4 == 0)] = 0.96  # 1-sample spikes 1 µs apart, 1-3 µs after the plateau
+    gap = 3e-6  # [s]
+    assert [s.stop - s.start for s in metrics.plateaus(t, v)][:4] == [320, 1, 1, 1]  # the defect, without the rule
+    runs = metrics.plateaus(t, v, gap=gap)
+    assert len(runs) == 5 and all(t[s.start] == pytest.approx(k * 100e-6) for k, s in enumerate(runs))
+    samples = np.concatenate([v[s] for s in runs])
+    above = samples[samples >= 0.945]
+    assert metrics.midpoint_peak_speed(t, v, gap=gap) == pytest.approx(above.mean(), rel=1e-14)
+    assert 0.999 < metrics.midpoint_peak_speed(t, v, gap=gap) < 1.001  # no 0.5 m/s dip sample in it (0.995 with)
+    assert len(metrics.plateaus(t, v, gap=16.9e-6)) == 5 and len(metrics.plateaus(t, v, gap=17.1e-6)) == 1  # 17 µs dips
+
+
+def test_the_plateau_gap_is_rod_2s_lateral_transit(scene_with):
+    """d2/c2: 2.49 µs on the paper's 12.7 mm steel Rod 2 (c2 = 5117 m/s), 3.93 µs on a 20 mm aluminium one."""
+    assert metrics.plateau_gap(scene_with().rod2) == pytest.approx(0.0127 / 5116.9, rel=1e-4)
+    al = scene_with("rod2.diameter=0.02", "rod2.material.youngs_modulus=70e9", "rod2.material.density=2700.0")
+    assert metrics.plateau_gap(al.rod2) == pytest.approx(0.02 / np.sqrt(70e9 / 2700.0), rel=1e-12)
+
+
 def test_rms_difference():
     t = np.linspace(0, 1, 1001)
     assert metrics.rms_difference(t, np.sin(t), t, np.sin(t) + 2e-6, (0, 1)) == pytest.approx(2e-6, rel=1e-9)

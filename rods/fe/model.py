@@ -386,7 +386,9 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     sc = model.scene
     hist = recorder.history(rows)
     units = {name: recorder.units[name] for name in hist}
-    derived = recorder.summary(hist, steps, sc.stations[0].name, metrics.ARRIVAL * sc.speed)
+    derived = recorder.summary(
+        hist, steps, sc.stations[0].name, metrics.ARRIVAL * sc.speed, metrics.plateau_gap(sc.rod2)
+    )
     energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
     n_steps = min(steps, recorder.force.size) - 1
     penalty = sc["fe.contact"] == "penalty"

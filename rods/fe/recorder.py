@@ -195,9 +195,12 @@ class Recorder:
         force = self.force[:steps]
         return {"time": np.arange(force.size) * self.dt, "contact_force": force}
 
-    def summary(self, hist: dict[str, np.ndarray], steps: int, midpoint: str, arrival: float = 0.0) -> dict[str, Any]:
+    def summary(
+        self, hist: dict[str, np.ndarray], steps: int, midpoint: str, arrival: float = 0.0, gap: float = 0.0
+    ) -> dict[str, Any]:
         """History-derived summary values: peak, contact times, energy error (``steps``: force samples;
-        ``arrival`` [m/s]: the midpoint speed below which the wave has not arrived, rods.metrics.plateaus)."""
+        ``arrival`` [m/s]: the midpoint speed below which the wave has not arrived, ``gap`` [s]: the shortest dip
+        between two plateaus, rods.metrics.plateaus)."""
         trace = self.force_trace(steps)
         t_steps, force = trace["time"], trace["contact_force"]
         E_total = hist["kinetic_energy"] + hist["strain_energy"] + hist["contact_energy"]
@@ -218,7 +221,7 @@ class Recorder:
             "contact_duration": metrics.contact_duration(t_steps, force),
             "contact_episodes": [list(e) for e in metrics.contact_episodes(t_steps, force)],
             "midpoint_peak_speed": metrics.midpoint_peak_speed(
-                hist["time"], hist[f"{midpoint}_velocity"], floor=arrival
+                hist["time"], hist[f"{midpoint}_velocity"], floor=arrival, gap=gap
             ),
             "midpoint_peak_strain": float(np.min(hist[f"{midpoint}_strain"])),
             "energy_error": energy_error,

@@ -70,7 +70,7 @@ def _bands(scene: Scene) -> dict[str, dict[str, float]]:
 
 def _row(trial: paper_data.Trial, r: AnalyticalResult, band: dict) -> dict[str, Any]:
     s, h = r.summary, r.history
-    t, v = h["time"], h["rod2_mid_velocity"]
+    t, v, gap = h["time"], h["rod2_mid_velocity"], metrics.plateau_gap(r.model.rod2)  # [s], [m/s], [s]
     return {
         "name": trial.name,
         "specimen": trial.specimen,
@@ -84,11 +84,11 @@ def _row(trial: paper_data.Trial, r: AnalyticalResult, band: dict) -> dict[str, 
         "paper_peak_speed": trial.analytical_peak_speed,
         "peak_speed": s["midpoint_peak_speed"],
         "peak_speed_at_paper_threshold": metrics.midpoint_peak_speed(
-            t, v, threshold=paper_data.load().plateau_threshold
+            t, v, threshold=paper_data.load().plateau_threshold, gap=gap
         ),
         "midpoint_max_speed": float(v.max()),
         # the mean of the plateaus' largest values (rods.metrics.plateaus): the other reading of "average peak speed"
-        "mean_plateau_maximum": float(np.mean([v[run].max() for run in metrics.plateaus(t, v)])),
+        "mean_plateau_maximum": float(np.mean([v[run].max() for run in metrics.plateaus(t, v, gap=gap)])),
         "peak_contact_force": s["peak_contact_force"],
         "contact_duration": s["contact_duration"],
         "paper_rms_strain_difference": trial.rms_strain_difference,
