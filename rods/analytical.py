@@ -202,23 +202,25 @@ class WaveModel:
         t = np.atleast_1d(np.asarray(t, dtype=float))
         Z, T = self.Z[rod - 1], self.T[rod - 1]
         out = np.zeros_like(t)
+        bounds = self._episode_bounds()
         k = 0
         while True:
             τ = t - k * T
             if not np.any(τ > 0):
                 break
-            touching = self._touching(τ)  # the force is 0 elsewhere: evaluate it only inside the episodes
+            # the force is 0 outside the episodes: evaluate it only inside, where τ lies in some [a, b)
+            touching = np.searchsorted(bounds, τ, side="right") % 2 == 1
             out[touching] += self.force(τ[touching])
             k += 1
         return out / Z
 
-    def _touching(self, τ: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Where the times τ [s] lie inside a contact episode [a, b) (vectorised :meth:`_in_contact`); an episode
-        still open at the stored end counts beyond it, where the dense output holds its last value."""
-        bounds = np.asarray(self.contacts, dtype=float).ravel()  # a0, b0, a1, b1, ... ascending
+    def _episode_bounds(self) -> NDArray[np.float64]:
+        """a0, b0, a1, b1, ... [s] of the contact episodes, ascending (the vectorised :meth:`_in_contact`'s); an
+        episode still open at the stored end runs on beyond it, where the dense output holds its last value."""
+        bounds = np.asarray(self.contacts, dtype=float).ravel()
         if bounds.size and bounds[-1] >= self._history.t_end:
             bounds[-1] = math.inf
-        return np.searchsorted(bounds, τ, side="right") % 2 == 1
+        return bounds
 
     # ---- integration ---------------------------------------------------------------------
     def _rhs(self, t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
