@@ -109,7 +109,7 @@ def test_fields_do_not_depend_on_the_rank_count(tmp_path, kind):
 
 
 def test_killed_run_keeps_its_frames_and_a_restart_appends(tmp_path):
-    extra = ["simulation.end_time=3e-4", "fe.field_interval=1e-5", "fe.checkpoint_interval=5e-5"]
+    extra = ["simulation.end_time=2e-4", "fe.field_interval=1e-5", "fe.checkpoint_interval=5e-5"]
     ref, cut = tmp_path / "ref", tmp_path / "cut"
     _run(ref, extra)
     cmd = [str(MPIRUN.parent / "python"), "workflows/global.py", *set_args([*COARSE, *extra])]

@@ -57,7 +57,7 @@ def test_cli_writes_partial_histories_and_exits_1(tmp_path, monkeypatch):
 
 def run_global(out, *extra):
     args = [
-        a for o in ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=6e-4") for a in ("--set", o)
+        a for o in ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=3e-4") for a in ("--set", o)
     ]
     return [sys.executable, str(ROOT / "workflows" / "global.py"), *args, *extra, "--out", str(out)]
 
