@@ -70,7 +70,7 @@ import numpy as np
 import scipy.sparse
 from mpi4py import MPI
 
-from rods.fe.backend import PETSC, Backend
+from rods.fe.backend import PETSC, Backend, product
 
 __all__ = ["PATCH_KEYS", "PenaltyContact", "TipNodes", "bilinear_pairing", "face_quads", "tip_nodes"]
 
@@ -397,7 +397,7 @@ class PenaltyContact:
         if not self.serial:
             xs, xm = self.gather(x)
             return _interp(d.J, d.W, xm) - xs
-        return self.gap_rows(d, x.size) @ x
+        return product(self.gap_rows(d, x.size), x)
 
     def gap_rows(self, d, n: int):
         """B of :meth:`gap_matrix` as a CSR matrix of ``d``'s backend (host or backend arrays, serial), built at

@@ -48,9 +48,10 @@ round-off (the two sums round differently; ``tests/fe/test_backend.py`` runs it 
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
+from rods.fe.backend import product
 from rods.fe.contact import PenaltyContact, _transpose
 
 __all__ = ["KinematicContact", "edge_radius", "solve_lcp"]
@@ -76,22 +77,33 @@ def solve_lcp(D, g: np.ndarray, candidates: np.ndarray, cache: dict | None = Non
             factor = cache["factor"]
         else:
             block = D[idx][:, idx]
-            block = block.toarray() if sp.issparse(block) else np.asarray(block)
-            factor = scipy.linalg.cho_factor(block)
+            factor = _cholesky(block.toarray() if sp.issparse(block) else np.asarray(block, dtype=float))
             if cache is not None:
                 cache.update(key=key, factor=factor)
         x[:] = 0.0
-        x[idx] = scipy.linalg.cho_solve(factor, -g[idx])
+        x[idx] = lapack.dpotrs(factor, -g[idx], lower=False)[0]
         negative = x < 0.0
         if negative.any():
             A &= ~negative
             continue
-        y = g + D @ x
+        y = g + product(D, x)
         add = candidates & ~A & (y < -tol)
         if not add.any():
             return x
         A |= add
     raise RuntimeError("kinematic contact: the active-set LCP did not settle")
+
+
+def _cholesky(block: np.ndarray) -> np.ndarray:
+    """The upper Cholesky factor of the SPD ``block`` (LAPACK potrf, as scipy.linalg.cho_factor computes it; the
+    LCP's active block, once per change of the active set). Called directly: SciPy's wrappers' checks cost more than
+    the solve on a block of tens of pairs, every step in contact. LinAlgError if the block is not positive definite."""
+    factor, info = lapack.dpotrf(block, lower=False, clean=False)
+    if info != 0:
+        raise np.linalg.LinAlgError(
+            f"kinematic contact: the Delassus block is not positive definite (potrf info {info})"
+        )
+    return factor
 
 
 def edge_radius(r: np.ndarray, gap: np.ndarray, closed: np.ndarray) -> float:

@@ -31,7 +31,7 @@ import numpy as np
 from mpi4py import MPI
 
 from rods import metrics
-from rods.fe.backend import PETSC, Backend
+from rods.fe.backend import PETSC, Backend, product
 from rods.fe.explicit import CentralDifference
 
 __all__ = ["BASE_COLUMNS", "ENERGY_COLUMNS", "Recorder", "output_steps"]
@@ -129,15 +129,16 @@ class Recorder:
         E_k = 0.5 * sp(st.mass * st.v_prev, st.v)  # ½ v_{n-½}·M v_{n+½}
         W_dev = not isinstance(self.W_local, float)  # damped on a device: the sum is there (np.float64 is a float)
         sums = [E_k, E_s, sp(self.mass_axial, st.v)] + ([self.W_local] if W_dev else [])
-        got = be.to_host(xp.concatenate((xp.stack(sums), self.P @ (st.v_prev + st.v), self.P @ st.u)))  # one copy
+        probed = (product(self.P, st.v_prev + st.v), product(self.P, st.u))
+        got = be.to_host(xp.concatenate((xp.stack(sums), *probed)))  # one copy
         k = len(sums)
         W_ext = sum(s.external_work() for s in self.sources) if self.sources else 0.0
         W_local = got[3] if W_dev else self.W_local
         loc = np.concatenate(([got[0], got[1], W_local, W_ext], got[k : k + n_p], got[k + n_p : k + 2 * n_p], [got[2]]))
         if self.comm.size > 1:
             self.comm.Allreduce(MPI.IN_PLACE, loc, op=MPI.SUM)
-        scalars, pv, pu, p_z = np.split(loc, [4, 4 + n_p, 4 + 2 * n_p])
-        E_k, E_s, W, W_ext = scalars * self.multiplicity  # full rods
+        pv, pu, p_z = loc[4 : 4 + n_p], loc[4 + n_p : 4 + 2 * n_p], loc[4 + 2 * n_p]
+        E_k, E_s, W, W_ext = loc[:4] * self.multiplicity  # full rods
         pmax = float(c.pressure.max()) if c.ns else 0.0
         self.p_max_all = max(self.p_max_all, pmax)
         a = c.radius()
@@ -148,7 +149,7 @@ class Recorder:
         row.update(zip(c.patch_keys, c.patch(), strict=True))
         W = W + c.dissipated  # damping + contact dissipation (kinematic contact; 0 for the penalty)
         row.update(kinetic_energy=E_k, strain_energy=E_s, contact_energy=c.energy, dissipated_energy=W)
-        row.update(external_work=W_ext, momentum=p_z[0] * self.multiplicity)  # momentum at t_{n+½}
+        row.update(external_work=W_ext, momentum=p_z * self.multiplicity)  # momentum at t_{n+½}
         k = self.k
         for name, x in row.items():
             self.columns[name][k] = x

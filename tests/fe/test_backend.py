@@ -301,3 +301,19 @@ def test_petsc_path_multiplies_plain_aij_equal_to_the_assembled_block_matrix(pap
     assert np.abs(y.getArray() - y_block.getArray()).max() <= 1e-13 * scale
     op = model.stepper().op
     assert op.A.getType() == "seqaij" and isinstance(op, backend.PetscOperator)
+
+
+@pytest.mark.parametrize("index", [np.int32, np.int64])
+def test_product_is_scipys_product_to_the_bit(index):
+    """backend.product: SciPy's CSR kernel called without its checks gives A @ x bit for bit (the contact's gap
+    operator and the recorder's probe map on every step), and anything it does not take (a dense or CSC matrix,
+    an integer or complex vector) goes to A @ x unchanged."""
+    rng = np.random.default_rng(7)
+    A = scipy.sparse.random(40, 3000, density=0.003, format="csr", random_state=rng)
+    A.indices, A.indptr = A.indices.astype(index), A.indptr.astype(index)
+    x = rng.normal(size=3000)
+    y = backend.product(A, x)
+    assert y.dtype == np.float64 and np.array_equal(y, A @ x)
+    assert np.array_equal(backend.product(A, x[:, None].ravel()), A @ x)
+    for other, v in ((A.toarray(), x), (A.tocsc(), x), (A, np.arange(3000)), (A, x + 1j * x)):
+        np.testing.assert_array_equal(backend.product(other, v), other @ v)

@@ -223,3 +223,15 @@ def test_one_copy_to_the_host_per_step_and_no_force_while_open(monkeypatch, spee
         assert scatters[0] == (1 if closed else 0)  # the stepper's one add_force call reaches the scatter
         closed_steps += closed
     assert (10 <= closed_steps < 200) if speed > 0 else (closed_steps == 0)  # closing: open steps too (measured 15)
+
+
+def test_lcp_on_a_dense_operator_and_a_singular_block():
+    """solve_lcp takes a dense D as well as a sparse one (same impulses), and an active block that is not positive
+    definite (a Delassus operator of a massless pair) is refused by name, not solved into NaN."""
+    D = np.array([[2.0, 0.5], [0.5, 1.0]])
+    g = np.array([-1.0, 0.3])
+    both = np.ones(2, dtype=bool)
+    np.testing.assert_array_equal(solve_lcp(D, g, both, {}), solve_lcp(scipy.sparse.csr_matrix(D), g, both, {}))
+    assert solve_lcp(D, g, both)[0] == pytest.approx(0.5)
+    with pytest.raises(np.linalg.LinAlgError, match="not positive definite"):
+        solve_lcp(np.array([[0.0, 0.0], [0.0, 1.0]]), np.array([-1.0, -1.0]), both, {})
