@@ -1,6 +1,7 @@
 """Scenes beyond the verification matrix: the global FE model at default settings against the analytical model.
 
     mpirun -n 2 python benchmarks/scene_probe.py [--probe NAME ...] [--out results/scene-probe]
+    mpirun -n 2 python benchmarks/scene_probe.py --random 14 --seed 23 --out output/random-probe
 
 Issue 13's defaults must hold on scenes no issue lists. Each probe is the paper scene with a few overrides
 (:data:`PROBES`: other materials, diameters, lengths, tips, speeds), run through the analytical model and the
@@ -9,11 +10,14 @@ and the first contact are settled there; no midpoint plateaus, so no peak speed)
 verification matrix's targets (rods.study.verification.TARGETS) and its definitions (rods.metrics). The
 run's own warnings name where a model leaves its range. A gap is only the FE's when a finer mesh moves it:
 ``workflows/verify.py --case paper --set ...`` adds that mesh check for one probe. Writes --out + .json and .md.
+``--random N --seed S``: N scenes drawn at random from wide physical ranges (:func:`random_probes`: six materials,
+3-40 mm rods at least 5 diameters long, any tips, 0.05-20 m/s) instead of the named ones: scenes nobody chose.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -158,10 +162,14 @@ def tally(rows: list[dict]) -> list[str]:
 def render(data: dict) -> str:
     """scene-probe.md from the data."""
     t = data["targets"]
+    draw = data.get("draw")  # --random N --seed S
+    command = f"python benchmarks/scene_probe.py --random {draw['n']} --seed {draw['seed']}" if draw else ""
     lines = [
         "# Scenes beyond the verification matrix: global FE at default settings against the analytical model",
         "",
-        f"`mpirun -n {data['ranks']} python benchmarks/scene_probe.py`; each FE run over {PHASE:g} x the contact "
+        f"`mpirun -n {data['ranks']} {command or 'python benchmarks/scene_probe.py'}`; "
+        + (f"{draw['n']} scenes drawn at random: {draw['ranges']}. " if draw else "")
+        + f"Each FE run over {PHASE:g} x the contact "
         f"phase. Targets as the verification matrix: peak force within {t['peak_force']:g}%, first contact "
         f"duration within {t['duration'] * 1e6:g} µs, energy error below {t['energy']:g}; ✗ marks a miss. "
         "Warnings: the runs' own, by model, the midpoint plateaus' left out (the runs end before them).",
@@ -186,13 +194,82 @@ def render(data: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+# --random: materials drawn for each rod, (E [Pa], ρ [kg/m^3], ν [-]), yield strengths unset
+MATERIALS = {
+    "steel": (210e9, 7850.0, 0.30),
+    "aluminium": (70e9, 2700.0, 0.33),
+    "titanium": (114e9, 4430.0, 0.34),
+    "brass": (100e9, 8500.0, 0.34),
+    "glass": (70e9, 2500.0, 0.22),
+    "tungsten": (400e9, 19300.0, 0.28),
+}
+DIAMETERS = (3e-3, 40e-3)  # [m] log-uniform
+SLENDERNESS = 5.0  # a rod at least this many diameters long, and 0.05 m [-]
+LENGTHS = (0.05, 1.0)  # [m] log-uniform
+TIP_RADII = (0.6, 0.3)  # a curved tip: from 0.6 x the diameter (a cap below a hemisphere) to 0.3 m, log-uniform
+SPEEDS = (0.05, 20.0)  # [m/s] log-uniform
+RANDOM_BUDGET = 600.0  # [s] a drawn scene's estimated wall time (full 1.5 ms, rods.cost) at most; redrawn above
+RANGES = (
+    f"each rod of {', '.join(MATERIALS)} (yield unset), {DIAMETERS[0] * 1e3:g}-{DIAMETERS[1] * 1e3:g} mm in diameter, "
+    f"{LENGTHS[0]:g}-{LENGTHS[1]:g} m and at least {SLENDERNESS:g} diameters long; Rod 1's tip curved, Rod 2's half "
+    f"the time, radii {TIP_RADII[0]:g} diameters to {TIP_RADII[1]:g} m; {SPEEDS[0]:g}-{SPEEDS[1]:g} m/s; all "
+    f"log-uniform; scenes estimated above {RANDOM_BUDGET:g} s redrawn"
+)
+
+
+def random_probes(n: int, seed: int) -> dict[str, tuple[str, tuple[str, ...]]]:
+    """``n`` scenes drawn (numpy's PCG64 from ``seed``: the same list on every rank and every run) from the ranges
+    above: two rods of any two materials, diameters, lengths and tips (Rod 1 curved; Rod 2 curved half the time),
+    one impact speed. Each is inside the schema and within :data:`RANDOM_BUDGET` of estimated wall time."""
+    import numpy as np
+
+    from rods import cost
+
+    rng = np.random.default_rng(seed)
+
+    def log_uniform(lo: float, hi: float) -> float:
+        return float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+
+    probes: dict[str, tuple[str, tuple[str, ...]]] = {}
+    while len(probes) < n:
+        overrides, what = [], []
+        for i in (1, 2):
+            name = str(rng.choice(sorted(MATERIALS)))
+            E, ρ, ν = MATERIALS[name]
+            d = log_uniform(*DIAMETERS)
+            L = log_uniform(max(LENGTHS[0], SLENDERNESS * d), LENGTHS[1])
+            R = log_uniform(TIP_RADII[0] * d, TIP_RADII[1]) if i == 1 or rng.random() < 0.5 else math.inf
+            overrides += [f"rod{i}.material.youngs_modulus={E!r}", f"rod{i}.material.density={ρ!r}"]
+            overrides += [f"rod{i}.material.poisson_ratio={ν!r}", f"rod{i}.material.yield_strength='none'"]
+            overrides += [f"rod{i}.diameter={d:.4g}", f"rod{i}.length={L:.4g}", f"rod{i}.tip_radius={R:.4g}"]
+            tip = "flat" if R == math.inf else f"{R * 1e3:.0f} mm tip"
+            what.append(f"{name} {d * 1e3:.1f} mm x {L:.2f} m, {tip}")
+        v = log_uniform(*SPEEDS)
+        overrides.append(f"impact.speed={v:.3g}")
+        if cost.fe_cost(load_scene(PAPER, overrides)).wall_time > RANDOM_BUDGET:
+            continue
+        probes[f"random-{seed}-{len(probes)}"] = (f"{' onto '.join(what)}, {v:.3g} m/s", tuple(overrides))
+    return probes
+
+
 def main(argv: list[str] | None = None) -> int:
-    return run_probes(argv, __doc__, "scene-probe", PROBES, probe, render, TARGETS)
+    """The named probes, or with ``--random N [--seed S]`` N scenes drawn by :func:`random_probes` instead."""
+    ap = argparse.ArgumentParser(add_help=False)
+    ap.add_argument("--random", type=int, default=0, help="draw N scenes instead of the named probes")
+    ap.add_argument("--seed", type=int, default=0, help="the draw's seed")
+    known, rest = ap.parse_known_args(argv)
+    draw = None
+    if known.random > 0:
+        PROBES.clear()
+        PROBES.update(random_probes(known.random, known.seed))
+        draw = {"n": known.random, "seed": known.seed, "ranges": RANGES}
+    return run_probes(rest, __doc__, "scene-probe", PROBES, probe, render, TARGETS, draw=draw)
 
 
-def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, targets: dict) -> int:
+def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, targets: dict, draw=None) -> int:
     """A probe benchmark's command line (also benchmarks/submodel_probe.py's): run ``probes`` (``run(name, runs,
-    comm)``: a row on rank 0), then write OUT.json and OUT.md (``render_data``) on rank 0 and print the table."""
+    comm)``: a row on rank 0), then write OUT.json and OUT.md (``render_data``) on rank 0 and print the table.
+    ``draw``: how the probes were drawn (--random), kept in the data."""
     ap = argparse.ArgumentParser(description=doc.splitlines()[0])
     ap.add_argument("--probe", action="append", choices=list(probes), help="probe (repeatable; default all)")
     ap.add_argument("--out", default=str(ROOT / "results" / name), help="tables: OUT.json, OUT.md")
@@ -203,6 +280,8 @@ def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, target
     rows = [run(p, Path(args.runs), comm) for p in args.probe or probes]
     if comm.rank == 0:
         data = {"ranks": comm.size, "targets": targets, "wall_time": time.perf_counter() - t0, "rows": rows}
+        if draw is not None:
+            data["draw"] = draw
         text = render_data(data)
         io.write_data(Path(args.out + ".json"), data)
         io.atomic_write_text(Path(args.out + ".md"), text)

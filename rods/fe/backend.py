@@ -288,9 +288,7 @@ def product(A: Any, x: Any) -> Any:
 
 def _spmv_numpy(A: scipy.sparse.csr_matrix) -> Callable[[np.ndarray, np.ndarray], None]:
     """y += A x in place (SciPy's CSR kernel; without it, A @ x into a temporary)."""
-    try:
-        from scipy.sparse._sparsetools import csr_matvec
-    except ImportError:  # a SciPy without the (private) kernel: allocate
+    if _csr_matvec is None:
 
         def spmv(x: np.ndarray, y: np.ndarray) -> None:
             y += A @ x
@@ -299,7 +297,7 @@ def _spmv_numpy(A: scipy.sparse.csr_matrix) -> Callable[[np.ndarray, np.ndarray]
     n_rows, n_cols = A.shape
 
     def spmv(x: np.ndarray, y: np.ndarray) -> None:
-        csr_matvec(n_rows, n_cols, A.indptr, A.indices, A.data, x, y)
+        _csr_matvec(n_rows, n_cols, A.indptr, A.indices, A.data, x, y)
 
     return spmv
 

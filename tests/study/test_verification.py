@@ -262,6 +262,39 @@ def test_scene_probe_benchmark_runs_one_probe(tmp_path):
     assert "* 25 mm rods, 0.2 / 0.4 m, 50 mm tip, FE: Hertz peak pressure" in md
 
 
+def test_scene_probe_draws_the_same_random_scenes_inside_the_schema(monkeypatch):
+    """scene_probe.py --random N --seed S: N scenes, the same for a seed (every rank draws them), each loadable
+    (inside the schema), inside the drawn ranges and the cost budget, of which Rod 1 always has a curved tip; another
+    seed draws others; --random replaces the named probes."""
+    import math
+
+    from rods import cost
+
+    bench = _benchmark("scene_probe")
+    a, b = bench.random_probes(5, seed=3), bench.random_probes(5, seed=3)
+    assert a == b and len(a) == 5 and a != bench.random_probes(5, seed=4)
+    for what, overrides in a.values():
+        sc = load_scene(PAPER, list(overrides))
+        assert bench.SPEEDS[0] <= sc.speed <= bench.SPEEDS[1], what
+        for rod in (sc.rod1, sc.rod2):
+            assert bench.DIAMETERS[0] <= rod.diameter <= bench.DIAMETERS[1] * 1.001, what
+            assert rod.length >= min(bench.SLENDERNESS * rod.diameter, bench.LENGTHS[0]) * 0.999, what
+            assert rod.material.yield_strength is None
+        assert math.isfinite(sc.rod1.tip_radius)
+        assert cost.fe_cost(sc).wall_time <= bench.RANDOM_BUDGET
+    seen = {}
+    monkeypatch.setattr(
+        bench, "run_probes", lambda argv, *args, draw: seen.update(argv=argv, probes=dict(args[2]), draw=draw) or 0
+    )
+    assert bench.main(["--random", "2", "--seed", "3", "--out", "x"]) == 0
+    assert seen["argv"] == ["--out", "x"] and seen["probes"] == bench.random_probes(2, seed=3)
+    assert seen["draw"] == {"n": 2, "seed": 3, "ranges": bench.RANGES}
+    # the table says how its scenes were drawn, so that it can be rerun
+    md = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": seen["draw"]})
+    assert "`mpirun -n 2 python benchmarks/scene_probe.py --random 2 --seed 3`; 2 scenes drawn at random" in md
+    assert bench.RANGES in md
+
+
 @pytest.mark.slow  # 21 s serial: the default suite keeps to its 5 minutes
 def test_submodel_probe_benchmark_runs_one_probe(tmp_path):
     """benchmarks/submodel_probe.py on its cheapest probe (the paper rods at 15 m/s: auto levels extra-coarse /
