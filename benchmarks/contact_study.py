@@ -35,7 +35,7 @@ from rods import hertz, io, metrics  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
-from rods.paper.data import write_json  # noqa: E402
+from rods.io import write_data  # noqa: E402
 from rods.scene import SCHEMA, load_scene  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
 
@@ -241,7 +241,7 @@ def main() -> None:
         "targets": TARGETS,
         "rows": rows,
     }
-    write_json(args.out.with_suffix(".json"), data)
+    write_data(args.out.with_suffix(".json"), data)
     io.atomic_write_text(args.out.with_suffix(".md"), render_md(data))
     plot(data, curves, args.out.with_suffix(".png"))
     print(f"wrote {args.out.with_suffix('.json')}, .md and .png")

@@ -105,7 +105,7 @@ class GridConvergence:
         return _note(self)
 
     def as_dict(self) -> dict[str, Any]:
-        """JSON-ready fields (tuples as lists; NaN stays NaN for :func:`rods.paper.data.dump` to null)."""
+        """JSON-ready fields (tuples as lists; NaN stays NaN for :func:`rods.io.dumps` to null)."""
         d = {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()}
         derived = {
             "relative_uncertainty": self.relative_uncertainty,

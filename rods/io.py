@@ -1,4 +1,5 @@
-"""Result files: ``summary.json`` and ``history.csv``, written atomically on rank 0.
+"""Result files: ``summary.json``, ``history.csv`` and the stages' data files (JSON), written atomically on rank 0;
+a run as a later stage reads it (:class:`Run`).
 
 Atomic means write to a temporary file in the same folder, then ``os.replace``: a killed run leaves
 either the old file or the new one, never half of one. The file gets the mode an ``open()`` would give
@@ -13,6 +14,7 @@ import math
 import os
 import tempfile
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -20,9 +22,12 @@ import numpy as np
 
 __all__ = [
     "SUMMARY_KEYS",
+    "Run",
     "atomic_write_text",
+    "dumps",
     "file_mode",
     "offscreen_pyvista",
+    "read_data",
     "read_history",
     "write_data",
     "write_history",
@@ -66,7 +71,7 @@ def atomic_write_text(path: str | Path, text: str) -> None:
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         os.fchmod(fd, file_mode())  # mkstemp creates 0600
-        with os.fdopen(fd, "w") as f:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:  # µ, σ, ✗: not the locale's encoding
             f.write(text)
             f.flush()
             os.fsync(f.fileno())
@@ -101,10 +106,37 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> None:
     atomic_write_text(path, json.dumps(_jsonable(summary), indent=2, allow_nan=False) + "\n")
 
 
+def dumps(data: Mapping[str, Any]) -> str:
+    """A stage's data as strict JSON text: NaN and inf written as null (readers see "no value", never a string where
+    a number belongs), numpy scalars and arrays as numbers and lists."""
+    return json.dumps(_jsonable(data), indent=1, ensure_ascii=False, allow_nan=False) + "\n"
+
+
 def write_data(path: str | Path, data: Mapping[str, Any]) -> None:
-    """Write a stage's data file (e.g. ``table3.json``) atomically: strict JSON, NaN and inf written as null
-    (readers see "no value", never a string where a number belongs)."""
-    atomic_write_text(path, json.dumps(_jsonable(data), indent=1, allow_nan=False) + "\n")
+    """Write a stage's data file (e.g. ``table3.json``, ``fig4.json``) atomically (:func:`dumps`)."""
+    atomic_write_text(path, dumps(data))
+
+
+def _nan(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {k: _nan(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_nan(v) for v in x]
+    return math.nan if x is None else x
+
+
+def read_data(path: str | Path) -> dict[str, Any]:
+    """A stage's data file; every null reads back as NaN (no stage writes null for anything but a number)."""
+    return _nan(json.loads(Path(path).read_text(encoding="utf-8")))
+
+
+@dataclass(frozen=True)
+class Run:
+    """A model run as a later stage reads it: its label, history.csv columns and summary.json."""
+
+    label: str
+    history: dict[str, np.ndarray]
+    summary: dict[str, Any]
 
 
 def write_history(

@@ -11,7 +11,7 @@ import pytest
 
 from rods.compare import richardson
 from rods.convergence import FS_POOR, estimate
-from rods.paper.data import dump
+from rods.io import dumps
 
 H5 = np.array([0.25, 0.125, 0.0625, 0.03125, 0.015625])  # halving sizes [mm]
 
@@ -123,7 +123,7 @@ def test_order_of_input_does_not_matter_and_json():
     f = power(h)
     a, b = estimate(h, f, list("abcd")), estimate(h[::-1], f[::-1], list("dcba"))
     assert a == b and a.levels == ("a", "b", "c", "d")
-    d = json.loads(dump(estimate(h, [1.0, 2.0, 1.5, 1.7]).as_dict()))
+    d = json.loads(dumps(estimate(h, [1.0, 2.0, 1.5, 1.7]).as_dict()))
     assert d["extrapolated"] is None and d["branch"] == "non-monotone" and d["note"]
 
 

@@ -56,3 +56,33 @@ def test_a_history_reads_back_with_its_units_in_the_header(tmp_path):
     assert list(back) == list(cols)
     for k in cols:
         np.testing.assert_allclose(back[k], cols[k], rtol=1e-10, atol=1e-300)
+
+
+def test_stage_data_writes_nan_as_null_and_reads_it_back(tmp_path):
+    """A stage's data file (write_data/read_data): NaN and inf as null, numpy scalars as numbers, text as UTF-8
+    whatever the locale (µ and ✗ in the tables' labels), and every null back as NaN."""
+    d = {"a": math.nan, "b": [1.0, np.float64(math.inf)], "c": {"d": np.int64(3)}, "s": "µ ✗"}
+    io.write_data(tmp_path / "x.json", d)
+    raw = json.loads((tmp_path / "x.json").read_text())
+    assert raw == {"a": None, "b": [1.0, None], "c": {"d": 3}, "s": "µ ✗"}
+    back = io.read_data(tmp_path / "x.json")
+    assert math.isnan(back["a"]) and math.isnan(back["b"][1]) and back["c"]["d"] == 3
+
+
+def test_result_files_are_utf8_under_an_ascii_locale(tmp_path):
+    """Markdown tables and JSON labels carry µ, σ and ✗: written as UTF-8 whatever the locale. A plain open() in an
+    ASCII locale (LC_ALL=C without Python's UTF-8 coercion, as on some cluster nodes) raised UnicodeEncodeError."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "LC_ALL": "C", "PYTHONUTF8": "0", "PYTHONCOERCECLOCALE": "0"}
+    code = (
+        "import locale, sys; from rods import io; assert locale.getpreferredencoding(False) != 'UTF-8'; "
+        "io.write_data(sys.argv[1] + '/x.json', {'s': '\\u00b5 \\u03c3 \\u2717'}); "
+        "io.atomic_write_text(sys.argv[1] + '/x.md', '| \\u00b5m |')"
+    )
+    r = subprocess.run([sys.executable, "-c", code, str(tmp_path)], env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert io.read_data(tmp_path / "x.json")["s"] == "µ σ ✗"
+    assert (tmp_path / "x.md").read_text(encoding="utf-8") == "| µm |"

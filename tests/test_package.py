@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -24,10 +25,17 @@ IMPORT_ALL = textwrap.dedent(
 )
 
 
+UNPACKAGED = (".git", ".venv", "output", "build", "*.egg-info", "__pycache__", ".pytest_cache", ".snakemake")
+
+
 def test_wheel_installs_and_imports_every_module(tmp_path):
-    wheels, target = tmp_path / "wheels", tmp_path / "site"
+    """Built from a copy of the working tree: setuptools keeps its build/ folder in the tree it builds, and a module
+    moved or deleted since an earlier build in the checkout went into the wheel from there (an import error that
+    a clean clone does not have)."""
+    wheels, target, src = tmp_path / "wheels", tmp_path / "site", tmp_path / "src"
+    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(*UNPACKAGED))
     build = [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(wheels), "."]
-    subprocess.run(build, cwd=ROOT, check=True, capture_output=True)
+    subprocess.run(build, cwd=src, check=True, capture_output=True)
     (wheel,) = wheels.glob("rods-*.whl")
     pip = [sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(target), str(wheel)]
     subprocess.run(pip, check=True, capture_output=True)

@@ -1,4 +1,4 @@
-r"""Fig. 4 with both models: Rod-2 midpoint speed, strain and contact force, FE over analytical (rods.paper.fig4).
+r"""Fig. 4 with both models: Rod-2 midpoint speed, strain and contact force, FE over analytical (rods.study.fig4).
 
     python workflows/fig4.py --analytical output/paper/analytical/trial-1-3 --fe output/paper/global-paper \
         [--fe LABEL=DIR ...] [--png output/paper/fig4.png] [--md output/paper/fig4.md]
@@ -13,9 +13,9 @@ from __future__ import annotations
 import sys
 
 import _cli
-from rods.paper import fig4
 from rods.paper.data import parse_run, read_run
 from rods.scene import scene_from_summary
+from rods.study import fig4
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,14 +1,14 @@
 """The paper job's tables, figures and report: each stage computes its result as data, writes it as JSON,
 and renders its markdown and figures from that data.
 
-* :mod:`rods.paper.data` — JSON in and out (NaN as null), relative differences and their formatting.
+* :mod:`rods.paper.data` — the runs later stages read (checked as bad input), percentage cells.
 * :mod:`rods.paper.table2` — Table 2: the analytical model on the six trials against the paper and the
   experiment, with uncertainty bands (``table2.json``, ``.csv``, ``.md``, ``.png``, ``fig4-analytical.png``).
-* :mod:`rods.paper.fig4` — Fig. 4: FE runs over the analytical model (``fig4.json``, ``.md``, ``.png``).
 * :mod:`rods.paper.accuracy_cost` — every model's error against its cost, Pareto fronts
   (``accuracy-cost.json``, ``.md``, ``.png``).
 * :mod:`rods.paper.report` — ``REPORT.md`` rendered only from the stages' JSON files (``table2.json``,
-  ``table3.json``, ``fig4.json``, ``accuracy-cost.json``, ``contact-study.json``).
+  ``table3.json``, ``fig4.json``, ``accuracy-cost.json``, ``contact-study.json``). Fig. 4 is any scene's wave
+  response figure, :mod:`rods.study.fig4`, which the paper job draws for its own runs.
 
 The paper's published numbers enter only through :func:`rods.paper_data.load`, by named keys.
 """

@@ -24,7 +24,7 @@ import numpy as np
 
 from rods import hertz, io, metrics
 from rods.analytical import simulate
-from rods.paper.data import Run, write_json
+from rods.io import Run, write_data
 from rods.scene import Scene
 from rods.study.figures import pyplot
 
@@ -204,7 +204,7 @@ def write(scene: Scene, runs: list[Run], out: Path) -> dict[str, Any]:
     """The stage: ``out`` + .json, .md, .png."""
     data = compute(scene, runs)
     out = Path(out)
-    write_json(out.with_suffix(".json"), data)
+    write_data(out.with_suffix(".json"), data)
     io.atomic_write_text(out.with_suffix(".md"), render_md(data))
     plot(data, out.with_suffix(".png"))
     return data

@@ -38,7 +38,7 @@ import numpy as np
 from rods import hertz, io
 from rods.compare import cell, percent
 from rods.convergence import estimate
-from rods.paper.data import write_json
+from rods.io import write_data
 from rods.study.figures import pyplot
 
 __all__ = [
@@ -489,7 +489,7 @@ def write(
     convergence.png (:func:`plot`). Returns the data."""
     data = compute(records, analytical_force, E_star, R_star)
     out = Path(out_dir)
-    write_json(out / "convergence.json", data)
+    write_data(out / "convergence.json", data)
     io.atomic_write_text(out / "convergence.md", render_markdown(data))
     plot(data, out / "convergence.png")
     return data

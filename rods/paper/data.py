@@ -1,17 +1,13 @@
-"""Stage results as JSON: NaN/inf written as null (JSON has neither) and read back as NaN; the runs later
-stages read, checked as bad input (:func:`read_summary`: the folder, its summary, the kind of run, its scene);
-percentage cells."""
+"""The runs later stages read, checked as bad input (:func:`read_summary`: the folder, its summary, the kind of run,
+its scene; :func:`read_run`: a :class:`rods.io.Run`); percentage cells. The data files themselves: :mod:`rods.io`."""
 
 from __future__ import annotations
 
 import json
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from rods import io
 from rods.compare import percent
@@ -19,52 +15,7 @@ from rods.plan import scene_difference
 from rods.preflight import InputError, input_dir
 from rods.scene import Scene, SceneError, scene_from_summary
 
-__all__ = [
-    "Run",
-    "check_reuse",
-    "dump",
-    "load",
-    "parse_run",
-    "pct",
-    "read_run",
-    "read_summary",
-    "run_kind",
-    "write_json",
-]
-
-
-def _plain(x: Any) -> Any:
-    if isinstance(x, Mapping):
-        return {str(k): _plain(v) for k, v in x.items()}
-    if isinstance(x, list | tuple | np.ndarray):
-        return [_plain(v) for v in x]
-    if isinstance(x, np.generic):
-        return _plain(x.item())
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return x
-
-
-def _nan(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {k: _nan(v) for k, v in x.items()}
-    if isinstance(x, list):
-        return [_nan(v) for v in x]
-    return math.nan if x is None else x
-
-
-def dump(data: Mapping[str, Any]) -> str:
-    """JSON text of a stage result (non-finite numbers as null)."""
-    return json.dumps(_plain(data), indent=2, ensure_ascii=False, allow_nan=False) + "\n"
-
-
-def write_json(path: str | Path, data: Mapping[str, Any]) -> None:
-    io.atomic_write_text(path, dump(data))
-
-
-def load(path: str | Path) -> dict[str, Any]:
-    """A stage result; every null reads back as NaN (no stage writes null for anything but a number)."""
-    return _nan(json.loads(Path(path).read_text(encoding="utf-8")))
+__all__ = ["check_reuse", "parse_run", "pct", "read_run", "read_summary", "run_kind"]
 
 
 def pct(ours: float, ref: float, digits: int = 1) -> str:
@@ -72,15 +23,6 @@ def pct(ours: float, ref: float, digits: int = 1) -> str:
     if not (math.isfinite(ours) and math.isfinite(ref)) or ref == 0:
         return "-"
     return f"{percent(ours, ref):+.{digits}f}%"
-
-
-@dataclass(frozen=True)
-class Run:
-    """A model run as a later stage reads it: its label, history.csv columns and summary.json."""
-
-    label: str
-    history: dict[str, np.ndarray]
-    summary: dict[str, Any]
 
 
 def run_kind(summary: Mapping[str, Any]) -> str:
@@ -180,7 +122,7 @@ def read_run(
     kinds: tuple[str, ...] = ("analytical", "global", "submodel"),
     scene: Scene | None = None,
     other_scene: str = "give --scene/--set of that run, or a run of this scene",
-) -> Run:
+) -> io.Run:
     """The run in ``folder`` (history.csv, summary.json: :func:`read_summary`, ``other_scene`` its remedy for a
     run of another scene); the label defaults to the summary's model."""
     folder = Path(folder)
@@ -189,7 +131,7 @@ def read_run(
         history = io.read_history(folder / "history.csv")
     except (ValueError, OSError) as e:
         raise InputError(flag, folder, f"unreadable history.csv ({e})", "rerun that stage") from None
-    return Run(label or summary.get("model", folder.name), history, summary)
+    return io.Run(label or summary.get("model", folder.name), history, summary)
 
 
 def parse_run(spec: str) -> tuple[str, Path]:

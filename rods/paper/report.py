@@ -1,7 +1,7 @@
 """REPORT.md: every table and figure of the paper job, with what agrees and what does not.
 
 Rendered only from the stages' data: ``table2.json`` (:mod:`rods.paper.table2`), ``table3.json`` (the
-comparison stage, :mod:`rods.study`), ``fig4.json`` (:mod:`rods.paper.fig4`), ``accuracy-cost.json``
+comparison stage, :mod:`rods.study`), ``fig4.json`` (:mod:`rods.study.fig4`), ``accuracy-cost.json``
 (:mod:`rods.paper.accuracy_cost`), ``contact-study.json`` (``benchmarks/contact_study.py``) and
 ``driver-study.json`` (``benchmarks/driver_study.py``), all read by named keys. Every number in the prose is
 one of theirs or computed from them, so the report cannot drift from the results, and the paper's numbers
@@ -18,8 +18,9 @@ from typing import Any
 import numpy as np
 
 from rods.compare import percent
-from rods.paper import accuracy_cost, convergence, fig4, table2
-from rods.paper.data import load
+from rods.io import read_data
+from rods.paper import accuracy_cost, convergence, table2
+from rods.study import fig4
 
 __all__ = ["ReportData", "read", "render"]
 
@@ -42,14 +43,14 @@ def read(results: Path, contact_study: Path | None = None) -> ReportData:
     """The stage files in ``results``; the contact study from its own path (a benchmark, optional)."""
     results = Path(results)
     files = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json")
-    penalty = load(contact_study) if contact_study is not None and Path(contact_study).is_file() else None
-    fields = load(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
-    verify = load(results / "verification.json") if (results / "verification.json").is_file() else None
-    conv = load(results / "convergence.json") if (results / "convergence.json").is_file() else None
-    drivers = load(results / "driver-study.json") if (results / "driver-study.json").is_file() else None
-    scatter = load(results / "edge-scatter.json") if (results / "edge-scatter.json").is_file() else None
+    penalty = read_data(contact_study) if contact_study is not None and Path(contact_study).is_file() else None
+    fields = read_data(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
+    verify = read_data(results / "verification.json") if (results / "verification.json").is_file() else None
+    conv = read_data(results / "convergence.json") if (results / "convergence.json").is_file() else None
+    drivers = read_data(results / "driver-study.json") if (results / "driver-study.json").is_file() else None
+    scatter = read_data(results / "edge-scatter.json") if (results / "edge-scatter.json").is_file() else None
     return ReportData(
-        *(load(results / f) for f in files),
+        *(read_data(results / f) for f in files),
         contact_study=penalty,
         contact_fields=fields,
         verification=verify,

@@ -22,7 +22,8 @@ from rods import io, metrics, paper_data
 from rods.analytical import PAPER_LAW, AnalyticalResult, simulate
 from rods.compare import percent
 from rods.hertz import YieldWarning
-from rods.paper.data import pct, write_json
+from rods.io import write_data
+from rods.paper.data import pct
 from rods.scene import Scene, load_scene
 from rods.study.figures import pyplot
 from rods.uncertainty import PAPER_UNCERTAINTY, propagate
@@ -273,7 +274,7 @@ def write(scenes: Path, out: Path, results: Path) -> dict[str, Any]:
     """The whole stage: runs under ``out``, table2.{json,csv,md,png} and fig4-analytical.png in ``results``."""
     data = compute(scenes, out)
     results.mkdir(parents=True, exist_ok=True)
-    write_json(results / "table2.json", data)
+    write_data(results / "table2.json", data)
     io.atomic_write_text(results / "table2.csv", render_csv(data))
     io.atomic_write_text(results / "table2.md", render_md(data))
     plot(data, results / "table2.png")

@@ -5,6 +5,8 @@
 * :mod:`rods.study.pipeline` — :func:`rods.study.pipeline.run_study`: the plan (rods.plan) run in order.
 * :mod:`rods.study.table3` — the comparison data (``table3.json``) and its markdown/CSV renderings.
 * :mod:`rods.study.figures` — Fig. 5c and Fig. 6 from the submodels' summaries.
+* :mod:`rods.study.fig4` — Fig. 4 of a scene (its wave response): FE runs over the analytical model, their Rod-2
+  midpoint speed and strain and contact force (``fig4.json``, ``.md``, ``.png``).
 * :mod:`rods.study.sweep` — one CSV row per run of a parameter sweep.
 * :mod:`rods.study.console` — rank 0's log and progress bar for the entry points.
 

@@ -60,10 +60,10 @@ def _compare(scene: Scene, done: dict[str, stages.Stage], out: Path) -> stages.C
 
 
 def _wave_figure(done: dict[str, stages.Stage], out: Path) -> None:
-    """Fig. 4 of the scene (rods.paper.fig4): the global's Rod-2 midpoint speed and strain and its contact force
+    """Fig. 4 of the scene (rods.study.fig4): the global's Rod-2 midpoint speed and strain and its contact force
     over the analytical model's, with the agreement table (fig4.png, fig4.md, fig4.json in ``out``)."""
-    from rods.paper import fig4
-    from rods.paper.data import Run
+    from rods.io import Run
+    from rods.study import fig4
 
     analytical, fe = (Run(k, done[k].history, done[k].summary) for k in ("analytical", "global"))
     fig4.write(analytical, [fe], out / "fig4.png", out / "fig4.md")

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from rods.paper import data
+from rods import io
 
 DATA = Path(__file__).resolve().parent / "data"
 STAGES = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json", "contact-study.json")
@@ -16,7 +16,7 @@ STAGES = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json", "cont
 
 @pytest.fixture(scope="session")
 def _stages() -> dict[str, dict]:
-    return {name: data.load(DATA / name) for name in STAGES}
+    return {name: io.read_data(DATA / name) for name in STAGES}
 
 
 @pytest.fixture

@@ -8,8 +8,8 @@ import pytest
 
 from rods import hertz
 from rods.analytical import simulate
+from rods.io import Run, read_data
 from rods.paper import accuracy_cost
-from rods.paper.data import Run, load
 from tests.conftest import ROOT
 
 
@@ -50,6 +50,6 @@ def test_a_gpu_run_is_labelled_with_its_device(scene_with, tmp_path):
 def test_table_renders_the_committed_rows():
     """The committed record: accuracy-cost.md's table is the rendering of accuracy-cost.json."""
     committed = (ROOT / "results" / "accuracy-cost.md").read_text()
-    data = load(ROOT / "results" / "accuracy-cost.json")
+    data = read_data(ROOT / "results" / "accuracy-cost.json")
     lines = accuracy_cost.render_table(data)
     assert len(lines) == 2 + len(data["rows"]) and all(line in committed for line in lines)

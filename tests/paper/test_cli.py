@@ -6,8 +6,8 @@ import importlib
 
 import pytest
 
+from rods.io import read_data
 from rods.paper import table2
-from rods.paper.data import load
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +26,7 @@ def job(tmp_path_factory):
 def test_paper_writes_its_stage_under_out(job):
     names = {p.name for p in job.iterdir()}
     assert {"table2.json", "table2.csv", "table2.md", "table2.png", "fig4-analytical.png", "analytical"} <= names
-    s = load(job / "analytical" / "trial-1-3" / "summary.json")
+    s = read_data(job / "analytical" / "trial-1-3" / "summary.json")
     assert s["scene_values"]["rod2"]["length"] == 0.70099  # later stages rebuild the scene from the run
 
 
@@ -45,13 +45,13 @@ def test_fig4_and_accuracy_cost_clis(job, tmp_path):
     fig4 = importlib.import_module("fig4")
     out = ["--png", str(tmp_path / "f.png"), "--md", str(tmp_path / "f.md")]
     assert fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"coarse={g}", *out]) == 0
-    assert load(tmp_path / "f.json")["runs"][0]["label"] == "coarse"
+    assert read_data(tmp_path / "f.json")["runs"][0]["label"] == "coarse"
     with pytest.raises(InputError, match="--fe.*model 'analytical'"):
         fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"other trial={a / 'trial-2-4'}", *out])
     ac = importlib.import_module("accuracy_cost")
     runs = ["--scene", str(SCENES / "trial-1-3.toml"), "--run", f"trial={a / 'trial-1-3'}", "--run", f"coarse={g}"]
     assert ac.main([*runs, "--set", "simulation.end_time=3e-4", "--out", str(tmp_path / "ac")]) == 0
-    assert {r["label"] for r in load(tmp_path / "ac.json")["rows"]} >= {"trial", "coarse"}
+    assert {r["label"] for r in read_data(tmp_path / "ac.json")["rows"]} >= {"trial", "coarse"}
     with pytest.raises(InputError, match="--run.*no such folder"):
         ac.main([*runs, "--run", f"missing={tmp_path / 'none'}", "--out", str(tmp_path / "ac2")])
 
@@ -71,10 +71,10 @@ def test_later_stages_read_real_submodel_runs(tmp_path):
     drv, sub = tmp_path / "driver", tmp_path / "coarse"
     assert importlib.import_module("global").main([*scene, "--driver", "--out", str(drv)]) == 0
     assert importlib.import_module("submodel").main(["--global", str(drv), "--level", "coarse", "--out", str(sub)]) == 0
-    assert load(sub / "summary.json")["driver_scene_values"]["rod1"]["length"] == 0.25009
+    assert read_data(sub / "summary.json")["driver_scene_values"]["rod1"]["length"] == 0.25009
     compare = importlib.import_module("compare")
     assert compare.main([*scene, "--global", str(drv), "--submodel", str(sub), "--out", str(tmp_path / "t3")]) == 0
-    assert {r["role"] for r in load(tmp_path / "t3" / "table3.json")["rows"]} >= {"submodel"}
+    assert {r["role"] for r in read_data(tmp_path / "t3" / "table3.json")["rows"]} >= {"submodel"}
     assert importlib.import_module("convergence").main([*scene, "--run", str(sub), "--out", str(tmp_path / "cv")]) == 0
     ac = importlib.import_module("accuracy_cost")
     assert ac.main([*scene, "--run", f"coarse={sub}", "--out", str(tmp_path / "ac")]) == 0
@@ -89,7 +89,7 @@ def test_later_stages_read_real_submodel_runs(tmp_path):
         ("stopped", {"status": "interrupted"}, "--global.*a stopped run"),
     ):
         shutil.copytree(drv, tmp_path / name)
-        s = load(drv / "summary.json") | change
+        s = read_data(drv / "summary.json") | change
         (tmp_path / name / "summary.json").write_text(json.dumps(s))
         with pytest.raises(InputError, match=match):
             compare.main(

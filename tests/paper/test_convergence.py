@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from rods import compare, hertz
+from rods.io import read_data
 from rods.paper import convergence
-from rods.paper.data import load
 
 E_STAR, R_STAR = 1.1e11, 0.035  # [Pa], [m]
 F_AN = 5555.0  # analytical peak force [N]
@@ -144,7 +144,7 @@ def test_write_three_files_and_json_renders_the_same(tmp_path):
         and files["convergence.png"].stat().st_size > 10_000
     )
     assert list(d["models"]) == ["submodel", "global"]
-    assert convergence.render_markdown(load(files["convergence.json"])) == files["convergence.md"].read_text()
+    assert convergence.render_markdown(read_data(files["convergence.json"])) == files["convergence.md"].read_text()
     # three global meshes: the all-level fit is the three-level Richardson/GCI
     g = d["models"]["global"]["estimates"]["peak_contact_force"]
     f = g["value"]["f"]
@@ -192,10 +192,10 @@ def test_3d_globals_are_their_own_family():
 
 
 def test_a_two_level_family_renders_from_its_json(tmp_path):
-    """Two levels get no estimate; the record read back (null -> NaN, rods.paper.data.load) still renders."""
+    """Two levels get no estimate; the record read back (null -> NaN, rods.io.read_data) still renders."""
     d = convergence.write(power_records() + power_records("global 3d", n=2), F_AN, E_STAR, R_STAR, tmp_path)
     assert d["models"]["global 3d"]["estimates"] is None
-    text = convergence.render_markdown(load(tmp_path / "convergence.json"))
+    text = convergence.render_markdown(read_data(tmp_path / "convergence.json"))
     assert "### global 3d (2 levels)" in text and text == (tmp_path / "convergence.md").read_text()
 
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 import subprocess
 import sys
 
-from rods.paper import accuracy_cost, fig4, report
-from rods.paper.data import write_json
+from rods.io import read_data, write_data
+from rods.paper import accuracy_cost, report
+from rods.study import fig4
 from tests.conftest import ROOT
 
 
@@ -88,14 +89,14 @@ def test_richardson_sentence_when_nothing_extrapolates(stages, tmp_path):
     q["contact_radius"]["order"] = float("nan")
     text = render(stages)
     assert "does not apply (observed order none: non-monotone)" in text
-    write_json(tmp_path / "t3.json", stages["table3.json"])  # NaN survives as null and back
-    assert "does not apply" in report._richardson_text(report.load(tmp_path / "t3.json")["richardson"])
+    write_data(tmp_path / "t3.json", stages["table3.json"])  # NaN survives as null and back
+    assert "does not apply" in report._richardson_text(read_data(tmp_path / "t3.json")["richardson"])
 
 
 def test_no_richardson_when_the_comparison_has_none(stages, tmp_path):
     stages["table3.json"]["richardson"] = None
-    write_json(tmp_path / "t3.json", stages["table3.json"])
-    stages["table3.json"] = report.load(tmp_path / "t3.json")
+    write_data(tmp_path / "t3.json", stages["table3.json"])
+    stages["table3.json"] = read_data(tmp_path / "t3.json")
     assert "Richardson" not in render(stages)
 
 

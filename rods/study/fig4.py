@@ -13,7 +13,6 @@ from typing import Any
 
 from rods import io, metrics
 from rods.compare import cell, difference, percent
-from rods.paper.data import Run, write_json
 from rods.scene import scene_from_summary
 from rods.study.figures import pyplot
 
@@ -23,14 +22,14 @@ FORCE_PANEL_END = 400e-6  # [s] the force panel shows the first contact and the 
 CONTACT_SETTINGS = ("penalty", "tip_grading")  # fe.* keys that tune the contact, not the mesh
 
 
-def _contact_overrides(run: Run, reference: dict[str, Any]) -> dict[str, Any]:
+def _contact_overrides(run: io.Run, reference: dict[str, Any]) -> dict[str, Any]:
     """The run's fe contact settings that differ from the analytical scene's (empty: a run at the scene's
     own contact settings, i.e. a validation run rather than a tuned one)."""
     fe = run.summary.get("scene_values", {}).get("fe", {})
     return {k: fe[k] for k in CONTACT_SETTINGS if k in fe and fe[k] != reference.get(k)}
 
 
-def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_fe: dict) -> dict[str, Any]:
+def _measures(run: io.Run, analytical: io.Run, window: tuple[float, float], reference_fe: dict) -> dict[str, Any]:
     s, sa, h, ha = run.summary, analytical.summary, run.history, analytical.history
     return {
         "label": run.label,
@@ -49,7 +48,7 @@ def _measures(run: Run, analytical: Run, window: tuple[float, float], reference_
     }
 
 
-def compute(analytical: Run, fe: list[Run]) -> dict[str, Any]:
+def compute(analytical: io.Run, fe: list[io.Run]) -> dict[str, Any]:
     """Fig. 4's agreement measures as data (SI units); the scene is the analytical run's own."""
     if "scene_values" not in analytical.summary:
         raise ValueError("the analytical run's summary.json has no scene_values (rerun workflows/paper.py)")
@@ -122,7 +121,7 @@ def render_md(data: dict[str, Any], png: str = "fig4.png") -> str:
     return "\n".join(md) + "\n"
 
 
-def plot(analytical: Run, fe: list[Run], data: dict[str, Any], path: Path) -> None:
+def plot(analytical: io.Run, fe: list[io.Run], data: dict[str, Any], path: Path) -> None:
     """Three panels (midpoint speed, midpoint strain, contact force), every run over the analytical curves."""
     plt = pyplot()
     fig, ax = plt.subplots(3, 1, figsize=(9, 9))
@@ -147,10 +146,10 @@ def plot(analytical: Run, fe: list[Run], data: dict[str, Any], path: Path) -> No
     plt.close(fig)
 
 
-def write(analytical: Run, fe: list[Run], png: Path, md: Path) -> dict[str, Any]:
+def write(analytical: io.Run, fe: list[io.Run], png: Path, md: Path) -> dict[str, Any]:
     """The stage: fig4.json next to ``md``, the markdown and the figure."""
     data = compute(analytical, fe)
-    write_json(Path(md).with_suffix(".json"), data)
+    io.write_data(Path(md).with_suffix(".json"), data)
     plot(analytical, fe, data, png)
     io.atomic_write_text(md, render_md(data, Path(png).name))
     return data

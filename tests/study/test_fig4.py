@@ -8,8 +8,8 @@ import math
 import pytest
 
 from rods.analytical import simulate
-from rods.paper import fig4
-from rods.paper.data import Run, load
+from rods.io import Run, read_data
+from rods.study import fig4
 from tests.conftest import ROOT
 
 
@@ -42,7 +42,7 @@ def test_measures_of_known_perturbations(analytical, tmp_path):
     assert g["strain_rms_difference"] == pytest.approx(2e-6, rel=1e-9)
     assert drv["strain_rms_difference"] == 0.0 and drv["contact_overrides"] == {"penalty": 8.0, "tip_grading": 0.25}
     assert fig4.validation_runs(d) == [g]
-    assert load(tmp_path / "fig4.json")["runs"][0]["label"] == "global" and (tmp_path / "fig4.png").stat().st_size
+    assert read_data(tmp_path / "fig4.json")["runs"][0]["label"] == "global" and (tmp_path / "fig4.png").stat().st_size
     assert f"| global | {1.01 * a.summary['peak_contact_force']:.1f} | +1.00% |" in (tmp_path / "fig4.md").read_text()
 
 
@@ -57,7 +57,7 @@ def test_window_follows_the_runs_scene(analytical):
 def test_table_renders_the_committed_rows():
     """The committed record: fig4.md's table is the rendering of fig4.json (the main job wrote both)."""
     committed = (ROOT / "results" / "fig4.md").read_text()
-    data = load(ROOT / "results" / "fig4.json")
+    data = read_data(ROOT / "results" / "fig4.json")
     assert all(line in committed for line in fig4.render_table(data))
 
 
