@@ -263,14 +263,17 @@ def main(argv: list[str] | None = None) -> int:
         PROBES.clear()
         PROBES.update(random_probes(known.random, known.seed))
         draw = {"n": known.random, "seed": known.seed, "ranges": RANGES}
-    return run_probes(rest, __doc__, "scene-probe", PROBES, probe, render, TARGETS, draw=draw)
+    epilog = "--random N [--seed S]: N scenes drawn at random instead of the named probes (" + RANGES + ")"
+    return run_probes(rest, __doc__, "scene-probe", PROBES, probe, render, TARGETS, draw=draw, epilog=epilog)
 
 
-def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, targets: dict, draw=None) -> int:
+def run_probes(
+    argv, doc: str, name: str, probes: dict, run, render_data, targets: dict, draw=None, epilog: str | None = None
+) -> int:
     """A probe benchmark's command line (also benchmarks/submodel_probe.py's): run ``probes`` (``run(name, runs,
     comm)``: a row on rank 0), then write OUT.json and OUT.md (``render_data``) on rank 0 and print the table.
-    ``draw``: how the probes were drawn (--random), kept in the data."""
-    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ``draw``: how the probes were drawn (--random), kept in the data; ``epilog``: options parsed before this (help)."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0], epilog=epilog)
     ap.add_argument("--probe", action="append", choices=list(probes), help="probe (repeatable; default all)")
     ap.add_argument("--out", default=str(ROOT / "results" / name), help="tables: OUT.json, OUT.md")
     ap.add_argument("--runs", default=str(ROOT / "output" / name), help="folder of the runs")

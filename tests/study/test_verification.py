@@ -284,7 +284,9 @@ def test_scene_probe_draws_the_same_random_scenes_inside_the_schema(monkeypatch)
         assert cost.fe_cost(sc).wall_time <= bench.RANDOM_BUDGET
     seen = {}
     monkeypatch.setattr(
-        bench, "run_probes", lambda argv, *args, draw: seen.update(argv=argv, probes=dict(args[2]), draw=draw) or 0
+        bench,
+        "run_probes",
+        lambda argv, *args, draw, epilog: seen.update(argv=argv, probes=dict(args[2]), draw=draw) or 0,
     )
     assert bench.main(["--random", "2", "--seed", "3", "--out", "x"]) == 0
     assert seen["argv"] == ["--out", "x"] and seen["probes"] == bench.random_probes(2, seed=3)
