@@ -278,6 +278,7 @@ def product(A: Any, x: Any) -> Any:
         _csr_matvec is None
         or not isinstance(x, np.ndarray)
         or x.dtype != np.float64
+        or x.ndim != 1
         or not (scipy.sparse.issparse(A) and A.format == "csr" and A.dtype == np.float64)
     ):
         return A @ x

@@ -314,6 +314,8 @@ def test_product_is_scipys_product_to_the_bit(index):
     x = rng.normal(size=3000)
     y = backend.product(A, x)
     assert y.dtype == np.float64 and np.array_equal(y, A @ x)
-    assert np.array_equal(backend.product(A, x[:, None].ravel()), A @ x)
-    for other, v in ((A.toarray(), x), (A.tocsc(), x), (A, np.arange(3000)), (A, x + 1j * x)):
+    strided = rng.normal(size=6000)[::2]  # a view, not contiguous
+    assert np.array_equal(backend.product(A, strided), A @ strided)
+    X = rng.normal(size=(3000, 2))  # a block of vectors: A @ X, not the vector kernel
+    for other, v in ((A.toarray(), x), (A.tocsc(), x), (A, np.arange(3000)), (A, x + 1j * x), (A, X)):
         np.testing.assert_array_equal(backend.product(other, v), other @ v)
