@@ -168,8 +168,8 @@ def render(data: dict) -> str:
         "# Scenes beyond the verification matrix: global FE at default settings against the analytical model",
         "",
         f"`mpirun -n {data['ranks']} {command or 'python benchmarks/scene_probe.py'}`; "
-        + (f"{draw['n']} scenes drawn at random: {draw['ranges']}. " if draw else "")
-        + f"Each FE run over {PHASE:g} x the contact "
+        + (f"{draw['n']} scenes drawn at random ({draw['ranges']}); " if draw else "")
+        + f"each FE run over {PHASE:g} x the contact "
         f"phase. Targets as the verification matrix: peak force within {t['peak_force']:g}%, first contact "
         f"duration within {t['duration'] * 1e6:g} µs, energy error below {t['energy']:g}; ✗ marks a miss. "
         "Warnings: the runs' own, by model, the midpoint plateaus' left out (the runs end before them).",

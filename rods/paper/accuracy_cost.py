@@ -150,9 +150,15 @@ def render_md(data: dict[str, Any]) -> str:
         f"{ref['rtol']:.0e}: peak force {ref['peak_contact_force']:.2f} N; midpoint strain over the first "
         f"{metrics.STRAIN_PERIODS} periods 2 L2/c2, {ref['strain_window'][1] * 1e6:.0f} µs) and closed-form Hertz at "
         "each model's own peak force (contact radius). Wall time includes set-up where recorded; runs measured on "
-        "this 2-core machine (ranks in each run's summary), except rows marked GPU, whose time loop ran on the "
-        'named GPU (fe.backend = "cupy"; set-up on that machine\'s CPU); submodel rows exclude the global run '
-        "that drives them. `*` = on the Pareto front of that error against wall time.",
+        "this 2-core machine (ranks in each run's summary)"
+        + (
+            ', except rows marked GPU, whose time loop ran on the named GPU (fe.backend = "cupy"; set-up on that '
+            "machine's CPU)"
+            if any(r.get("device", "CPU") != "CPU" for r in data["rows"])
+            else ""
+        )
+        + "; submodel rows exclude the global run that drives them. `*` = on the Pareto front of that error against "
+        "wall time.",
         "",
         *render_table(data),
         "",

@@ -44,12 +44,17 @@ def test_a_gpu_run_is_labelled_with_its_device(scene_with, tmp_path):
     runs = [Run("3d-paper", r.history, base | {"device": "NVIDIA H200"}), Run("old", r.history, base)]
     d = accuracy_cost.write(sc, runs, tmp_path / "ac")
     assert [row["label"] for row in d["rows"][-2:]] == ["3d-paper (GPU: NVIDIA H200)", "old"]
-    assert "| 3d-paper (GPU: NVIDIA H200) |" in (tmp_path / "ac.md").read_text()
+    md = (tmp_path / "ac.md").read_text()
+    assert "| 3d-paper (GPU: NVIDIA H200) |" in md and "except rows marked GPU" in md
+    accuracy_cost.write(sc, runs[1:], tmp_path / "cpu")  # no GPU row: no word of one
+    assert "GPU" not in (tmp_path / "cpu.md").read_text()
 
 
 def test_table_renders_the_committed_rows():
-    """The committed record: accuracy-cost.md's table is the rendering of accuracy-cost.json."""
-    committed = (ROOT / "results" / "accuracy-cost.md").read_text()
+    """The committed record: accuracy-cost.md is the rendering of accuracy-cost.json (its text had kept an older
+    rendering's words after the renderer changed)."""
+    committed = (ROOT / "results" / "accuracy-cost.md").read_text(encoding="utf-8")
     data = read_data(ROOT / "results" / "accuracy-cost.json")
     lines = accuracy_cost.render_table(data)
     assert len(lines) == 2 + len(data["rows"]) and all(line in committed for line in lines)
+    assert accuracy_cost.render_md(data) == committed

@@ -294,7 +294,15 @@ def test_scene_probe_draws_the_same_random_scenes_inside_the_schema(monkeypatch)
     # the table says how its scenes were drawn, so that it can be rerun
     md = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": seen["draw"]})
     assert "`mpirun -n 2 python benchmarks/scene_probe.py --random 2 --seed 3`; 2 scenes drawn at random" in md
-    assert bench.RANGES in md
+    assert f"({bench.RANGES}); each FE run" in md
+
+
+def test_committed_probe_tables_are_the_rendering_of_their_data():
+    """results/scene-probe.md and scene-probe-random.md are what the benchmark renders from their JSON."""
+    bench = _benchmark("scene_probe")
+    for name in ("scene-probe", "scene-probe-random"):
+        data = json.loads((ROOT / "results" / f"{name}.json").read_text(encoding="utf-8"))
+        assert bench.render(data) == (ROOT / "results" / f"{name}.md").read_text(encoding="utf-8"), name
 
 
 @pytest.mark.slow  # 21 s serial: the default suite keeps to its 5 minutes
