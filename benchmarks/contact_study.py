@@ -35,7 +35,6 @@ from rods import hertz, io, metrics  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
-from rods.io import write_data  # noqa: E402
 from rods.scene import SCHEMA, load_scene  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
 
@@ -113,26 +112,39 @@ def run(
     return row, {"t": h["time"], "F": h["contact_force"], "ta": ha["time"], "Fa": ha["contact_force"]}
 
 
+def damping(r: dict) -> float | None:
+    """A row's contact damping ζ; None for a law without one (written as null, read back from the JSON as NaN)."""
+    ζ = r.get("damping")
+    return None if ζ is None or math.isnan(ζ) else ζ
+
+
 def label(r: dict) -> str:
     if r["law"] == "kinematic":
         return "kinematic"
-    ζ = f", ζ = {r['damping']:g}" if r.get("damping") is not None else ""
+    ζ = f", ζ = {damping(r):g}" if damping(r) is not None else ""
     if r.get("basis", "element").startswith("hertz"):
         return f"penalty from Hertz, {float(r['basis'].split()[1]):.0%} compliance ({r['factor']:.3g} x E*/h{ζ})"
     return f"penalty {r['factor']:g} x E*/h{ζ}"
 
 
-def spread(rows: list[dict], key: str, lo: float, hi: float, damping: float | None = None) -> float:
-    """Largest minus smallest ``key`` over the penalty rows with lo <= factor <= hi (and ``damping``, if given)."""
+def spread(rows: list[dict], key: str, lo: float, hi: float, ζ: float | None = None) -> float:
+    """Largest minus smallest ``key`` over the penalty rows with lo <= factor <= hi (and contact damping ``ζ``, if
+    given)."""
     v = [
         r[key]
         for r in rows
         if r["law"] == "penalty"
         and r.get("basis") == "element"
         and lo <= r["factor"] <= hi
-        and (damping is None or r.get("damping") == damping)
+        and (ζ is None or damping(r) == ζ)
     ]
     return max(v) - min(v) if v else float("nan")
+
+
+def switching(dt: float) -> str:
+    """The Δt_switch cell [ns]: "none" where there is no switching limit (the kinematic contact: inf, which its
+    JSON record keeps as null)."""
+    return f"{dt * 1e9:.2f}" if math.isfinite(dt) else "none"
 
 
 def render_md(data: dict) -> str:
@@ -160,7 +172,7 @@ def render_md(data: dict) -> str:
             f"| {r['scene']} | {label(r)} | {r['peak_force_vs_analytical']:+.3%} "
             f"| {r.get('smoothed_peak_vs_analytical', float('nan')):+.3%} "
             f"| {r['duration_vs_analytical'] * 1e6:+.2f} µs | {rms} | {r['energy_error']:.1e} | {r['dt'] * 1e9:.2f} "
-            f"| {r['dt_critical'] * 1e9:.2f} | {r['dt_switching'] * 1e9:.2f} | {r['loop_time_per_step'] * 1e6:.1f} |"
+            f"| {r['dt_critical'] * 1e9:.2f} | {switching(r['dt_switching'])} | {r['loop_time_per_step'] * 1e6:.1f} |"
         )
     ζ0 = data.get("default_damping")
     lines += [
@@ -172,7 +184,7 @@ def render_md(data: dict) -> str:
         f"< {TARGETS['peak_force']:.1%} peak force, < {TARGETS['contact_duration'] * 1e6:g} µs duration):",
         "",
     ]
-    dampings = sorted({r["damping"] for r in data["rows"] if r.get("damping") is not None}, reverse=True)
+    dampings = sorted({damping(r) for r in data["rows"] if damping(r) is not None}, reverse=True)
     for sc in SCENES:
         rows = [r for r in data["rows"] if r["scene"] == sc]
         for ζ in dampings or [None]:
@@ -241,7 +253,7 @@ def main() -> None:
         "targets": TARGETS,
         "rows": rows,
     }
-    write_data(args.out.with_suffix(".json"), data)
+    io.write_data(args.out.with_suffix(".json"), data)
     io.atomic_write_text(args.out.with_suffix(".md"), render_md(data))
     plot(data, curves, args.out.with_suffix(".png"))
     print(f"wrote {args.out.with_suffix('.json')}, .md and .png")

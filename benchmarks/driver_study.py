@@ -37,7 +37,6 @@ sys.path.insert(0, str(ROOT))
 from rods import io, metrics, plan  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
-from rods.io import write_data  # noqa: E402
 from rods.scene import SUBMODEL_DRIVINGS, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
@@ -171,7 +170,7 @@ def main() -> None:
         order = {c: i for i, c in enumerate(CASES)}
         data["rows"] = sorted(kept + rows, key=lambda r: (order[(r["global"], r["submodel"], r["driving"])],))
         data["curves"] = {**prev.get("curves", {}), **curves}
-    write_data(args.out.with_suffix(".json"), data)
+    io.write_data(args.out.with_suffix(".json"), data)
     io.atomic_write_text(args.out.with_suffix(".md"), render_md(data))
     plot(data["curves"], a.history, args.out.with_suffix(".png"))
     print(f"wrote {args.out.with_suffix('.json')}, .md and .png")

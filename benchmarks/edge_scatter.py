@@ -30,7 +30,6 @@ from mpi4py import MPI  # noqa: E402
 
 from rods import hertz, io  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
-from rods.io import write_data  # noqa: E402
 from rods.scene import SUBMODEL_LEVEL_SIZES, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 
@@ -109,7 +108,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{level} h = {h * 1e3:.4f} mm: " + ", ".join(f"{k} {v:+.3%}" for k, v in e.items()), flush=True)
     data = {"scene": scene.name, "levels": args.levels, "spread": SPREAD, "rows": rows}
     if comm.rank == 0:
-        write_data(args.out.with_suffix(".json"), data)
+        io.write_data(args.out.with_suffix(".json"), data)
         io.atomic_write_text(args.out.with_suffix(".md"), render_md(data))
         print(f"wrote {args.out.with_suffix('.json')} and .md")
     return 0

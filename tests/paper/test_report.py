@@ -231,11 +231,3 @@ def test_edge_mean_paragraph_says_when_the_trend_itself_turns():
     assert "area +1.020% / +0.520% / +0.220%" in smooth and "monotone over the three finest" in smooth
     assert "turn by more than" not in smooth
     assert "turn by more than the members' scatter" in report.edge_mean_text(conv(0.008))
-
-
-def test_the_committed_report_is_the_rendering_of_the_committed_data():
-    """results/REPORT.md is what the main job's report stage (workflows/report.py) renders from results/*.json: a
-    table regenerated without its report (make verify, 2026-11-28) had left REPORT.md quoting the old energy error."""
-    results = ROOT / "results"
-    text = report.render(report.read(results, results / "contact-study.json"))
-    assert text == (results / "REPORT.md").read_text(encoding="utf-8")
