@@ -17,6 +17,10 @@ from rods.scene import Scene, SceneError, scene_from_summary
 
 __all__ = ["check_reuse", "parse_run", "pct", "read_run", "read_summary", "run_kind"]
 
+# the data files' writer and reader and the run record lived here before rods.io took them (2026-11-28): the old
+# names stay, the same functions, for callers that import them from here
+Run, dump, load, write_json = io.Run, io.dumps, io.read_data, io.write_data
+
 
 def pct(ours: float, ref: float, digits: int = 1) -> str:
     """:func:`rods.compare.percent` as a signed percentage cell, '-' where a value is missing."""
