@@ -33,6 +33,7 @@ sys.path.insert(0, str(ROOT))
 
 from rods import hertz, io, metrics  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
+from rods.compare import cell, measured  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
 from rods.scene import SCHEMA, load_scene  # noqa: E402
@@ -115,7 +116,7 @@ def run(
 def damping(r: dict) -> float | None:
     """A row's contact damping ζ; None for a law without one (written as null, read back from the JSON as NaN)."""
     ζ = r.get("damping")
-    return None if ζ is None or math.isnan(ζ) else ζ
+    return ζ if measured(ζ) else None
 
 
 def label(r: dict) -> str:
@@ -141,12 +142,6 @@ def spread(rows: list[dict], key: str, lo: float, hi: float, ζ: float | None = 
     return max(v) - min(v) if v else float("nan")
 
 
-def switching(dt: float) -> str:
-    """The Δt_switch cell [ns]: "none" where there is no switching limit (the kinematic contact: inf, which its
-    JSON record keeps as null)."""
-    return f"{dt * 1e9:.2f}" if math.isfinite(dt) else "none"
-
-
 def render_md(data: dict) -> str:
     p0 = data["default_penalty"]
     lines = [
@@ -168,11 +163,13 @@ def render_md(data: dict) -> str:
             if r["strain_rms_difference"] != r["strain_rms_difference"]
             else f"{r['strain_rms_difference'] * 1e6:.2f}"
         )
+        # no switching limit (the kinematic contact: inf, kept as null in the JSON): "none"
+        switching = cell(r["dt_switching"], ".2f", scale=1e9, missing="none")
         lines.append(
             f"| {r['scene']} | {label(r)} | {r['peak_force_vs_analytical']:+.3%} "
             f"| {r.get('smoothed_peak_vs_analytical', float('nan')):+.3%} "
             f"| {r['duration_vs_analytical'] * 1e6:+.2f} µs | {rms} | {r['energy_error']:.1e} | {r['dt'] * 1e9:.2f} "
-            f"| {r['dt_critical'] * 1e9:.2f} | {switching(r['dt_switching'])} | {r['loop_time_per_step'] * 1e6:.1f} |"
+            f"| {r['dt_critical'] * 1e9:.2f} | {switching} | {r['loop_time_per_step'] * 1e6:.1f} |"
         )
     ζ0 = data.get("default_damping")
     lines += [

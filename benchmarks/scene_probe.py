@@ -163,11 +163,11 @@ def render(data: dict) -> str:
     """scene-probe.md from the data."""
     t = data["targets"]
     draw = data.get("draw")  # --random N --seed S
-    command = f"python benchmarks/scene_probe.py --random {draw['n']} --seed {draw['seed']}" if draw else ""
+    command = "python benchmarks/scene_probe.py" + (f" --random {draw['n']} --seed {draw['seed']}" if draw else "")
     lines = [
         "# Scenes beyond the verification matrix: global FE at default settings against the analytical model",
         "",
-        f"`mpirun -n {data['ranks']} {command or 'python benchmarks/scene_probe.py'}`; "
+        f"`mpirun -n {data['ranks']} {command}`; "
         + (f"{draw['n']} scenes drawn at random ({draw['ranges']}); " if draw else "")
         + f"each FE run over {PHASE:g} x the contact "
         f"phase. Targets as the verification matrix: peak force within {t['peak_force']:g}%, first contact "

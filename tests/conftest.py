@@ -19,6 +19,16 @@ MPIRUN = PY.parent / "mpirun" if (PY.parent / "mpirun").exists() else Path(shuti
 sys.path.insert(0, str(ROOT / "workflows"))
 
 
+def benchmark(name: str):
+    """benchmarks/<name>.py loaded as a module (the benchmarks are scripts, not a package)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    return bench
+
+
 @pytest.fixture(scope="session")
 def paper_dict() -> dict:
     return tomllib.loads((SCENES / "paper.toml").read_text())

@@ -63,7 +63,7 @@ def test_stage_data_writes_nan_as_null_and_reads_it_back(tmp_path):
     whatever the locale (µ and ✗ in the tables' labels), and every null back as NaN."""
     d = {"a": math.nan, "b": [1.0, np.float64(math.inf)], "c": {"d": np.int64(3)}, "s": "µ ✗"}
     io.write_data(tmp_path / "x.json", d)
-    raw = json.loads((tmp_path / "x.json").read_text())
+    raw = json.loads((tmp_path / "x.json").read_text(encoding="utf-8"))
     assert raw == {"a": None, "b": [1.0, None], "c": {"d": 3}, "s": "µ ✗"}
     back = io.read_data(tmp_path / "x.json")
     assert math.isnan(back["a"]) and math.isnan(back["b"][1]) and back["c"]["d"] == 3

@@ -4,9 +4,7 @@ left committed words that no data said (REPORT.md's energy error, accuracy-cost.
 
 from __future__ import annotations
 
-import importlib.util
 from collections.abc import Callable
-from functools import cache
 from pathlib import Path
 
 import pytest
@@ -15,16 +13,10 @@ from rods import io
 from rods.paper import accuracy_cost, convergence, report, table2
 from rods.study import fig4, table3, verification
 
+from .conftest import benchmark
+
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "results"
-
-
-@cache
-def _benchmark(name: str):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def _data(name: str) -> dict:
@@ -40,12 +32,12 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "accuracy-cost.md": lambda: accuracy_cost.render_md(_data("accuracy-cost.json")),
     "convergence.md": lambda: convergence.render_markdown(_data("convergence.json")),
     "verification.md": lambda: verification.render_markdown(_data("verification.json")),
-    "contact-study.md": lambda: _benchmark("contact_study").render_md(_data("contact-study.json")),
-    "driver-study.md": lambda: _benchmark("driver_study").render_md(_data("driver-study.json")),
-    "edge-scatter.md": lambda: _benchmark("edge_scatter").render_md(_data("edge-scatter.json")),
-    "scene-probe.md": lambda: _benchmark("scene_probe").render(_data("scene-probe.json")),
-    "scene-probe-random.md": lambda: _benchmark("scene_probe").render(_data("scene-probe-random.json")),
-    "submodel-probe.md": lambda: _benchmark("submodel_probe").render(_data("submodel-probe.json")),
+    "contact-study.md": lambda: benchmark("contact_study").render_md(_data("contact-study.json")),
+    "driver-study.md": lambda: benchmark("driver_study").render_md(_data("driver-study.json")),
+    "edge-scatter.md": lambda: benchmark("edge_scatter").render_md(_data("edge-scatter.json")),
+    "scene-probe.md": lambda: benchmark("scene_probe").render(_data("scene-probe.json")),
+    "scene-probe-random.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random.json")),
+    "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
 }
 
 

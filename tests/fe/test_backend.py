@@ -27,7 +27,7 @@ from rods.fe.recorder import Recorder
 from rods.fe.submodel import submodel_scene
 from rods.scene import SCHEMA, SceneError, load_scene
 
-from ..conftest import MPIRUN, PAPER, ROOT, recorded_global, run_workflow, set_args
+from ..conftest import MPIRUN, PAPER, benchmark, recorded_global, run_workflow, set_args
 from .toy import K_CONTACT, MASS, SPEED, bodies, omega_max, petsc_matrix
 
 TOL = 1e-10  # acceptance: relative to each column's largest magnitude (measured: <= 1.3e-11)
@@ -248,11 +248,7 @@ def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch, capsys):
     """benchmarks/gpu_throughput.py with --backend numpy (with the device's overlap, so the A/B column is
     measured) on its tiny mesh: the table, the end-to-end run and the comparison with the PETSc path (equal
     histories) are written to --out, the run's outputs to --run-out."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("gpu_throughput", ROOT / "benchmarks" / "gpu_throughput.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    bench = benchmark("gpu_throughput")
     numpy_backend = backend._numpy
     monkeypatch.setattr(backend, "_numpy", lambda: dataclasses.replace(numpy_backend(), overlap=True))
     out = tmp_path / "gpu.md"

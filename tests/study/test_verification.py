@@ -10,7 +10,7 @@ import pytest
 
 from rods.scene import load_scene
 from rods.study import verification
-from tests.conftest import PAPER, ROOT, run_workflow, set_args
+from tests.conftest import PAPER, benchmark, run_workflow, set_args
 
 
 def _history(t, force, speed, strain):
@@ -235,20 +235,10 @@ def test_default_mesh_resolves_a_low_speed_patch():
     assert s["energy_error"] < 1e-6
 
 
-def _benchmark(name: str):
-    """benchmarks/<name>.py loaded as a module (the benchmarks are scripts, not a package)."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    return bench
-
-
 def test_scene_probe_benchmark_runs_one_probe(tmp_path):
     """benchmarks/scene_probe.py on its cheapest probe (25 mm rods, 17k DOFs, serial): the FE at default settings
     meets the matrix's targets there (measured +0.134%, -0.06 µs), and the table names the run's yield warning."""
-    bench = _benchmark("scene_probe")
+    bench = benchmark("scene_probe")
     out = tmp_path / "probe"
     assert bench.main(["--probe", "thick", "--out", str(out), "--runs", str(tmp_path / "runs")]) == 0
     row = json.loads(out.with_suffix(".json").read_text())["rows"][0]
@@ -270,7 +260,7 @@ def test_scene_probe_draws_the_same_random_scenes_inside_the_schema(monkeypatch)
 
     from rods import cost
 
-    bench = _benchmark("scene_probe")
+    bench = benchmark("scene_probe")
     a, b = bench.random_probes(5, seed=3), bench.random_probes(5, seed=3)
     assert a == b and len(a) == 5 and a != bench.random_probes(5, seed=4)
     for what, overrides in a.values():
@@ -303,7 +293,7 @@ def test_submodel_probe_benchmark_runs_one_probe(tmp_path):
     coarse / mid, the whole study serial in about 20 s): the finest level meets the targets (measured on 2 ranks:
     force +0.19%, area -0.27%, p0 -0.74%), the peak pressure's error shrinks at every level, and the table names
     the auto levels and the run's warnings by their keys."""
-    bench = _benchmark("submodel_probe")
+    bench = benchmark("submodel_probe")
     out = tmp_path / "probe"
     assert bench.main(["--probe", "fast", "--out", str(out), "--runs", str(tmp_path / "runs")]) == 0
     row = json.loads(out.with_suffix(".json").read_text())["rows"][0]
