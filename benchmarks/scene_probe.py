@@ -20,6 +20,7 @@ import argparse
 import math
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
@@ -217,13 +218,22 @@ RANGES = (
 )
 
 
-def random_probes(n: int, seed: int) -> dict[str, tuple[str, tuple[str, ...]]]:
+def global_wall_time(overrides: tuple[str, ...]) -> float:
+    """The estimated wall time [s] of the global FE model of the paper scene with ``overrides`` to its end_time, on
+    one rank (rods.cost.fe_cost: the scene alone, nothing run)."""
+    from rods import cost
+
+    return cost.fe_cost(load_scene(PAPER, overrides)).wall_time
+
+
+def random_probes(
+    n: int, seed: int, wall_time: Callable[[tuple[str, ...]], float] = global_wall_time
+) -> dict[str, tuple[str, tuple[str, ...]]]:
     """``n`` scenes drawn (numpy's PCG64 from ``seed``: the same list on every rank and every run) from the ranges
     above: two rods of any two materials, diameters, lengths and tips (Rod 1 curved; Rod 2 curved half the time),
-    one impact speed. Each is inside the schema and within :data:`RANDOM_BUDGET` of estimated wall time."""
+    one impact speed. Each is inside the schema and within :data:`RANDOM_BUDGET` of ``wall_time(overrides)``, the
+    probe's estimated wall time [s] (default :func:`global_wall_time`); a scene above it is redrawn."""
     import numpy as np
-
-    from rods import cost
 
     rng = np.random.default_rng(seed)
 
@@ -246,7 +256,7 @@ def random_probes(n: int, seed: int) -> dict[str, tuple[str, tuple[str, ...]]]:
             what.append(f"{name} {d * 1e3:.1f} mm x {L:.2f} m, {tip}")
         v = log_uniform(*SPEEDS)
         overrides.append(f"impact.speed={v:.3g}")
-        if cost.fe_cost(load_scene(PAPER, overrides)).wall_time > RANDOM_BUDGET:
+        if wall_time(tuple(overrides)) > RANDOM_BUDGET:
             continue
         probes[f"random-{seed}-{len(probes)}"] = (f"{' onto '.join(what)}, {v:.3g} m/s", tuple(overrides))
     return probes
@@ -254,25 +264,31 @@ def random_probes(n: int, seed: int) -> dict[str, tuple[str, tuple[str, ...]]]:
 
 def main(argv: list[str] | None = None) -> int:
     """The named probes, or with ``--random N [--seed S]`` N scenes drawn by :func:`random_probes` instead."""
+    return run_probes(argv, __doc__, "scene-probe", PROBES, probe, render, TARGETS, global_wall_time)
+
+
+def drawn(argv: list[str] | None, probes: dict, wall_time: Callable) -> tuple[list[str], dict | None, str]:
+    """``--random N [--seed S]`` taken from ``argv``: where given, ``probes`` replaced by N scenes of
+    :func:`random_probes` under ``wall_time``. Returns the rest of ``argv``, the draw (kept in the data; None for
+    the named probes) and the help's epilog."""
     ap = argparse.ArgumentParser(add_help=False)
     ap.add_argument("--random", type=int, default=0, help="draw N scenes instead of the named probes")
     ap.add_argument("--seed", type=int, default=0, help="the draw's seed")
     known, rest = ap.parse_known_args(argv)
     draw = None
     if known.random > 0:
-        PROBES.clear()
-        PROBES.update(random_probes(known.random, known.seed))
+        probes.clear()
+        probes.update(random_probes(known.random, known.seed, wall_time))
         draw = {"n": known.random, "seed": known.seed, "ranges": RANGES}
-    epilog = "--random N [--seed S]: N scenes drawn at random instead of the named probes (" + RANGES + ")"
-    return run_probes(rest, __doc__, "scene-probe", PROBES, probe, render, TARGETS, draw=draw, epilog=epilog)
+    return rest, draw, "--random N [--seed S]: N scenes drawn at random instead of the named probes (" + RANGES + ")"
 
 
-def run_probes(
-    argv, doc: str, name: str, probes: dict, run, render_data, targets: dict, draw=None, epilog: str | None = None
-) -> int:
+def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, targets: dict, random: Callable) -> int:
     """A probe benchmark's command line (also benchmarks/submodel_probe.py's): run ``probes`` (``run(name, runs,
-    comm)``: a row on rank 0), then write OUT.json and OUT.md (``render_data``) on rank 0 and print the table.
-    ``draw``: how the probes were drawn (--random), kept in the data; ``epilog``: options parsed before this (help)."""
+    comm)``: a row on rank 0), or ``--random N [--seed S]`` scenes drawn within :data:`RANDOM_BUDGET` of
+    ``random(overrides)``, a probe's estimated wall time [s] (:func:`drawn`), then write OUT.json and OUT.md
+    (``render_data``; the draw kept in the data) on rank 0 and print the table."""
+    argv, draw, epilog = drawn(argv, probes, random)
     ap = argparse.ArgumentParser(description=doc.splitlines()[0], epilog=epilog)
     ap.add_argument("--probe", action="append", choices=list(probes), help="probe (repeatable; default all)")
     ap.add_argument("--out", default=str(ROOT / "results" / name), help="tables: OUT.json, OUT.md")

@@ -1,6 +1,7 @@
 """Scenes beyond the paper's: the contact-patch study (global + submodels) at default settings against Hertz.
 
     mpirun -n 2 python benchmarks/submodel_probe.py [--probe NAME ...] [--out results/submodel-probe]
+    mpirun -n 2 python benchmarks/submodel_probe.py --random 6 --seed 3 --out output/random-submodel-probe
 
 Issue 13's submodel must be right without per-scene settings: each probe is the paper scene with a few
 overrides (:data:`PROBES`: tips, speeds, materials, rods from 2 to 100 mm thick) and ``effects =
@@ -10,7 +11,9 @@ auto submodel levels and cut length, the default mixed driving). Each row is the
 pressure against Hertz at its own force, whether those errors shrink monotonically over the levels, and the
 study's status with the keys of its warnings. Targets (issue 13, for the level the paper calls fine, which auto
 places at 16 or more elements across the patch): force within :data:`FORCE`, area and peak pressure within
-:data:`HERTZ` of Hertz. Writes --out + .json and .md.
+:data:`HERTZ` of Hertz. Writes --out + .json and .md. ``--random N --seed S``: N scenes drawn as
+scene_probe.py draws them (scene_probe.random_probes), each study estimated within its budget
+(:func:`study_wall_time`), instead of the named ones.
 """
 
 from __future__ import annotations
@@ -27,8 +30,9 @@ sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]  # the library; scene_probe
 
 import scene_probe  # noqa: E402  (its probes' scenes and its command line)
 
+from rods import plan  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
-from rods.study.pipeline import run_study  # noqa: E402
+from rods.study.pipeline import run_study, stage_costs  # noqa: E402
 from rods.study.sweep import warning_key  # noqa: E402
 from rods.study.verification import CASES  # noqa: E402
 
@@ -48,6 +52,18 @@ PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of 
 }
 
 
+def _study_scene(overrides: tuple[str, ...]):
+    return load_scene(PAPER, (*overrides, "effects=['contact_patch']"))
+
+
+def study_wall_time(overrides: tuple[str, ...]) -> float:
+    """The estimated wall time [s] of the FE stages of the contact-patch study of the paper scene with
+    ``overrides``, on one rank (rods.study.pipeline.stage_costs of its plan, which runs the analytical model to
+    its first contact: seconds)."""
+    sc = _study_scene(overrides)
+    return sum(c.wall_time for c in stage_costs(sc, plan.study_plan(sc), 1))
+
+
 def _monotone(errors: list[float]) -> bool:
     """The errors' magnitudes shrink at every refinement (coarse to fine)."""
     return all(abs(b) < abs(a) for a, b in zip(errors, errors[1:], strict=False))
@@ -56,7 +72,7 @@ def _monotone(errors: list[float]) -> bool:
 def probe(name: str, out: Path, comm) -> dict | None:
     """Run probe ``name``'s study into ``out/name`` (collective); its row on rank 0."""
     what, overrides = PROBES[name]
-    sc = load_scene(PAPER, (*overrides, "effects=['contact_patch']"))
+    sc = _study_scene(overrides)
     t0 = time.perf_counter()
     run_study(sc, out / name, comm)
     if comm.rank != 0:
@@ -94,11 +110,18 @@ def probe(name: str, out: Path, comm) -> dict | None:
 
 def render(data: dict) -> str:
     """submodel-probe.md from the data."""
+    draw = data.get("draw")  # --random N --seed S
+    command = "python benchmarks/submodel_probe.py" + (f" --random {draw['n']} --seed {draw['seed']}" if draw else "")
+    scenes = (
+        f"{draw['n']} scenes drawn at random ({draw['ranges']}, each study's estimate on one rank)"
+        if draw
+        else "each probe the paper scene with the overrides below"
+    )
     lines = [
         "# Scenes beyond the paper's: the contact-patch study at default settings",
         "",
-        f"`mpirun -n {data['ranks']} python benchmarks/submodel_probe.py`: each probe the paper scene with the "
-        'overrides below and `effects = ["contact_patch"]`, the study of `workflows/run.py` (auto levels, auto cut '
+        f"`mpirun -n {data['ranks']} {command}`: {scenes} and "
+        '`effects = ["contact_patch"]`, the study of `workflows/run.py` (auto levels, auto cut '
         f"length, mixed driving). Finest level: force against the analytical model "
         f"(target ±{data['targets']['force']:g}%), area and peak pressure against Hertz at its own force "
         f"(±{data['targets']['hertz']:g}%), ✗ a miss; the levels' errors coarse to fine, ↓ where their magnitudes "
@@ -129,7 +152,7 @@ def render(data: dict) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     targets = {"force": FORCE, "hertz": HERTZ}
-    return scene_probe.run_probes(argv, __doc__, "submodel-probe", PROBES, probe, render, targets)
+    return scene_probe.run_probes(argv, __doc__, "submodel-probe", PROBES, probe, render, targets, study_wall_time)
 
 
 if __name__ == "__main__":

@@ -272,17 +272,18 @@ def test_scene_probe_draws_the_same_random_scenes_inside_the_schema(monkeypatch)
             assert rod.material.yield_strength is None
         assert math.isfinite(sc.rod1.tip_radius)
         assert cost.fe_cost(sc).wall_time <= bench.RANDOM_BUDGET
+    probes = dict(bench.PROBES)
+    rest, draw, epilog = bench.drawn(["--random", "2", "--seed", "3", "--out", "x"], probes, bench.global_wall_time)
+    assert rest == ["--out", "x"] and probes == bench.random_probes(2, seed=3)
+    assert draw == {"n": 2, "seed": 3, "ranges": bench.RANGES} and bench.RANGES in epilog
+    named = dict(bench.PROBES)
+    assert bench.drawn(["--out", "x"], named, bench.global_wall_time)[:2] == (["--out", "x"], None)
+    assert named == bench.PROBES
     seen = {}
-    monkeypatch.setattr(
-        bench,
-        "run_probes",
-        lambda argv, *args, draw, epilog: seen.update(argv=argv, probes=dict(args[2]), draw=draw) or 0,
-    )
-    assert bench.main(["--random", "2", "--seed", "3", "--out", "x"]) == 0
-    assert seen["argv"] == ["--out", "x"] and seen["probes"] == bench.random_probes(2, seed=3)
-    assert seen["draw"] == {"n": 2, "seed": 3, "ranges": bench.RANGES}
+    monkeypatch.setattr(bench, "run_probes", lambda argv, *args: seen.update(argv=argv, random=args[-1]) or 0)
+    assert bench.main(["--random", "2"]) == 0 and seen == {"argv": ["--random", "2"], "random": bench.global_wall_time}
     # the table says how its scenes were drawn, so that it can be rerun
-    md = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": seen["draw"]})
+    md = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": draw})
     assert "`mpirun -n 2 python benchmarks/scene_probe.py --random 2 --seed 3`; 2 scenes drawn at random" in md
     assert f"({bench.RANGES}); each FE run" in md
 
@@ -301,3 +302,19 @@ def test_submodel_probe_benchmark_runs_one_probe(tmp_path):
     assert all(row["passes"].values()) and row["p0_monotone"] and 16 <= row["patch_elements"] <= 32, row
     md = out.with_suffix(".md").read_text()
     assert "| paper rods at 15 m/s | extra-coarse, coarse, mid | 0.125 |" in md and "1 of 1 probes meet" in md
+
+
+def test_submodel_probe_draws_random_studies_within_their_budget(monkeypatch):
+    """submodel_probe.py --random N --seed S: scene_probe's draw, each scene's whole contact-patch study (its plan's
+    FE stages, rods.study.pipeline.stage_costs) estimated within the budget; the table says how it was drawn."""
+    bench, scenes = benchmark("submodel_probe"), benchmark("scene_probe")
+    drawn = scenes.random_probes(1, seed=3, wall_time=bench.study_wall_time)
+    ((what, overrides),) = drawn.values()
+    assert 0 < bench.study_wall_time(overrides) <= scenes.RANDOM_BUDGET
+    assert bench._study_scene(overrides).effects == ("contact_patch",)
+    seen = {}
+    monkeypatch.setattr(bench.scene_probe, "run_probes", lambda argv, *args: seen.update(random=args[-1]) or 0)
+    assert bench.main(["--random", "1"]) == 0 and seen["random"] is bench.study_wall_time
+    draw = {"n": 1, "seed": 3, "ranges": scenes.RANGES}
+    md = bench.render({"ranks": 2, "targets": {"force": 0.5, "hertz": 2.0}, "rows": [], "draw": draw})
+    assert "`mpirun -n 2 python benchmarks/submodel_probe.py --random 1 --seed 3`: 1 scenes drawn at random" in md
