@@ -38,6 +38,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe.md": lambda: benchmark("scene_probe").render(_data("scene-probe.json")),
     "scene-probe-random.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
+    "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
 }
 
 
