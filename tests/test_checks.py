@@ -352,6 +352,24 @@ def test_a_study_warns_when_its_global_and_analytical_models_disagree():
     assert verification_targets() == (100 * checks.AGREE_FORCE, checks.AGREE_DURATION)
 
 
+
+def test_a_wave_study_warns_when_the_models_average_peak_speeds_disagree():
+    """The midpoint's average peak speed, where the global ran the wave response: the verification matrix's +0.43%
+    passes; a drawn scene's +1.56% at the auto mesh (status "ok" before) warns, naming the values, the band and a
+    finer mesh; not compared for a contact-only global (``waves`` False), a missing or NaN value, or where a model's
+    own plateau warning already calls its average unreliable."""
+    an = {"peak_contact_force": 75372.3, "contact_duration": 169.415e-6, "midpoint_peak_speed": 17.2882}
+    fe = {"peak_contact_force": 75447.1, "contact_duration": 169.427e-6}
+    assert checks.agreement_warnings(an, {**fe, "midpoint_peak_speed": 17.2882 * 1.0043}, waves=True) == []
+    (found,) = checks.agreement_warnings(an, {**fe, "midpoint_peak_speed": 17.5586}, waves=True)
+    assert found.startswith("midpoint_peak_speed: the global FE model's average peak speed 17.559 m/s is +1.56%")
+    assert "±1.0%" in found and "fe.radial_size" in found
+    assert checks.agreement_warnings(an, {**fe, "midpoint_peak_speed": 17.5586}) == []  # contact-only global
+    for v in (None, float("nan")):
+        assert checks.agreement_warnings(an, {**fe, "midpoint_peak_speed": v}, waves=True) == []
+    spiky = {**fe, "midpoint_peak_speed": 17.5586, "warnings": ["midpoint_peak_speed: ringing spikes above ..."]}
+    assert checks.agreement_warnings(an, spiky, waves=True) == []
+
 def verification_targets() -> tuple[float, float]:
     """The verification matrix's targets, which the study's agreement check shares (one definition)."""
     from rods.study import verification
