@@ -352,7 +352,6 @@ def test_a_study_warns_when_its_global_and_analytical_models_disagree():
     assert verification_targets() == (100 * checks.AGREE_FORCE, checks.AGREE_DURATION)
 
 
-
 def test_a_wave_study_warns_when_the_models_average_peak_speeds_disagree():
     """The midpoint's average peak speed, where the global ran the wave response: the verification matrix's +0.43%
     passes; a drawn scene's +1.56% at the auto mesh (status "ok" before) warns, naming the values, the band and a
@@ -369,6 +368,7 @@ def test_a_wave_study_warns_when_the_models_average_peak_speeds_disagree():
         assert checks.agreement_warnings(an, {**fe, "midpoint_peak_speed": v}, waves=True) == []
     spiky = {**fe, "midpoint_peak_speed": 17.5586, "warnings": ["midpoint_peak_speed: ringing spikes above ..."]}
     assert checks.agreement_warnings(an, spiky, waves=True) == []
+
 
 def verification_targets() -> tuple[float, float]:
     """The verification matrix's targets, which the study's agreement check shares (one definition)."""
