@@ -25,9 +25,10 @@ goes wrong"):
   on the 6.2k-DOF coarse submodel) dominates small models; the rate is the memory-bound one of large models,
   measured 2026-11-27 on an idle machine: 3.3e7 DOF-steps/s per rank axisymmetric (1.57M DOFs: 3.35e7 serial,
   3.16e7 per rank on 2; 398k DOFs: 3.31e7 serial) and 8.5e6 in 3D (serial: 8.2e6 at 132k DOFs, 8.6e6 at 422k);
-  set-up 1.2e-5 s per DOF axisymmetric and 3e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s
-  at 199k; 3D 4.2 s at 132k). That memory-bound rate is the machine's, and it moves: the same 396k-DOF loop ran
-  9.9e7 DOF-steps/s on 2026-11-22 and 3.3e7 on 2026-11-27, here. So where a run's memory-bound loop is estimated
+  set-up 1.2e-5 s per DOF axisymmetric and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s
+  at 199k; 3D 4.2 s at 132k on 2026-11-27, 6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`). That memory-bound
+  rate is the machine's, and it moves: the same 396k-DOF loop ran 9.9e7 DOF-steps/s on 2026-11-22 and 3.3e7 on
+  2026-11-27, here. So where a run's memory-bound loop is estimated
   above :data:`PROBE_ABOVE`, the entry points scale it by :func:`machine_speed` (:func:`calibrated`): an
   out-of-cache sparse product timed once, on every rank at once (about 0.3 s), against
   :data:`PROBE_RATE_REFERENCE`, its rate on the day the rates above were measured. Cache-resident small meshes
@@ -102,8 +103,10 @@ PROBE_ABOVE = 30.0  # [s] memory-bound loop time above which a plan measures the
 STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
 # mesh, assembly, contact data and the step's eigenvalue, on one rank [s] (3D, 2026-11-27, serial: 2.9e-5 at 132k
 # DOFs, 3.1e-5 at 983k, since the eigenvalue is solved to the step's need, rods.fe.explicit.EIGEN_TOL; 7.7e-5 and
-# 1.6e-4 before)
-SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 3e-5}
+# 1.6e-4 before). 3D, 2026-11-28, serial, quarter models of twelve drawn scenes (scene_probe.random_probes, seed 11,
+# sizes d/8 across, d/4 along) and paper-3d-coarse: 3.4e-5 to 9.1e-5, median 6e-5, 18k to 2.19M DOFs (176 s at
+# 2.19M, where 3e-5 said 66 s); the eigenvalue was 45-70% of it (its Krylov-Schur took 101 to 321 products)
+SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 6e-5}
 # the time loop on one GPU (fe.backend = "cupy"; serial): a step = GPU_STEP_OVERHEAD + DOFs / GPU_DOF_STEPS_PER_SECOND,
 # the line through the 3D coarse and paper meshes' closed-contact steps on an H200 (results/gpu-throughput.md,
 # 2026-11-27: 1.899 ms at 132k DOFs, 4.040 ms at 7.58M; the medium mesh's 3.067 ms at 983k lies 43% above it, and
