@@ -568,7 +568,8 @@ def agreement_warnings(analytical: Mapping[str, Any], fe: Mapping[str, Any], wav
         found.append(
             f"midpoint_peak_speed: the global FE model's average peak speed {vf:.5g} m/s is {vf / va - 1:+.2%} from "
             f"the analytical model's {va:.5g} m/s, outside the ±{AGREE_PEAK_SPEED:.1%} the two agree within on the "
-            "verification matrix: the average takes the samples above 0.9 x the largest speed, where the FE's fronts "
+            f"verification matrix: the average takes the samples above {metrics.PLATEAU_FRACTION:g} x the largest "
+            "speed, where the FE's fronts "
             "ring (Pochhammer-Chree; their resolution is the mesh's) and the 1D bars' are sharp; compare a finer "
             "fe.radial_size/fe.axial_size and the two histories (compare/fig4.png), not this one number"
         )
