@@ -39,6 +39,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe-random.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
+    "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
 }
 
 

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from rods import checks
 from rods.scene import load_scene
 from rods.study import verification
 from tests.conftest import PAPER, benchmark, run_workflow, set_args
@@ -318,3 +319,39 @@ def test_submodel_probe_draws_random_studies_within_their_budget(monkeypatch):
     draw = {"n": 1, "seed": 3, "ranges": scenes.RANGES}
     md = bench.render({"ranks": 2, "targets": {"force": 0.5, "hertz": 2.0}, "rows": [], "draw": draw})
     assert "`mpirun -n 2 python benchmarks/submodel_probe.py --random 1 --seed 3`: 1 scenes drawn at random" in md
+
+
+def test_wave_probe_holds_the_global_to_the_studys_bands_and_renders_its_rows(monkeypatch):
+    """benchmarks/wave_probe.py: the bands are the study's own (rods.checks), the random draw is scene_probe's on the
+    global's whole run, and the table marks a miss (✗) and an average a model itself calls unreliable ((u), not held
+    to its band); every row's warnings are listed by key and in full."""
+    bench = benchmark("wave_probe")
+    assert (
+        bench.BANDS["peak_speed"] == 100 * checks.AGREE_PEAK_SPEED and bench.BANDS["duration"] == checks.AGREE_DURATION
+    )
+    seen = {}
+    monkeypatch.setattr(bench.scene_probe, "run_probes", lambda argv, *args: seen.update(args=args) or 0)
+    assert bench.main(["--random", "1"]) == 0
+    assert seen["args"][-1] is bench.scene_probe.global_wall_time and seen["args"][-2] == bench.BANDS
+    row = {
+        "description": "a stubby scene",
+        "peak_force_pct": 0.1,
+        "duration_difference": 1.2e-8,
+        "peak_speed_analytical": 17.288,
+        "peak_speed_pct": 1.56,
+        "peak_speed_unreliable": [],
+        "energy_error": 3.3e-10,
+        "status": "warnings",
+        "warnings": ["study: midpoint_peak_speed: the global FE model's average peak speed ..."],
+        "dofs": 11868,
+        "wall_time": 9.0,
+        "passes": {"peak_force": True, "duration": True, "peak_speed": False, "energy": True},
+    }
+    spiky = {**row, "description": "a ringing one", "peak_speed_pct": 10.4, "peak_speed_unreliable": ["global"]}
+    spiky["passes"] = {**row["passes"], "peak_speed": True}
+    draw = {"n": 2, "seed": 77, "ranges": "drawn"}
+    md = bench.render({"ranks": 2, "targets": bench.BANDS, "rows": [row, spiky], "draw": draw})
+    assert "`mpirun -n 2 python benchmarks/wave_probe.py --random 2 --seed 77`: 2 scenes drawn at random (drawn)" in md
+    assert "| a stubby scene | +0.100% | +0.01 | 17.29 | +1.56% ✗ | 3.3e-10 | 11,868 | warnings (study) | 9 |" in md
+    assert "| +10.40% (u) |" in md and "1 of 2 probes meet every target." in md
+    assert "* a stubby scene: study: midpoint_peak_speed: the global FE model's" in md
