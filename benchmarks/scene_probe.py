@@ -160,15 +160,30 @@ def tally(rows: list[dict]) -> list[str]:
     return ["", f"{n} of {len(rows)} probes meet every target.", ""]
 
 
+def command(script: str, data: dict) -> str:
+    """The command line that wrote ``data`` (``script``: the benchmark's file name), with its draw (--random)."""
+    draw = data.get("draw")
+    return f"python benchmarks/{script}" + (f" --random {draw['n']} --seed {draw['seed']}" if draw else "")
+
+
+def study_keys(warnings: list[str]) -> str:
+    """A study's warnings by the stages that gave them (rods.study.sweep.warning_key), once each; "–" for none."""
+    return ", ".join(dict.fromkeys(warning_key(w) for w in warnings)) or "–"
+
+
+def study_tail(rows: list[dict]) -> list[str]:
+    """The lines under a study probe's table: the tally, then every row's warnings in full."""
+    return tally(rows) + [f"* {r['description']}: {w}" for r in rows for w in r["warnings"]]
+
+
 def render(data: dict) -> str:
     """scene-probe.md from the data."""
     t = data["targets"]
     draw = data.get("draw")  # --random N --seed S
-    command = "python benchmarks/scene_probe.py" + (f" --random {draw['n']} --seed {draw['seed']}" if draw else "")
     lines = [
         "# Scenes beyond the verification matrix: global FE at default settings against the analytical model",
         "",
-        f"`mpirun -n {data['ranks']} {command}`; "
+        f"`mpirun -n {data['ranks']} {command('scene_probe.py', data)}`; "
         + (f"{draw['n']} scenes drawn at random ({draw['ranges']}); " if draw else "")
         + f"each FE run over {PHASE:g} x the contact "
         f"phase. Targets as the verification matrix: peak force within {t['peak_force']:g}%, first contact "

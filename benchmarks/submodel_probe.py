@@ -33,7 +33,6 @@ import scene_probe  # noqa: E402  (its probes' scenes and its command line)
 from rods import plan  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study.pipeline import run_study, stage_costs  # noqa: E402
-from rods.study.sweep import warning_key  # noqa: E402
 from rods.study.verification import CASES  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
@@ -111,7 +110,6 @@ def probe(name: str, out: Path, comm) -> dict | None:
 def render(data: dict) -> str:
     """submodel-probe.md from the data."""
     draw = data.get("draw")  # --random N --seed S
-    command = "python benchmarks/submodel_probe.py" + (f" --random {draw['n']} --seed {draw['seed']}" if draw else "")
     scenes = (
         f"{draw['n']} scenes drawn at random ({draw['ranges']}, each study's estimate on one rank)"
         if draw
@@ -120,7 +118,7 @@ def render(data: dict) -> str:
     lines = [
         "# Scenes beyond the paper's: the contact-patch study at default settings",
         "",
-        f"`mpirun -n {data['ranks']} {command}`: {scenes} and "
+        f"`mpirun -n {data['ranks']} {scene_probe.command('submodel_probe.py', data)}`: {scenes} and "
         '`effects = ["contact_patch"]`, the study of `workflows/run.py` (auto levels, auto cut '
         f"length, mixed driving). Finest level: force against the analytical model "
         f"(target ±{data['targets']['force']:g}%), area and peak pressure against Hertz at its own force "
@@ -138,15 +136,12 @@ def render(data: dict) -> str:
             q: " / ".join(f"{e:+.2f}" for e in r[f"{q}_pct"]) + (" ↓" if r[f"{q}_monotone"] else "") + mark[q]
             for q in ("area", "p0")
         }
-        keys = ", ".join(dict.fromkeys(warning_key(w) for w in r["warnings"])) or "–"
         lines.append(
             f"| {r['description']} | {', '.join(r['levels'])} | {r['h_mm']:.4g} | {r['patch_elements']:.1f} "
             f"| {r['submodel_length_mm']:.3g} | {r['force_pct']:+.2f}%{mark['force']} | {errs['area']} "
-            f"| {errs['p0']} | {r['status']} ({keys}) | {r['wall_time']:.0f} |"
+            f"| {errs['p0']} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} |"
         )
-    lines += scene_probe.tally(data["rows"])
-    for r in data["rows"]:
-        lines += [f"* {r['description']}: {w}" for w in r["warnings"]]
+    lines += scene_probe.study_tail(data["rows"])
     return "\n".join(lines) + "\n"
 
 

@@ -31,7 +31,6 @@ from rods import checks  # noqa: E402
 from rods.compare import cell, difference, percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study.pipeline import run_study  # noqa: E402
-from rods.study.sweep import warning_key  # noqa: E402
 from rods.study.verification import TARGETS  # noqa: E402
 
 PAPER = scene_probe.PAPER
@@ -62,7 +61,7 @@ def probe(name: str, out: Path, comm) -> dict | None:
     read = {k: json.loads((out / name / k / "summary.json").read_text()) for k in ("analytical", "global")}
     study = json.loads((out / name / "summary.json").read_text())
     sa, sf = read["analytical"], read["global"]
-    unreliable = [m for m, s in read.items() if any(w.startswith("midpoint_peak_speed") for w in s.get("warnings", []))]
+    unreliable = [m for m, s in read.items() if checks.average_unreliable(s)]
     row = {
         "probe": name,
         "description": what,
@@ -90,7 +89,6 @@ def probe(name: str, out: Path, comm) -> dict | None:
 def render(data: dict) -> str:
     """wave-probe.md from the data."""
     b, draw = data["targets"], data.get("draw")
-    command = "python benchmarks/wave_probe.py" + (f" --random {draw['n']} --seed {draw['seed']}" if draw else "")
     scenes = (
         f"{draw['n']} scenes drawn at random ({draw['ranges']})"
         if draw
@@ -99,7 +97,8 @@ def render(data: dict) -> str:
     lines = [
         "# Scenes beyond the verification matrix: the wave-response study at default settings",
         "",
-        f'`mpirun -n {data["ranks"]} {command}`: {scenes} and `effects = ["wave_response"]`, the study of '
+        f"`mpirun -n {data['ranks']} {scene_probe.command('wave_probe.py', data)}`: {scenes} and "
+        '`effects = ["wave_response"]`, the study of '
         "`workflows/run.py`: the analytical model and the global FE model over the whole end_time. The global against "
         f"the analytical model, held to the bands a study holds it to (peak force {b['peak_force']:g}%, first "
         f"contact duration {b['duration'] * 1e6:g} µs, average peak speed {b['peak_speed']:g}%, energy error "
@@ -113,16 +112,13 @@ def render(data: dict) -> str:
     for r in data["rows"]:
         mark = scene_probe.misses(r["passes"])
         speed = cell(r["peak_speed_pct"], "+.2f", "%") + (" (u)" if r["peak_speed_unreliable"] else mark["peak_speed"])
-        keys = ", ".join(dict.fromkeys(warning_key(w) for w in r["warnings"])) or "–"
         lines.append(
             f"| {r['description']} | {r['peak_force_pct']:+.3f}%{mark['peak_force']} "
             f"| {cell(r['duration_difference'], '+.2f', scale=1e6)}{mark['duration']} "
             f"| {cell(r['peak_speed_analytical'], '.4g')} | {speed} | {r['energy_error']:.1e}{mark['energy']} "
-            f"| {r['dofs']:,} | {r['status']} ({keys}) | {r['wall_time']:.0f} |"
+            f"| {r['dofs']:,} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} |"
         )
-    lines += scene_probe.tally(data["rows"])
-    for r in data["rows"]:
-        lines += [f"* {r['description']}: {w}" for w in r["warnings"]]
+    lines += scene_probe.study_tail(data["rows"])
     return "\n".join(lines) + "\n"
 
 
