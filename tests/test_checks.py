@@ -499,3 +499,33 @@ def test_the_low_tail_check_reads_the_analytical_models_own_tail(scene_with):
     paper = scene_with("simulation.end_time=3e-4")
     rp = simulate(paper)
     assert checks.tail_warning(rp.force_trace) is None
+
+
+@pytest.mark.parametrize(
+    ("ripple", "duration", "fires"),
+    [(0.0, 200e-6, False), (0.002, 200e-6, False), (0.01, 200e-6, True), (0.0, 20e-6, False)],
+)
+def test_a_ringing_peak_is_not_ok(scene_with, ripple, duration, fires):
+    """A half-sine force (paper rods: diameter transit 2.48 µs, fit window two of them) with a ripple of period one
+    transit on it (the rods' ringing): a 1% ripple puts the peak 0.8% above the fitted top and is flagged, a 0.2% one
+    is not; a smooth pulse only 8 transits long is not either (the quadratic fit keeps its curvature: a sliding mean
+    would not)."""
+    sc = scene_with()
+    transit = max(r.diameter / r.material.wave_speed for r in sc.rods)  # [s]
+    t = np.arange(0.0, duration + 40e-6, 0.25e-6)  # [s]
+    F = 5e3 * np.sin(np.pi * np.clip(t / duration, 0.0, 1.0))  # [N]
+    F *= 1.0 + ripple * np.cos(2 * np.pi * (t - duration / 2) / transit)
+    fe = {"model": "fe-axisymmetric", "peak_contact_force": F.max()}
+    w = checks.ringing_warning(fe, {"time": t, "contact_force": F}, sc)
+    assert (w is not None) == fires
+    if fires:
+        assert w.startswith("peak_contact_force") and "fe.axial_size" in w
+        ring = checks.apply(dict(fe, contact_duration=duration), {"time": t, "contact_force": F}, sc, t[-1])
+        assert ring["status"] == "warnings" and w in ring["warnings"]
+    # the analytical model has no ringing to judge
+    assert (
+        checks.ringing_warning(
+            {"model": "analytical", "peak_contact_force": F.max()}, {"time": t, "contact_force": F}, sc
+        )
+        is None
+    )
