@@ -103,6 +103,7 @@ from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
 __all__ = [
     "AGREE_DURATION",
     "AGREE_FORCE",
+    "VERIFY_ENERGY",
     "END_ZONE",
     "HERTZ_OK",
     "ENERGY_OK",
@@ -185,6 +186,9 @@ TAIL_OK = 40e-6  # longest tail of the first contact of an "ok" run (2% of it: 0
 # a study's agreement, global FE against analytical (issue 13's verification targets, rods.study.verification)
 AGREE_FORCE = 0.005  # largest |F_FE / F_analytical - 1| of the peak contact force in an "ok" study [-]
 AGREE_DURATION = 2e-6  # largest |first contact duration, FE - analytical| in an "ok" study [s]
+# largest energy-balance error of a global FE run on the verification matrix (issue 13's target; the run's own
+# "ok" allows ENERGY_OK, a guard against rattling, not an accuracy) [-]
+VERIFY_ENERGY = 1e-3
 # largest |v_FE / v_analytical - 1| of the midpoint's average peak speed in an "ok" study [-]: 0.43% at most on the
 # verification matrix (results/verification.md), about twice that left for scenes beyond it. Found by a drawn scene
 # (tungsten 21 mm onto a 17 mm x 0.25 m brass Rod 2 at 13.6 m/s): +1.56% at the auto mesh, +0.96% at half its sizes
@@ -239,7 +243,7 @@ def ringing_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray
     if (trace := _force_trace(history)) is None:
         return None
     t, F = trace
-    transit = max(r.diameter / r.material.wave_speed for r in scene.rods)  # [s] the longer diameter transit
+    transit = max(r.diameter_transit for r in scene.rods)  # [s] the longer diameter transit
     window = RING_TRANSITS * transit  # [s]
     if t[-1] - t[int(np.argmax(F))] < window:
         return None
@@ -287,7 +291,7 @@ def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
     if np.argmax(F) == F.size - 1:
         return None
     rise = t[np.argmax(F > 0.9 * F.max())] - t[np.argmax(F > 0.1 * F.max())]  # [s]
-    transit = max(r.diameter / r.material.wave_speed for r in scene.rods)  # [s] the longer diameter transit
+    transit = max(r.diameter_transit for r in scene.rods)  # [s] the longer diameter transit
     if rise < RISE_TRANSITS * transit:
         return (
             f"peak_contact_force: the force rises (10-90%) in {rise * 1e6:.3g} µs, {rise / transit:.2g} diameter "

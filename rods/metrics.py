@@ -166,7 +166,7 @@ def plateau_gap(rod2: Rod) -> float:
     """The shortest dip [s] below the threshold that separates two plateaus of the Rod-2 midpoint speed: the rod's
     diameter over its bar wave speed, the period scale of its lateral ringing behind a front (2.5 µs on the paper's
     rods; module docstring). The dips between real plateaus last a large part of Rod 1's round trip."""
-    return rod2.diameter / rod2.material.wave_speed
+    return rod2.diameter_transit
 
 
 def plateau_level(v: np.ndarray, fraction: float = PLATEAU_FRACTION, threshold: float | None = None) -> float:

@@ -470,6 +470,12 @@ class Rod:
         return 2 * self.length / self.material.wave_speed
 
     @property
+    def diameter_transit(self) -> float:
+        """Time a bar wave takes to cross one diameter, d/c [s]: the period scale of the rod's lateral ringing
+        (Pochhammer-Chree), against which the checks judge a force's rise and its ripple (rods.checks)."""
+        return self.diameter / self.material.wave_speed
+
+    @property
     def cap_height(self) -> float:
         """Height of the spherical cap r - sqrt(r² - (d/2)²) [m]; 0 for a flat tip."""
         r, ρ = self.tip_radius, self.diameter / 2
