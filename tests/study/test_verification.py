@@ -355,3 +355,21 @@ def test_wave_probe_holds_the_global_to_the_studys_bands_and_renders_its_rows(mo
     assert "| a stubby scene | +0.100% | +0.01 | 17.29 | +1.56% ✗ | 3.3e-10 | 11,868 | warnings (study) | 9 |" in md
     assert "| +10.40% (u) |" in md and "1 of 2 probes meet every target." in md
     assert "* a stubby scene: study: midpoint_peak_speed: the global FE model's" in md
+
+
+def test_a_too_short_end_time_is_refused_with_one_that_every_case_accepts():
+    """end_time 0.1 ms: the paper case's first contact (204 µs) has not ended, so the matrix has no duration to
+    compare and is refused before any run; the end time the remedy names passes every case (it named twice the
+    given one before, 0.2 ms, which the next case refused again)."""
+    import re
+
+    from rods.scene import SceneError
+
+    base = load_scene(PAPER)
+    with pytest.raises(SceneError) as e:
+        for name in verification.CASES:
+            verification.case_costs(base, name, ["simulation.end_time=1e-4"], 1)
+    assert "simulation.end_time" in str(e.value) and "has not ended" in str(e.value)
+    named = float(re.search(r"at least ([0-9.e-]+)", str(e.value)).group(1))
+    for name in verification.CASES:  # every case accepts it: no SceneError
+        verification.case_costs(base, name, [f"simulation.end_time={named!r}"], 1)
