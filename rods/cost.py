@@ -79,7 +79,9 @@ VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 G
 # (the schema's largest end_time) is ~24 000 wave passes, ~4 min on the paper rods, hours on short rods [s]
 TIME_BUDGET = 86400.0
 # analytical model: integration time per one-way pass L/c of a wave in the rod with the most (measured: paper rods
-# to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass), and per history value
+# to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass; 2026-11-29, paper rods to 30 ms and
+# 0.1 s, 4.9 s and 17.6 s run, 7.3 s and 24.4 s planned: linear since the delayed force walks only the reflections
+# that land in a contact, before 264.6 s at 0.1 s), and per history value
 SECONDS_PER_PASS = 1e-2  # [s]
 SECONDS_PER_VALUE = 1e-6  # [s]
 # ... and per step the contact's stiffness against the rods' impedance forces on the explicit DOP853: the

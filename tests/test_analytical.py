@@ -102,6 +102,31 @@ def test_contact_releases_and_engages_again(scene_with):
     assert m.rigid_velocities()[0] != pytest.approx(0.0, abs=1e-3)
 
 
+def test_delays_visit_exactly_the_reflections_in_contact(scene_with):
+    """The delayed force and the outgoing wave walk only the reflections that land in a contact episode (linear
+    run time in end_time); they must find exactly the k >= 1 (k >= 0 for the wave) of the brute-force walk over all
+    t/T reflections: at random times, at episode bounds shifted by whole periods, several episodes, sorted or not."""
+    s = scene_with(*SHORT_STRIKER, "simulation.end_time=1.2e-3")
+    m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
+    assert len(m.contacts) >= 3
+    rng = np.random.default_rng(7)
+    edges = [a + k * T for a, b in m.contacts for T in m.T for k in range(1, 6)]
+    times = np.concatenate([rng.uniform(0.0, 3 * s.end_time, 2000), edges])
+    for T in m.T:
+        for t in times:
+            τ = t - T * np.arange(1, int(t / T) + 2)
+            brute = [k for k, x in enumerate(τ, start=1) if x > 0 and any(a <= x <= b for a, b in m.contacts)]
+            assert sorted(m._delays(float(t), T)) == brute
+    bounds = m._episode_bounds()
+    for rod, (Z, T) in enumerate(zip(m.Z, m.T, strict=True), start=1):
+        brute = np.zeros_like(times)
+        for k in range(int(times.max() / T) + 1):
+            τ = times - k * T
+            inside = (np.searchsorted(bounds, τ, side="right") % 2 == 1) & (τ > 0)
+            brute[inside] += m.force(τ[inside])
+        assert np.allclose(m.wave(rod, times), brute / Z, rtol=1e-13, atol=0.0)
+
+
 @pytest.mark.parametrize("law", ["hertz", "hertz-rod"])
 def test_force_never_negative_and_hertz_consistent(scene_with, law):
     """P >= 0, and the approach δ = (P/K)^{2/3} + c P (c = 0 for the paper's Hertz) wherever in contact."""
