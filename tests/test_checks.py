@@ -106,6 +106,25 @@ def test_an_unresolved_patch_cannot_certify_itself_and_3d_counts_node_rings(scen
     assert "node rings" in checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=quarter"))
 
 
+def test_a_global_mesh_coarser_than_twice_auto_is_not_ok(scene_with):
+    """Set sizes beyond COARSE_OK x auto warn on the global FE run, naming the key, the ratio and the remedy; auto,
+    the sweep's coarse level (2 x axial, 1.83 x radial on the paper rods), finer meshes, the submodel's levels and
+    the analytical model pass. Measured on the paper rods: 50 mm axial +1.61% / -8.76 µs, status "ok" before."""
+    fe, sub, ana = {"model": "fe-axisymmetric"}, {"model": "fe-submodel-fine"}, {"model": "analytical"}
+    paper = scene_with()
+    assert paper.auto_axial_size == pytest.approx(1e-3) and paper.auto_radial_size == pytest.approx(0.2728e-3, rel=1e-3)
+    for ok in ((), ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3"), ("fe.axial_size=0.25e-3",)):
+        assert checks.resolution_warning(fe, scene_with(*ok)) is None, ok
+    w = checks.resolution_warning(fe, scene_with("fe.axial_size=0.05"))
+    assert w.startswith("mesh: fe.axial_size = 50 mm is 50 x its auto 1 mm") and "fe.radial_size" not in w
+    both = checks.resolution_warning(fe, scene_with("fe.axial_size=2.1e-3", "fe.radial_size=2.2e-3"))
+    assert "fe.radial_size = 2.2 mm is 8.06 x" in both and "fe.axial_size = 2.1 mm is 2.1 x" in both
+    for other in (sub, ana):
+        assert checks.resolution_warning(other, scene_with("fe.axial_size=0.05")) is None
+    # auto follows the scene: 2 mm axial is coarse for a 1 m tip (auto 0.52 mm, force rise in 4 µs)
+    assert "3.86 x" in checks.resolution_warning(fe, scene_with("rod1.tip_radius=1.0", "fe.axial_size=2e-3"))
+
+
 def test_a_rattling_peak_is_not_ok():
     """A raw peak 20% above a smooth 200 µs pulse (one spiky sample, as a stiff penalty rattles) is flagged; the
     smooth pulse itself, sampled every 0.25 µs, is not (its 2 µs average sits 0.01% below its top)."""
