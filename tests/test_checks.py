@@ -106,6 +106,24 @@ def test_an_unresolved_patch_cannot_certify_itself_and_3d_counts_node_rings(scen
     assert "node rings" in checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=quarter"))
 
 
+def test_an_output_interval_that_samples_the_pulse_is_not_ok(scene_with):
+    """Fewer than PULSE_SAMPLES_OK output samples on the first contact warn, naming the key and the largest
+    interval that passes; the paper scene's analytical model at 1 ms read its midpoint strain -23% (measured)."""
+    run = {"contact_duration": 203.6e-6}
+    assert checks.sampling_warning(run, scene_with()) is None
+    assert checks.sampling_warning(run, scene_with("simulation.output_interval=25e-6")) is None  # 8.1 samples
+    w = checks.sampling_warning(run, scene_with("simulation.output_interval=30e-6"))
+    assert w.startswith("simulation.output_interval: 3e-05 s puts 6.79 samples") and "at most 2.5e-05 s" in w
+    assert checks.sampling_warning({"contact_duration": None}, scene_with("simulation.output_interval=1e-3")) is None
+    sc = scene_with("simulation.output_interval=1e-3")
+    r = simulate(sc)
+    s = checks.apply(r.summary, r.history, sc, sc.end_time, r.force_trace)
+    assert s["midpoint_peak_strain"] == pytest.approx(
+        0.771 * simulate(scene_with()).summary["midpoint_peak_strain"], rel=1e-2
+    )
+    assert any(w.startswith("simulation.output_interval: 0.001 s puts 0.204") for w in s["warnings"])
+
+
 def test_a_global_mesh_coarser_than_twice_auto_is_not_ok(scene_with):
     """Set sizes beyond COARSE_OK x auto warn on the global FE run, naming the key, the ratio and the remedy; auto,
     the sweep's coarse level (2 x axial, 1.83 x radial on the paper rods), finer meshes, the submodel's levels and
@@ -457,8 +475,10 @@ def test_the_analytical_duration_and_force_checks_do_not_depend_on_the_output_in
         np.diff(coarse["contact_episodes"][0])[0], abs=0.05e-6
     )  # the release
     assert not any("rises" in w for w in coarse["warnings"])
-    force_checks = [[w for w in s["warnings"] if not w.startswith("midpoint_peak_speed")] for s in (coarse, default)]
+    sampled = ("midpoint_peak_speed", "simulation.output_interval")  # the stations' samples, not the force's
+    force_checks = [[w for w in s["warnings"] if not w.startswith(sampled)] for s in (coarse, default)]
     assert force_checks[0] == force_checks[1] == []
+    assert any(w.startswith("simulation.output_interval: 5e-05 s") for w in coarse["warnings"])
 
 
 def test_a_station_near_a_rods_end_is_outside_the_bar_model(paper_dict, scene_with):
