@@ -10,6 +10,7 @@ record's rows and the new runs (:func:`write_sweep_table`), into ``output/`` fir
 from __future__ import annotations
 
 import csv
+import difflib
 import hashlib
 import io as _io
 import json
@@ -75,7 +76,9 @@ def check_config(config: Mapping[str, object]) -> None:
 
     unknown = sorted(set(config) - set(CONFIG_KEYS))
     if unknown:
-        raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; known: {', '.join(CONFIG_KEYS)}")
+        near = difflib.get_close_matches(unknown[0], CONFIG_KEYS, n=1, cutoff=0.7)
+        hint = f"did you mean '{near[0]}'?; " if near else ""
+        raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; {hint}known: {', '.join(CONFIG_KEYS)}")
     missing = [k for k in CONFIG_KEYS if k not in config]
     if missing:
         raise ConfigError(missing[0], None, "missing (workflows/sweep.yaml states every key)")
