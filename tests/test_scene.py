@@ -209,6 +209,23 @@ def test_files(tmp_path):
         parse_override("impact.speed")
 
 
+def test_a_relative_base_is_read_from_the_naming_files_folder(tmp_path, monkeypatch):
+    """``base`` relative to the folder of the file that names it, wherever the command runs (README, Scenes)."""
+    import shutil
+
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "mine").mkdir()
+    shutil.copy(SCENES / "paper.toml", tmp_path / "lib" / "paper.toml")
+    own = tmp_path / "mine" / "fast.toml"
+    own.write_text('base = "../lib/paper.toml"\n[impact]\nspeed = 3.0\n')
+    monkeypatch.chdir(tmp_path)  # from here "../lib/paper.toml" does not exist
+    sc = load_scene(own)
+    assert sc.speed == 3.0 and sc.rod1.length == 0.25009
+    own.write_text('base = "lib/paper.toml"\n')  # relative to the cwd, not to mine/: refused, naming the file
+    with pytest.raises(SceneError, match=r"base.*no such scene file .*mine/lib/paper.toml"):
+        load_scene(own)
+
+
 def test_stations(paper_dict):
     s = scene_from_dict({**paper_dict, "station": [{"rod": 1, "position": 0.1, "name": "r1"}]})
     assert [st.name for st in s.stations] == ["rod2_mid", "r1"]
