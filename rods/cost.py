@@ -80,8 +80,8 @@ VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 G
 TIME_BUDGET = 86400.0
 # analytical model: integration time per one-way pass L/c of a wave in the rod with the most (measured: paper rods
 # to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass; 2026-11-29, paper rods to 30 ms and
-# 0.1 s, 4.9 s and 17.6 s run, 7.3 s and 24.4 s planned, to 1 s 116 s run, 222 s planned: linear since the delayed force walks only the reflections
-# that land in a contact, before 264.6 s at 0.1 s), and per history value
+# 0.1 s, 4.9 s and 17.6 s run, 7.3 s and 24.4 s planned, to 1 s 116 s run, 222 s planned: linear since the delayed
+# force walks only the reflections that land in a contact, before 264.6 s at 0.1 s), and per history value
 SECONDS_PER_PASS = 1e-2  # [s]
 SECONDS_PER_VALUE = 1e-6  # [s]
 # ... and per step the contact's stiffness against the rods' impedance forces on the explicit DOP853: the

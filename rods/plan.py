@@ -43,6 +43,7 @@ __all__ = [
     "scene_difference",
     "contact_phase",
     "driver_phase",
+    "submodel_end",
     "fe_stage",
     "first_contact_end",
     "first_contact_summary",
@@ -107,6 +108,14 @@ def driver_phase(scene: Scene) -> float:
     """The contact phase [s] a driving global of ``scene`` runs and records (its submodels' end time), from the
     analytical model's first contact (:func:`first_contact_summary`)."""
     return contact_phase(first_contact_summary(scene), scene.end_time)
+
+
+def submodel_end(scene: Scene, driver_summary: Mapping[str, Any] | None = None) -> float:
+    """A submodel's end time [s] when none is asked: the contact phase its driver recorded over (the driver
+    summary's ``contact_phase``, rods.study.stages.driver_keys), else :func:`driver_phase` of ``scene``; never past
+    the scene's end. The one rule of the study's submodel stages and workflows/submodel.py."""
+    recorded = (driver_summary or {}).get("contact_phase")
+    return min(recorded or driver_phase(scene), scene.end_time)
 
 
 def contact_phase(analytical_summary: Mapping[str, Any], end_time: float) -> float:

@@ -104,3 +104,17 @@ def test_first_contact_summary_runs_the_whole_scene_when_the_contact_outlasts_th
     monkeypatch.setattr(plan, "FIRST_CONTACT_ROUND_TRIPS", 0.2)
     sc = scene_with("simulation.end_time=1e-3")
     assert plan.first_contact_summary(sc)["contact_episodes"] == simulate(sc).summary["contact_episodes"]
+
+
+def test_a_submodel_ends_at_the_contact_phase_its_driver_recorded(scene_with):
+    """One rule for the study's submodel stages and workflows/submodel.py: the driver summary's recorded contact
+    phase when there is one (not recomputed from a scene that may differ in its outputs), else the scene's driver
+    phase; never past the scene's end. A size overriding the level labels the run by it."""
+    from rods.fe.submodel import submodel_label
+
+    sc = scene_with()
+    assert plan.submodel_end(sc) == plan.driver_phase(sc) == pytest.approx(CONTACT_MARGIN * 203.6e-6, rel=0.01)
+    assert plan.submodel_end(sc, {"contact_phase": 1e-4}) == 1e-4
+    assert plan.submodel_end(sc, {"contact_phase": None}) == plan.driver_phase(sc)
+    assert plan.submodel_end(scene_with("simulation.end_time=5e-5"), {"contact_phase": 1e-4}) == 5e-5
+    assert (submodel_label("fine"), submodel_label("fine", 3e-5)) == ("fine", "h=3e-05")

@@ -28,7 +28,7 @@ import _cli
 from rods import cost, plan
 from rods.fe import checkpoint
 from rods.fe.cut import recorded_until
-from rods.fe.submodel import submodel_scene
+from rods.fe.submodel import submodel_label, submodel_scene
 from rods.preflight import InputError, input_dir
 from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, scene_from_summary
 from rods.study import stages
@@ -70,10 +70,8 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
         values, told = gsum["scene_values"], gsum.get("scene_overrides", ())
         scene = scene_from_summary(values, args.overrides, str(gdir), given=told)
     plan.check_driven_scene(scene, driver)
-    if args.end_time is not None:
-        end = args.end_time  # [s] as asked: refused below if past the record, never cut short silently
-    else:
-        end = min(gsum.get("contact_phase") or plan.driver_phase(scene), scene.end_time)
+    # [s] as asked (refused below if past the record, never cut short silently), else the library's rule
+    end = args.end_time if args.end_time is not None else plan.submodel_end(scene, gsum)
     if end > recorded * (1 + 1e-9):
         why = f"the submodel's end {end:.6g} s is beyond the driving global's cut record (to {recorded:.6g} s)"
         if args.end_time is None:  # not the user's: the driver's contact phase outlasts what it recorded
@@ -132,7 +130,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     gdir, gsum, scene, end = _driver(args, argv)
     dt = gsum["dt"] if args.dt == "global" else args.dt
-    level = args.level if args.size is None else f"h={args.size:g}"
+    level = submodel_label(args.level, args.size)
     if args.phase is not None:
         level = f"{args.level}-phase-{args.phase}"
     out = _cli.out_dir(args, f"submodel/{level}", scene)

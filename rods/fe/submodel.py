@@ -38,6 +38,7 @@ __all__ = [
     "PeakField",
     "SubmodelResult",
     "run_submodel",
+    "submodel_label",
     "submodel_name",
     "submodel_scene",
     "surface_gauss_stress",
@@ -204,6 +205,12 @@ class SubmodelResult:
     result: FEResult
     sigma_r: dict[str, np.ndarray] = field(default_factory=dict)  # r, depth [m], sigma_r [Pa]
     summary: dict[str, Any] = field(default_factory=dict)
+
+
+def submodel_label(level: str, size: float | None = None) -> str:
+    """A submodel run's label: its level, or ``h=<size>`` when an element size [m] overrides the level (a phase
+    member's size is its level's: pass None)."""
+    return level if size is None else f"h={size:g}"
 
 
 def submodel_name(level: str) -> str:

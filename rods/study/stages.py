@@ -295,9 +295,9 @@ def submodel(
     driver_summary: Mapping[str, Any] | None = None,
 ) -> Stage:
     """One submodel of ``scene`` (the driving global's scene) at ``level`` (rods.scene.SUBMODEL_LEVEL_SIZES;
-    ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default the driver's contact phase,
-    rods.plan.driver_phase; capped by the scene's end). ``phase``: the level's member of the
-    phase-averaged study instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
+    ``size`` [m] overrides it), driven by ``cut_file``, to ``end_time`` [s] (default rods.plan.submodel_end: the
+    driver's contact phase; capped by the scene's end). ``phase``: the level's member of the phase-averaged study
+    instead (rods.plan.submodel_size; a ``size`` given with it is that member's size, as
     the caller resolved it). Writes history, pressure_profile, sigma_r (r, depth, σ_r at peak force) and the
     summary; checkpoints when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one in ``out``).
     ``resume`` (a study's restart, from a kept driver): a run finished in ``out`` for this submodel scene and cut
@@ -305,14 +305,12 @@ def submodel(
     the driving global's summary, whose peak force the submodel's is checked against (rods.checks.driver_warning)."""
     from rods.fe.cut import cut_identity
     from rods.fe.guards import SimulationError
-    from rods.fe.submodel import run_submodel, submodel_name, submodel_scene
+    from rods.fe.submodel import run_submodel, submodel_label, submodel_name, submodel_scene
 
     comm = world(comm)
     h = size or plan.submodel_size(scene, level, phase)
-    name = f"h={h:g}" if size is not None and phase is None else level
-    if end_time is None:  # the driver's contact phase (rods.plan.driver_phase, as the driver stage runs it)
-        end_time = plan.driver_phase(scene)
-    end = min(end_time, scene.end_time)
+    name = submodel_label(level, size if phase is None else None)
+    end = plan.submodel_end(scene, driver_summary) if end_time is None else min(end_time, scene.end_time)
     if resume:  # kept only if driven by this very record (a global rerun here wrote another)
         sub = submodel_scene(scene, h, axial_size, end, dt)
         kept = finished(f"submodel/{name}", out, sub, comm, None, SUBMODEL_IGNORES)
