@@ -1,8 +1,5 @@
-"""Comparison-stage math: Hertz at a model's own force, Hertz subsurface stresses, Richardson/GCI.
+"""Comparison-stage math: Hertz at a model's own force, Richardson/GCI, the σ_r error against Hertz.
 
-* :func:`hertz_stresses`: Hertz stresses below the surface (Johnson, Contact Mechanics, 1985,
-  Eq. 3.44; Huber 1904) at (r, z), z the depth: the paper computed the closed form at the FE
-  integration points (Fig. 6), which lie ~0.21 h below the surface.
 * :func:`richardson`: observed order, extrapolated value and grid-convergence index over three
   levels of constant refinement ratio (Roache 1998; ASME V&V 20-2009, Sec. 2.4):
 
@@ -23,7 +20,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz
 from rods.convergence import FS_GOOD, credible_order, estimate
@@ -33,7 +29,6 @@ __all__ = [
     "Richardson",
     "cell",
     "difference",
-    "hertz_stresses",
     "measured",
     "percent",
     "plateau_radius_error",
@@ -65,41 +60,6 @@ def cell(x: Any, spec: str, unit: str = "", scale: float = 1.0, missing: str = "
     """A table cell: ``x * scale`` formatted by ``spec`` plus ``unit``; ``missing`` where the value is not
     :func:`measured`."""
     return format(x * scale, spec) + unit if measured(x) else missing
-
-
-def hertz_stresses(
-    r: ArrayLike, z: ArrayLike, a: float, p0: float, nu: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """(σ_r, σ_θ, σ_z) [Pa] at radius r > 0 and depth z >= 0 [m] below a Hertz pressure p0, radius a.
-
-    Johnson Eq. 3.44 with u = ½[(r² + z² - a²) + sqrt((r² + z² - a²)² + 4 a² z²)]:
-
-        σ_r/p0 = (1-2ν)/3 a²/r² [1 - (z/√u)³] + (z/√u)³ a² u/(u² + a² z²)
-                 + (z/√u)[(1-ν) u/(a² + u) + (1+ν)(√u/a) arctan(a/√u) - 2]
-        σ_θ/p0 = -(1-2ν)/3 a²/r² [1 - (z/√u)³] - (z/√u)[2ν + (1-ν) u/(a² + u) - (1+ν)(√u/a) arctan(a/√u)]
-        σ_z/p0 = -(z/√u)³ a² u/(u² + a² z²)
-
-    At z = 0 it reduces to :func:`rods.hertz.surface_radial_stress` (z/√u -> sqrt(1 - r²/a²) inside,
-    0 outside). Frictionless, elastic half-space. Vectorised.
-    """
-    r, z = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(z, dtype=float))
-    s = r * r + z * z - a * a
-    u = 0.5 * (s + np.sqrt(s * s + 4.0 * a * a * z * z))
-    inside = u <= 0.0  # z = 0, r <= a
-    uu = np.where(inside, 1.0, u)
-    q = np.where(inside, np.sqrt(np.clip(1.0 - r * r / (a * a), 0.0, None)), z / np.sqrt(uu))  # z/√u
-    # a² u/(u² + a² z²) -> 1/(1 - r²/a²) inside on the surface; times q³ gives q
-    frac = np.where(inside, 0.0, a * a * uu / (uu * uu + a * a * z * z))
-    t3 = np.where(inside, q, q**3 * frac)
-    su = np.sqrt(np.where(inside, 0.0, u))
-    atan_term = np.where(su > 0, (su / a) * np.arctan(a / np.where(su > 0, su, 1.0)), 0.0)
-    c = (1.0 - 2.0 * nu) / 3.0
-    edge = c * a * a / (r * r) * (1.0 - q**3)
-    g = np.where(inside, 0.0, u / (a * a + u))
-    σ_r = edge + t3 + q * ((1.0 - nu) * g + (1.0 + nu) * atan_term - 2.0)
-    σ_θ = -edge - q * (2.0 * nu + (1.0 - nu) * g - (1.0 + nu) * atan_term)
-    σ_z = -t3
-    return p0 * σ_r, p0 * σ_θ, p0 * σ_z
 
 
 @dataclass(frozen=True)
@@ -204,7 +164,7 @@ def sigma_r_error(profile: Mapping[str, Any], hertz_at_force: Mapping[str, float
         return {"surface": math.nan, "depth": math.nan, "gauss_depth": math.nan}
     ref = (1.0 + 2.0 * nu) / 2.0 * p0  # |σ_r(0)| at the surface [Pa]
     σ_s = hertz.surface_radial_stress(r, a, p0, nu)
-    σ_d = hertz_stresses(r, np.maximum(z, 0.0), a, p0, nu)[0]
+    σ_d = hertz.subsurface_stresses(r, np.maximum(z, 0.0), a, p0, nu)[0]
     return {
         "surface": float(np.max(np.abs(σ - σ_s)[away]) / ref),
         "depth": float(np.max(np.abs(σ - σ_d)[away]) / ref),

@@ -41,6 +41,7 @@ __all__ = [
     "peak_pressure",
     "pressure",
     "rod_end_compliance",
+    "subsurface_stresses",
     "surface_hoop_stress",
     "surface_radial_stress",
     "yield_check",
@@ -293,6 +294,42 @@ def _edge_term(s: NDArray[np.float64]) -> NDArray[np.float64]:
     with np.errstate(divide="ignore"):  # log1p(-1) = -inf at the edge gives the exact value 1
         val = -np.expm1(1.5 * np.log1p(-np.minimum(safe, 1.0))) / safe
     return np.where(x > 0, val, 1.5)
+
+
+def subsurface_stresses(
+    r: ArrayLike, z: ArrayLike, a: float, p0: float, nu: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(σ_r, σ_θ, σ_z) [Pa] at radius r > 0 and depth z >= 0 [m] below a Hertz pressure p0, radius a: the paper
+    computed this closed form at the FE integration points (Fig. 6), which lie ~0.21 h below the surface.
+
+    Johnson (Contact Mechanics, 1985) Eq. 3.44 (Huber 1904), u = ½[(r² + z² - a²) + sqrt((r² + z² - a²)² + 4 a² z²)]:
+
+        σ_r/p0 = (1-2ν)/3 a²/r² [1 - (z/√u)³] + (z/√u)³ a² u/(u² + a² z²)
+                 + (z/√u)[(1-ν) u/(a² + u) + (1+ν)(√u/a) arctan(a/√u) - 2]
+        σ_θ/p0 = -(1-2ν)/3 a²/r² [1 - (z/√u)³] - (z/√u)[2ν + (1-ν) u/(a² + u) - (1+ν)(√u/a) arctan(a/√u)]
+        σ_z/p0 = -(z/√u)³ a² u/(u² + a² z²)
+
+    At z = 0 it reduces to :func:`surface_radial_stress` (z/√u -> sqrt(1 - r²/a²) inside,
+    0 outside). Frictionless, elastic half-space. Vectorised.
+    """
+    r, z = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(z, dtype=float))
+    s = r * r + z * z - a * a
+    u = 0.5 * (s + np.sqrt(s * s + 4.0 * a * a * z * z))
+    inside = u <= 0.0  # z = 0, r <= a
+    uu = np.where(inside, 1.0, u)
+    q = np.where(inside, np.sqrt(np.clip(1.0 - r * r / (a * a), 0.0, None)), z / np.sqrt(uu))  # z/√u
+    # a² u/(u² + a² z²) -> 1/(1 - r²/a²) inside on the surface; times q³ gives q
+    frac = np.where(inside, 0.0, a * a * uu / (uu * uu + a * a * z * z))
+    t3 = np.where(inside, q, q**3 * frac)
+    su = np.sqrt(np.where(inside, 0.0, u))
+    atan_term = np.where(su > 0, (su / a) * np.arctan(a / np.where(su > 0, su, 1.0)), 0.0)
+    c = (1.0 - 2.0 * nu) / 3.0
+    edge = c * a * a / (r * r) * (1.0 - q**3)
+    g = np.where(inside, 0.0, u / (a * a + u))
+    σ_r = edge + t3 + q * ((1.0 - nu) * g + (1.0 + nu) * atan_term - 2.0)
+    σ_θ = -edge - q * (2.0 * nu + (1.0 - nu) * g - (1.0 + nu) * atan_term)
+    σ_z = -t3
+    return p0 * σ_r, p0 * σ_θ, p0 * σ_z
 
 
 def surface_radial_stress(r: ArrayLike, a: float, p0: float, nu: float) -> FloatOrArray:

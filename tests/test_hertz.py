@@ -212,3 +212,17 @@ def test_rod_end_compliance_scales_with_modulus_and_radius():
     assert hertz.rod_end_compliance(rod(200e9, 0.4999, 0.0127)) == hertz.rod_end_compliance(
         rod(200e9, hertz.ROD_END_NU[-1], 0.0127)
     )
+
+
+def test_subsurface_hertz_reduces_to_surface_and_axis():
+    a, p0, nu = 1.1e-3, 2.2e9, 0.3
+    r = np.linspace(0.02, 2.5, 40) * a
+    σ_r, σ_θ, σ_z = hertz.subsurface_stresses(r, np.zeros_like(r), a, p0, nu)
+    assert np.allclose(σ_r, hertz.surface_radial_stress(r, a, p0, nu), rtol=1e-9, atol=1e-6 * p0)
+    assert np.allclose(σ_θ, hertz.surface_hoop_stress(r, a, p0, nu), rtol=1e-9, atol=1e-6 * p0)
+    assert np.allclose(σ_z, -hertz.pressure(r, a, p0), atol=1e-6 * p0)
+    z = np.array([0.2, 0.5, 1.0, 2.0]) * a
+    sz, sr, _ = hertz.axis_stresses(z, a, p0, nu)
+    σ_r, _, σ_z = hertz.subsurface_stresses(1e-3 * a, z, a, p0, nu)
+    assert np.allclose(σ_z, sz, rtol=1e-5)
+    assert np.allclose(σ_r, sr, rtol=1e-2, atol=1e-3 * p0)  # a²/r² (1 - q³) cancels near the axis

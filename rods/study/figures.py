@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from rods import compare, hertz, io
+from rods import hertz, io
 
 __all__ = ["fig5c", "fig6", "pyplot"]
 
@@ -51,7 +51,7 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
         )
         ax.plot(
             r * 1e3,
-            compare.hertz_stresses(r, z, H["contact_radius"], H["peak_pressure"], nu)[0] / 1e6,
+            hertz.subsurface_stresses(r, z, H["contact_radius"], H["peak_pressure"], nu)[0] / 1e6,
             "k--",
             lw=0.8,
             label=f"Hertz at the Gauss depth ({np.median(z) * 1e6:.1f} µm)",

@@ -301,7 +301,7 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
     edge-period area (rods.metrics.edge_period_radius) within 0.5%. Measured in the main job (2 ranks, the
     whole contact phase, 2026-11-24): area -0.004%, edge-period area -0.169%, p0 -0.38%, force +0.04%."""
     from rods import hertz
-    from rods.compare import hertz_stresses
+    from rods.hertz import subsurface_stresses
 
     g = tmp_path / "g"
     p = run_workflow("global.py", ["--driver", "--set", "simulation.end_time=1.5e-4", "--out", str(g)])
@@ -327,7 +327,7 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
     away = np.abs(r - a) > 0.2 * a
     ref = 0.8 * p0
     assert np.max(np.abs(σ - hertz.surface_radial_stress(r, a, p0, 0.3))[away]) / ref < 0.05
-    assert np.max(np.abs(σ - hertz_stresses(r, z, a, p0, 0.3)[0])[away]) / ref < 0.05
+    assert np.max(np.abs(σ - subsurface_stresses(r, z, a, p0, 0.3)[0])[away]) / ref < 0.05
 
 
 # ----------------------------------------------------------------------------------------------

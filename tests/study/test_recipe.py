@@ -154,7 +154,7 @@ def test_sigma_r_error_band_and_normalisation():
     a, p0 = H["contact_radius"], H["peak_pressure"]
     r = np.linspace(0.01, 2.5, 250) * a
     z = np.full_like(r, 1e-6)  # [m] sample depth
-    σ = compare.hertz_stresses(r, z, a, p0, nu)[0]
+    σ = hertz.subsurface_stresses(r, z, a, p0, nu)[0]
     prof = {"r": r, "depth": z, "sigma_r": σ}
     e = compare.sigma_r_error(prof, H, nu)
     assert e["depth"] < 1e-12 and e["gauss_depth"] == pytest.approx(1e-6)

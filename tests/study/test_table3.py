@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from rods import compare, hertz, io, paper_data
+from rods import hertz, io, paper_data
 from rods.convergence import estimate
 from rods.study.table3 import COLUMNS, ModelRun, render_csv, render_markdown, table3
 
@@ -35,7 +35,7 @@ def _hertz_model(scene, F: float, **extra) -> dict:
         "dofs": 1000,
         "wall_time": 1.0,
         "hertz_at_own_force": H,
-        "sigma_r_profile": {"r": r, "depth": z, "sigma_r": compare.hertz_stresses(r, z, a, p0, 0.3)[0]},
+        "sigma_r_profile": {"r": r, "depth": z, "sigma_r": hertz.subsurface_stresses(r, z, a, p0, 0.3)[0]},
         "pressure_profile": {"r": r, "p": hertz.pressure(r, a, p0)},
         "scene_values": scene.as_dict(),
         "mesh": {"radial_size": 0.25e-3},
