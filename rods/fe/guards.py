@@ -4,9 +4,10 @@ Checked at every recorded output step (cheap: the energies and the contact state
 anyway) and, for non-finite values, on the velocity every ``FINITE_EVERY`` steps:
 
 * a NaN/Inf in the state or the energies;
-* energy growth: (E_kin + E_strain + E_contact + E_dissipated - E_0) / E_0 above ``growth_limit``
-  (central differences conserve a modified energy exactly below the stable step, so growth means
-  instability, not accumulated round-off);
+* energy growth: (E_kin + E_strain + E_contact + E_dissipated - W_external - E_0) / scale above ``growth_limit``,
+  scale the larger of E_0 and the work put in so far (rods.fe.recorder.balance_scale: the summary's energy error
+  divides by the same; a driven submodel's cut brings work in) (central differences conserve a modified energy
+  exactly below the stable step, so growth means instability, not accumulated round-off);
 
 The likely cause is named from the state: a step near or above the stable limit ("step too large"),
 or a contact energy that dominates ("penalty too stiff"). Every ``INVERSION_EVERY`` steps the corner
@@ -98,10 +99,12 @@ class Guard:
             "mesh quality, bulk viscosity or an estimate of the limit too high); lower fe.dt_fraction"
         )
 
-    def check(self, step: int, t: float, energies: tuple[float, ...], E0: float) -> None:
+    def check(self, step: int, t: float, energies: tuple[float, ...], E0: float, scale: float | None = None) -> None:
         """Raise SimulationError if the recorded state at ``step`` is not physical.
 
-        ``energies`` = (kinetic, strain, contact, dissipated) [J]."""
+        ``energies`` = (kinetic, strain, contact, dissipated less the work put in) [J]; the growth is the balance's
+        excess over ``E0`` relative to ``scale`` (rods.fe.recorder.balance_scale, as the summary's energy error;
+        default ``E0``)."""
         Ek, Es, Ec, W = energies
         total = Ek + Es + Ec + W
         share = abs(Ec) / max(abs(total), 1e-300)
@@ -110,11 +113,13 @@ class Guard:
             raise SimulationError(
                 f"non-finite state at step {step} (t = {t:.6g} s); likely cause: {cause}", step, t, cause
             )
-        growth = (total - E0) / E0 if E0 > 0 else 0.0
+        scale = E0 if scale is None else scale
+        growth = (total - E0) / scale if scale > 0 else 0.0
         if growth > self.growth_limit:
             cause = self._cause(share) if growth > DRIFT else self._drift(growth)
             raise SimulationError(
-                f"energy grew by {growth:.3g} x E0 (limit {self.growth_limit:g}) at step {step} "
+                f"energy grew by {growth:.3g} x {'E0' if scale == E0 else 'the work put in'} (limit "
+                f"{self.growth_limit:g}) at step {step} "
                 f"(t = {t:.6g} s); likely cause: {cause}",
                 step,
                 t,
@@ -151,7 +156,7 @@ class RunGuard:
 
     def after_step(self, step: int, t: float, state) -> None:
         if self.recorder.last is not None:
-            self.guard.check(step, t, self.recorder.last, self.recorder.E0)
+            self.guard.check(step, t, self.recorder.last, self.recorder.E0, self.recorder.energy_scale)
         if step % FINITE_EVERY == 0:
             # NaN/Inf anywhere poisons the dot product; inverted cells are counted every INVERSION_EVERY
             n_inv = self.inverted(state.u) if step % INVERSION_EVERY == 0 else 0

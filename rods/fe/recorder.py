@@ -34,7 +34,7 @@ from rods import metrics
 from rods.fe.backend import PETSC, Backend, product
 from rods.fe.explicit import CentralDifference
 
-__all__ = ["BASE_COLUMNS", "ENERGY_COLUMNS", "Recorder", "output_steps"]
+__all__ = ["BASE_COLUMNS", "ENERGY_COLUMNS", "Recorder", "balance_scale", "output_steps"]
 
 BASE_COLUMNS = {"time": "s", "contact_force": "N", "contact_radius": "m", "contact_area": "m^2", "peak_pressure": "Pa"}
 ENERGY_COLUMNS = {
@@ -45,6 +45,12 @@ ENERGY_COLUMNS = {
     "external_work": "J",
     "momentum": "kg m/s",
 }
+
+
+def balance_scale(E0: float, external_work: np.ndarray | float) -> float:
+    """The energy balance's scale [J]: the larger of the initial energy E0 and the largest |work put in| so far (a
+    driven submodel's cut). One definition: the summary's ``energy_error`` and the guard's growth divide by it."""
+    return max(float(E0), float(np.max(np.abs(external_work), initial=0.0)))
 
 
 def output_steps(end_time: float, interval: float, dt: float, steps: int) -> np.ndarray:
@@ -96,6 +102,7 @@ class Recorder:
         self.p_max_all = 0.0  # largest nodal pressure over the recorded steps [Pa]
         self.W_local, self.s_prev = 0.0, 0.0  # dissipated energy (this rank) [J]; v_{n-½}·f_d,n-1 [W]
         self.E0 = 0.0  # total energy of the first record [J]
+        self.energy_scale = 0.0  # balance_scale so far [J]
         self.last: tuple[float, ...] | None = None  # (E_k, E_s, E_c, W - W_ext) of this step's record [J]
         self.wall_before, self.t_start = 0.0, time.perf_counter()
 
@@ -155,6 +162,7 @@ class Recorder:
             self.columns[name][k] = x
         if k == 0:
             self.E0 = float(np.array([E_k, E_s, c.energy]).sum())
+        self.energy_scale = balance_scale(max(self.E0, self.energy_scale), W_ext)
         self.k += 1
         self.last = (E_k, E_s, c.energy, W - W_ext)
 
@@ -184,6 +192,7 @@ class Recorder:
         if k > 0:
             c = self.columns
             self.E0 = float(np.array([c["kinetic_energy"][0], c["strain_energy"][0], c["contact_energy"][0]]).sum())
+            self.energy_scale = balance_scale(self.E0, c["external_work"][:k])
 
     # -- results -------------------------------------------------------------------------------
     def history(self, rows: int | None = None) -> dict[str, np.ndarray]:
@@ -208,7 +217,7 @@ class Recorder:
         E0 = E_total[0]
         W_ext = hist["external_work"]
         # E(t) + dissipated(t) - work in(t) = E0; relative to the largest of E0 and the work put in
-        scale = max(E0, float(np.max(np.abs(W_ext), initial=0.0)))
+        scale = balance_scale(E0, W_ext)
         energy_error = float(np.max(np.abs(E_total + hist["dissipated_energy"] - W_ext - E0)) / scale)
         peak = self.peak
         a_peak = peak.get("a", 0.0)

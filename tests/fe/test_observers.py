@@ -96,6 +96,20 @@ def test_guard_likely_causes():
         guard.after_step(FINITE_EVERY, FINITE_EVERY * st.dt, st)
 
 
+def test_the_guard_weighs_growth_against_the_work_put_in_as_the_summary_does():
+    """A driven submodel's cut brings work in: the balance's excess over E0 is relative to the larger of E0 and that
+    work (rods.fe.recorder.balance_scale), in the guard's growth as in the summary's energy error. A 0.1 J excess
+    with 10 J put in onto 1 J is 1% (passes a 5% limit), not 10% of E0 (stopped before)."""
+    from rods.fe.recorder import balance_scale
+
+    assert balance_scale(1.0, np.array([0.0, -10.0, 4.0])) == 10.0 and balance_scale(2.0, 0.5) == 2.0
+    g = Guard(dt=1e-8, dt_critical=2e-8, growth_limit=0.05)
+    state = (6.0, 5.0, 0.0, 0.1 - 10.0)  # E_k, E_s, E_c, dissipated less the 10 J of work: 1.1 J in all
+    g.check(7, 7e-8, state, 1.0, balance_scale(1.0, 10.0))
+    with pytest.raises(SimulationError, match="energy grew by 0.1 x E0"):
+        g.check(7, 7e-8, state, 1.0)
+
+
 def test_progress_every_and_last():
     calls = []
     p = Progress(lambda step, total, elapsed: calls.append((step, total)), total=1001, every=500)
