@@ -120,7 +120,7 @@ class ExplicitModel:
 
         # stable step
         self._stable_step()
-        self.setup_time = time.perf_counter() - t0
+        self.setup_time = self.comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)  # [s] the slowest rank's
 
     # ------------------------------------------------------------------------------------------
     def _constraints(self) -> None:
