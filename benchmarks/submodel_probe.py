@@ -30,14 +30,14 @@ sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]  # the library; scene_probe
 
 import scene_probe  # noqa: E402  (its probes' scenes and its command line)
 
-from rods import plan  # noqa: E402
+from rods import checks, plan  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study.pipeline import run_study, stage_costs  # noqa: E402
 from rods.study.verification import CASES  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
-FORCE = 0.5  # [%] the finest level's peak force against the analytical model
-HERTZ = 2.0  # [%] its contact area and peak pressure against Hertz at its own force
+FORCE = 100 * checks.AGREE_FORCE  # [%] the finest level's peak force against the analytical model (a study's "ok")
+HERTZ = 100 * checks.HERTZ_OK  # [%] its contact area and peak pressure against Hertz at its own force (likewise)
 SHARED = ("aluminium", "flat-rod1", "tip-1m", "fast", "mini")  # scene_probe's probes, run here as studies
 PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of the paper scene)
     "paper": ("the paper scene", ()),
