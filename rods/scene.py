@@ -801,37 +801,40 @@ def check_submodel_length(L_s: float, rods: Iterable[Rod], caps: bool = True) ->
             )
 
 
+def _rod_checks(v: dict[str, Any], n: int) -> None:
+    """One rod's checks that involve several of its keys (cap, slenderness, units of E, ρ and S_y)."""
+    r, d = v[f"rod{n}.tip_radius"], v[f"rod{n}.diameter"]
+    if r < d / 2:
+        raise SceneError(
+            f"rod{n}.tip_radius", r, f"must be >= diameter/2 = {d / 2:g} m (a cap wider than a hemisphere)"
+        )
+    if v[f"rod{n}.length"] < 2 * d:
+        raise SceneError(
+            f"rod{n}.length", v[f"rod{n}.length"], f"must be >= 2 x diameter = {2 * d:g} m (a slender rod)"
+        )
+    E, S = v[f"rod{n}.material.youngs_modulus"], v[f"rod{n}.material.yield_strength"]
+    if E < 1e6:
+        raise SceneError(f"rod{n}.material.youngs_modulus", E, "must be >= 1e6 Pa", "looks like GPa or MPa; give Pa")
+    if v[f"rod{n}.material.density"] < 100.0:
+        raise SceneError(
+            f"rod{n}.material.density",
+            v[f"rod{n}.material.density"],
+            "must be >= 100 kg/m^3",
+            "looks like g/cm^3; give kg/m^3",
+        )
+    if S is not None and S >= E:
+        raise SceneError(
+            f"rod{n}.material.yield_strength",
+            S,
+            f"must be < youngs_modulus = {E:g} Pa",
+            f"looks like wrong units; 'none' drops a base scene's value: --set rod{n}.material.yield_strength=none",
+        )
+
+
 def _cross_checks(v: dict[str, Any]) -> None:
     """Checks that involve several keys (contradictions, geometry)."""
     for n in (1, 2):
-        r, d = v[f"rod{n}.tip_radius"], v[f"rod{n}.diameter"]
-        if r < d / 2:
-            raise SceneError(
-                f"rod{n}.tip_radius", r, f"must be >= diameter/2 = {d / 2:g} m (a cap wider than a hemisphere)"
-            )
-        if v[f"rod{n}.length"] < 2 * d:
-            raise SceneError(
-                f"rod{n}.length", v[f"rod{n}.length"], f"must be >= 2 x diameter = {2 * d:g} m (a slender rod)"
-            )
-        E, S = v[f"rod{n}.material.youngs_modulus"], v[f"rod{n}.material.yield_strength"]
-        if E < 1e6:
-            raise SceneError(
-                f"rod{n}.material.youngs_modulus", E, "must be >= 1e6 Pa", "looks like GPa or MPa; give Pa"
-            )
-        if v[f"rod{n}.material.density"] < 100.0:
-            raise SceneError(
-                f"rod{n}.material.density",
-                v[f"rod{n}.material.density"],
-                "must be >= 100 kg/m^3",
-                "looks like g/cm^3; give kg/m^3",
-            )
-        if S is not None and S >= E:
-            raise SceneError(
-                f"rod{n}.material.yield_strength",
-                S,
-                f"must be < youngs_modulus = {E:g} Pa",
-                f"looks like wrong units; 'none' drops a base scene's value: --set rod{n}.material.yield_strength=none",
-            )
+        _rod_checks(v, n)
     if math.isinf(v["rod1.tip_radius"]) and math.isinf(v["rod2.tip_radius"]):
         raise SceneError(
             "rod1.tip_radius", math.inf, "at least one tip must be curved (Hertz contact of two flats is undefined)"
