@@ -776,6 +776,28 @@ def _finer(row: Mapping[str, Any]) -> str:
     )
 
 
+def _midpoint_check(
+    summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any, sampled: bool
+) -> str | None:
+    """The plateau check of ``midpoint_peak_speed`` (:func:`plateau_warning`; null when no plateau is found). Where
+    the output interval samples the pulse (``sampled``, :func:`sampling_warning`) the plateaus' shape is the
+    sampling's, so the warning says that instead of blaming spikes or short rods."""
+    mid = f"{scene.stations[0].name}_velocity"
+    if mid not in history or "midpoint_peak_speed" not in summary:
+        return None
+    period = scene.rod2.transit_time  # [s] 2 L2/c2
+    arrival, gap = metrics.ARRIVAL * scene.speed, metrics.plateau_gap(scene.rod2)  # [m/s], [s]
+    w = plateau_warning(history["time"], history[mid], period, arrival, gap)
+    if w is None:
+        return None
+    if not metrics.plateaus(history["time"], history[mid], floor=arrival, gap=gap):
+        summary["midpoint_peak_speed"] = None
+    if sampled:
+        why = "its plateaus are sampled, not resolved (simulation.output_interval, below)"
+        return f"midpoint_peak_speed: {why}; the average is unreliable"
+    return w
+
+
 def apply(
     summary: dict[str, Any],
     history: Mapping[str, np.ndarray],
@@ -795,17 +817,9 @@ def apply(
         found.append(w)
     elif (w := tail_warning(force)) is not None:
         found.append(w)
-    mid = f"{scene.stations[0].name}_velocity"
-    period = scene.rod2.transit_time  # [s] 2 L2/c2
-    arrival, gap = metrics.ARRIVAL * scene.speed, metrics.plateau_gap(scene.rod2)  # [m/s], [s]
-    if (
-        mid in history
-        and "midpoint_peak_speed" in summary
-        and (w := plateau_warning(history["time"], history[mid], period, arrival, gap))
-    ):
+    sampled = sampling_warning(summary, scene)
+    if (w := _midpoint_check(summary, history, scene, sampled is not None)) is not None:
         found.append(w)
-        if not metrics.plateaus(history["time"], history[mid], floor=arrival, gap=gap):
-            summary["midpoint_peak_speed"] = None
     for w in (bar_theory_warning(summary, force, scene), reflection_warning(summary, force, scene)):
         if w is not None:
             found.append(w)
@@ -814,7 +828,7 @@ def apply(
         found.append(w)
     if _fe(summary) and (w := patch_warning(summary, scene)) is not None:
         found.append(w)
-    for w in (resolution_warning(summary, scene), sampling_warning(summary, scene)):
+    for w in (resolution_warning(summary, scene), sampled):
         if w is not None:
             found.append(w)
     for w in (
