@@ -76,7 +76,7 @@ STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 
 WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 3 h on one rank, 14 h in 3D) [-]
 VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
 # estimated wall time of one run (a day): the analytical model has no steps or DOFs, and 1 s of simulated time
-# (the schema's largest end_time) is ~24 000 wave passes, ~4 min on the paper rods, hours on short rods [s]
+# (the schema's largest end_time) is ~24 000 wave passes, 116 s on the paper rods (measured), hours on short rods [s]
 TIME_BUDGET = 86400.0
 # analytical model: integration time per one-way pass L/c of a wave in the rod with the most (measured: paper rods
 # to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass; 2026-11-29, paper rods to 30 ms and
