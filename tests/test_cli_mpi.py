@@ -28,7 +28,7 @@ def test_failure_on_one_rank_aborts_all(tmp_path):
                 MPI.COMM_WORLD.barrier()  # rank 0 waits here forever unless rank 1 aborts the job
                 return 0
 
-            sys.exit(_cli.guarded(main)())
+            _cli.entry(main)
             """
         )
     )
@@ -51,3 +51,39 @@ def test_analytical_under_mpirun_prints_and_writes_once(tmp_path):
     assert p.returncode == 0, p.stderr[-2000:]
     assert p.stdout.count("plan: analytical model") == 1 and p.stdout.count("status: ok") == 1
     assert sorted(f.name for f in out.iterdir()) == ["history.csv", "summary.json"]
+
+
+@pytest.mark.mpi
+def test_a_ctrl_c_in_the_teardown_after_the_run_is_no_error(tmp_path):
+    """Ctrl-C (hydra forwards it to every rank) after main returned, in the interpreter's teardown (an atexit
+    handler sends it here, as a user's key in the ~0.5 s before exit did): the command exits with main's code, no
+    traceback. Before rods' entry (_cli.entry) ignored it there, this printed a KeyboardInterrupt traceback (checked
+    with the old `sys.exit(_cli.guarded(main)())`), and a key later in the teardown killed the ranks by SIGINT, which
+    mpirun reported as exit 2, the bad-input code."""
+    script = tmp_path / "late_ctrl_c.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            import atexit, os, signal, sys, time
+            sys.path.insert(0, {str(ROOT / "workflows")!r})
+            from mpi4py import MPI
+            import _cli
+
+            def late():
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(0.2)
+
+            def main(argv=None):
+                atexit.register(late)
+                print("status: ok", flush=True)
+                return 0
+
+            _cli.entry(main)
+            """
+        )
+    )
+    p = subprocess.run(
+        [str(MPIRUN), "-n", "2", sys.executable, str(script)], capture_output=True, text=True, timeout=60
+    )
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert p.stdout.count("status: ok") == 2 and "KeyboardInterrupt" not in p.stderr

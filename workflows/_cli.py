@@ -266,6 +266,17 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
     return run
 
 
+def entry(main: Callable[[Sequence[str] | None], int]) -> NoReturn:
+    """Run ``main`` as the command (an entry point's ``__main__``): :func:`guarded`, then exit with its code. A Ctrl-C
+    or SIGTERM after ``main`` returned (its files written, its status printed) is ignored: in the interpreter's and
+    MPI's teardown it raised KeyboardInterrupt, a traceback, and hydra's mpirun reported the rank killed by signal 2
+    as "EXIT CODE: 2", the bad-input code."""
+    code = guarded(main)()
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, signal.SIG_IGN)
+    sys.exit(code)
+
+
 def bare_parser(description: str) -> argparse.ArgumentParser:
     """A parser without the scene options (the paper's rendering scripts), with the one-line errors."""
     return _Parser(description=description)

@@ -10,8 +10,6 @@ finished run of the scene's bodies and impact (else exit 2, nothing written).
 
 from __future__ import annotations
 
-import sys
-
 import _cli
 from rods.paper import accuracy_cost
 from rods.paper.data import parse_run, read_run
@@ -34,4 +32,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

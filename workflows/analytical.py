@@ -10,7 +10,6 @@ prints and writes.
 from __future__ import annotations
 
 import json
-import sys
 from collections.abc import Sequence
 
 from mpi4py import MPI
@@ -40,4 +39,4 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

@@ -13,7 +13,6 @@ output/compare/<scene>; the record (results/) only with --out results.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Sequence
 
 import _cli
@@ -50,4 +49,4 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

@@ -11,7 +11,6 @@ version that kept it) is refused, exit 2 (rods.fe.fields.check_run).
 from __future__ import annotations
 
 import json
-import sys
 
 import _cli
 from rods import io
@@ -53,4 +52,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

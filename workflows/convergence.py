@@ -11,8 +11,6 @@ anything else is refused, exit 2, nothing written). Writes convergence.json, .md
 
 from __future__ import annotations
 
-import sys
-
 import _cli
 from rods.paper import convergence
 from rods.paper.data import parse_run, read_summary
@@ -35,4 +33,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

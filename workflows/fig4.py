@@ -10,8 +10,6 @@ passes --png results/fig4.png --md results/fig4.md.
 
 from __future__ import annotations
 
-import sys
-
 import _cli
 from rods.paper.data import parse_run, read_run
 from rods.scene import scene_from_summary
@@ -41,4 +39,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

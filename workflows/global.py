@@ -13,7 +13,6 @@ Ctrl-C/SIGTERM (both write the histories so far). --restart needs the checkpoint
 from __future__ import annotations
 
 import json
-import sys
 from collections.abc import Sequence
 
 import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
@@ -71,4 +70,4 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

@@ -9,7 +9,6 @@ fig4-analytical.png go to --results (the main job passes --results results).
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import _cli
@@ -39,4 +38,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

@@ -9,7 +9,6 @@ Reads table2.json, table3.json, fig4.json and accuracy-cost.json from --results 
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import _cli
@@ -33,4 +32,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

@@ -19,7 +19,6 @@ stops a stage, 130 on Ctrl-C/SIGTERM.
 from __future__ import annotations
 
 import json
-import sys
 from collections.abc import Sequence
 
 import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
@@ -57,4 +56,4 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)

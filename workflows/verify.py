@@ -10,7 +10,6 @@ verification.md (rendered from it) into --tables (default DIR). Default DIR: out
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Sequence
 
 import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
@@ -46,4 +45,4 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(_cli.guarded(main)())
+    _cli.entry(main)
