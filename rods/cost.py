@@ -35,9 +35,9 @@ goes wrong"):
   run faster than the rate, so the estimate errs high there (the 52k-DOF paper mesh: 2.2x, 2026-11-27);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
-* cells: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene); DOFs: 2.3
-  per cell axisymmetric (measured; it tends to 2 on finer meshes), in 3D 3 per node of the O-grid's count
-  (exact: tests/test_cost.py); a 3D cell's step is :func:`_third_dimension` of the quadrilateral's (the
+* cells and DOFs: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene), 2 DOFs
+  per node axisymmetric (rods.fe.mesh.node_count; 2.3 per cell before, 10% high on the paper mesh), 3 per node of
+  the O-grid in 3D (exact: tests/test_cost.py); a 3D cell's step is :func:`_third_dimension` of the quadrilateral's (the
   estimate was 0.72 of the paper mesh's step without it, 0.88 with it; 3D coarse 1.05).
 """
 
@@ -131,7 +131,6 @@ CUT_SECONDS_PER_NODE = {"axisymmetric": 1e-3, "3d": 1e-3}
 # measured 2026-11-24 on the paper scene's 52.9k-DOF global, serial: 2.7-2.8 ms each, every step or every third
 CHECKPOINT_SECONDS = 1e-3  # [s]
 CHECKPOINT_SECONDS_PER_DOF = 3.5e-8  # [s]
-DOFS_PER_CELL = 2.3  # axisymmetric [-] (3D: counted from the O-grid's nodes)
 FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
 # a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes) and its time
 # (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs, 2 ranks):
@@ -235,10 +234,14 @@ def _duration(s: float) -> str:
     return f"{s:.3g} s" if s < 120 else (f"{s / 60:.3g} min" if s < 7200 else f"{s / 3600:.3g} h")
 
 
-def _cells_axisymmetric(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> float:
-    from rods.fe.mesh import cell_count
+def _mesh_axisymmetric(
+    scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]
+) -> tuple[float, float]:
+    """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods, 2 DOFs per node."""
+    from rods.fe.mesh import cell_count, node_count
 
-    return float(sum(cell_count(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)))
+    rods = [(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)]
+    return float(sum(cell_count(*r) for r in rods)), 2.0 * sum(node_count(*r) for r in rods)
 
 
 def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> tuple[float, float]:
@@ -296,8 +299,7 @@ def fe_cost(
     if kind == "3d":
         cells, dofs = _mesh_3d(scene, h_r, h, g, lengths)
     else:
-        cells = _cells_axisymmetric(scene, h_r, h, g, lengths)
-        dofs = DOFS_PER_CELL * cells
+        cells, dofs = _mesh_axisymmetric(scene, h_r, h, g, lengths)
     end = scene.end_time if end_time is None else end_time
     dt = _march_step(scene, h_r, h, g, size, dt)
     steps = math.ceil(end / dt)
