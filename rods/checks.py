@@ -514,17 +514,17 @@ def resolution_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     The submodels' levels and "auto" itself pass; the warning names the key, the ratio and the size to refine to."""
     if not _fe(summary) or _fe(summary, "fe-submodel") or scene is None:
         return None
-    coarse = []
+    coarse = {}
     for key, auto in (("fe.radial_size", scene.auto_radial_size), ("fe.axial_size", scene.auto_axial_size)):
         h = scene[key]
         if h / auto > COARSE_OK * (1 + 1e-9):
-            coarse.append(f"{key} = {h * 1e3:.4g} mm is {h / auto:.3g} x its auto {auto * 1e3:.4g} mm")
+            coarse[key] = f"{key} = {h * 1e3:.4g} mm is {h / auto:.3g} x its auto {auto * 1e3:.4g} mm"
     if not coarse:
         return None
     return (
-        f"mesh: {'; '.join(coarse)}: beyond {COARSE_OK:g} x the verified resolution the peak force and contact "
-        "duration are the mesh's (paper rods at 50 x axial: +1.6%, -8.8 µs); set it to 'auto' or at most "
-        f"{COARSE_OK:g} x auto, or show convergence on finer meshes"
+        f"{next(iter(coarse))}: the mesh is coarser than {COARSE_OK:g} x auto ({'; '.join(coarse.values())}): beyond "
+        "the verified resolution the peak force and contact duration are the mesh's (paper rods at 50 x axial: "
+        f"+1.6%, -8.8 µs); set it to 'auto' or at most {COARSE_OK:g} x auto, or show convergence on finer meshes"
     )
 
 

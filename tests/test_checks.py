@@ -136,7 +136,10 @@ def test_a_global_mesh_coarser_than_twice_auto_is_not_ok(scene_with):
     for ok in ((), ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3"), ("fe.axial_size=0.25e-3",)):
         assert checks.resolution_warning(fe, scene_with(*ok)) is None, ok
     w = checks.resolution_warning(fe, scene_with("fe.axial_size=0.05"))
-    assert w.startswith("mesh: fe.axial_size = 50 mm is 50 x its auto 1 mm") and "fe.radial_size" not in w
+    assert w.startswith(
+        "fe.axial_size: the mesh is coarser than 2 x auto (fe.axial_size = 50 mm is 50 x its auto 1 mm)"
+    )
+    assert "fe.radial_size" not in w
     both = checks.resolution_warning(fe, scene_with("fe.axial_size=2.1e-3", "fe.radial_size=2.2e-3"))
     assert "fe.radial_size = 2.2 mm is 8.06 x" in both and "fe.axial_size = 2.1 mm is 2.1 x" in both
     for other in (sub, ana):
