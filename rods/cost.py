@@ -36,7 +36,7 @@ goes wrong"):
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells and DOFs: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene), 2 DOFs
-  per node axisymmetric (rods.fe.mesh.node_count; 2.3 per cell before, 10% high on the paper mesh), 3 per node of
+  per node axisymmetric (rods.fe.mesh.mesh_counts; 2.3 per cell before, 10% high on the paper mesh), 3 per node of
   the O-grid in 3D (exact: tests/test_cost.py); a 3D cell's step is :func:`_third_dimension` of the quadrilateral's (the
   estimate was 0.72 of the paper mesh's step without it, 0.88 with it; 3D coarse 1.05).
 """
@@ -238,10 +238,10 @@ def _mesh_axisymmetric(
     scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]
 ) -> tuple[float, float]:
     """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods, 2 DOFs per node."""
-    from rods.fe.mesh import cell_count, node_count
+    from rods.fe.mesh import mesh_counts
 
-    rods = [(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)]
-    return float(sum(cell_count(*r) for r in rods)), 2.0 * sum(node_count(*r) for r in rods)
+    counts = [mesh_counts(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)]
+    return float(sum(c for c, _ in counts)), 2.0 * sum(n for _, n in counts)
 
 
 def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> tuple[float, float]:

@@ -32,7 +32,7 @@ from mpi4py import MPI
 
 from rods.scene import Rod, Scene
 
-__all__ = ["TAGS", "RodsMesh", "axial_spacing", "build_mesh", "cell_count", "element_count", "node_count"]
+__all__ = ["TAGS", "RodsMesh", "axial_spacing", "build_mesh", "element_count", "mesh_counts"]
 
 # Physical-group tags: cells by rod, facets by role.
 TAGS = {
@@ -176,29 +176,21 @@ def butterfly_counts(b: Butterfly, hr: float) -> tuple[int, int, int]:
     return n_a, n_b, element_count(b.t, hr)
 
 
-def cell_count(rod: Rod, hr: float, h: float, grading: float) -> int:
-    """Cells of one rod's mesh at radial size ``hr``, axial ``h`` [m] and tip grading (what the mesher makes)."""
-    sp = axial_spacing(rod, h, grading)
-    b = butterfly(rod)
-    if b is None:
-        return face_count(rod, hr) * (sp.n_graded + sp.n_uniform)
-    n_a, n_b, m = butterfly_counts(b, hr)
-    return (n_a + n_b) * m + n_a * n_b + (n_a + m) * (sp.n_graded + sp.n_uniform)
-
-
-def node_count(rod: Rod, hr: float, h: float, grading: float) -> int:
-    """Nodes of one rod's mesh (what the mesher makes): a simply connected quadrilateral mesh has V = F + E_b/2 + 1
-    (Euler's V - E + F = 1 with 4F = 2E - E_b), E_b its boundary edges: the tip, the axis, the outer surface and the
-    far end; with a butterfly cap the tip's arcs A-P-E, the axis A-D-O and the shaft, the far end n_a + m wide."""
+def mesh_counts(rod: Rod, hr: float, h: float, grading: float) -> tuple[int, int]:
+    """(cells, nodes) of one rod's mesh at radial size ``hr``, axial ``h`` [m] and tip grading (what the mesher
+    makes). Nodes: a simply connected quadrilateral mesh has V = F + E_b/2 + 1 (Euler's V - E + F = 1 with
+    4F = 2E - E_b), E_b its boundary edges: the tip, the axis, the outer surface and the far end; with a butterfly
+    cap the tip's arcs A-P-E, the axis A-D-O and the shaft, the far end n_a + m wide."""
     sp = axial_spacing(rod, h, grading)
     n_z = sp.n_graded + sp.n_uniform
     b = butterfly(rod)
     if b is None:
-        half_boundary = face_count(rod, hr) + n_z
+        n = face_count(rod, hr)
+        cells, half_boundary = n * n_z, n + n_z
     else:
         n_a, n_b, m = butterfly_counts(b, hr)
-        half_boundary = n_a + n_b + m + n_z
-    return cell_count(rod, hr, h, grading) + half_boundary + 1
+        cells, half_boundary = (n_a + n_b) * m + n_a * n_b + (n_a + m) * n_z, n_a + n_b + m + n_z
+    return cells, cells + half_boundary + 1
 
 
 def _butterfly_cap(geo, b: Butterfly, s: float, hr: float) -> dict[str, Any]:  # rank 0 only
