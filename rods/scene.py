@@ -37,6 +37,7 @@ __all__ = [
     "Station",
     "check_submodel_length",
     "load_scene",
+    "nearest_key",
     "parse_override",
     "scene_from_dict",
     "scene_from_summary",
@@ -399,16 +400,18 @@ def _unknown_msg(key: str) -> str:
     head = key.split(".")[0]
     near = sorted(k for k in SCHEMA if k.split(".")[0] == head)
     listing = f"; keys in [{head}]: {', '.join(near)}" if near else f"; known keys: {', '.join(SCHEMA)}"
-    return "unknown key" + (f"; did you mean '{hint}'?" if (hint := _nearest_key(key)) else "") + listing
+    return "unknown key" + (f"; did you mean '{hint}'?" if (hint := nearest_key(key)) else "") + listing
 
 
-def _nearest_key(key: str) -> str | None:
-    """The known key closest to ``key`` by its whole spelling or, failing that, by its last part alone."""
-    whole = difflib.get_close_matches(key, list(SCHEMA), n=1, cutoff=0.8)
+def nearest_key(key: str, known: Iterable[str] = SCHEMA) -> str | None:
+    """The ``known`` key (default the scene schema's) closest to ``key`` by its whole spelling or, failing that, by
+    its last dotted part alone; None when none is close (the "did you mean" of every unknown-key error)."""
+    known = list(known)
+    whole = difflib.get_close_matches(key, known, n=1, cutoff=0.8)
     if whole:
         return whole[0]
-    by_leaf = {}
-    for k in SCHEMA:
+    by_leaf: dict[str, list[str]] = {}
+    for k in known:
         by_leaf.setdefault(k.rsplit(".", 1)[-1], []).append(k)
     leaf = difflib.get_close_matches(key.rsplit(".", 1)[-1], list(by_leaf), n=1, cutoff=0.8)
     return by_leaf[leaf[0]][0] if leaf and len(by_leaf[leaf[0]]) == 1 else None

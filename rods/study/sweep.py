@@ -10,7 +10,6 @@ record's rows and the new runs (:func:`write_sweep_table`), into ``output/`` fir
 from __future__ import annotations
 
 import csv
-import difflib
 import hashlib
 import io as _io
 import json
@@ -72,12 +71,11 @@ def check_config(config: Mapping[str, object]) -> None:
     """Refuse, before any job, a config the sweeps cannot run: unknown keys, a scene that does not load, speeds,
     mesh sizes, time-step fractions, model kinds, ranks and levels outside the scene schema's ranges (each value
     is checked as the scene override it becomes), a gpu that is not auto/true/false."""
-    from rods.scene import SUBMODEL_LEVELS, SceneError, load_scene
+    from rods.scene import SUBMODEL_LEVELS, SceneError, load_scene, nearest_key
 
     unknown = sorted(set(config) - set(CONFIG_KEYS))
     if unknown:
-        near = difflib.get_close_matches(unknown[0], CONFIG_KEYS, n=1, cutoff=0.7)
-        hint = f"did you mean '{near[0]}'?; " if near else ""
+        hint = f"did you mean '{near}'?; " if (near := nearest_key(unknown[0], CONFIG_KEYS)) else ""
         raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; {hint}known: {', '.join(CONFIG_KEYS)}")
     missing = [k for k in CONFIG_KEYS if k not in config]
     if missing:
