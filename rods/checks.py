@@ -255,8 +255,6 @@ def ringing_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray
     pulse's own curvature at its top (a sliding mean would not: it lowers any peak narrower than its window), so what
     is left is the ringing's overshoot. Not judged: the analytical model (no ringing), a record with fewer samples
     than the window, nor a peak within one window of the record's end (a force still rising there)."""
-    from scipy.signal import savgol_filter
-
     if summary.get("model") == "analytical" or not summary.get("peak_contact_force"):
         return None
     if (trace := _force_trace(history)) is None:
@@ -271,7 +269,7 @@ def ringing_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray
     n = int(round(window / ((t[-1] - t[0]) / (t.size - 1)))) | 1  # samples in the window, odd
     if n < 5 or n >= t.size:
         return None
-    top = float(savgol_filter(F, n, 2).max())
+    top = float(local_quadratic(F, n).max())
     excess = summary["peak_contact_force"] / top - 1.0 if top > 0 else 0.0
     if excess <= RINGING:
         return None
@@ -280,6 +278,24 @@ def ringing_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray
         f"({window * 1e6:.3g} µs, {top:.6g} N): the peak is the rods' ringing, whose overshoot the mesh sets; refine "
         "(fe.axial_size and fe.radial_size at half their values) and compare the peaks, or quote the fitted top"
     )
+
+
+def local_quadratic(y: np.ndarray, n: int) -> np.ndarray:
+    """``y`` smoothed by a least-squares quadratic over a sliding window of ``n`` (odd) samples, evaluated at the
+    window's centre; within half a window of either end, the first and last window's quadratic evaluated at those
+    samples. The Savitzky-Golay filter of order 2 (``scipy.signal.savgol_filter(y, n, 2)``, its default ``"interp"``
+    ends), here in NumPy: scipy.signal's import costs every entry point ~2 s at start, more than a run of the
+    tests' scenes."""
+    y, m = np.asarray(y, float), n // 2
+    j = np.arange(-m, m + 1, dtype=float)  # sample offsets in a window
+    A = np.vander(j, 3, increasing=True)  # [1, j, j^2]
+    centre = np.linalg.pinv(A)[0]  # the fitted constant term: the quadratic's value at j = 0
+    out = np.empty_like(y)
+    out[m : y.size - m] = np.convolve(y, centre[::-1], mode="valid")
+    for ends, rows in ((slice(0, n), slice(0, m)), (slice(y.size - n, y.size), slice(n - m, n))):
+        coef = np.linalg.lstsq(A, y[ends], rcond=None)[0]
+        out[ends][rows] = (A @ coef)[rows]
+    return out
 
 
 def _force_trace(history: Mapping[str, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray] | None:

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rods import checks, metrics
 from rods.analytical import simulate
@@ -573,3 +575,22 @@ def test_a_ringing_peak_is_not_ok(scene_with, ripple, duration, fires):
         )
         is None
     )
+
+
+@given(
+    st.integers(min_value=2, max_value=40).flatmap(
+        lambda m: st.tuples(
+            st.just(2 * m + 1), st.integers(min_value=2 * m + 1, max_value=400), st.integers(0, 2**32 - 1)
+        )
+    )
+)
+@settings(max_examples=60, deadline=None)
+def test_local_quadratic_is_the_savitzky_golay_filter_of_order_2(case):
+    """The ringing check's NumPy fit equals scipy.signal.savgol_filter(y, n, 2) (its "interp" ends) to round-off on
+    random walks, every odd window 5..81 and record length from one window up."""
+    from scipy.signal import savgol_filter
+
+    n, size, seed = case
+    y = np.random.default_rng(seed).normal(size=size).cumsum()
+    expected = savgol_filter(y, n, 2)
+    assert np.abs(checks.local_quadratic(y, n) - expected).max() <= 1e-11 * np.abs(y).max()

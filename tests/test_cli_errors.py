@@ -272,7 +272,7 @@ def test_a_refused_study_leaves_an_earlier_study_in_its_folder_as_it_was(tmp_pat
     study, afresh or with --restart: every file of the earlier study stays as it was (the analytical stage is not
     rewritten, no stage summary is forgotten), and a restart's finished stages are never deleted."""
     args = [*TINY, "--set", "simulation.end_time=3e-4", "--out", "o"]
-    p = run("run.py", *args, cwd=tmp_path)
+    p = in_process("run.py", *args, cwd=tmp_path)
     assert p.returncode == 0, p.stderr[-2000:]
     files = {f: f.read_bytes() for f in (tmp_path / "o").rglob("*") if f.is_file()}
     assert tmp_path / "o" / "global" / "summary.json" in files
@@ -300,8 +300,10 @@ def test_a_run_with_other_values_never_overwrites_the_plain_scenes_folder(tmp_pa
     c = scene_folder(scene_with("impact.speed=3.0", "simulation.end_time=1e-4"), True)
     assert a == b != c and a.startswith("paper-") and len(a) == len("paper-") + 8
     assert scene_folder(scene_with(), False) == "paper"
-    for speed in ("4.0", "3.0"):
-        p = run("analytical.py", "--set", f"impact.speed={speed}", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
+    for speed in ("4.0", "3.0"):  # in this process (tests/conftest.py in_process): the folder is the workflow's rule
+        p = in_process(
+            "analytical.py", "--set", f"impact.speed={speed}", "--set", "simulation.end_time=1e-4", cwd=tmp_path
+        )
         assert p.returncode == 0, p.stderr
     speeds = {
         json.loads((f / "summary.json").read_text())["impact_speed"]
@@ -309,9 +311,9 @@ def test_a_run_with_other_values_never_overwrites_the_plain_scenes_folder(tmp_pa
     }
     assert speeds == {4.0, 3.0}
     # an override that repeats the file's value is the file's scene: its folder, no digest
-    p = run("analytical.py", "--set", "impact.speed=2.197", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
+    p = in_process("analytical.py", "--set", "impact.speed=2.197", "--set", "simulation.end_time=1e-4", cwd=tmp_path)
     assert p.returncode == 0, p.stderr
-    p = run("analytical.py", "--set", "simulation.end_time=1.5e-3", cwd=tmp_path)  # paper.toml's own end time
+    p = in_process("analytical.py", "--set", "simulation.end_time=1.5e-3", cwd=tmp_path)  # paper.toml's own end time
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "output" / "analytical" / "paper" / "summary.json").is_file()
     assert len(list((tmp_path / "output" / "analytical").iterdir())) == 4
@@ -423,6 +425,7 @@ def test_interrupt_stops_every_rank_with_partial_histories(tmp_path, signum, gro
 
 
 @pytest.mark.mpi
+@pytest.mark.slow  # 25 s; the serial killed run's resume and the 2-rank interrupt are in the default suite
 def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(tmp_path):
     """Ctrl-C under mpirun -n 2 with checkpoints on: a checkpoint at the stop; --restart completes the run
     with the histories of an uninterrupted one."""
@@ -476,7 +479,9 @@ def test_a_run_outside_a_laws_range_ends_with_its_warning_and_status(tmp_path):
     console ends with the warning (stderr) and the status line, as summary.json records them."""
     import json
 
-    p = run("analytical.py", "--set", "rod1.tip_radius=100.0", "--set", "impact.speed=1.0", "--out", "o", cwd=tmp_path)
+    p = in_process(
+        "analytical.py", "--set", "rod1.tip_radius=100.0", "--set", "impact.speed=1.0", "--out", "o", cwd=tmp_path
+    )
     assert p.returncode == 0, p.stderr
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert s["status"] == "warnings" and s["contact_law"] == "hertz"

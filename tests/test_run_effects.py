@@ -19,22 +19,10 @@ TINY = ["--set", "fe.axial_size=4e-3", "--set", "fe.radial_size=1e-3", "--set", 
 
 
 def run(tmp_path, effects: str, *extra: str) -> tuple[subprocess.CompletedProcess, dict]:
+    """run.py in this process (tests/conftest.py in_process; a fresh interpreter's case is
+    test_restart_keeps_a_copied_study_spelled_otherwise_with_checkpoints_turned_on)."""
     out = tmp_path / "run"
-    p = subprocess.run(
-        [
-            sys.executable,
-            str(ROOT / "workflows" / "run.py"),
-            *TINY,
-            "--set",
-            f"effects={effects}",
-            *extra,
-            "--out",
-            str(out),
-        ],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
+    p = in_process("run.py", *TINY, "--set", f"effects={effects}", *extra, "--out", str(out), cwd=ROOT)
     assert p.returncode == 0, p.stderr[-2000:]
     return p, json.loads((out / "summary.json").read_text())
 
@@ -136,7 +124,14 @@ def test_restart_keeps_the_finished_stages_and_reruns_the_stopped_one(patch_stud
     assert g.stat().st_mtime_ns == stamp and json.loads(sub.read_text())["status"] != "interrupted"
     for key in ("peak_contact_force", "contact_radius", "contact_duration", "status", "warnings", "sources"):
         assert s2[key] == s1[key], key
-    # other settings (a coarser axial mesh) into the same folder: nothing is kept
+
+
+@pytest.mark.slow  # 12 s: a whole study again; the rule (a stage of other values is not kept) is tested in tests/study
+def test_restart_with_other_settings_keeps_nothing(patch_study, tmp_path):
+    """run.py --restart with other settings (a coarser axial mesh) into a finished study's folder: nothing is kept."""
+    run_dir, s1 = copied(patch_study, tmp_path), patch_study[1]
+    g = run_dir / "global" / "summary.json"
+    stamp = g.stat().st_mtime_ns
     p, s3 = run(tmp_path, *PATCH_STUDY, "--set", "fe.axial_size=5e-3", "--restart")
     assert "for this scene, kept" not in p.stdout and g.stat().st_mtime_ns != stamp
     assert s3["peak_contact_force"] != s1["peak_contact_force"]

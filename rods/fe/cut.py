@@ -401,7 +401,7 @@ class CutDriver:
         T = self.times
         if T.size == 1:
             return self.U[0]
-        k = int(np.clip(np.searchsorted(T, t, side="right") - 1, 0, T.size - 2))
+        k = min(max(int(np.searchsorted(T, t, side="right")) - 1, 0), T.size - 2)  # (np.clip on a scalar: 20 µs)
         θ = (t - T[k]) / (T[k + 1] - T[k])
         return (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
 

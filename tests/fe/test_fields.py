@@ -91,7 +91,7 @@ def test_legacy_xdmf_reader_sees_all_fields(tmp_path):
 
 @pytest.mark.mpi
 @pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
-@pytest.mark.parametrize("kind", ["axisymmetric", "3d"])
+@pytest.mark.parametrize("kind", ["axisymmetric", pytest.param("3d", marks=pytest.mark.slow)])  # 3D: 19 s
 def test_fields_do_not_depend_on_the_rank_count(tmp_path, kind):
     extra = ["simulation.end_time=1e-5", "fe.field_interval=5e-6"]
     if kind == "3d":  # short rods, tilted: σ_rr in each rod's own cylindrical frame
@@ -108,6 +108,7 @@ def test_fields_do_not_depend_on_the_rank_count(tmp_path, kind):
             np.testing.assert_allclose(b[name][o2], a[name][o1], rtol=0, atol=1e-9 * scale, err_msg=name)
 
 
+@pytest.mark.slow  # 11 s; the killed run's restart is in the default suite (tests/fe/test_guards_restart.py)
 def test_killed_run_keeps_its_frames_and_a_restart_appends(tmp_path):
     extra = ["simulation.end_time=2e-4", "fe.field_interval=1e-5", "fe.checkpoint_interval=5e-5"]
     ref, cut = tmp_path / "ref", tmp_path / "cut"
@@ -225,6 +226,7 @@ def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypa
     assert f"t = {t * 1e6:.2f} µs" in text and "![contact region at peak contact pressure](cf.png)" in text
 
 
+@pytest.mark.slow  # 10 s; the axisymmetric picture off screen is in the default suite
 def test_contact_picture_of_a_half_3d_model_with_an_offset(tmp_path):
     """3D fields of a half model (its plane y = 0 is the symmetry boundary): the picture's section is that plane's
     quadrilaterals, each once, and its window is centred on the off-axis patch. Before, VTK's slice of the

@@ -198,7 +198,13 @@ MPI_CASES = [
     ("3d", 2, ["simulation.end_time=6e-5", "impact.offset=1e-3"]),
     # the penalty law with its contact damping (the dissipation is evaluated identically on every rank), and the bulk
     # viscosity (its K v from the differenced products, rods.fe.explicit)
-    ("axisymmetric", 2, ["simulation.end_time=2.5e-4", "fe.contact=penalty", "fe.bulk_viscosity=0.06"]),
+    # 12 s, in the slow suite
+    pytest.param(
+        "axisymmetric",
+        2,
+        ["simulation.end_time=2.5e-4", "fe.contact=penalty", "fe.bulk_viscosity=0.06"],
+        marks=pytest.mark.slow,
+    ),
 ]
 
 
@@ -394,6 +400,7 @@ def _axisymmetric_vs_3d(extra: list[str], symmetry: str = "quarter") -> tuple[di
     return r3.summary, ra.summary, rms
 
 
+@pytest.mark.slow  # 12 s; the 3D model's symmetry, offset, tilt and conservation cases are in the default suite
 def test_centric_3d_matches_axisymmetric_to_peak():
     """Cheap version of the issue's criterion: paper rods, 4 x 1 mm meshes, up to just past the peak
     force (120 µs). Peak force within 1% (measured 0.70%); midpoint strain RMS within 10 µε (measured

@@ -129,6 +129,7 @@ def test_an_unconverged_eigenvalue_solve_marches_at_the_gershgorin_bound(scene_w
     assert fe.dt == pytest.approx(0.8 * fe.dt_gershgorin)
 
 
+@pytest.mark.slow  # 11-14 s: why the limit exists; the limit's refusal is in the default suite
 def test_penalty_beyond_switching_limit_pumps_energy(scene_with):
     """Why the switching limit exists: 100x the default penalty marched at 0.9 x the linear limit (1.77 x the
     switching limit) rattles and pumps energy: the guard stops it (measured: energy grown by 0.076 and 0.11 x E0

@@ -193,7 +193,7 @@ def global_dirs(tmp_path_factory):
 @pytest.mark.parametrize(
     ("kind", "driving"),
     [
-        ("axisymmetric", "displacement"),
+        pytest.param("axisymmetric", "displacement", marks=pytest.mark.slow),  # 17 s; mixed (the default) is default
         pytest.param("3d", "displacement", marks=pytest.mark.slow),  # 10 s; the 3D global's MPI case is default
         ("axisymmetric", "mixed"),
     ],

@@ -192,7 +192,7 @@ def _per_node_operators(model, d, tol=1e-6):
     return scipy.sparse.csr_matrix(W), scipy.sparse.csr_matrix(T)
 
 
-@pytest.mark.parametrize("kind", ["axisymmetric", "3d"])
+@pytest.mark.parametrize("kind", ["axisymmetric", pytest.param("3d", marks=pytest.mark.slow)])  # 3D: 7-10 s
 def test_coloured_cut_operators_equal_the_per_node_ones(tiny, tmp_path_factory, kind):
     """W (cut displacements) and T (cut forces), built one colour of band nodes at a time, equal the per-node
     build to round-off (1e-12 of their largest entry) on a submodel whose cut nests with neither global size."""

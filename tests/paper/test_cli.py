@@ -70,7 +70,7 @@ def test_later_stages_read_real_submodel_runs(tmp_path):
     scene = ["--scene", str(SCENES / "paper.toml"), *tiny]
     drv, sub = tmp_path / "driver", tmp_path / "coarse"
     assert importlib.import_module("global").main([*scene, "--driver", "--out", str(drv)]) == 0
-    assert importlib.import_module("submodel").main(["--global", str(drv), "--level", "coarse", "--out", str(sub)]) == 0
+    assert importlib.import_module("submodel").main(["--global", str(drv), "--size", "1e-3", "--out", str(sub)]) == 0
     assert read_data(sub / "summary.json")["driver_scene_values"]["rod1"]["length"] == 0.25009
     compare = importlib.import_module("compare")
     assert compare.main([*scene, "--global", str(drv), "--submodel", str(sub), "--out", str(tmp_path / "t3")]) == 0
