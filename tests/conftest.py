@@ -19,6 +19,23 @@ MPIRUN = PY.parent / "mpirun" if (PY.parent / "mpirun").exists() else Path(shuti
 sys.path.insert(0, str(ROOT / "workflows"))
 
 
+def pytest_collection_modifyitems(config, items):  # noqa: ARG001
+    """A case marked ``mpi`` or ``alone`` sits in a file that spells the mark (``pytest.mark.mpi``): `make test`
+    collects its one-at-a-time part from the files a grep for the marks finds (Makefile, MARKED)."""
+    import re
+
+    spelled: dict[Path, bool] = {}
+    for item in items:
+        if item.get_closest_marker("mpi") or item.get_closest_marker("alone"):
+            path = Path(item.path)
+            if path not in spelled:
+                spelled[path] = re.search(r"mark\.(mpi|alone)", path.read_text(encoding="utf-8")) is not None
+            if not spelled[path]:
+                raise pytest.UsageError(
+                    f"{item.nodeid}: marked mpi or alone without 'pytest.mark.mpi'/'.alone' in its file"
+                )
+
+
 def benchmark(name: str):
     """benchmarks/<name>.py loaded as a module (the benchmarks are scripts, not a package)."""
     import importlib.util

@@ -199,7 +199,8 @@ def plot(data: dict[str, Any], path: Path) -> None:
             unit = " [µε]" if key == "strain_rms" else " (relative)"
             a.set(xlabel=cost_name, ylabel=name + unit, title=f"{name} vs {cost_name}")
             a.grid(alpha=0.3, which="both")
-    axes[0, 0].legend(fontsize=7)
+    if axes[0, 0].get_legend_handles_labels()[0]:  # none where every peak-force error is 0 (nothing to mark)
+        axes[0, 0].legend(fontsize=7)
     fig.suptitle(f"Accuracy against cost ({data['scene']} scene)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
