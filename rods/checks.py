@@ -285,8 +285,10 @@ def local_quadratic(y: np.ndarray, n: int) -> np.ndarray:
     window's centre; within half a window of either end, the first and last window's quadratic evaluated at those
     samples. The Savitzky-Golay filter of order 2 (``scipy.signal.savgol_filter(y, n, 2)``, its default ``"interp"``
     ends), here in NumPy: scipy.signal's import costs every entry point ~2 s at start, more than a run of the
-    tests' scenes."""
+    tests' scenes. Needs an odd ``n`` >= 3 and at least ``n`` samples (ValueError otherwise)."""
     y, m = np.asarray(y, float), n // 2
+    if n < 3 or n % 2 == 0 or y.size < n:
+        raise ValueError(f"local_quadratic: window {n} must be odd, >= 3 and at most the {y.size} samples")
     j = np.arange(-m, m + 1, dtype=float)  # sample offsets in a window
     A = np.vander(j, 3, increasing=True)  # [1, j, j^2]
     centre = np.linalg.pinv(A)[0]  # the fitted constant term: the quadratic's value at j = 0

@@ -594,3 +594,9 @@ def test_local_quadratic_is_the_savitzky_golay_filter_of_order_2(case):
     y = np.random.default_rng(seed).normal(size=size).cumsum()
     expected = savgol_filter(y, n, 2)
     assert np.abs(checks.local_quadratic(y, n) - expected).max() <= 1e-11 * np.abs(y).max()
+
+
+def test_local_quadratic_refuses_a_window_it_cannot_fit():
+    for bad_n, size in ((4, 10), (1, 10), (11, 10)):  # even, too short a window, more than the samples
+        with pytest.raises(ValueError, match="window"):
+            checks.local_quadratic(np.zeros(size), bad_n)
