@@ -34,9 +34,10 @@ test: venv
 	@rc=0; $(PY) -m pytest -m "not slow and not mpi and not alone" -q -n $(NPROC) --dist worksteal || rc=$$?; \
 	$(PY) -m pytest -m "not slow and (mpi or alone)" -q $(MARKED) || rc=$$?; exit $$rc
 
-## The long cases (stability matrix, paper-resolution FE validation).
+## The long cases (stability matrix, paper-resolution FE validation), in the two parts of `make test`.
 test-slow: venv
-	$(PY) -m pytest -m "slow" -q
+	@rc=0; $(PY) -m pytest -m "slow and not mpi and not alone" -q -n $(NPROC) --dist worksteal || rc=$$?; \
+	$(PY) -m pytest -m "slow and (mpi or alone)" -q $(MARKED) || rc=$$?; exit $$rc
 
 ## The SLURM path (not in the default suite; root): a one-node SLURM here (scripts/slurm-localhost.sh), a small
 ## sweep through Snakemake's SLURM executor with 2-rank MPI jobs, checked against the local run (~3 min measured).
