@@ -55,18 +55,24 @@ def test_cli_writes_partial_histories_and_exits_1(tmp_path, monkeypatch):
     assert read_history(tmp_path / "history.csv")["time"].size > 0
 
 
-def run_global(out, *extra):
+def global_args(out, *extra):
+    """global.py's arguments for the killed-run case (2 x 0.5 mm mesh, 0.3 ms) into ``out``."""
     args = [
         a for o in ("fe.axial_size=2e-3", "fe.radial_size=0.5e-3", "simulation.end_time=3e-4") for a in ("--set", o)
     ]
-    return [sys.executable, str(ROOT / "workflows" / "global.py"), *args, *extra, "--out", str(out)]
+    return [*args, *extra, "--out", str(out)]
+
+
+def run_global(out, *extra):
+    """The command line of :func:`global_args` (a fresh interpreter: the case kills it)."""
+    return [sys.executable, str(ROOT / "workflows" / "global.py"), *global_args(out, *extra)]
 
 
 def test_killed_run_resumes_from_its_checkpoint_with_the_same_histories(tmp_path):
     """SIGKILL after a checkpoint in the contact (t >= 0.1 ms of its 0.20 ms on this mesh): --restart resumes
     the contact's state too and ends with the uninterrupted run's histories."""
     ref, cut = tmp_path / "ref", tmp_path / "cut"
-    assert run_workflow("global.py", run_global(ref)[2:]).returncode == 0  # the uninterrupted run, in this process
+    assert run_workflow("global.py", global_args(ref)).returncode == 0  # the uninterrupted run, in this process
     p = subprocess.Popen(
         run_global(cut, "--set", "fe.checkpoint_interval=5e-5"),
         cwd=ROOT,
