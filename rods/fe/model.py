@@ -55,7 +55,7 @@ from rods.fe.kinematic import KinematicContact
 from rods.fe.mesh import TAGS, RodsMesh, build_mesh
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d
 from rods.fe.observers import Observer, Progress, march
-from rods.fe.probes import PointProbes
+from rods.fe.probes import PointProbes, station_points
 from rods.fe.recorder import Recorder, output_steps
 from rods.fe.timestep import time_step
 from rods.scene import Scene, SceneError
@@ -166,26 +166,9 @@ class ExplicitModel:
             self.contact = PenaltyContact(slave, master, self.ε_pen, self.comm, pairing, self.multiplicity, mirrored)
 
     def _probes(self) -> None:
-        """Stations on the rod surface (r = d/2): Rod 2 at z = +x, Rod 1 at z = -x from the tip (3D: at
-        x = +d/2, y = 0, Rod 1's placed with the rod), then in 3D Rod 2's midpoint at x = ±R2."""
-        sc, rm, three_d = self.scene, self.rm, self.kind == "3d"
-        pts = []
-        self.probe_keys = [(f"{s.name}_velocity", f"{s.name}_strain") for s in sc.stations]
-        for s in sc.stations:
-            rod = sc.rods[s.rod - 1]
-            if not three_d:
-                pts.append([rod.diameter / 2, s.position if s.rod == 2 else -s.position])
-            elif s.rod == 2:
-                pts.append([rod.diameter / 2, 0.0, s.position])
-            else:
-                pts.append(rm.placement.apply(np.array([[rod.diameter / 2, 0.0, -s.position]]))[0])
-        if three_d:
-            R2, z_mid = sc.rod2.diameter / 2, sc.rod2.length / 2
-            for side, x_side in (("plus_x", R2), ("minus_x", -R2)):
-                # quarter model: the -x side is the mirror image of the +x side
-                pts.append([abs(x_side) if rm.symmetry == "quarter" else x_side, 0.0, z_mid])
-                self.probe_keys.append((f"rod2_mid_velocity_{side}", f"rod2_mid_strain_{side}"))
-        self.probes = PointProbes(self.V, np.array(pts, dtype=float), self.axial)
+        """Point probes at the scene's stations (:func:`rods.fe.probes.station_points`)."""
+        points, self.probe_keys = station_points(self.scene, self.rm, self.kind == "3d")
+        self.probes = PointProbes(self.V, points, self.axial)
 
     # ------------------------------------------------------------------------------------------
     def _assemble_stiffness(self) -> PETSc.Mat:

@@ -15,7 +15,7 @@ import dolfinx.geometry
 import numpy as np
 import scipy.sparse
 
-__all__ = ["PointProbes"]
+__all__ = ["PointProbes", "station_points"]
 
 
 def _cell_rows(V: dolfinx.fem.FunctionSpace, cell: int, point: np.ndarray, axial: int) -> tuple[np.ndarray, ...]:
@@ -85,3 +85,25 @@ class PointProbes:
         self.P = scipy.sparse.csr_matrix(
             (np.concatenate(data), (np.concatenate(ri), np.concatenate(ci))), shape=(2 * len(pts), n_local)
         )
+
+
+def station_points(scene, rm, three_d: bool) -> tuple[np.ndarray, list[tuple[str, str]]]:
+    """The probes' points [m] and their (velocity, strain) history keys: the scene's stations on the rod surface
+    (r = d/2): Rod 2 at z = +x, Rod 1 at z = -x from the tip (3D: at x = +d/2, y = 0, Rod 1's placed with the
+    rod by ``rm.placement``), then in 3D Rod 2's midpoint at x = ±R2 (a quarter model holds x >= 0 only: its -x
+    side is the mirror image of its +x side)."""
+    pts, keys = [], [(f"{s.name}_velocity", f"{s.name}_strain") for s in scene.stations]
+    for s in scene.stations:
+        rod = scene.rods[s.rod - 1]
+        if not three_d:
+            pts.append([rod.diameter / 2, s.position if s.rod == 2 else -s.position])
+        elif s.rod == 2:
+            pts.append([rod.diameter / 2, 0.0, s.position])
+        else:
+            pts.append(rm.placement.apply(np.array([[rod.diameter / 2, 0.0, -s.position]]))[0])
+    if three_d:
+        R2, z_mid = scene.rod2.diameter / 2, scene.rod2.length / 2
+        for side, x_side in (("plus_x", R2), ("minus_x", -R2)):
+            pts.append([abs(x_side) if rm.symmetry == "quarter" else x_side, 0.0, z_mid])
+            keys.append((f"rod2_mid_velocity_{side}", f"rod2_mid_strain_{side}"))
+    return np.array(pts, dtype=float), keys
