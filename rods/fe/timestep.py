@@ -38,7 +38,16 @@ from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
 from rods.scene import SceneError
 
-__all__ = ["TimeStep", "abs_row_sums", "gershgorin", "largest_eigenvalue_on", "omega_max", "start_vector", "time_step"]
+__all__ = [
+    "TimeStep",
+    "abs_row_sums",
+    "gershgorin",
+    "largest_eigenvalue_on",
+    "omega_max",
+    "start_vector",
+    "stiffness_row_sums",
+    "time_step",
+]
 
 
 @dataclass(frozen=True)
@@ -217,12 +226,21 @@ def abs_row_sums(S: scipy.sparse.spmatrix, chunk: int = 1 << 22) -> np.ndarray:
     return out.ravel()
 
 
+def stiffness_row_sums(model: SetUpModel) -> np.ndarray:
+    """Σ_j |K_ij| [N/m] of this rank's owned rows (collective): the array backends' K, else DOLFINx's own CSR
+    matrix assembled for this, its ghost rows' contributions summed into their owners' rows first (without that
+    a row on a partition boundary holds only this rank's cells' part, and the bound below could fall under
+    ω_max²)."""
+    if scipy.sparse.issparse(model.K):
+        return abs_row_sums(model.K)[: model.n_local]
+    A = dolfinx.fem.assemble_matrix(model.stiffness)
+    A.scatter_reverse()
+    return abs_row_sums(A.to_scipy())[: model.n_local]
+
+
 def gershgorin(model: SetUpModel) -> float:
     """Gershgorin bound on ω_max² [1/s²]: max_i Σ_j |(K + K_c)_ij| / m_i over unconstrained entries."""
-    # DOLFINx's own CSR matrix (owned rows, all columns): the array backends' K, else assembled for this
-    S = model.K if scipy.sparse.issparse(model.K) else dolfinx.fem.assemble_matrix(model.stiffness).to_scipy()
-    rows = abs_row_sums(S)[: model.n_local]
-    del S
+    rows = stiffness_row_sums(model)
     model.contact.add_abs_row_sums(rows)
     return model.comm.allreduce(float(np.max(rows * model.inv_mass, initial=0.0)), op=MPI.MAX)
 
