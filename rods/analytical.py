@@ -51,7 +51,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz, metrics
-from rods.scene import Rod, Scene
+from rods.scene import Rod, Scene, impedance_force
 
 __all__ = ["PAPER_LAW", "AnalyticalResult", "WaveModel", "contact_compliance", "force_trace", "simulate"]
 
@@ -145,8 +145,8 @@ class WaveModel:
         self._history = _History()
         self.contacts: list[list[float]] = []  # [start, end] of each contact episode [s]
         # scale of δ: the quasi-static Hertz compression under the stiff-contact force s1 Z1 Z2/(Z1+Z2)
-        P_stiff = self.speed * self.Z[0] * self.Z[1] / (self.Z[0] + self.Z[1])
-        self.delta_scale = (P_stiff / self.K) ** (2 / 3)  # [m]
+        P_stiff = impedance_force(self.speed, self.rod1, self.rod2)  # [N]
+        self.delta_scale = float(hertz.approach(P_stiff, self.E_star, self.R_star))  # [m]
         self.steps = 0
         self.end_term_broke = False  # run stopped where the rod-end term reverses the approach
 

@@ -373,7 +373,7 @@ def reflection_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
     t0, t_peak = t[np.argmax(F > 0)], t[np.argmax(F)]  # [s] first contact, peak
     found = []  # (rise [-], rod, return after first contact [s], spread [s]) of each reflection before the peak
     for n, rod in enumerate(scene.rods, 1):
-        back, tau = t0 + 2 * rod.length / rod.material.wave_speed, front_spread(rod)  # [s]
+        back, tau = t0 + rod.transit_time, front_spread(rod)  # [s]
         if back <= t_peak:
             rise = float(np.interp(back, t, F) - np.interp(back - tau, t, F)) / F.max()
             found.append((rise, n, back - t0, tau))

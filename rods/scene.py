@@ -36,6 +36,7 @@ __all__ = [
     "SceneError",
     "Station",
     "check_submodel_length",
+    "impedance_force",
     "load_scene",
     "nearest_key",
     "parse_override",
@@ -420,6 +421,13 @@ def nearest_key(key: str, known: Iterable[str] = SCHEMA) -> str | None:
 # --------------------------------------------------------------------------------------------
 # Typed scene objects
 # --------------------------------------------------------------------------------------------
+def impedance_force(speed: float, rod1: Rod, rod2: Rod) -> float:
+    """The impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) [N] of Rod 1 at ``speed`` s1 [m/s] onto Rod 2 at rest
+    (Z = ρ c A, :attr:`Rod.impedance`): the bars' stiff-contact limit (both ends move at once, each rod loaded
+    behind a front of strain P/(Z_i c_i)); a Hertz contact only lowers it."""
+    return speed / (1.0 / rod1.impedance + 1.0 / rod2.impedance)
+
+
 @dataclass(frozen=True)
 class Material:
     density: float  # ρ [kg/m^3]
@@ -546,10 +554,9 @@ class Scene:
         contact radius and approach there (Scene.radial_size)."""
         from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
-        P = self.speed / (1.0 / self.rod1.impedance + 1.0 / self.rod2.impedance)  # [N]
+        P = impedance_force(self.speed, self.rod1, self.rod2)  # [N]
         E_star, R_star = hertz.contact_constants(self.rod1, self.rod2)
-        a_P = float(hertz.contact_radius(P, E_star, R_star))  # [m]
-        return P, a_P, a_P * a_P / R_star
+        return P, float(hertz.contact_radius(P, E_star, R_star)), float(hertz.approach(P, E_star, R_star))
 
     @cached_property
     def submodel_levels(self) -> list[str]:

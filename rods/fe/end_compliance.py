@@ -30,7 +30,9 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
+from rods import hertz
 from rods.fe.forms import measure_weight, strain, stress
+from rods.scene import Material
 
 __all__ = ["end_correction"]
 
@@ -65,7 +67,7 @@ def end_correction(ν: float, a: float = 0.15, n: int = 48) -> float:
     ``a``: Hertz radius in rod radii (a << 1); ``n``: radial elements (the axial count is 2n)."""
     msh = _graded_rod(n)
     E, F = 1.0, 1.0  # [Pa], [N] (linear: χ is dimensionless)
-    λ, μ = E * ν / ((1 + ν) * (1 - 2 * ν)), E / (2 * (1 + ν))
+    λ, μ = Material(density=1.0, youngs_modulus=E, poisson_ratio=ν).lame  # [Pa]
     V = dolfinx.fem.functionspace(msh, ("Lagrange", 2, (2,)))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     x = ufl.SpatialCoordinate(msh)
@@ -80,7 +82,7 @@ def end_correction(ν: float, a: float = 0.15, n: int = 48) -> float:
     tags = np.concatenate([np.full(loaded.size, 1, np.int32), np.full(far.size, 2, np.int32)])[order]
     # the pressure's square-root edge needs a high quadrature degree on the few facets it covers
     ds = ufl.Measure("ds", msh, subdomain_data=dolfinx.mesh.meshtags(msh, fdim, facets[order], tags))
-    p0 = 3 * F / (2 * math.pi * a * a)  # Hertz peak pressure for force F [Pa]
+    p0 = float(hertz.peak_pressure(F, a))  # Hertz peak pressure for force F [Pa]
     p = p0 * ufl.sqrt(ufl.max_value(1 - x[0] ** 2 / a**2, 0.0))
     load = p * v[1] * w * ds(1, degree=24) - F / math.pi * v[1] * w * ds(2)  # compresses the rod along +z
 

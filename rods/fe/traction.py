@@ -42,7 +42,6 @@ and its waves are not the rod's long waves.
 
 from __future__ import annotations
 
-import math
 import time
 from pathlib import Path
 
@@ -178,11 +177,11 @@ class TractionDriver(CutDriver):
         # Δt M⁻¹ [s/kg] on the cut entries, zero where constrained (u_r on the axis, a symmetry plane's normal)
         self.dt_inv_m = be.asarray(model.dt * model.inv_mass[self.idx])
         self.c = None
-        if absorbing:  # the bar impedance sqrt(E ρ) [kg/(m^2 s)] of each cut's rod on the axial entries [N s/m]
+        if absorbing:  # each cut's rod's bar impedance per area Z/A = ρ c [kg/(m^2 s)] on the axial entries [N s/m]
             c = np.zeros(self.idx.shape)
             rod1 = self.cut_x[:, model.axial] < 0.0
             for mask, rod in ((rod1, model.scene.rod1), (~rod1, model.scene.rod2)):
-                c[mask, model.axial] = area[mask] * math.sqrt(rod.material.youngs_modulus * rod.material.density)
+                c[mask, model.axial] = area[mask] * rod.impedance / rod.area
             self.c = be.asarray(c)
 
     def force(self, t: float):
