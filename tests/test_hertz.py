@@ -79,7 +79,8 @@ def test_from_rods_matches_direct():
 
 
 def test_from_rods_with_scene_objects():
-    scene = pytest.importorskip("rods.scene")
+    from rods import scene
+
     m = scene.Material(density=7803.0, youngs_modulus=E, poisson_ratio=NU)
     rod1 = scene.Rod(length=0.25009, diameter=0.0127, tip_radius=R1, material=m)
     rod2 = scene.Rod(length=0.70099, diameter=0.0127, tip_radius=math.inf, material=m)

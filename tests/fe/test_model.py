@@ -304,7 +304,8 @@ def test_summary_against_analytical(model, result):
     if model.kind != "axisymmetric":
         pytest.skip("the 3D coarse model has short rods")
     s = result.summary
-    analytical = pytest.importorskip("rods.analytical")
+    from rods import analytical
+
     a = analytical.simulate(model.scene)
     assert s["peak_contact_force"] == pytest.approx(a.summary["peak_contact_force"], rel=0.02)
     assert abs(s["contact_duration"] - a.summary["contact_duration"]) < 20e-6  # coarse 4 mm mesh
@@ -337,8 +338,7 @@ def test_paper_scene_validation():
     pulse runs 2.6 µs ahead, because that law counts the rods' far field twice and its contact spring is too soft
     at first contact.
     """
-    analytical = pytest.importorskip("rods.analytical")
-    from rods import hertz
+    from rods import analytical, hertz
 
     sc = load_scene(PAPER)
     fe = ExplicitModel(sc).run()
@@ -555,7 +555,8 @@ def test_scene_files():
 @pytest.mark.skipif(shutil.which(str(MPIRUN)) is None, reason="no mpirun")
 def test_paper_3d_coarse_scene_vs_analytical(tmp_path):
     """workflows/scenes/paper-3d-coarse.toml on 2 ranks: peak force within 3% of the analytical model."""
-    analytical = pytest.importorskip("rods.analytical")
+    from rods import analytical
+
     scene = SCENES / "paper-3d-coarse.toml"
     p = subprocess.run(
         [str(MPIRUN), "-n", "2", str(PY), "workflows/global.py", "--scene", str(scene), "--out", str(tmp_path)],

@@ -31,7 +31,8 @@ ALU = ("youngs_modulus=70e9", "density=2700.0", "poisson_ratio=0.33")
 P0 = 2.0  # [-] the penalty factor of the measurements below
 PENALTY = ("fe.contact='penalty'", "fe.tip_grading=1.0", "fe.contact_damping=0.0")  # the paper's law, uniform mesh
 
-# name -> (overrides, peak-force tolerance, midpoint plateau-speed tolerance), relative to the analytical model.
+# name -> (overrides, peak-force tolerance, midpoint plateau-speed tolerance, relative to the analytical model;
+# largest energy-balance error).
 # Stiff penalties (10x, 100x the default) make the contact nodes rattle: the step adapts (contact-switching
 # limit, rods.fe.explicit) and the energy stays balanced, but the raw force carries spikes (+35% at 100x on
 # this mesh), so those cases compare the 2 µs-smoothed peak. At 0.01 m/s the Hertz patch (0.37 mm) is smaller
@@ -39,16 +40,20 @@ PENALTY = ("fe.contact='penalty'", "fe.tip_grading=1.0", "fe.contact_damping=0.0
 # midpoint plateau speed is within 5% (measured +4.2% with the kinematic contact, ringing); on 0.25 m
 # rods the midpoint is only 10 diameters from the tip, where the 1D model's plateau differs from the
 # 3D-elastic one by ~1.3%.
+# energy tolerance: about 10x each case's energy-balance error measured on 2026-11-29 (this mesh, 0.4 ms): the
+# kinematic law's cases 1.6e-11 to 4.7e-11 (round-off), the damped default penalty 2.1e-6, 10x 1.5e-6, the undamped
+# 100x 6.7e-4 (rattling at its switching-limited step)
+KINEMATIC_ENERGY = 1e-9
 CASES = {
-    "penalty-10x": ((*PENALTY, f"fe.penalty={10 * P0}"), 0.02, 0.01),
-    "penalty-100x": ((*PENALTY, f"fe.penalty={100 * P0}"), 0.05, 0.01),
-    "penalty-default": (("fe.contact='penalty'", "fe.tip_grading=1.0"), 0.005, 0.01),
-    "speed-0.01": (("impact.speed=0.01",), None, 0.05),
-    "speed-20": (("impact.speed=20",), 0.01, 0.01),
-    "steel-on-aluminium": (tuple(f"rod2.material.{a}" for a in ALU), 0.01, 0.01),
-    "aluminium-on-steel": (tuple(f"rod1.material.{a}" for a in ALU), 0.01, 0.01),
-    "striker-longer": (("rod1.length=0.7", "rod2.length=0.25"), 0.01, 0.02),
-    "equal-lengths": (("rod2.length=0.25009",), 0.01, 0.02),
+    "penalty-10x": ((*PENALTY, f"fe.penalty={10 * P0}"), 0.02, 0.01, 2e-5),
+    "penalty-100x": ((*PENALTY, f"fe.penalty={100 * P0}"), 0.05, 0.01, 5e-3),
+    "penalty-default": (("fe.contact='penalty'", "fe.tip_grading=1.0"), 0.005, 0.01, 2e-5),
+    "speed-0.01": (("impact.speed=0.01",), None, 0.05, KINEMATIC_ENERGY),
+    "speed-20": (("impact.speed=20",), 0.01, 0.01, KINEMATIC_ENERGY),
+    "steel-on-aluminium": (tuple(f"rod2.material.{a}" for a in ALU), 0.01, 0.01, KINEMATIC_ENERGY),
+    "aluminium-on-steel": (tuple(f"rod1.material.{a}" for a in ALU), 0.01, 0.01, KINEMATIC_ENERGY),
+    "striker-longer": (("rod1.length=0.7", "rod2.length=0.25"), 0.01, 0.02, KINEMATIC_ENERGY),
+    "equal-lengths": (("rod2.length=0.25009",), 0.01, 0.02, KINEMATIC_ENERGY),
 }
 
 
@@ -59,9 +64,9 @@ def run_case(scene):
         return fe, fe.run(), simulate(scene)
 
 
-def check_physics(scene, fe, r, a, force_tol, speed_tol=0.01):
+def check_physics(scene, fe, r, a, force_tol, speed_tol=0.01, energy_tol=KINEMATIC_ENERGY):
     s, h = r.summary, r.history
-    assert np.all(np.isfinite(h["contact_force"])) and s["energy_error"] < 0.01
+    assert np.all(np.isfinite(h["contact_force"])) and s["energy_error"] < energy_tol
     p = h["momentum"]
     assert np.max(np.abs(p - p[0])) < 1e-13 * max(fe.steps, 10_000) * abs(p[0])  # round-off, grows with steps
     assert p[0] == pytest.approx(scene.rod1.mass * scene.speed, rel=2e-3)  # the cap's missing volume
@@ -81,10 +86,10 @@ VARIANTS = {"penalty-10x", "penalty-100x", "aluminium-on-steel", "striker-longer
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in VARIANTS else n for n in CASES])
 def test_stability_matrix(scene_with, name):
-    overrides, force_tol, speed_tol = CASES[name]
+    overrides, force_tol, speed_tol, energy_tol = CASES[name]
     scene = scene_with(*COARSE, *overrides)
     fe, r, a = run_case(scene)
-    check_physics(scene, fe, r, a, force_tol, speed_tol)
+    check_physics(scene, fe, r, a, force_tol, speed_tol, energy_tol)
     assert fe.dt_gershgorin <= fe.dt_critical  # Gershgorin is a lower bound of the Krylov-Schur limit
     assert fe.dt <= min(fe.dt_critical, fe.dt_switching)
 
