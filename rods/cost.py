@@ -522,6 +522,15 @@ def calibrated(costs: Sequence[Cost], comm: Any = None) -> list[Cost]:
     return [c.at_speed(speed) if c.memory_bound_time > 0 else c for c in costs]
 
 
+def _analytical_memory_remedy(cost: Cost) -> str:
+    """The analytical model's remedy for memory, its larger part first: the history (an output interval far below
+    the scene's times) or the solver's dense output (a contact stiff against thin rods)."""
+    steps = f"thicker rods (a contact this stiff against their impedance takes {cost.steps:.3g} solver steps)"
+    if 3 * BYTES_PER_VALUE * cost.values >= BYTES_PER_SOLVER_STEP * cost.steps:
+        return f"a larger simulation.output_interval, a shorter end_time, or {steps}"
+    return f"{steps}, a larger simulation.output_interval or a shorter end_time"
+
+
 def check(cost: Cost, force: bool = False) -> Cost:
     """Refuse ``cost`` above the available memory (always) or the step, work, frame, value and time budgets (unless
     ``force``)."""
@@ -533,8 +542,7 @@ def check(cost: Cost, force: bool = False) -> Cost:
             cost.what, f"{cost.memory / 1e9:.3g} GB", f"needs more memory than available ({free / 1e9:.3g} GB): "
             f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
             f"{first}coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time" if fe else
-            f"thicker rods (a contact this stiff against their impedance takes {cost.steps:.3g} solver steps), a "
-            "larger simulation.output_interval or a shorter end_time",
+            _analytical_memory_remedy(cost),
         )  # fmt: skip
     steps_remedy = "a larger fe.dt, coarser sizes" if fe else "thicker rods (a contact less stiff against them)"
     budgets = (  # (budget's name, amount, budget, the amount as said, what it would mean, remedy)

@@ -74,15 +74,24 @@ def first_contact_end(analytical_summary: Mapping[str, Any]) -> float | None:
     return float(episodes[0][1]) if episodes else None
 
 
+PLAN_SAMPLES = 100_000  # most history samples a plan's analytical run records (the paper scene: 6001) [-]
+
+
 def planning_summary(scene: Scene) -> dict[str, Any]:
     """The analytical model's summary where a plan needs it (a contact phase, a phase radius), its yield warnings
     kept quiet: the analytical stage reports them in its own summary (they printed as raw Python warnings in a
-    --dry-run)."""
+    --dry-run). A plan runs before the stages' cost checks, so it records at most :data:`PLAN_SAMPLES` samples (a
+    scene's 1e-10 s output interval took 17 s and 2 GB to plan, 5e-324 s failed) and refuses, exit 2, a run above
+    the free memory (the solver steps of a contact stiff against thin rods); the stage's own run is checked in full."""
     import warnings
 
+    from rods import cost
     from rods.analytical import simulate
     from rods.hertz import YieldWarning
 
+    if scene.end_time / scene.output_interval > PLAN_SAMPLES:
+        scene = scene.with_overrides(f"simulation.output_interval={scene.end_time / PLAN_SAMPLES!r}")
+    cost.check(cost.analytical_cost(scene), force=True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", YieldWarning)
         return simulate(scene).summary

@@ -132,15 +132,20 @@ class SceneError(ValueError):
 REQUIRED = object()
 
 
-def _positive(unit: str, hi: float = math.inf, hint_hi: str = ""):
-    """Check 0 < value <= hi; ``hint_hi`` explains a too-large value (often wrong units)."""
+def _positive(unit: str, hi: float = math.inf, hint_hi: str = "", lo: float = 0.0):
+    """Check 0 < value <= hi, or lo <= value <= hi where a floor ``lo`` > 0 is given: a length, time or speed far
+    below any continuum scene (:data:`TINY`), whose counts (cells, steps, samples) would overflow a float;
+    ``hint_hi`` explains a too-large value (often wrong units)."""
+    span = f"({lo:g}, {hi:g}]" if lo == 0.0 else f"[{lo:g}, {hi:g}]"
 
     def check(key: str, v: float) -> None:
-        lo = 0.0
-        if not v > lo:
-            raise SceneError(key, v, f"must be > 0 {unit}" if hi == math.inf else f"must be in (0, {hi:g}] {unit}")
+        if not (v > 0.0 and v >= lo):
+            if lo > 0.0:
+                hint = "a smaller value is below any continuum scene" if v > 0.0 else ""
+                raise SceneError(key, v, f"must be in {span} {unit}", hint)
+            raise SceneError(key, v, f"must be > 0 {unit}" if hi == math.inf else f"must be in {span} {unit}")
         if v > hi:
-            raise SceneError(key, v, f"must be in ({lo:g}, {hi:g}] {unit}", hint_hi)
+            raise SceneError(key, v, f"must be in {span} {unit}", hint_hi)
 
     return check
 
@@ -194,6 +199,12 @@ MAX_TIP_RADIUS = 1e4  # [m] a curved tip's largest radius: the Hertz stiffness g
 # analytical model's contact is so stiff that its integration did not end (1e3, 1e4, 1e6 m: 1.8, 2.4, 7.0 s)
 
 
+# floors of the lengths, times and speeds [m, s, m/s]: far below any continuum scene (a micrometre rod crosses its
+# diameter in ~1e-10 s), but above where a scene's cell, step and sample counts overflow a float (5e-324 m/s, a
+# 1e-160 m element: OverflowError and ZeroDivisionError instead of a refusal naming the key)
+TINY = {"diameter": 1e-6, "size": 1e-8, "time": 1e-12, "dt": 1e-15, "speed": 1e-9}
+
+
 def _tip_radius(key: str, v: float) -> None:
     """A tip radius: inf (flat) or in (0, MAX_TIP_RADIUS] m."""
     if v != math.inf:
@@ -207,7 +218,7 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
         f"{p}.diameter": (
             "float",
             REQUIRED,
-            _positive("m", hi=1.0, hint_hi="looks like millimetres; give metres"),
+            _positive("m", hi=1.0, hint_hi="looks like millimetres; give metres", lo=TINY["diameter"]),
         ),
         f"{p}.tip_radius": ("float|inf", math.inf, _tip_radius),
         f"{p}.material.density": (
@@ -238,11 +249,11 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "effects": ("list[str]", ["wave_response"], _choices(EFFECTS, "effect")),
     **_rod_schema(1),
     **_rod_schema(2),
-    "impact.speed": ("float", REQUIRED, _positive("m/s", hi=100.0, hint_hi="low-speed impact model")),
+    "impact.speed": ("float", REQUIRED, _positive("m/s", hi=100.0, hint_hi="low-speed impact model", lo=TINY["speed"])),
     "impact.offset": ("float", 0.0, _interval(0.0, 1.0, "m", closed_lo=True)),
     "impact.tilt": ("float", 0.0, _interval(0.0, 0.1, "rad", closed_lo=True)),
-    "simulation.end_time": ("float", 1.5e-3, _positive("s", hi=1.0)),
-    "simulation.output_interval": ("float", 0.25e-6, _positive("s", hi=1e-3)),
+    "simulation.end_time": ("float", 1.5e-3, _positive("s", hi=1.0, lo=TINY["time"])),
+    "simulation.output_interval": ("float", 0.25e-6, _positive("s", hi=1e-3, lo=TINY["time"])),
     # below 2.2e-14 SciPy's integrator raises it itself, with a warning
     "analytical.rtol": ("float", 1e-10, _interval(1e-13, 1e-2, closed_lo=True, closed_hi=True)),
     # hertz-rod: Hertz's half-space approach less the rods' end correction, which the 1D bars already carry
@@ -252,17 +263,18 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.kind": ("str", "axisymmetric", _choice(FE_KINDS)),
     # auto: the paper's 1 mm on its 12.7 mm rods (diameter / AXIAL_PER_DIAMETER), finer where the contact force
     # rises so fast that the rods ring (Scene.axial_size: a stiff, wide contact)
-    "fe.axial_size": ("float|auto", "auto", _positive("m", hi=0.1)),
+    "fe.axial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: PATCH_ELEMENTS elements across the expected contact radius (Scene.radial_size), so any scene's patch is
     # resolved (the paper's mesh, 0.25 mm, is what auto gives there, 0.27 mm; at 0.05 m/s it gives 0.077 mm)
-    "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1)),
+    "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
     # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
     # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
     "fe.degree": ("int", 1, _only(1, "the explicit model is Q1: row-sum lumped Q2 masses vanish on the axis")),
-    "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3)),
-    "fe.dt_fraction": ("float", 0.8, _interval(0.0, 1.0, closed_hi=True)),
+    "fe.dt": ("float|auto", "auto", _positive("s", hi=1e-3, lo=TINY["dt"])),
+    # of the stable step; below 1e-3 a run takes 1000 x the steps it needs for nothing
+    "fe.dt_fraction": ("float", 0.8, _interval(1e-3, 1.0, closed_lo=True, closed_hi=True)),
     "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),
     # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.03% and
     # the first contact < 0.4 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md); step ~ 1/sqrt(factor).
@@ -276,7 +288,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
     # auto: SUBMODEL_DIAMETERS x the thicker rod's diameter (the paper's 14 mm on its 12.7 mm rods;
     # Scene.submodel_length)
-    "fe.submodel_length": ("float|auto", "auto", _positive("m", hi=20.0)),
+    "fe.submodel_length": ("float|auto", "auto", _positive("m", hi=20.0, lo=TINY["diameter"])),
     "fe.checkpoint_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no checkpoints)", closed_lo=True)),
     # the guard catches instabilities, which grow the energy by orders of magnitude; below 1e-5 the round-off of the
     # energy sums (~1e-9 of E0 on the default contact) and the penalty law's O(Δt²) energy wobble (3e-7 damped, 1.1e-6

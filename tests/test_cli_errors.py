@@ -116,7 +116,7 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "submodel size above the range": (
         "submodel.py",
         ["--global", "driver", "--size", "1", "--out", "o"],
-        ["--size", "(0, 0.1]"],
+        ["--size", "[1e-08, 0.1]"],
     ),
     "submodel dt unstable": ("submodel.py", ["--global", "driver", "--dt", "1e-3", "--out", "o"], ["--dt", "stable"]),
     "submodel end beyond the record": (
@@ -132,6 +132,30 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "analytical.py",
         ["--set", f"impact.speed={9**420}", "--out", "o"],
         ["impact.speed", "float64"],
+    ),
+    # found by a bad-input audit (2026-11-29): OverflowError/ZeroDivisionError (exit 1) in the cost estimate, a
+    # plan's analytical run of 2 GB before the cost check (tests/test_plan.py), a verification case's setting blamed
+    # on the user
+    "output interval of 5e-324 s": (
+        "analytical.py",
+        ["--set", "simulation.output_interval=5e-324", "--out", "o"],
+        ["simulation.output_interval", "[1e-12, 0.001]"],
+    ),
+    "element of 1e-160 m": ("global.py", ["--set", "fe.axial_size=1e-160", "--out", "o"], ["fe.axial_size", "1e-08"]),
+    "time step of 5e-324 s": ("global.py", [*TINY, "--set", "fe.dt=5e-324", "--out", "o"], ["fe.dt", "1e-15"]),
+    "dt fraction 5e-324": ("global.py", [*TINY, "--set", "fe.dt_fraction=5e-324", "--out", "o"], ["fe.dt_fraction"]),
+    "speed 5e-324": ("analytical.py", ["--set", "impact.speed=5e-324", "--out", "o"], ["impact.speed", "1e-09"]),
+    "diameter 1e-300": ("analytical.py", ["--set", "rod1.diameter=1e-300", "--out", "o"], ["rod1.diameter", "1e-06"]),
+    "verify: history above the budget": (
+        "verify.py",
+        ["--set", "simulation.output_interval=1e-10", "--out", "o"],
+        ["analytical model", "history budget"],
+    ),
+    "verify: a case's own key": ("verify.py", ["--set", "impact.speed=3", "--out", "o"], ["impact.speed", "speed-1.0"]),
+    "verify: a case's value refused": (
+        "verify.py",
+        ["--set", "rod1.diameter=0.05", "--set", "rod2.diameter=0.05", "--out", "o"],
+        ["rod1.tip_radius", "tip-20mm", "--case"],
     ),
     "tilt on axisymmetric": ("global.py", ["--set", "impact.tilt=0.01", "--out", "o"], ["impact.tilt", "'3d'"]),
     "field frames above the budget": (

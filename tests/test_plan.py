@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import pytest
 
 from rods import plan
@@ -118,3 +120,23 @@ def test_a_submodel_ends_at_the_contact_phase_its_driver_recorded(scene_with):
     assert plan.submodel_end(sc, {"contact_phase": None}) == plan.driver_phase(sc)
     assert plan.submodel_end(scene_with("simulation.end_time=5e-5"), {"contact_phase": 1e-4}) == 5e-5
     assert (submodel_label("fine"), submodel_label("fine", 3e-5)) == ("fine", "h=3e-05")
+
+
+def test_a_plans_analytical_run_records_a_bounded_history(scene_with, monkeypatch):
+    """A plan runs the analytical model before any stage's cost check: at a 1e-10 s output interval (1.5e7 samples,
+    2 GB) it records at most PLAN_SAMPLES samples over the same end time, and it never records a finer history
+    than the scene's; above the free memory it is refused (exit 2) instead of run."""
+    from rods import analytical, cost
+    from rods.preflight import InputError
+
+    seen = []
+    monkeypatch.setattr(analytical, "simulate", lambda sc: seen.append(sc) or SimpleNamespace(summary={}))
+    plan.planning_summary(scene_with("simulation.output_interval=1e-10"))
+    plan.planning_summary(scene_with())
+    fine, plain = seen
+    assert fine.end_time == plain.end_time
+    assert fine.end_time / fine.output_interval == pytest.approx(plan.PLAN_SAMPLES)
+    assert plain.output_interval == scene_with().output_interval  # the paper's 6001 samples: as the scene says
+    monkeypatch.setattr(cost, "available_memory", lambda: 1e6)  # [B]
+    with pytest.raises(InputError, match="analytical model"):
+        plan.planning_summary(scene_with())

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import _cli
+from rods import cost
 from rods.analytical import simulate
 from rods.paper.data import read_run, read_summary
 from rods.scene import Scene
@@ -42,6 +43,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     scene = _cli.load(args)
     runs = [_run("global-uniform", args.global_uniform, scene)] if args.global_uniform else []
     runs += [_run("global-driver", args.global_dir, scene), *(_run("submodel", d, scene) for d in args.submodel)]
+    cost.check(cost.analytical_cost(scene))  # the reference run below: refused (exit 2) before it, as its stage is
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     comparison = stages.comparison(scene, simulate(scene).summary, runs, out)
     print(table3.render_markdown(comparison.data))

@@ -99,8 +99,25 @@ def gap_is_model_form(gap: float, change: float) -> bool:
 
 
 def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
-    """Case ``name`` of :data:`CASES` on ``base``, with the caller's ``extra`` overrides last."""
-    return base.with_overrides(*CASES[name][1], *extra)
+    """Case ``name`` of :data:`CASES` on ``base``, with the caller's ``extra`` overrides last. A caller's override of
+    a key the case sets is refused (it would run the case as another scene under the case's name: ``--set
+    impact.speed=3`` ran "speed-1.0" at 3 m/s), and a refused value names the case whose setting it meets."""
+    own = dict(o.split("=", 1) for o in CASES[name][1])
+    for o in extra:
+        key, _, value = o.partition("=")
+        if key.strip() in own:
+            raise SceneError(
+                key.strip(), value.strip(), f"is verification case '{name}''s own setting ({own[key.strip()]})",
+                "leave it to the case, or pick the cases that do not set it with --case",
+            )  # fmt: skip
+    try:
+        return base.with_overrides(*CASES[name][1], *extra)
+    except SceneError as e:
+        settings = ", ".join(CASES[name][1]) or "the scene as given"
+        raise SceneError(
+            e.key, e.value, f"{e.allowed}, in verification case '{name}' ({settings})",
+            e.hint or "pick the cases this scene allows with --case",
+        ) from None  # fmt: skip
 
 
 def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int) -> list[Any]:
