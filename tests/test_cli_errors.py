@@ -157,6 +157,22 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--set", "rod1.diameter=0.05", "--set", "rod2.diameter=0.05", "--out", "o"],
         ["rod1.tip_radius", "tip-20mm", "--case"],
     ),
+    "driver with its cut in the tip's cap": (
+        "global.py",
+        ["--driver", "--set", "fe.submodel_length=1e-4", "--out", "o"],
+        ["fe.submodel_length", "cap height"],
+    ),
+    "record-until 0": ("global.py", ["--record-cut", "--record-until", "0", "--out", "o"], ["--record-until", "> 0"]),
+    "end time below one step": (
+        "global.py",
+        [*TINY, "--set", "simulation.end_time=1e-8", "--set", "simulation.output_interval=1e-8", "--out", "o"],
+        ["simulation.end_time", "one time step"],
+    ),
+    "submodel end time 1e-300": (
+        "submodel.py",
+        ["--global", "driver", "--end-time", "1e-300", "--out", "o"],
+        ["--end-time", "1e-12"],
+    ),
     "tilt on axisymmetric": ("global.py", ["--set", "impact.tilt=0.01", "--out", "o"], ["impact.tilt", "'3d'"]),
     "field frames above the budget": (
         "global.py",

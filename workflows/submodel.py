@@ -87,12 +87,13 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
 
 
 def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
-    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size or step
-    named by its option (--size, --axial-size, --dt), not by the scene key it becomes."""
+    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size, step or
+    end time named by its option (--size, --axial-size, --dt, --end-time), not by the scene key it becomes."""
     flags = {
         "fe.radial_size": "--size",
         "fe.axial_size": "--axial-size" if args.axial_size else "--size",
         "fe.dt": "--dt",
+        **({"simulation.end_time": "--end-time"} if args.end_time is not None else {}),
     }
     if args.axial_size is not None and args.axial_size > scene["fe.submodel_length"]:
         why = f"longer than the submodel (fe.submodel_length = {scene['fe.submodel_length']:g} m)"

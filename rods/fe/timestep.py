@@ -284,6 +284,11 @@ def time_step(model: SetUpModel) -> TimeStep:
         )
     else:
         dt = float(req)
+    if sc.end_time < dt:  # one step would march past the end: a record of t = 0 alone, its force that of Δt
+        raise SceneError(
+            "simulation.end_time", sc.end_time, f"must be >= one time step Δt = {dt:.4g} s of this mesh",
+            "a longer end time, or finer sizes for a smaller step",
+        )  # fmt: skip
     return TimeStep(
         ω_max=ω,
         ω_max_K=ω_K,
