@@ -13,6 +13,7 @@ import csv
 import hashlib
 import io as _io
 import json
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
@@ -52,6 +53,8 @@ FIELDS = (
 )
 
 
+# the main job's scene (workflows/Snakefile's PAPER_SCENE), which its global meshes run on
+PAPER_SCENE = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "paper.toml"
 CONFIG_KEYS = (
     "scene", "speeds", "mesh_levels", "dt_fractions", "kinds", "fe_speed", "ranks", "mpi",
     "paper_levels", "paper_phase_levels", "paper_global_meshes", "gpu",
@@ -85,13 +88,13 @@ def check_config(config: Mapping[str, object]) -> None:
     except SceneError as e:
         raise ConfigError("scene", config["scene"], str(e)) from None
 
-    def each(key: str, kind: type, overrides) -> None:
+    def each(key: str, kind: type, overrides, scene: str | Path | None = None) -> None:
         values = config[key]
         if not isinstance(values, kind) or not values:
             raise ConfigError(key, values, f"must be a non-empty {'list' if kind is list else 'mapping'}")
         for v in values:
             try:
-                load_scene(str(config["scene"]), overrides(v))
+                load_scene(str(scene or config["scene"]), overrides(v))
             except (SceneError, TypeError, ValueError, KeyError, IndexError) as e:
                 raise ConfigError(key, values, f"entry {short(v)}: {e}") from None
 
@@ -99,7 +102,9 @@ def check_config(config: Mapping[str, object]) -> None:
     each("mesh_levels", dict, lambda k: _mesh_level(config["mesh_levels"][k]))
     each("dt_fractions", list, lambda v: [f"fe.dt_fraction={_number(v)!r}"])
     each("kinds", list, lambda v: [f"fe.kind={v!r}"])
-    each("paper_global_meshes", dict, lambda k: list(config["paper_global_meshes"][k]))
+    # the main job runs its global meshes on the paper scene (rule paper_global), whatever the sweeps' scene
+    each("paper_global_meshes", dict, lambda k: _overrides(config["paper_global_meshes"][k]), PAPER_SCENE)
+    _folder_names(config)
     if "coarse" not in config["mesh_levels"]:
         raise ConfigError("mesh_levels", config["mesh_levels"], "must hold 'coarse' (the time-step sweep's mesh)")
     try:
@@ -117,12 +122,27 @@ def check_config(config: Mapping[str, object]) -> None:
             raise ConfigError(key, levels, f"must be a list of submodel levels: {', '.join(SUBMODEL_LEVELS)}")
 
 
+def _folder_names(config: Mapping[str, object]) -> None:
+    """The names of mesh levels and of the main job's global meshes: each becomes a folder and a shell word."""
+    for key in ("mesh_levels", "paper_global_meshes"):
+        for name in config[key]:
+            if not (isinstance(name, str) and re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", name)):
+                raise ConfigError(key, name, "a name must be letters, digits, '_', '.' or '-' (it names a folder)")
+
+
 def gpu_choice(value: object) -> bool | str:
     """The config's ``gpu`` as True, False or "auto" (YAML gives booleans, ``--config gpu=true`` a string)."""
     choice = {"auto": "auto", "true": True, "false": False}.get(str(value).lower())
     if choice is None:
         raise ConfigError("gpu", value, "must be auto, true or false (the paper's 3D mesh on a GPU)")
     return choice
+
+
+def _overrides(value: object) -> list[str]:
+    """A list of ``KEY=VALUE`` scene overrides (a string would be read character by character)."""
+    if not isinstance(value, list) or not all(isinstance(o, str) for o in value):
+        raise TypeError(f"{short(value)} is not a list of KEY=VALUE overrides")
+    return value
 
 
 def _mesh_level(sizes: object) -> list[str]:

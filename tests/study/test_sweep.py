@@ -34,14 +34,14 @@ def test_the_shipped_config_passes(config):
 @pytest.mark.parametrize(
     ("change", "words"),
     [
-        ({"speeds": [-1.0]}, ["'speeds'", "impact.speed", "(0, 100]"]),
+        ({"speeds": [-1.0]}, ["'speeds'", "impact.speed", "[1e-09, 100]"]),
         ({"speeds": ["abc"]}, ["'speeds'", "not a number"]),
         ({"speeds": 1.5}, ["'speeds'", "list"]),
-        ({"dt_fractions": [0.5, 1.5]}, ["'dt_fractions'", "1.5", "(0, 1]"]),
+        ({"dt_fractions": [0.5, 1.5]}, ["'dt_fractions'", "1.5", "[0.001, 1]"]),
         ({"kinds": ["2d"]}, ["'kinds'", "axisymmetric, 3d"]),
         ({"mesh_levels": {"coarse": [2e-3, 5.0]}}, ["'mesh_levels'", "fe.radial_size"]),
         ({"mesh_levels": {"paper": [1e-3, 2.5e-4]}}, ["'mesh_levels'", "'coarse'"]),
-        ({"fe_speed": -3}, ["'fe_speed'", "(0, 100]"]),
+        ({"fe_speed": -3}, ["'fe_speed'", "[1e-09, 100]"]),
         ({"ranks": 0}, ["'ranks'", ">= 1"]),
         ({"paper_levels": ["bogus"]}, ["'paper_levels'", "ultra-fine"]),
         ({"paper_global_meshes": {"x": ["fe.kind=2d"]}}, ["'paper_global_meshes'", "fe.kind"]),
@@ -52,6 +52,11 @@ def test_the_shipped_config_passes(config):
         ({"mesh_levels": {"coarse": {"a": 1}}}, ["'mesh_levels'", "[axial size, radial size]"]),
         ({"paper_levels": [["fine"]]}, ["'paper_levels'", "submodel levels"]),
         ({"gpu": "maybe"}, ["'gpu'", "auto, true or false"]),
+        # found by a bad-input audit (2026-11-29): a string read character by character; a name with a space split
+        # every job's command line; a mesh the paper scene refuses, accepted against another sweep scene
+        ({"paper_global_meshes": {"paper": "fe.radial_size=0.25e-3"}}, ["'paper_global_meshes'", "KEY=VALUE"]),
+        ({"mesh_levels": {"coarse": [2e-3, 5e-4], "x y": [1e-3, 2.5e-4]}}, ["'mesh_levels'", "'x y'", "folder"]),
+        ({"paper_global_meshes": {"a b": ["fe.radial_size=0.25e-3"]}}, ["'paper_global_meshes'", "'a b'"]),
     ],
 )
 def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
@@ -61,6 +66,23 @@ def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
         check_config(config | change)
     for w in words:
         assert w in str(e.value), str(e.value)
+
+
+def test_the_main_jobs_global_meshes_are_checked_on_the_paper_scene(config, tmp_path):
+    """Rule paper_global runs paper_global_meshes on the paper scene whatever the sweeps' scene: an 8 mm radial size
+    fits 20 mm rods but not the paper's 12.7 mm ones (it was accepted against a thick sweep scene, then its job exited
+    2), and a mesh the paper scene takes passes beside a sweep scene that would refuse it."""
+    paper = ROOT / "workflows" / "scenes" / "paper.toml"
+    thick = tmp_path / "thick.toml"
+    thick.write_text(f'base = "{paper}"\nrod1.diameter = 0.02\nrod2.diameter = 0.02\n')
+    thin = tmp_path / "thin.toml"
+    thin.write_text(f'base = "{paper}"\nrod1.diameter = 0.0008\nrod2.diameter = 0.0008\n'
+                    'rod1.tip_radius = 0.001\nname = "thin"\n')  # fmt: skip
+    with pytest.raises(ConfigError, match=r"'paper_global_meshes'.*fe.radial_size.*0.00635"):
+        check_config(config | {"scene": str(thick), "paper_global_meshes": {"bad": ["fe.radial_size=0.008"]}})
+    meshes = {"coarse": ["fe.radial_size=0.5e-3"]}  # the paper's 12.7 mm rods take it; the thin 0.8 mm ones refuse it
+    levels = {"coarse": [2e-4, 1e-4]}
+    check_config(config | {"scene": str(thin), "paper_global_meshes": meshes, "mesh_levels": levels})
 
 
 @pytest.mark.skipif(not SNAKEMAKE.exists(), reason="snakemake is not installed beside the interpreter")
