@@ -83,7 +83,26 @@ def output_dir(path: str | Path, what: str = "--out") -> Path:
         raise InputError(what, p, f"{probe} is a file, so the folder cannot be created", "give another path")
     if not (os.access(probe, os.W_OK | os.X_OK) and _can_create(probe)):
         raise InputError(what, p, f"folder {probe} is not writable", "give a folder you can write to")
+    if p.is_dir():
+        _blocked_names(p, what)
     return p
+
+
+# what the stages write into their folder (files) and a study into its own (stage folders): an entry of that name of
+# the other kind failed the run at its first write (IsADirectoryError, exit 1, a history.csv without its summary)
+RUN_FILES = ("summary.json", "history.csv", "pressure_profile.csv", "cut.h5", "fields.xdmf", "checkpoint.json")
+STAGE_FOLDERS = ("analytical", "global", "driver", "submodel")
+
+
+def _blocked_names(p: Path, what: str) -> None:
+    """No entry of ``p`` named as a run's file (:data:`RUN_FILES`) is a folder, none named as a study's stage
+    folder (:data:`STAGE_FOLDERS`) a file."""
+    for names, is_kind, kind in ((RUN_FILES, Path.is_file, "file"), (STAGE_FOLDERS, Path.is_dir, "folder")):
+        for name in names:
+            q = p / name
+            if q.exists() and not is_kind(q):
+                why = f"{q} is in the way: a run writes a {kind} of that name there"
+                raise InputError(what, p, why, "remove it, or give another folder")
 
 
 def output_file(path: str | Path, what: str = "--out") -> Path:

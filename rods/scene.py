@@ -964,7 +964,9 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     if p.resolve() in seen:
         raise SceneError("base", str(p), "scene files include each other in a cycle")
     try:
-        data = tomllib.loads(p.read_text())
+        data = tomllib.loads(
+            p.read_text(encoding="utf-8-sig")
+        )  # UTF-8; a byte-order mark some editors write is dropped
     except tomllib.TOMLDecodeError as e:
         raise SceneError("--scene", str(p), f"malformed TOML: {e}", argument=True) from None
     except UnicodeDecodeError:

@@ -69,6 +69,9 @@ def here(tmp_path) -> Path:
     folder("global-fast", {"model": "fe-axisymmetric", "scene_values": fast, "contact_duration": 2e-4}, history=True)
     folder("badjson", {"model": "fe-axisymmetric", "scene_values": paper})
     (tmp_path / "badjson" / "summary.json").write_text("{bad")
+    (tmp_path / "blocked" / "summary.json").mkdir(parents=True)  # a folder where a run writes its summary
+    (tmp_path / "blocked-study").mkdir()
+    (tmp_path / "blocked-study" / "global").write_text("")  # a file where a study writes its global stage
     many = ",".join(['"wave_response"'] * 200_000)
     (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
     return tmp_path
@@ -173,6 +176,13 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--global", "driver", "--end-time", "1e-300", "--out", "o"],
         ["--end-time", "1e-12"],
     ),
+    "scene name over 255 bytes": (
+        "analytical.py",
+        ["--scene", "x" * 300 + ".toml", "--out", "o"],
+        ["longer than the file system allows"],
+    ),
+    "summary.json a folder": ("analytical.py", ["--out", "blocked"], ["summary.json", "in the way"]),
+    "a study's stage a file": ("run.py", [*TINY, "--out", "blocked-study"], ["global", "in the way"]),
     "tilt on axisymmetric": ("global.py", ["--set", "impact.tilt=0.01", "--out", "o"], ["impact.tilt", "'3d'"]),
     "field frames above the budget": (
         "global.py",

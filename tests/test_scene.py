@@ -9,7 +9,7 @@ import pytest
 
 from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, SceneError, load_scene, parse_override, scene_from_dict
 
-from .conftest import SCENES
+from .conftest import PAPER, SCENES
 
 
 def test_paper_scene_is_table_1():
@@ -458,3 +458,13 @@ def test_a_rods_wave_times_are_its_bar_wave_over_its_length_and_diameter():
     assert rod.transit_time == pytest.approx(2 * 0.25009 / c, rel=1e-12)
     assert rod.diameter_transit == pytest.approx(0.0127 / c, rel=1e-12)
     assert rod.diameter_transit == pytest.approx(2.482e-6, rel=1e-3)
+
+
+def test_a_scene_saved_with_a_byte_order_mark_loads(tmp_path):
+    """Some editors start a UTF-8 file with a byte-order mark, which TOML's parser refused as "Invalid statement
+    (at line 1, column 1)": the mark is dropped, and non-ASCII text reads as UTF-8 whatever the locale."""
+    from rods.scene import load_scene
+
+    text = f'base = "{PAPER}"\nname = "schön"\n'
+    (tmp_path / "bom.toml").write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    assert load_scene(tmp_path / "bom.toml").name == "schön"

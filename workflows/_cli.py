@@ -10,6 +10,7 @@ README's "When something goes wrong" lists the classes and their messages.
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import signal
 import sys
@@ -18,7 +19,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from rods import interrupt
-from rods.preflight import InputError, one_line, output_dir, output_file, safe_name, scene_folder  # noqa: F401  (for scripts)
+from rods.preflight import InputError, one_line, output_dir, output_file, safe_name, scene_folder, short  # noqa: F401  (for scripts)
 from rods.scene import Scene, SceneError, load_scene, parse_override
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
@@ -253,6 +254,9 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
         except KeyboardInterrupt:
             return _interrupted()
         except Exception as e:
+            if isinstance(e, OSError) and e.errno == errno.ENAMETOOLONG:  # a path given (--scene, --global, base)
+                fail(f"{short(str(e.filename))}: a name in this path is longer than the file system allows (give a "
+                     "shorter one)")  # fmt: skip
             code = _stopped(e)
             if code is not None:
                 return code
