@@ -40,6 +40,19 @@ def test_failure_on_one_rank_aborts_all(tmp_path):
 
 
 @pytest.mark.mpi
+@pytest.mark.parametrize(("script", "args"), [("compare.py", ["--global", "missing"]), ("report.py", ["--bogus"])])
+def test_a_script_without_mpi_refuses_once_under_mpirun(tmp_path, script, args):
+    """compare.py and report.py never load MPI: under mpirun -n 2 each rank printed the same error line; the launcher's
+    rank (PMI_RANK) leaves it to rank 0."""
+    p = subprocess.run(
+        [str(MPIRUN), "-n", "2", sys.executable, str(ROOT / "workflows" / script), *args],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path, stdin=subprocess.DEVNULL,
+    )  # fmt: skip
+    assert p.returncode == 2
+    assert len(p.stderr.strip().splitlines()) == 1 and p.stderr.startswith("error:"), p.stderr
+
+
+@pytest.mark.mpi
 def test_analytical_under_mpirun_prints_and_writes_once(tmp_path):
     """mpirun -n 2 workflows/analytical.py: every rank computes (milliseconds), rank 0 alone prints and writes
     (was: the plan, the summary and the files twice)."""

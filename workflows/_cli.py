@@ -35,13 +35,11 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(allow_abbrev=False, formatter_class=argparse.RawDescriptionHelpFormatter, **kw)
 
     def print_help(self, file: Any = None) -> None:  # rank 0's only under MPI
-        mpi = _mpi()
-        if mpi is None or mpi.COMM_WORLD.rank == 0:
+        if _is_rank0():
             super().print_help(file)
 
     def error(self, message: str) -> NoReturn:  # argparse exits 2 already; keep one line, one style
-        mpi = _mpi()
-        quiet = mpi is not None and mpi.COMM_WORLD.rank != 0
+        quiet = not _is_rank0()
         self.exit(EXIT_BAD_INPUT, None if quiet else f"error: {one_line(message)} (see {self.prog} --help)\n")
 
 
@@ -151,8 +149,7 @@ def status(summary: Mapping[str, Any], rank: int = 0) -> None:
 
 def fail(message: str) -> NoReturn:
     """Exit 2 with one line (rank 0's under MPI: input checks run on every rank alike)."""
-    mpi = _mpi()
-    if mpi is None or mpi.COMM_WORLD.rank == 0:
+    if _is_rank0():
         print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
     raise SystemExit(EXIT_BAD_INPUT)
 
@@ -193,6 +190,20 @@ def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
 def _mpi():
     mpi = sys.modules.get("mpi4py.MPI")
     return mpi if mpi is not None and mpi.Is_initialized() and not mpi.Is_finalized() else None
+
+
+# the rank a launcher gives each process (MPICH's hydra, Open MPI, PMIx, SLURM's srun), read where MPI is not loaded
+LAUNCHER_RANKS = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "SLURM_PROCID")
+
+
+def _is_rank0() -> bool:
+    """Whether this process speaks for the run: MPI's rank 0, or, in a script that never loads MPI (compare.py,
+    report.py, ...) started under a launcher, the launcher's rank 0 (each rank printed the same error line)."""
+    mpi = _mpi()
+    if mpi is not None:
+        return mpi.COMM_WORLD.rank == 0
+    rank = next((os.environ[k] for k in LAUNCHER_RANKS if k in os.environ), "0")
+    return rank.strip() in ("0", "")
 
 
 def _stopped(e: BaseException) -> int | None:
