@@ -595,3 +595,11 @@ def test_sigterm_while_the_plan_runs_the_analytical_model_is_a_clean_interrupt(t
         "error: interrupted (outside the time loop: nothing partial to write)"
     ]
     assert not out.exists()
+
+
+@pytest.mark.parametrize(("args", "words"), [(["x", "--time", "abc"], ["--time", "not a number"]),
+                                             (["x", "--scale", "nan"], ["--scale", "finite"])])  # fmt: skip
+def test_the_paraview_script_refuses_bad_numbers_in_one_line(tmp_path, args, words):
+    """workflows/view.py (pvpython's, plain argparse): one line, exit 2, before ParaView is imported (it printed the
+    usage block first, and took nan)."""
+    refused(run("view.py", *args, cwd=tmp_path), *words)

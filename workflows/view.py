@@ -13,9 +13,11 @@ Runs under ParaView's own Python (Debian: ``apt-get install paraview python3-par
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 FIELDS = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
 WINDOW = 3e-3  # [m] half-width of the view around the contact point (the tips touch at the origin)
@@ -74,13 +76,31 @@ def _bad(message: str) -> int:
     return 2
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the entry points' one error line (its own printed the usage block first)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"error: {message} (see {self.prog} --help)\n")
+
+
+def _finite(text: str) -> float:
+    """An argparse type: a finite number (float() takes 'nan' and 'inf')."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a finite number")
+    return value
+
+
 def main(argv: list[str] | None = None) -> int:
     # plain argparse: this runs under ParaView's pvpython, without the venv's workflows/_cli.py helpers
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = _Parser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", type=Path, help="run folder (with fields.xdmf) or the .xdmf file")
     ap.add_argument("--reader", choices=("xdmf3", "legacy"), default="xdmf3")
-    ap.add_argument("--time", type=float, help="frame time [s] (default: the largest contact pressure)")
-    ap.add_argument("--scale", type=float, default=1.0, help="displacement warp factor [-]")
+    ap.add_argument("--time", type=_finite, help="frame time [s] (default: the largest contact pressure)")
+    ap.add_argument("--scale", type=_finite, default=1.0, help="displacement warp factor [-]")
     ap.add_argument("--png", help="save a screenshot (needs a display: xvfb-run -a pvpython ...)")
     ap.add_argument("--check", action="store_true", help="exit 1 unless every frame has every field")
     a = ap.parse_args(argv)

@@ -120,6 +120,9 @@ def check_config(config: Mapping[str, object]) -> None:
         levels = config[key]
         if not isinstance(levels, list) or not all(isinstance(v, str) and v in SUBMODEL_LEVELS for v in levels):
             raise ConfigError(key, levels, f"must be a list of submodel levels: {', '.join(SUBMODEL_LEVELS)}")
+    if extra := [v for v in config["paper_phase_levels"] if v not in config["paper_levels"]]:  # dropped silently
+        why = f"level {extra[0]!r} is not among paper_levels {config['paper_levels']}: the main job does not run it"
+        raise ConfigError("paper_phase_levels", config["paper_phase_levels"], why)
 
 
 def _folder_names(config: Mapping[str, object]) -> None:

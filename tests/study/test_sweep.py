@@ -55,6 +55,7 @@ def test_the_shipped_config_passes(config):
         # found by a bad-input audit (2026-11-29): a string read character by character; a name with a space split
         # every job's command line; a mesh the paper scene refuses, accepted against another sweep scene
         ({"paper_global_meshes": {"paper": "fe.radial_size=0.25e-3"}}, ["'paper_global_meshes'", "KEY=VALUE"]),
+        ({"paper_levels": ["coarse", "mid"], "paper_phase_levels": ["fine"]}, ["'paper_phase_levels'", "'fine'"]),
         ({"mesh_levels": {"coarse": [2e-3, 5e-4], "x y": [1e-3, 2.5e-4]}}, ["'mesh_levels'", "'x y'", "folder"]),
         ({"paper_global_meshes": {"a b": ["fe.radial_size=0.25e-3"]}}, ["'paper_global_meshes'", "'a b'"]),
     ],
