@@ -603,3 +603,17 @@ def test_the_paraview_script_refuses_bad_numbers_in_one_line(tmp_path, args, wor
     """workflows/view.py (pvpython's, plain argparse): one line, exit 2, before ParaView is imported (it printed the
     usage block first, and took nan)."""
     refused(run("view.py", *args, cwd=tmp_path), *words)
+
+
+def test_an_ascii_console_runs_a_scene_with_a_non_ascii_name(tmp_path):
+    """PYTHONIOENCODING=ascii (a C locale's console): the plan's 'schön' and 'µs' are escaped, not a
+    UnicodeEncodeError's exit 1 after the scene was accepted; the files keep the name (JSON escapes it)."""
+    (tmp_path / "s.toml").write_text(f'base = "{SCENES / "paper.toml"}"\nname = "schön"\n', encoding="utf-8")
+    env = {**os.environ, "PYTHONIOENCODING": "ascii"}
+    args = ["--scene", "s.toml", "--set", "simulation.end_time=1e-4", "--out", "o"]
+    p = subprocess.run([str(PY), str(W / "analytical.py"), *args], cwd=tmp_path, env=env, capture_output=True,
+                       text=True, encoding="ascii", errors="strict", timeout=120)  # fmt: skip
+    assert p.returncode == 0, p.stderr
+    assert "sch\\xf6n" in p.stdout and json.loads((tmp_path / "o" / "summary.json").read_text())["scene"].startswith(
+        "schön"
+    )

@@ -286,6 +286,9 @@ def entry(main: Callable[[Sequence[str] | None], int]) -> NoReturn:
     or SIGTERM after ``main`` returned (its files written, its status printed) is ignored: in the interpreter's and
     MPI's teardown it raised KeyboardInterrupt, a traceback, and hydra's mpirun reported the rank killed by signal 2
     as "EXIT CODE: 2", the bad-input code."""
+    for stream in (sys.stdout, sys.stderr):  # an ASCII console (PYTHONIOENCODING=ascii, LC_ALL=C): 'µs', 'Δt' and a
+        if hasattr(stream, "reconfigure"):  # scene's non-ASCII name escaped, not a UnicodeEncodeError's exit 1
+            stream.reconfigure(errors="backslashreplace")
     code = guarded(main)()
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, signal.SIG_IGN)
