@@ -58,8 +58,9 @@ def test_three_levels_are_richardson_and_gci(p, ratio):
     assert gc.relative_uncertainty == pytest.approx(rr.gci_fine, rel=1e-8)
 
 
-def test_three_levels_of_the_committed_submodel_force_match_table3():
-    """The force on the three finest submodel levels of the record (table3.json): same p and GCI."""
+def test_the_fit_on_three_levels_of_a_recorded_submodel_force_is_the_three_level_formula():
+    """Three submodel forces of a record (mid, fine, extra-fine of an earlier table3.json, copied here): the
+    least-squares fit over exactly three levels is rods.compare.richardson's closed form, the same p and GCI band."""
     F = [5506.595833695046, 5564.020088901916, 5602.548979507645]  # mid, fine, extra-fine [N]
     gc = estimate([0.125e-3, 0.0625e-3, 0.03125e-3], F)
     rr = richardson(F[2], F[1], F[0], 2.0)
