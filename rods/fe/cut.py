@@ -16,7 +16,9 @@ Driving (submodel side, :class:`CutDriver`): the band is rebuilt as a DOLFINx me
 communicator and the stored P1 field is interpolated onto the submodel's cut-boundary nodes with
 DOLFINx non-matching interpolation (``create_interpolation_data`` + ``interpolate_nonmatching`` on
 the cut cells only). Interpolation is linear, so it is done once per band node (unit fields) to
-build a sparse matrix W (owned cut nodes x band nodes); at run time u_cut(t) = W U_band(t). Works
+build a sparse matrix W (owned cut nodes x band nodes); u_cut(t) = W U_band(t), applied to every record
+once at the set-up (:func:`record_products`: the run interpolates the cut's own history in time, no band and no
+sparse product per step). Works
 for meshes that do not nest node for node, for any number of ranks (the cut nodes may be on any
 rank), and for 2D (axisymmetric) and 3D (hexahedral) band cells alike. In 3D the submodel keeps the
 global ``fe.symmetry`` (half/quarter: the band and the cut share the symmetry planes, whose normal
@@ -68,6 +70,7 @@ __all__ = [
     "cut_weights",
     "node_colouring",
     "read_cut",
+    "record_products",
     "recorded_until",
 ]
 
@@ -296,6 +299,18 @@ def node_colouring(A: scipy.sparse.csr_matrix, hops: int) -> np.ndarray:
     return colour
 
 
+def record_products(A: scipy.sparse.spmatrix, U: np.ndarray) -> np.ndarray:
+    """A U_k for every record k of a band history ``U`` (n_rec, n_nodes, gdim): ``A`` acting on the band nodes
+    (n_rows x n_nodes, per component) gives (n_rec, n_rows, gdim); on the flattened records (n_rows x n_nodes gdim)
+    (n_rec, n_rows). One sparse product over all records: a linear map commutes with the linear interpolation in
+    time, so a run interpolates A U_k instead of applying A to the interpolated band every step."""
+    n_rec, n_nodes, gdim = U.shape
+    if A.shape[1] == n_nodes:
+        AU = A @ U.transpose(1, 0, 2).reshape(n_nodes, n_rec * gdim)  # (n_rows, n_rec gdim)
+        return np.ascontiguousarray(AU.reshape(A.shape[0], n_rec, gdim).transpose(1, 0, 2))
+    return np.ascontiguousarray((A @ U.reshape(n_rec, n_nodes * gdim).T).T)
+
+
 def cut_weights(
     V0, nodes0, cut_cells, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, tol: float
 ) -> scipy.sparse.csr_matrix:
@@ -339,10 +354,12 @@ class CutDriver:
     """Observer of the submodel run: prescribes u at the cut nodes from a global ``cut.h5``; its work on
     the submodel (``external_work()``) enters the energy balance."""
 
+    reads_band = False  # a subclass that builds more record products keeps ``band_u`` after this set-up
+
     def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6):
         comm = model.comm
         d = read_cut(Path(cut_file))  # every rank reads (small, read-only)
-        self.times, self.U = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim)
+        self.times, self.band_u = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim): the set-up's only
         # the last step may end past the record by less than one record spacing or one submodel step (a submodel
         # step longer than the global's: a kinematic submodel under a penalty global): band_state extrapolates
         spacing = self.times[-1] - self.times[-2] if self.times.size > 1 else 0.0
@@ -376,9 +393,12 @@ class CutDriver:
             )
         self.n_cut = comm.allreduce(nodes0.size)
         self.dt = model.dt
-        # on the model's array backend (copied to a device once): the band history, W, the cut entries
+        # on the model's array backend (copied to a device once): the cut's displacement history W U_k, the entries
         be = self.be = model.backend
-        self.xp, self.U, self.W_step, self.idx_step = be.xp, be.asarray(self.U), be.csr(self.W), be.asarray(self.idx)
+        self.xp, self.idx_step = be.xp, be.asarray(self.idx)
+        self.cut_u = be.asarray(record_products(self.W, self.band_u))  # (n_rec, n_cut, gdim) [m]
+        if not self.reads_band:  # the run reads the cut's own histories only
+            del self.band_u
         # a checkpoint resumes only with the record it was driven by (rods.fe.model)
         self.checkpoint_identity = cut_identity(cut_file)
         # work done by the cut on the submodel (this rank's cut entries) [J]: the prescription adds the impulse
@@ -396,18 +416,19 @@ class CutDriver:
         self.work = float(state["cut_work"])
         self.v_prev = self.be.asarray(state["cut_v_prev"])
 
-    def band_state(self, t: float):
-        """The band's u at time t [s], linear in time between records (the scheme's own u(t)). (n_nodes, gdim)"""
+    def at(self, history, t: float):
+        """A recorded ``history`` (n_rec, ...) at time t [s], linear in time between records (the scheme's own
+        u(t)), extrapolated from the last two past the record (the last step's end, see the set-up)."""
         T = self.times
         if T.size == 1:
-            return self.U[0]
+            return history[0]
         k = min(max(int(np.searchsorted(T, t, side="right")) - 1, 0), T.size - 2)  # (np.clip on a scalar: 20 µs)
         θ = (t - T[k]) / (T[k + 1] - T[k])
-        return (1.0 - θ) * self.U[k] + θ * self.U[k + 1]
+        return (1.0 - θ) * history[k] + θ * history[k + 1]
 
     def displacement(self, t: float) -> np.ndarray:
-        """u at the owned cut nodes at time t [s]: :meth:`band_state`, W in space. (n_cut, gdim)"""
-        return self.W_step @ self.band_state(t)
+        """u at the owned cut nodes at time t [s]: W U_band(t), interpolated in time. (n_cut, gdim)"""
+        return self.at(self.cut_u, t)
 
     def external_work(self) -> float:
         """Work done by the cut on the submodel so far (this rank's cut entries) [J]."""

@@ -52,7 +52,7 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe import forms
-from rods.fe.cut import CutDriver, band_adjacency, band_space, cut_space, cut_weights, node_colouring
+from rods.fe.cut import CutDriver, band_adjacency, band_space, cut_space, cut_weights, node_colouring, record_products
 from rods.fe.model import ExplicitModel
 
 __all__ = ["TractionDriver", "cut_force_operator"]
@@ -167,13 +167,16 @@ class TractionDriver(CutDriver):
     their work (``external_work()``) enters the energy balance. ``absorbing``: mixed driving, the traction plus
     a dashpot to the global's cut velocity (module docstring)."""
 
+    reads_band = True  # its traction history is a record product too
+
     def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6, absorbing: bool = False):
         super().__init__(model, cut_file, tol)  # the band history, the cut's coverage checks, the backend
         t0 = time.perf_counter()
         T, area = _force_operator(model, *self.band, self.cut_nodes, self.W)  # the band, cut and weights built once
         self.build_time += model.comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
         be = model.backend
-        self.T_step = be.csr(T)
+        self.cut_f = be.asarray(record_products(T, self.band_u))  # (n_rec, n_cut bs) [N]: T U_k of every record
+        del self.band_u  # the run reads the cut's own histories only
         # Δt M⁻¹ [s/kg] on the cut entries, zero where constrained (u_r on the axis, a symmetry plane's normal)
         self.dt_inv_m = be.asarray(model.dt * model.inv_mass[self.idx])
         self.c = None
@@ -186,7 +189,7 @@ class TractionDriver(CutDriver):
 
     def force(self, t: float):
         """Nodal forces [N] on the owned cut entries at time t [s], shaped like the cut entries (n_cut, bs)."""
-        return (self.T_step @ self.band_state(t).ravel()).reshape(self.idx_step.shape)
+        return self.at(self.cut_f, t).reshape(self.idx_step.shape)
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         """Add the impulse Δt f(t_n) to v_{n+1/2} at the cut (with the dashpot, mid-step implicit in v); its work

@@ -53,3 +53,23 @@ def test_colouring_is_the_same_from_the_same_cells(hops):
     a = node_colouring(band_adjacency(cells, 24), hops)
     b = node_colouring(band_adjacency(cells.copy(), 24), hops)
     assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("flattened", [False, True])
+def test_record_products_equal_the_product_of_each_record(flattened):
+    """rods.fe.cut.record_products: one sparse product over every record equals A U_k record by record, for A on the
+    band nodes per component (W: (n_rec, n_cut, gdim)) and on the flattened records (T: (n_rec, n_cut gdim)) (their
+    interpolation in time: tests/fe/test_submodel.py, test_cut_displacement_matches_recorded_at_coincident_nodes)."""
+    import scipy.sparse
+
+    from rods.fe.cut import record_products
+
+    rng = np.random.default_rng(4)
+    n_rec, n_nodes, gdim, n_rows = 7, 30, 3, 11
+    U = rng.normal(size=(n_rec, n_nodes, gdim))
+    A = scipy.sparse.random(n_rows, n_nodes * gdim if flattened else n_nodes, density=0.2, random_state=5, format="csr")
+    P = record_products(A, U)
+    for k in range(n_rec):
+        expected = A @ U[k].ravel() if flattened else A @ U[k]
+        np.testing.assert_allclose(P[k], expected, rtol=1e-13, atol=1e-13)
+    assert P.flags.c_contiguous and P.shape == ((n_rec, n_rows) if flattened else (n_rec, n_rows, gdim))
