@@ -120,13 +120,16 @@ def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
         ) from None  # fmt: skip
 
 
-def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int) -> list[Any]:
+def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int, force: bool = False) -> list[Any]:
     """The estimated costs (rods.cost) of case ``name``'s runs: its analytical model, its global model and the
     finer global over the contact phase (:func:`finer`); a refused setting raises as the run would, before it,
-    and so does an ``end_time`` the analytical first contact outlasts (SceneError: no duration to compare)."""
+    and so does an ``end_time`` the analytical first contact outlasts (SceneError: no duration to compare). The
+    analytical model's own cost is checked first (its budgets unless ``force``): the contact phase is planned with
+    it."""
     from rods import cost
 
     sc = case_scene(base, name, extra)
+    analytical = cost.check(cost.analytical_cost(sc), force)
     first = plan.first_contact_summary(sc)
     if checks.contact_warning(first, sc.end_time) is not None:  # the matrix compares its duration: it must end
         raise SceneError(
@@ -137,7 +140,7 @@ def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int) -> list
             f"lengthen simulation.end_time past every case's contact: at least {matrix_end_time(base, extra):.2g}",
         )
     return [
-        cost.analytical_cost(sc),
+        analytical,
         cost.fe_cost(sc, ranks, what=f"{name}: the global"),
         cost.fe_cost(finer(sc, plan.contact_phase(first, sc.end_time)), ranks, what=f"{name}: the global 2 x finer"),
     ]
