@@ -450,6 +450,8 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     summary: dict[str, Any] = {
         "model": "analytical",
         "scene": scene.label,
+        "scene_overrides": list(scene.overrides),  # what the label lists
+        "stage_settings": list(scene.settings),  # the library's own overrides after them (Scene.settings)
         "impact_speed": scene.speed,
         "peak_contact_force": P_peak,
         "peak_force_time": t_peak,

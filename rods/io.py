@@ -27,6 +27,7 @@ __all__ = [
     "dumps",
     "file_mode",
     "offscreen_pyvista",
+    "provenance",
     "read_data",
     "read_history",
     "write_data",
@@ -103,7 +104,49 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> None:
     missing = [k for k in SUMMARY_KEYS if k not in summary]
     if missing:
         raise KeyError(f"summary lacks contract keys {missing}")
+    summary = {**summary, "provenance": summary.get("provenance") or provenance()}
     atomic_write_text(path, json.dumps(_jsonable(summary), indent=2, allow_nan=False) + "\n")
+
+
+def provenance() -> dict[str, Any]:
+    """What produced a result, for its summary.json: the rods version and, in a git checkout, the commit it was at;
+    Python's and the numerical libraries' versions (DOLFINx and PETSc where the run loaded them). The commit is read
+    from the repository's files, not by running git: a fork under MPI upsets some interconnects (and a work tree's
+    uncommitted changes are not seen)."""
+    import importlib.metadata
+    import platform
+    import sys
+
+    out: dict[str, Any] = {"python": platform.python_version()}
+    for dist in ("rods", "numpy", "scipy"):
+        try:
+            out[dist] = importlib.metadata.version(dist)
+        except importlib.metadata.PackageNotFoundError:
+            out[dist] = None
+    for module in ("dolfinx", "petsc4py"):
+        if module in sys.modules:
+            out[module] = getattr(sys.modules[module], "__version__", None)
+    if (commit := _git_commit(Path(__file__).resolve().parents[1] / ".git")) is not None:
+        out["git_commit"] = commit
+    return out
+
+
+def _git_commit(git: Path) -> str | None:
+    """The commit a checkout's HEAD names (a detached hash, a branch's loose ref or its packed-refs line); None where
+    it cannot be read (no checkout, a worktree's .git file)."""
+    try:
+        head = (git / "HEAD").read_text().strip()
+        if not head.startswith("ref: "):
+            return head or None
+        ref = head[5:]
+        if (git / ref).is_file():
+            return (git / ref).read_text().strip() or None
+        for line in (git / "packed-refs").read_text().splitlines():
+            if line.endswith(" " + ref):
+                return line.split()[0]
+    except OSError:
+        return None
+    return None
 
 
 def dumps(data: Mapping[str, Any]) -> str:

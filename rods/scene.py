@@ -535,6 +535,10 @@ class Scene:
     # the KEY=VALUE overrides given with the scene (--set, a sweep's point), last one per key; a library's own
     # with_overrides (a stage's end time, the driver's settings) keeps them and adds none
     overrides: tuple[str, ...] = ()
+    # the library's own overrides on top (with_overrides: a stage's end time, a driver's or a finer mesh's sizes, the
+    # paper's contact law), last one per key: summaries record them beside ``overrides`` ("stage_settings"), so that
+    # the two together replay the run (the label names the user's scene only)
+    settings: tuple[str, ...] = ()
 
     @property
     def label(self) -> str:
@@ -664,7 +668,7 @@ class Scene:
         """A new, validated scene: this one with ``KEY=VALUE`` overrides applied (its :attr:`label` kept: the
         library's own overrides are a stage's settings, not another scene)."""
         new = scene_from_dict(self.as_dict(json_safe=False), overrides, source=self.source)
-        return dataclasses.replace(new, overrides=self.overrides)
+        return dataclasses.replace(new, overrides=self.overrides, settings=_last_per_key((*self.settings, *overrides)))
 
 
 def _station_name(rod: int, pos: float) -> str:

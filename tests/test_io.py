@@ -2,6 +2,7 @@
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -86,3 +87,35 @@ def test_result_files_are_utf8_under_an_ascii_locale(tmp_path):
     assert r.returncode == 0, r.stderr
     assert io.read_data(tmp_path / "x.json")["s"] == "µ σ ✗"
     assert (tmp_path / "x.md").read_text(encoding="utf-8") == "| µm |"
+
+
+def test_a_summary_records_what_produced_it(tmp_path):
+    """summary.json carries its provenance: the versions, and in a git checkout the commit (read from .git's files,
+    no git process under MPI), as `git rev-parse HEAD` gives it."""
+    import shutil
+    import subprocess
+
+    from rods.io import SUMMARY_KEYS, write_summary
+
+    write_summary(tmp_path / "summary.json", dict.fromkeys(SUMMARY_KEYS, 1.0))
+    p = json.loads((tmp_path / "summary.json").read_text())["provenance"]
+    assert p["rods"] and p["numpy"] == np.__version__ and p["python"]
+    root = Path(__file__).resolve().parents[1]
+    if (root / ".git").is_dir() and shutil.which("git"):
+        head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True)
+        assert p["git_commit"] == head.stdout.strip()
+
+
+def test_the_commit_is_read_from_loose_and_packed_refs_and_a_detached_head(tmp_path):
+    from rods.io import _git_commit
+
+    git = tmp_path / ".git"
+    (git / "refs" / "heads").mkdir(parents=True)
+    (git / "HEAD").write_text("ref: refs/heads/main\n")
+    (git / "packed-refs").write_text("# pack-refs with: peeled\n" + "a" * 40 + " refs/heads/main\n")
+    assert _git_commit(git) == "a" * 40
+    (git / "refs" / "heads" / "main").write_text("b" * 40 + "\n")  # a loose ref wins over the packed one
+    assert _git_commit(git) == "b" * 40
+    (git / "HEAD").write_text("c" * 40 + "\n")  # detached
+    assert _git_commit(git) == "c" * 40
+    assert _git_commit(tmp_path / "none") is None

@@ -468,3 +468,16 @@ def test_a_scene_saved_with_a_byte_order_mark_loads(tmp_path):
     text = f'base = "{PAPER}"\nname = "schön"\n'
     (tmp_path / "bom.toml").write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
     assert load_scene(tmp_path / "bom.toml").name == "schön"
+
+
+def test_a_library_override_is_recorded_beside_the_users(scene_with):
+    """with_overrides (a stage's end time, a finer mesh) keeps the user's label and overrides and records its own as
+    ``settings``: the two replayed on the file give the stage's scene (summaries carry both: an audit found a
+    finer-mesh run recorded under the user's overrides alone, which replayed another run)."""
+    from rods.scene import load_scene
+
+    user = scene_with("impact.speed=1.0")
+    stage = user.with_overrides("simulation.end_time=1e-4", "fe.axial_size=5e-4").with_overrides("fe.axial_size=2e-4")
+    assert stage.label == user.label and stage.overrides == ("impact.speed=1.0",)
+    assert stage.settings == ("simulation.end_time=1e-4", "fe.axial_size=2e-4")
+    assert load_scene(PAPER, [*stage.overrides, *stage.settings]).as_dict() == stage.as_dict()

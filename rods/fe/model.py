@@ -377,6 +377,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     penalty = sc["fe.contact"] == "penalty"
     summary: dict[str, Any] = {"model": model.model_name, "scene": sc.label, "impact_speed": sc.speed}
     summary["scene_overrides"] = list(sc.overrides)  # what the label lists (a standalone submodel's driver: its own)
+    summary["stage_settings"] = list(sc.settings)  # the library's own overrides after them (Scene.settings)
     summary.update(derived)  # peak, contact, midpoint
     summary.update(
         {

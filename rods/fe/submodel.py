@@ -92,6 +92,13 @@ def submodel_scene(
         stations=(Station(2, L_s / 2, "rod2_mid"),),
         values=values,
         overrides=scene.overrides,  # named as the scene it cuts (Scene.label)
+        settings=(  # what the region changed of it (its summary's stage_settings)
+            *scene.settings,
+            *(f"fe.{k}={v!r}" for k, v in d["fe"].items() if k in ("radial_size", "axial_size", "dt", "penalty")),
+            f"rod1.length={L_s!r}",
+            f"rod2.length={L_s!r}",
+            f"simulation.end_time={end!r}",
+        ),  # fmt: skip
     )
 
 
