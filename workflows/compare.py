@@ -47,6 +47,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     comparison = stages.comparison(scene, simulate(scene).summary, runs, out)
     print(table3.render_markdown(comparison.data))
+    _cli.status(comparison.data)  # the finest submodel level's checks, as a study's "compare:" warnings
     return 0
 
 

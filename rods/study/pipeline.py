@@ -223,7 +223,7 @@ def _status(
         waves = "midpoint_peak_speed" in plan.offers(p, "global")  # a contact-only global stops before the plateaus
         agree = checks.agreement_warnings(done["analytical"].summary, done["global"].summary, waves)
         found += [f"study: {w}" for w in agree]
-    converged = checks.submodel_warnings(comparison.data) if comparison is not None else []
+    converged = comparison.data["warnings"] if comparison is not None else []  # rods.study.stages.comparison
     found += [f"compare: {w}" for w in comm.bcast(converged, root=0)]
     return {"status": "warnings" if found else "ok", "warnings": found}
 

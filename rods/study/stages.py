@@ -366,6 +366,10 @@ def comparison(
     from rods.study import figures, table3
 
     data = table3.table3(scene, analytical_summary, runs)
+    # the finest submodel level against the analytical force and Hertz (rods.checks.submodel_warnings): judged here, so
+    # compare.py says what a study says of the same runs (it printed no status where the study warned)
+    data["warnings"] = checks.submodel_warnings(data)
+    data["status"] = "warnings" if data["warnings"] else "ok"
     io.write_data(out / "table3.json", data)
     io.atomic_write_text(out / "table3.md", table3.render_markdown(data))
     io.atomic_write_text(out / "table3.csv", table3.render_csv(data))

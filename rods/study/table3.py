@@ -358,4 +358,6 @@ def render_markdown(data: Mapping[str, Any]) -> str:
     ]
     if data.get("richardson"):
         L += _richardson_rows(data["richardson"])
+    if data.get("warnings"):  # the finest level's checks (rods.study.stages.comparison)
+        L += ["", *(f"Warning: {w}" for w in data["warnings"])]
     return "\n".join(L) + "\n"

@@ -74,7 +74,14 @@ def test_later_stages_read_real_submodel_runs(tmp_path):
     assert read_data(sub / "summary.json")["driver_scene_values"]["rod1"]["length"] == 0.25009
     compare = importlib.import_module("compare")
     assert compare.main([*scene, "--global", str(drv), "--submodel", str(sub), "--out", str(tmp_path / "t3")]) == 0
-    assert {r["role"] for r in read_data(tmp_path / "t3" / "table3.json")["rows"]} >= {"submodel"}
+    t3 = read_data(tmp_path / "t3" / "table3.json")
+    assert {r["role"] for r in t3["rows"]} >= {"submodel"}
+    # a 1 mm level across a ~1.1 mm patch: compare.py says what a study's "compare:" check says of it (it printed no
+    # status at all, where run.py warned of the same runs)
+    from rods import checks
+
+    assert t3["status"] == "warnings" and t3["warnings"] == checks.submodel_warnings(t3)
+    assert "Warning: " in (tmp_path / "t3" / "table3.md").read_text()
     assert importlib.import_module("convergence").main([*scene, "--run", str(sub), "--out", str(tmp_path / "cv")]) == 0
     ac = importlib.import_module("accuracy_cost")
     assert ac.main([*scene, "--run", f"coarse={sub}", "--out", str(tmp_path / "ac")]) == 0
