@@ -216,6 +216,8 @@ def case_row(
         "steps": sf["steps"],
         "contact": sf.get("contact"),
         "penalty_factor": sf.get("penalty_factor"),
+        # the two runs' own checks (rods.checks): a figure a run calls unreliable is named beside the row
+        "warnings": [f"{m}: {w}" for m, sm in (("analytical", sa), ("global", sf)) for w in sm.get("warnings", [])],
     }
     row["passes"] = passes(row["peak_force_pct"], d_dur, sf["energy_error"])
     if paper_law is not None:
@@ -362,6 +364,10 @@ def render_markdown(data: Mapping[str, Any]) -> str:
             f"discretisation: there the gap is over {MODEL_FORM_RATIO:g} x the FE's own mesh change or the "
             f"refinement widens it (changes of at most {worst:.2f} µs)."
         )
+    warned = [r for r in data["rows"] if r.get("warnings")]
+    if warned:  # e.g. an average peak speed over fewer plateaus than it needs, at a shortened end time
+        lines += ["", "The runs' own warnings (their figures in the row above are to be read with them):"]
+        lines += [f"- {r['description']}: {w}" for r in warned for w in r["warnings"]]
     lines += _paper_law_table(data["rows"])
     return "\n".join(lines) + "\n"
 

@@ -37,7 +37,13 @@ def test_row_targets_and_markdown():
     assert row["wall_time"] == 4.0
     data = {"base_scene": "paper", "extra_overrides": [], "targets": verification.TARGETS, "ranks": 1, "rows": [row]}
     md = verification.render_markdown(data)
-    assert "+2.50 ✗" in md and "+0.400%" in md and "0 of 1 cases" in md
+    assert "+2.50 ✗" in md and "+0.400%" in md and "0 of 1 cases" in md and "own warnings" not in md
+    # a run's own warning (its average peak speed over 2 of 5 plateaus) is named beside the matrix
+    fe["summary"]["warnings"] = ["midpoint_peak_speed: only 2 of 5 plateaus within end_time; the average is unreliable"]
+    row = verification.case_row("paper", ana, fe, sc)
+    assert row["warnings"] == [f"global: {fe['summary']['warnings'][0]}"]
+    md = verification.render_markdown({**data, "rows": [row]})
+    assert "- the paper scene, 2.197 m/s: global: midpoint_peak_speed: only 2 of 5 plateaus" in md
 
 
 def test_a_contact_open_at_end_time_fails_its_duration_and_renders(tmp_path):
