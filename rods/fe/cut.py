@@ -361,7 +361,7 @@ class CutDriver:
         d = read_cut(Path(cut_file))  # every rank reads (small, read-only)
         self.times, self.band_u = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim): the set-up's only
         # the last step may end past the record by less than one record spacing or one submodel step (a submodel
-        # step longer than the global's: a kinematic submodel under a penalty global): band_state extrapolates
+        # step longer than the global's: a kinematic submodel under a penalty global): CutDriver.at extrapolates
         spacing = self.times[-1] - self.times[-2] if self.times.size > 1 else 0.0
         if model.steps * model.dt > self.times[-1] + max(spacing, model.dt):
             raise SceneError(

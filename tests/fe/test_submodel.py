@@ -380,7 +380,7 @@ def test_non_nested_cut_interpolation_3d(tiny):
 def test_a_submodel_step_longer_than_the_record_spacing_may_end_past_it(tiny):
     """A submodel whose step exceeds the global's record spacing (a kinematic submodel under a penalty global,
     found by benchmarks/driver_study.py) ends its last step up to one of its own steps past the record: accepted
-    (band_state extrapolates over it); beyond one step and one spacing it is refused with the key."""
+    (CutDriver.at extrapolates over it); beyond one step and one spacing it is refused with the key."""
     import h5py
 
     from rods.scene import SceneError
