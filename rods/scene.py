@@ -968,9 +968,8 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     if p.resolve() in seen:
         raise SceneError("base", str(p), "scene files include each other in a cycle")
     try:
-        data = tomllib.loads(
-            p.read_text(encoding="utf-8-sig")
-        )  # UTF-8; a byte-order mark some editors write is dropped
+        # UTF-8 whatever the locale; a byte-order mark some editors write is dropped
+        data = tomllib.loads(p.read_text(encoding="utf-8-sig"))
     except tomllib.TOMLDecodeError as e:
         raise SceneError("--scene", str(p), f"malformed TOML: {e}", argument=True) from None
     except UnicodeDecodeError:

@@ -137,8 +137,9 @@ def assemble_owned(form: dolfinx.fem.Form, n: int) -> np.ndarray:
 
 
 def assemble_csr(form: dolfinx.fem.Form) -> scipy.sparse.csr_matrix:
-    """The assembled matrix of a compiled bilinear ``form`` as a SciPy CSR matrix (serial: every row and
-    column), from DOLFINx's own CSR assembly with the node blocks expanded: no PETSc matrix, no copy."""
+    """The assembled matrix of a compiled bilinear ``form`` as a SciPy CSR matrix (collective: this rank's owned
+    rows, ghost contributions summed in; serial: every row and column), from DOLFINx's own CSR assembly with the
+    node blocks expanded: no PETSc matrix, no copy."""
     A = dolfinx.fem.assemble_matrix(form, block_mode=dolfinx.la.BlockMode.expanded)
     A.scatter_reverse()
     S = A.to_scipy()

@@ -34,6 +34,7 @@ from petsc4py import PETSc
 
 from rods.fe.backend import Backend
 from rods.fe.explicit import EIGEN_TOL, largest_eigenvalue, stable_step, switching_step
+from rods.fe.forms import assemble_csr
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
 from rods.scene import SceneError
@@ -228,14 +229,11 @@ def abs_row_sums(S: scipy.sparse.spmatrix, chunk: int = 1 << 22) -> np.ndarray:
 
 def stiffness_row_sums(model: SetUpModel) -> np.ndarray:
     """Σ_j |K_ij| [N/m] of this rank's owned rows (collective): the array backends' K, else DOLFINx's own CSR
-    matrix assembled for this, its ghost rows' contributions summed into their owners' rows first (without that
-    a row on a partition boundary holds only this rank's cells' part, and the bound below could fall under
-    ω_max²)."""
-    if scipy.sparse.issparse(model.K):
-        return abs_row_sums(model.K)[: model.n_local]
-    A = dolfinx.fem.assemble_matrix(model.stiffness)
-    A.scatter_reverse()
-    return abs_row_sums(A.to_scipy())[: model.n_local]
+    matrix assembled for this (:func:`rods.fe.forms.assemble_csr`, its ghost rows' contributions summed into their
+    owners' rows: without that a row on a partition boundary holds only this rank's cells' part, and the bound
+    below could fall under ω_max²)."""
+    K = model.K if scipy.sparse.issparse(model.K) else assemble_csr(model.stiffness)
+    return abs_row_sums(K)[: model.n_local]
 
 
 def gershgorin(model: SetUpModel) -> float:
