@@ -2,12 +2,15 @@
 (histories equal to 1e-10 of each column's largest magnitude, serial) on the mesh-free toy impact with damping,
 the axisymmetric paper scene (30 µs: the contact closing), a 3D half model of an eccentric impact and a
 driven submodel; the CuPy backend runs the same code and the same checks (skipped without CuPy and a CUDA
-device); the scene key ``fe.backend`` and its refusals."""
+device), and runs them without a GPU on tests/fake_gpu.py's stand-in device (``fake-gpu``: CuPy's refusal of
+implicit host/device conversions on NumPy arrays); the scene key ``fe.backend`` and its refusals."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import shutil
+from collections.abc import Iterator
 from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
@@ -27,14 +30,17 @@ from rods.fe.recorder import Recorder
 from rods.fe.submodel import submodel_scene
 from rods.scene import SCHEMA, SceneError, load_scene
 
+from .. import fake_gpu
 from ..conftest import MPIRUN, PAPER, benchmark, recorded_global, run_workflow, set_args
 from .toy import K_CONTACT, MASS, SPEED, bodies, omega_max, petsc_matrix
 
 TOL = 1e-10  # acceptance: relative to each column's largest magnitude (measured: <= 1.3e-11)
 R_ROD = 6.35e-3  # rod radius [m]: the scale of the contact centroid (0 to round-off in a centric impact)
 GPU = backend.gpu_available()
+FAKE = "fake-gpu"  # the CuPy path on tests/fake_gpu.py's stand-in device: its host/device discipline, no GPU needed
 ARRAY_BACKENDS = [
     "numpy",
+    FAKE,
     pytest.param(
         "cupy",
         marks=pytest.mark.skipif(
@@ -69,23 +75,37 @@ def assert_same_histories(
         assert np.abs(other[k] - a).max() <= tol * scale, (k, np.abs(other[k] - a).max() / scale)
 
 
-def pick(name: str) -> backend.Backend:
-    """Backend ``name``; "numpy-overlap": the NumPy backend with the device's overlap of a kinematic step
-    (rods.fe.kinematic, "Overlap"), so that CI runs the CuPy path's order of operations."""
+@contextlib.contextmanager
+def on(name: str) -> Iterator[backend.Backend]:
+    """Backend ``name`` for the block; "numpy-overlap": the NumPy backend with the device's overlap of a kinematic
+    step (rods.fe.kinematic, "Overlap"), so that CI runs the CuPy path's order of operations; :data:`FAKE`: the
+    CuPy backend on the stand-in device (tests/fake_gpu.py), importable as CuPy inside the block only."""
     if name == "numpy-overlap":
-        return dataclasses.replace(backend.select("numpy", 1), overlap=True)
-    return backend.select(name, 1)
+        yield dataclasses.replace(backend.select("numpy", 1), overlap=True)
+    elif name == FAKE:
+        with fake_gpu.installed():
+            be = backend.select("cupy", 1)
+            assert be.on_device and be.device == fake_gpu.NAME.decode()
+            yield be
+    else:
+        yield backend.select(name, 1)
+
+
+def scene_backend(name: str) -> str:
+    """The ``fe.backend`` value of backend ``name``."""
+    return "cupy" if name == FAKE else name
 
 
 def rerun(model: ExplicitModel, name: str, **kw):
     """The same model (mesh, K, stable step) marched on backend ``name``."""
-    model.backend = pick(name)
-    if name == "numpy-overlap":  # the overlap is engaged (a kinematic, undamped, serial model)
-        assert model.stepper().overlap
-    try:
-        return model.run(**kw)
-    finally:
-        model.backend = backend.PETSC
+    with on(name) as be:
+        model.backend = be
+        if name == "numpy-overlap":  # the overlap is engaged (a kinematic, undamped, serial model)
+            assert model.stepper().overlap
+        try:
+            return model.run(**kw)
+        finally:
+            model.backend = backend.PETSC
 
 
 # ----------------------------------------------------------------------------------------------
@@ -118,16 +138,16 @@ def test_toy_impact_same_on_every_backend(name, ζ):
     backend's histories equal the PETSc path's to round-off, and its state restores bit for bit."""
     steps, β = 400, 1e-5
     ref, _ = toy_run(backend.PETSC, steps, β, ζ)
-    be = backend.select(name, 1)
-    hist, st = toy_run(be, steps, β, ζ)
-    assert ref["contact_force"].max() > 0 and ref["dissipated_energy"][-1] > 0  # the checks can fail
-    assert_same_histories(ref, hist)
-    saved = st.state()
-    assert isinstance(saved["u"], np.ndarray) and np.array_equal(saved["u"], be.to_host(st.u))
-    st2 = CentralDifference(scipy.sparse.csr_matrix(bodies()[0]), MASS * np.ones(4), np.ones(4) / MASS, st.dt,
-                            np.zeros(4), β, None, be)  # fmt: skip
-    st2.restore(saved)
-    assert st2.n == st.n and np.array_equal(be.to_host(st2.v), saved["v"])
+    with on(name) as be:
+        hist, st = toy_run(be, steps, β, ζ)
+        assert ref["contact_force"].max() > 0 and ref["dissipated_energy"][-1] > 0  # the checks can fail
+        assert_same_histories(ref, hist)
+        saved = st.state()
+        assert isinstance(saved["u"], np.ndarray) and np.array_equal(saved["u"], be.to_host(st.u))
+        st2 = CentralDifference(scipy.sparse.csr_matrix(bodies()[0]), MASS * np.ones(4), np.ones(4) / MASS, st.dt,
+                                np.zeros(4), β, None, be)  # fmt: skip
+        st2.restore(saved)
+        assert st2.n == st.n and np.array_equal(be.to_host(st2.v), saved["v"])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -175,8 +195,8 @@ def test_driven_submodel_histories(tmp_path_factory, name):
     sc, _, _, cut = recorded_global(overrides, tmp_path_factory, f"global-{name}")
     sub = ExplicitModel(submodel_scene(sc, 1e-3))
     ref = sub.run(observers=(CutDriver(sub, cut),))
-    sub.backend = pick(name)
-    res = sub.run(observers=(CutDriver(sub, cut),))
+    with on(name) as sub.backend:
+        res = sub.run(observers=(CutDriver(sub, cut),))
     assert np.abs(ref.history["external_work"]).max() > 0
     assert_same_histories(ref.history, res.history)
 
@@ -188,13 +208,14 @@ def test_model_set_up_on_the_backend(three_d, name):
     solve, 1e-12; CuPy: its own Lanczos, both upper estimates within EIGEN_TOL of ω_max², so ω within half of
     it), the same Gershgorin bound and the same peak force."""
     ref_model, ref = three_d
-    m = ExplicitModel(load_scene(PAPER, [*THREE_D, f"fe.backend='{name}'"]))
-    assert scipy.sparse.issparse(m.K) and m.K.shape == (m.n_global, m.n_global)
-    rel = 1e-12 if name == "numpy" else EIGEN_TOL / 2
-    for key in ("ω_max", "ω_max_K"):
-        assert getattr(m, key) == pytest.approx(getattr(ref_model, key), rel=rel), key
-    assert m.dt_gershgorin == pytest.approx(ref_model.dt_gershgorin, rel=1e-12)
-    res = m.run()
+    with on(name):
+        m = ExplicitModel(load_scene(PAPER, [*THREE_D, f"fe.backend='{scene_backend(name)}'"]))
+        assert scipy.sparse.issparse(m.K) and m.K.shape == (m.n_global, m.n_global)
+        rel = 1e-12 if name == "numpy" else EIGEN_TOL / 2
+        for key in ("ω_max", "ω_max_K"):
+            assert getattr(m, key) == pytest.approx(getattr(ref_model, key), rel=rel), key
+        assert m.dt_gershgorin == pytest.approx(ref_model.dt_gershgorin, rel=1e-12)
+        res = m.run()
     peak = ref.summary["peak_contact_force"]
     assert res.summary["peak_contact_force"] == pytest.approx(peak, rel=max(10 * rel, 1e-9))
 
@@ -244,17 +265,22 @@ def test_array_backend_refused_under_mpi(tmp_path: Path):
     assert p.returncode == 2 and "fe.backend" in p.stderr and "serial only" in p.stderr
 
 
-def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize("name", ["numpy", FAKE])
+def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch, capsys, name):
     """benchmarks/gpu_throughput.py with --backend numpy (with the device's overlap, so the A/B column is
-    measured) on its tiny mesh: the table, the end-to-end run and the comparison with the PETSc path (equal
-    histories) are written to --out, the run's outputs to --run-out."""
+    measured), and with --backend cupy on the stand-in device (its device name, copy rate, timings and end-to-end
+    run on the CuPy path's code: a slip there would cost a lent GPU's minutes), on its tiny mesh: the table, the
+    end-to-end run and the comparison with the PETSc path (equal histories) are written to --out, the run's
+    outputs to --run-out."""
     bench = benchmark("gpu_throughput")
     numpy_backend = backend._numpy
     monkeypatch.setattr(backend, "_numpy", lambda: dataclasses.replace(numpy_backend(), overlap=True))
     out = tmp_path / "gpu.md"
-    args = ["--backend", "numpy", "--meshes", "tiny", "--steps", "10", "--run", "tiny", "--compare", "tiny",
-            "--end-time", "1e-5", "--copy-mib", "8", "--out", str(out), "--run-out", str(tmp_path / "r")]  # fmt: skip
-    assert bench.main(args) == 0
+    args = ["--backend", scene_backend(name), "--meshes", "tiny", "--steps", "10", "--run", "tiny",
+            "--compare", "tiny", "--end-time", "1e-5", "--copy-mib", "8", "--out", str(out),
+            "--run-out", str(tmp_path / "r")]  # fmt: skip
+    with on(name):
+        assert bench.main(args) == 0
     text = out.read_text()
     assert "| tiny |" in text and "End to end, `tiny`" in text
     assert "tiny: step 101/101" in capsys.readouterr().out  # the end-to-end runs' progress lines
@@ -262,7 +288,9 @@ def test_gpu_benchmark_runs_on_the_cpu(tmp_path, monkeypatch, capsys):
     assert float(row.split("|")[-2]) > 0.0  # the step without the overlap was timed (the A/B)
     diff = float(text.split("largest history difference ")[1].split(" ")[0])
     assert diff <= TOL
-    assert (tmp_path / "r" / "tiny-numpy" / "history.csv").exists()
+    assert (tmp_path / "r" / f"tiny-{scene_backend(name)}" / "history.csv").exists()
+    if name == FAKE:
+        assert fake_gpu.NAME.decode() in text  # the device the figures come from
 
 
 def test_master_reaction_as_a_sparse_product_equals_the_bincount():

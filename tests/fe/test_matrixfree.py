@@ -18,7 +18,7 @@ from rods.fe.model import ExplicitModel
 from rods.scene import SCHEMA, SceneError, load_scene
 
 from ..conftest import PAPER
-from .test_backend import ARRAY_BACKENDS, THREE_D, assert_same_histories, pick
+from .test_backend import ARRAY_BACKENDS, FAKE, THREE_D, assert_same_histories, on
 
 SMALL = ["rod1.length=0.05", "rod2.length=0.1", "fe.axial_size=2e-3", "fe.radial_size=1e-3"]
 TITANIUM = ["rod2.material.youngs_modulus=114e9", "rod2.material.density=4430.0", "rod2.material.poisson_ratio=0.34"]
@@ -63,6 +63,7 @@ CUPY = next(p for p in ARRAY_BACKENDS if getattr(p, "values", None) == ("cupy",)
 RUNS = [  # numpy-overlap: the CuPy path's order of a kinematic step (its contact rows from the kernel's K)
     *(pytest.param(c, b, id=f"{c}-{b}") for c in ("kinematic", "3d") for b in ("numpy", "numpy-overlap")),
     pytest.param("penalty-damped", "numpy", id="penalty-damped-numpy"),
+    *(pytest.param(c, FAKE, id=f"{c}-{FAKE}") for c in CASES),
     *(pytest.param(c, "cupy", id=f"{c}-cupy", marks=CUPY.marks) for c in CASES),
 ]
 
@@ -81,8 +82,8 @@ def test_histories_equal_the_petsc_path(case, name):
     assert ref.history["contact_force"].max() > 0
     m = ExplicitModel(load_scene(PAPER, [*CASES[case], "fe.backend='numpy'", "fe.operator='matrix-free'"]))
     assert isinstance(m.stepper().op, matrixfree.ElementOperator)
-    m.backend = pick(name)
-    res = m.run()
+    with on(name) as m.backend:
+        res = m.run()
     assert res.summary["operator"] == "matrix-free"
     energy = ref.history["kinetic_energy"][0]  # [J]: the scale of a dissipation still at round-off this early
     assert_same_histories(ref.history, res.history, floors={"dissipated_energy": energy})
