@@ -220,6 +220,30 @@ def test_model_set_up_on_the_backend(three_d, name):
     assert res.summary["peak_contact_force"] == pytest.approx(peak, rel=max(10 * rel, 1e-9))
 
 
+def test_global_entry_point_on_the_stand_in_device(tmp_path):
+    """workflows/global.py with fe.backend = 'cupy' on the stand-in device, writing field frames and checkpoints (the
+    observers reading the state on the host through HostView), then resumed with --restart from its last
+    checkpoint: the PETSc run's histories to the array backends' tolerance, the device named in the summary, the
+    frames and the checkpoint on disk."""
+    import importlib
+
+    from rods.io import read_data, read_history
+
+    glob = importlib.import_module("global")
+    overrides = ["rod1.length=0.05", "rod2.length=0.1", "fe.axial_size=2e-3", "fe.radial_size=1e-3",
+                 "simulation.end_time=6e-5", "fe.field_interval=2e-5", "fe.checkpoint_interval=2e-5"]  # fmt: skip
+    ref, dev = tmp_path / "petsc", tmp_path / "cupy"
+    assert glob.main([*set_args(overrides), "--out", str(ref)]) == 0
+    with on(FAKE):
+        assert glob.main([*set_args([*overrides, "fe.backend='cupy'"]), "--out", str(dev)]) == 0
+        assert list(dev.glob("checkpoint-*.npz")) and (dev / "fields.bp").is_dir()
+        assert glob.main([*set_args([*overrides, "fe.backend='cupy'"]), "--out", str(dev), "--restart"]) == 0
+    s = read_data(dev / "summary.json")
+    assert (s["backend"], s["device"]) == ("cupy", fake_gpu.NAME.decode())
+    assert list(dev.glob("fields-restart-*.bp"))  # the resumed run wrote its frames
+    assert_same_histories(read_history(ref / "history.csv"), read_history(dev / "history.csv"))
+
+
 def test_lanczos_on_the_host_matches_krylov_schur():
     """The device's eigenvalue route (rods.fe.timestep.largest_eigenvalue_on with the operator M^-1/2 (K + K_c)
     M^-1/2 on a backend's arrays) run with SciPy on a penalty-contact model: ω_max with and without the
