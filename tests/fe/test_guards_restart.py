@@ -126,17 +126,20 @@ def test_checkpoint_interval_below_the_step_checkpoints_every_step(scene_with, t
 
 def test_inverted_cells_counted_on_a_device_as_on_the_host(scene_with):
     """CornerJacobians' device path (serial: no ghost update; cells, coordinates and signs moved once by use())
-    counts what the host path counts, on a state that inverts some cells. Run here with NumPy standing in for
-    the device's namespace: the same array code CuPy runs."""
+    counts what the host path counts, on a state that inverts some cells. Run on the stand-in device
+    (tests/fake_gpu.py: the CuPy backend's code, refusing implicit host/device conversions as CuPy does)."""
+    from rods.fe import backend
+
+    from .. import fake_gpu
+
     m = ExplicitModel(scene_with("fe.kind=3d", "fe.symmetry=quarter", "fe.axial_size=4e-3", "fe.radial_size=1e-3",
                                  "rod1.length=0.03", "rod2.length=0.03", "simulation.end_time=2e-5"))  # fmt: skip
     msh = m.rm.mesh
     corners = CornerJacobians(m.V, m.n_local, msh.topology.index_map(msh.topology.dim).size_local)
     u = np.random.default_rng(1).normal(size=m.n_local) * 3e-4  # [m] about a third of the 1 mm elements
     on_host = corners.count(u)
-    corners._device = (np, corners.cells, corners.nbr, corners.X, corners.sign)  # what use() puts on a device
-
-    class DeviceArray(np.ndarray):  # not a plain host array: the device path
-        pass
-
-    assert on_host > 0 and corners.count(u.view(DeviceArray)) == on_host
+    with fake_gpu.installed():
+        be = backend.select("cupy", 1)
+        corners.use(be)
+        assert corners._device is not None  # the count runs on the device's arrays
+        assert on_host > 0 and corners.count(be.asarray(u)) == on_host
