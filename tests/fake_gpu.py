@@ -11,7 +11,10 @@ behind a wrapper (:class:`ndarray`) that behaves as CuPy's do where a host/devic
   are the explicit copies;
 * reductions return 0-d device arrays (``float()`` of one is the copy), and NumPy functions called on device
   arrays dispatch to the device namespace (NEP 18, as CuPy's ``__array_function__``);
-* integer and boolean host index arrays are accepted (CuPy converts them).
+* integer and boolean host index arrays are accepted (CuPy converts them);
+* every device operation (a ufunc, a ``cupy.*`` function, a method, a fancy index, a sparse product, a kernel) and
+  every copy either way is counted in :data:`LAUNCHES` (a device scalar read on the host, ``float(x)``, is a
+  "copy to host": on a GPU it waits for the device), so a test can bound what a step launches and copies.
 
 What it is not: a GPU. It does not check streams, events or pinned memory (they are host no-ops here), nor
 performance; the one elementwise kernel it knows is the one the library defines (:data:`KERNELS`: a new kernel
@@ -33,6 +36,13 @@ import numpy as np
 import scipy.sparse
 
 NAME = b"fake GPU (NumPy arrays, host memory)"
+
+
+LAUNCHES: dict[str, int] = {}  # device operations by name since the last reset (kernels, products, copies)
+
+
+def _launch(name: str) -> None:
+    LAUNCHES[name] = LAUNCHES.get(name, 0) + 1
 
 
 class HostArrayError(TypeError):
@@ -93,6 +103,7 @@ class ndarray:  # noqa: N801 (CuPy's name)
 
     def __array_ufunc__(self, ufunc, method, *inputs, **kw):
         where = f"numpy.{ufunc.__name__}"
+        _launch(where if method == "__call__" else f"{where}.{method}")
         if "out" in kw:
             kw["out"] = tuple(_strict(o, where) for o in kw["out"])
         return _wrap(getattr(ufunc, method)(*(_strict(i, where) for i in inputs), **kw))
@@ -102,6 +113,7 @@ class ndarray:  # noqa: N801 (CuPy's name)
 
     # the explicit copy
     def get(self, stream=None, order="C", out=None, blocking=True):  # noqa: ARG002
+        _launch("copy to host")
         if out is None:
             return self._a.copy()
         out[...] = self._a
@@ -123,14 +135,18 @@ class ndarray:  # noqa: N801 (CuPy's name)
             return _wrap(attr)
 
         def method(*args, **kw):
+            _launch("copy to host" if name in ("item", "tolist") else f"ndarray.{name}")
             return _wrap(attr(*_strict(args, f"ndarray.{name}"), **_strict(kw, f"ndarray.{name}")))
 
         return method
 
     def __getitem__(self, k):
+        if not isinstance(k, (int, slice)) or isinstance(k, tuple):
+            _launch("ndarray.__getitem__")
         return _wrap(self._a[_index(k)])
 
     def __setitem__(self, k, value):
+        _launch("ndarray.__setitem__")
         self._a[_index(k)] = _strict(value, "ndarray.__setitem__")
 
     def __len__(self) -> int:
@@ -140,12 +156,15 @@ class ndarray:  # noqa: N801 (CuPy's name)
         return (_wrap(x) for x in self._a)
 
     def __float__(self) -> float:
+        _launch("copy to host")  # a device scalar read on the host: a copy (and a wait)
         return float(self._a)
 
     def __int__(self) -> int:
+        _launch("copy to host")
         return int(self._a)
 
     def __bool__(self) -> bool:
+        _launch("copy to host")
         return bool(self._a)
 
     def __repr__(self) -> str:
@@ -196,6 +215,7 @@ ndarray.__hash__ = None
 # ------------------------------------------------------------------------------------------------
 def _device_function(func: Any, where: str) -> Any:
     def call(*args, **kw):
+        _launch(where)
         return _wrap(func(*_strict(args, where), **_strict(kw, where)))
 
     call.__name__ = where
@@ -206,11 +226,13 @@ def asarray(a: Any, dtype=None, order=None, copy=None, blocking=False) -> ndarra
     """A host array copied to the device (a device array as it is)."""
     if isinstance(a, ndarray):
         return a if dtype is None or a.dtype == dtype else ndarray(a._a.astype(dtype))
+    _launch("copy to device")
     return ndarray(np.array(a, dtype=dtype, copy=True))
 
 
 def asnumpy(a: Any, stream=None, order="C", out=None, blocking=True) -> np.ndarray:  # noqa: ARG001
     """A device array copied to the host (into ``out`` if given)."""
+    _launch("copy to host")
     host = a._a if isinstance(a, ndarray) else np.asarray(a)
     if out is None:
         return host.copy()
@@ -229,6 +251,7 @@ class ElementwiseKernel:
         self._op = KERNELS[operation]
 
     def __call__(self, *args):
+        _launch("ElementwiseKernel")
         return self._op(*(_strict(a, "ElementwiseKernel") for a in args))
 
 
@@ -305,6 +328,7 @@ class csr_matrix:  # noqa: N801 (cupyx.scipy.sparse's name)
         return self
 
     def __matmul__(self, other):
+        _launch("csr_matrix @")
         if isinstance(other, csr_matrix):
             return csr_matrix(self._m @ other._m)
         return _wrap(self._m @ _strict(other, "csr_matrix @"))
@@ -324,6 +348,7 @@ class csr_matrix:  # noqa: N801 (cupyx.scipy.sparse's name)
 
 def _spmv(A: csr_matrix, x: ndarray, y: ndarray | None = None, alpha: float = 1.0, beta: float = 0.0):
     """y = α A x + β y in place (cuSPARSE's SpMV)."""
+    _launch("cusparse.spmv")
     Ax = A._m @ _strict(x, "cusparse.spmv")
     if y is None:
         return ndarray(alpha * Ax)

@@ -244,6 +244,28 @@ def test_global_entry_point_on_the_stand_in_device(tmp_path):
     assert_same_histories(read_history(ref / "history.csv"), read_history(dev / "history.csv"))
 
 
+@pytest.mark.parametrize("contact", ["kinematic", "penalty", "kinematic-damped"])
+def test_a_device_step_copies_to_the_host_once(contact):
+    """On a device every step copies to the host once (the contact's gaps and rates, or the penalty law's sums:
+    the step's only wait, module docstring of rods.fe.kinematic) and launches a bounded number of device
+    operations (kernels, products, copies; measured on the stand-in device: kinematic 27, penalty 39, damped 32 a
+    step; a step that keeps the energy record's arrays 36-55), counted on tests/fake_gpu.py's device over the
+    contact's closing on the paper scene (its penalty steps both open and closed)."""
+    extra = {"kinematic": [], "penalty": ["fe.contact='penalty'"], "kinematic-damped": ["fe.bulk_viscosity=0.1"]}
+    with on(FAKE):
+        m = ExplicitModel(load_scene(PAPER, ["simulation.end_time=3e-5", "fe.backend='cupy'", *extra[contact]]))
+        st = m.stepper()
+        closed = set()
+        for n in range(120):
+            fake_gpu.LAUNCHES.clear()
+            st.step(keep=n % 40 == 0)
+            closed.add(st.contact.force > 0)
+            ops = sum(fake_gpu.LAUNCHES.values())
+            assert fake_gpu.LAUNCHES.get("copy to host") == 1, (n, fake_gpu.LAUNCHES)
+            assert ops <= (60 if n % 40 == 0 else 45), (n, ops, fake_gpu.LAUNCHES)
+    assert True in closed  # the contact carried force
+
+
 def test_lanczos_on_the_host_matches_krylov_schur():
     """The device's eigenvalue route (rods.fe.timestep.largest_eigenvalue_on with the operator M^-1/2 (K + K_c)
     M^-1/2 on a backend's arrays) run with SciPy on a penalty-contact model: ω_max with and without the
