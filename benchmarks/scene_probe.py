@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import statistics
 import sys
 import time
 from collections.abc import Callable
@@ -30,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 
 from mpi4py import MPI  # noqa: E402
 
-from rods import io, plan  # noqa: E402
+from rods import cost, io, plan  # noqa: E402
 from rods.compare import cell, difference, percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
@@ -122,7 +123,11 @@ def probe(name: str, out: Path, comm) -> dict | None:
     t0 = time.perf_counter()
     a = stages.analytical(sc, out / name / "analytical", comm)
     end = PHASE * plan.contact_phase(a.summary, sc.end_time)
-    g = stages.global_model(sc.with_overrides(f"simulation.end_time={end!r}"), out / name / "global", comm)
+    fe_scene = sc.with_overrides(f"simulation.end_time={end!r}")
+    (estimate,) = cost.calibrated([cost.fe_cost(fe_scene, comm.size)], comm)  # what the run's plan says
+    t1 = time.perf_counter()
+    g = stages.global_model(fe_scene, out / name / "global", comm)
+    fe_wall = time.perf_counter() - t1
     if comm.rank != 0:
         return None
     sa, sf = a.summary, g.summary
@@ -139,6 +144,8 @@ def probe(name: str, out: Path, comm) -> dict | None:
         "dofs": sf["dofs"],
         "steps": sf["steps"],
         "wall_time": time.perf_counter() - t0,
+        "fe_wall_time": fe_wall,  # [s] the global stage, set-up to summary
+        "fe_wall_estimate": estimate.wall_time,  # [s] rods.cost's estimate of it, at this machine's probed rate
         # each model's own, less the midpoint plateaus' (they lie past this short run: their warning says only that)
         "warnings": {
             m: [w for w in s.get("warnings", []) if not w.startswith("midpoint_peak_speed")]
@@ -191,8 +198,8 @@ def render(data: dict) -> str:
         "Warnings: the runs' own, by model, the midpoint plateaus' left out (the runs end before them).",
         "",
         "| probe | peak force FE [N] | vs analytical | duration analytical [µs] | Δ duration [µs] | energy error "
-        "| DOFs | wall [s] | warnings |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---|",
+        "| DOFs | wall [s] | FE wall estimated / measured | warnings |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in data["rows"]:
         mark = misses(r["passes"])
@@ -201,13 +208,34 @@ def render(data: dict) -> str:
             f"| {r['description']} | {r['peak_force_fe']:.1f} | {r['peak_force_pct']:+.3f}%{mark['peak_force']} "
             f"| {cell(r['duration_analytical'], '.2f', scale=1e6, missing=NOT_ENDED)} "
             f"| {cell(r['duration_difference'], '+.2f', scale=1e6)}{mark['duration']} "
-            f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} | {warn} |"
+            f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} "
+            f"| {estimate_ratio(r)} | {warn} |"
         )
-    lines += tally(data["rows"])
+    lines += tally(data["rows"]) + estimate_spread(data["rows"])
     for r in data["rows"]:
         for model, ws in r["warnings"].items():
             lines += [f"* {r['description']}, {model}: {w}" for w in ws]
     return "\n".join(lines) + "\n"
+
+
+def estimate_ratio(row: dict) -> str:
+    """A row's FE wall time estimate over its measured wall time ("–" for a row from before the estimate)."""
+    if "fe_wall_estimate" not in row:
+        return "–"
+    est, wall = row["fe_wall_estimate"], row["fe_wall_time"]
+    return f"{est:.3g} / {wall:.3g} s = {est / wall:.2f}"
+
+
+def estimate_spread(rows: list[dict]) -> list[str]:
+    """The line on how the plans' cost estimates (rods.cost, what a run prints before it starts) met the runs."""
+    ratios = [r["fe_wall_estimate"] / r["fe_wall_time"] for r in rows if "fe_wall_estimate" in r]
+    if not ratios:
+        return []
+    return [
+        f"The plans' FE wall-time estimates (rods.cost at this machine's probed memory rate) over the measured global "
+        f"stage: {min(ratios):.2f} to {max(ratios):.2f} (median {statistics.median(ratios):.2f}).",
+        "",
+    ]
 
 
 # --random: materials drawn for each rod, (E [Pa], ρ [kg/m^3], ν [-]), yield strengths unset
