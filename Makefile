@@ -13,7 +13,7 @@ SNAKE := .venv/bin/snakemake -s workflows/Snakefile --workflow-profile workflows
 paper: venv
 	$(SNAKE) paper
 
-## The main job plus the ultra-fine level's four other phase members (4 x the ultra-fine level: 75 min to 3 h on 2 cores, with the machine's memory rate).
+## The main job plus the ultra-fine level's four other phase members (4 runs of 41-53 min each on 2 cores, measured 2026-11-27/28: about 3 h more).
 paper-full: venv
 	$(SNAKE) paper --config 'paper_phase_levels=[coarse,mid,fine,extra-fine,ultra-fine]'
 

@@ -449,9 +449,7 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     v_mid, ε_mid = hist["rod2_mid_velocity"], hist["rod2_mid_strain"]
     summary: dict[str, Any] = {
         "model": "analytical",
-        "scene": scene.label,
-        "scene_overrides": list(scene.overrides),  # what the label lists
-        "stage_settings": list(scene.settings),  # the library's own overrides after them (Scene.settings)
+        **scene.identity,
         "impact_speed": scene.speed,
         "peak_contact_force": P_peak,
         "peak_force_time": t_peak,

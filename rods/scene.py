@@ -541,6 +541,12 @@ class Scene:
     settings: tuple[str, ...] = ()
 
     @property
+    def identity(self) -> dict[str, Any]:
+        """How summaries name and replay this scene: ``scene`` (:attr:`label`), ``scene_overrides`` (what the label
+        lists) and ``stage_settings`` (the library's own overrides after them, :attr:`settings`)."""
+        return {"scene": self.label, "scene_overrides": list(self.overrides), "stage_settings": list(self.settings)}
+
+    @property
     def label(self) -> str:
         """The scene as summaries and tables name it: its name, and the overrides it was given, so a run under
         ``--set`` is not reported as the file's scene (e.g. ``paper with impact.speed=1.0``)."""

@@ -48,6 +48,12 @@ def test_wave_response_runs_analytical_and_global_only(tmp_path):
     for key in ("contact_radius", "contact_area", "peak_contact_pressure"):
         assert s["sources"][key] == "analytical" and s[key] == an[key], key
     assert s["sources"]["peak_contact_force"] == s["sources"]["contact_duration"] == "global"
+    # the study's summary names and replays its scene as each stage's does (Scene.identity; a stage's own settings,
+    # e.g. a contact-phase global's end time, are in that stage's summary)
+    g = json.loads((tmp_path / "run" / "global" / "summary.json").read_text())
+    assert s["scene_overrides"] == an["scene_overrides"] == g["scene_overrides"]
+    assert s["scene_overrides"] == [*(o for o in TINY if "=" in o), "effects=['wave_response']"]
+    assert s["stage_settings"] == [] and s["scene"] == g["scene"]
 
 
 PATCH_STUDY = ("['contact_patch']", "--set", "submodel.levels=['coarse']")  # analytical, driver, one level

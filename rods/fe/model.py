@@ -375,9 +375,8 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
     n_steps = min(steps, recorder.force.size) - 1
     penalty = sc["fe.contact"] == "penalty"
-    summary: dict[str, Any] = {"model": model.model_name, "scene": sc.label, "impact_speed": sc.speed}
-    summary["scene_overrides"] = list(sc.overrides)  # what the label lists (a standalone submodel's driver: its own)
-    summary["stage_settings"] = list(sc.settings)  # the library's own overrides after them (Scene.settings)
+    # scene_overrides: what the label lists (a standalone submodel's driver: its own)
+    summary: dict[str, Any] = {"model": model.model_name, **sc.identity, "impact_speed": sc.speed}
     summary.update(derived)  # peak, contact, midpoint
     summary.update(
         {

@@ -151,7 +151,7 @@ def _study_summary(
     folders |= {"compare": str(out / "compare")} if (waves or p.submodel_levels) else {}
     return {
         "model": "workflow",
-        "scene": scene.label,
+        **scene.identity,
         "impact_speed": scene.speed,
         **values,
         "wall_time": comm.allreduce(time.perf_counter() - t0, op=_max()),
