@@ -30,7 +30,6 @@ import sys
 import types
 from collections.abc import Iterator
 from typing import Any
-from unittest import mock
 
 import numpy as np
 import scipy.sparse
@@ -385,6 +384,17 @@ def modules() -> dict[str, types.ModuleType]:
 
 @contextlib.contextmanager
 def installed() -> Iterator[types.ModuleType]:
-    """The fake modules importable as CuPy inside the block (whatever was there before, after it)."""
-    with mock.patch.dict(sys.modules, modules()):
+    """The fake modules importable as CuPy inside the block (whatever was there before, after it). Only their own
+    names are restored: a module first imported inside the block stays imported (unittest.mock.patch.dict would
+    drop it, and h5py, for one, cannot be imported twice in a process)."""
+    fakes = modules()
+    before = {name: sys.modules.get(name) for name in fakes}
+    sys.modules.update(fakes)
+    try:
         yield _module
+    finally:
+        for name, module in before.items():
+            if module is None:
+                sys.modules.pop(name, None)
+            else:
+                sys.modules[name] = module

@@ -244,6 +244,27 @@ def test_global_entry_point_on_the_stand_in_device(tmp_path):
     assert_same_histories(read_history(ref / "history.csv"), read_history(dev / "history.csv"))
 
 
+def test_contact_patch_study_on_the_stand_in_device(tmp_path):
+    """workflows/run.py's contact-patch study (analytical, the driving global recording its cut, a submodel level
+    driven by it, the comparison) with fe.backend = 'cupy' on the stand-in device: the study's values equal the PETSc
+    path's (the driver's and the submodel's steppers, cut driver and records on the device)."""
+    import importlib
+
+    from rods.io import read_data
+
+    study = importlib.import_module("run")
+    overrides = ["rod1.length=0.05", "rod2.length=0.1", "fe.axial_size=2e-3", "fe.radial_size=1e-3",
+                 "simulation.end_time=1e-4", "effects=['contact_patch']", "submodel.levels=['coarse']"]  # fmt: skip
+    assert study.main([*set_args(overrides), "--out", str(tmp_path / "petsc")]) == 0
+    with on(FAKE):
+        assert study.main([*set_args([*overrides, "fe.backend='cupy'"]), "--out", str(tmp_path / "cupy")]) == 0
+    ref, dev = (read_data(tmp_path / k / "summary.json") for k in ("petsc", "cupy"))
+    assert read_data(tmp_path / "cupy" / "submodel" / "coarse" / "summary.json")["backend"] == "cupy"
+    assert dev["sources"]["peak_contact_pressure"] == ref["sources"]["peak_contact_pressure"] == "submodel/coarse"
+    for key in ("peak_contact_force", "contact_duration", "contact_radius", "peak_contact_pressure"):
+        assert dev[key] == pytest.approx(ref[key], rel=1e-9), key
+
+
 @pytest.mark.parametrize("contact", ["kinematic", "penalty", "kinematic-damped"])
 def test_a_device_step_copies_to_the_host_once(contact):
     """On a device every step copies to the host once (the contact's gaps and rates, or the penalty law's sums:
