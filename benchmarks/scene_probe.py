@@ -226,14 +226,15 @@ def estimate_ratio(row: dict) -> str:
     return f"{est:.3g} / {wall:.3g} s = {est / wall:.2f}"
 
 
-def estimate_spread(rows: list[dict]) -> list[str]:
-    """The line on how the plans' cost estimates (rods.cost, what a run prints before it starts) met the runs."""
+def estimate_spread(rows: list[dict], what: str = "global stage") -> list[str]:
+    """The line on how the plans' cost estimates (rods.cost, what a run prints before it starts) met the runs
+    (``what``: the measured run each estimate is of)."""
     ratios = [r["fe_wall_estimate"] / r["fe_wall_time"] for r in rows if "fe_wall_estimate" in r]
     if not ratios:
         return []
     return [
-        f"The plans' FE wall-time estimates (rods.cost at this machine's probed memory rate) over the measured global "
-        f"stage: {min(ratios):.2f} to {max(ratios):.2f} (median {statistics.median(ratios):.2f}).",
+        f"The plans' wall-time estimates (rods.cost at this machine's probed memory rate) over the measured {what}: "
+        f"{min(ratios):.2f} to {max(ratios):.2f} (median {statistics.median(ratios):.2f}).",
         "",
     ]
 

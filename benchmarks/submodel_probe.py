@@ -30,7 +30,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]  # the library; scene_probe
 
 import scene_probe  # noqa: E402  (its probes' scenes and its command line)
 
-from rods import checks, plan  # noqa: E402
+from rods import checks, cost, plan  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study.pipeline import run_study, stage_costs  # noqa: E402
 from rods.study.verification import CASES  # noqa: E402
@@ -72,6 +72,9 @@ def probe(name: str, out: Path, comm) -> dict | None:
     """Run probe ``name``'s study into ``out/name`` (collective); its row on rank 0."""
     what, overrides = PROBES[name]
     sc = _study_scene(overrides)
+    # what run.py's plan prints before the study: the analytical model and the FE stages at this machine's rate
+    costs = [cost.analytical_cost(sc), *stage_costs(sc, plan.study_plan(sc), comm.size)]
+    estimate = sum(c.wall_time for c in cost.calibrated(costs, comm))  # [s]
     t0 = time.perf_counter()
     run_study(sc, out / name, comm)
     if comm.rank != 0:
@@ -98,7 +101,10 @@ def probe(name: str, out: Path, comm) -> dict | None:
         "warnings": study.get("warnings", []),
         "dofs": f["dofs"],
         "wall_time": time.perf_counter() - t0,
+        # the estimate against the study's wall time, as scene_probe.py's FE stage (its estimate_ratio, spread)
+        "fe_wall_estimate": estimate,
     }
+    row["fe_wall_time"] = row["wall_time"]
     row["passes"] = {
         "force": abs(row["force_pct"]) <= FORCE,
         "area": abs(area[-1]) <= HERTZ,
@@ -127,8 +133,8 @@ def render(data: dict) -> str:
         f"(analytical, global, submodels, comparison) on {data['ranks']} ranks.",
         "",
         "| probe | levels | finest h [mm] | elements across a | cut [mm] | force | area [%] | p0 [%] | status "
-        "| wall [s] |",
-        "|---|---|---:|---:|---:|---:|---|---|---|---:|",
+        "| wall [s] | wall estimated / measured |",
+        "|---|---|---:|---:|---:|---:|---|---|---|---:|---:|",
     ]
     for r in data["rows"]:
         mark = scene_probe.misses(r["passes"])
@@ -139,9 +145,10 @@ def render(data: dict) -> str:
         lines.append(
             f"| {r['description']} | {', '.join(r['levels'])} | {r['h_mm']:.4g} | {r['patch_elements']:.1f} "
             f"| {r['submodel_length_mm']:.3g} | {r['force_pct']:+.2f}%{mark['force']} | {errs['area']} "
-            f"| {errs['p0']} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} |"
+            f"| {errs['p0']} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} "
+            f"| {scene_probe.estimate_ratio(r)} |"
         )
-    lines += scene_probe.study_tail(data["rows"])
+    lines += scene_probe.study_tail(data["rows"]) + scene_probe.estimate_spread(data["rows"], "study")
     return "\n".join(lines) + "\n"
 
 

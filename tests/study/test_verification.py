@@ -314,6 +314,7 @@ def test_submodel_probe_benchmark_runs_one_probe(tmp_path):
     assert all(row["passes"].values()) and row["p0_monotone"] and 16 <= row["patch_elements"] <= 32, row
     md = out.with_suffix(".md").read_text()
     assert "| paper rods at 15 m/s | extra-coarse, coarse, mid | 0.125 |" in md and "1 of 1 probes meet" in md
+    assert 0.25 < row["fe_wall_estimate"] / row["wall_time"] < 4 and "over the measured study:" in md  # the plan's
 
 
 def test_submodel_probe_draws_random_studies_within_their_budget(monkeypatch):
