@@ -315,6 +315,9 @@ def test_scene_key_default_and_refusals():
         with pytest.raises(SceneError, match="fe.backend.*serial only"):
             backend.select(name, 2)
     assert backend.select("auto", 2) is backend.PETSC  # MPI: the PETSc path
+    with on(FAKE):  # where CuPy sees a device, "auto" runs there serially (the element kernel too), PETSc under MPI
+        assert backend.select("auto", 1).name == backend.select("auto", 1, "matrix-free").name == "cupy"
+        assert backend.select("auto", 2) is backend.PETSC
     if not GPU:
         assert backend.select("auto", 1) is backend.PETSC
     try:
