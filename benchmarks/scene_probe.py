@@ -145,7 +145,7 @@ def probe(name: str, out: Path, comm) -> dict | None:
         "steps": sf["steps"],
         "wall_time": time.perf_counter() - t0,
         "fe_wall_time": fe_wall,  # [s] the global stage, set-up to summary
-        "fe_wall_estimate": estimate.wall_time,  # [s] rods.cost's estimate of it, at this machine's probed rate
+        "fe_wall_estimate": estimate.wall_time,  # [s] rods.cost's estimate of it, as the run's plan prints it
         # each model's own, less the midpoint plateaus' (they lie past this short run: their warning says only that)
         "warnings": {
             m: [w for w in s.get("warnings", []) if not w.startswith("midpoint_peak_speed")]
@@ -233,7 +233,8 @@ def estimate_spread(rows: list[dict], what: str = "global stage") -> list[str]:
     if not ratios:
         return []
     return [
-        f"The plans' wall-time estimates (rods.cost at this machine's probed memory rate) over the measured {what}: "
+        f"The plans' wall-time estimates (rods.cost as a run's plan prints it: this machine's probed memory rate for a "
+        f"memory-bound loop over rods.cost.PROBE_ABOVE, the reference rate below) over the measured {what}: "
         f"{min(ratios):.2f} to {max(ratios):.2f} (median {statistics.median(ratios):.2f}).",
         "",
     ]
