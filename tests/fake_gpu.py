@@ -140,7 +140,7 @@ class ndarray:  # noqa: N801 (CuPy's name)
         return method
 
     def __getitem__(self, k):
-        if not isinstance(k, (int, slice)) or isinstance(k, tuple):
+        if not isinstance(k, (int, slice)):  # a basic index is a view; anything else a gather kernel
             _launch("ndarray.__getitem__")
         return _wrap(self._a[_index(k)])
 

@@ -103,11 +103,10 @@ def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
     a key the case sets is refused (it would run the case as another scene under the case's name: ``--set
     impact.speed=3`` ran "speed-1.0" at 3 m/s), and a refused value names the case whose setting it meets."""
     own = dict(o.split("=", 1) for o in CASES[name][1])
-    for o in extra:
-        key, _, value = o.partition("=")
-        if key.strip() in own:
+    for key, _, value in (o.partition("=") for o in extra):
+        if (key := key.strip()) in own:
             raise SceneError(
-                key.strip(), value.strip(), f"is verification case '{name}''s own setting ({own[key.strip()]})",
+                key, value.strip(), f"is verification case '{name}''s own setting ({own[key]})",
                 "leave it to the case, or pick the cases that do not set it with --case",
             )  # fmt: skip
     try:
