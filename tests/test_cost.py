@@ -201,6 +201,25 @@ def test_calibration_scales_the_memory_bound_part_only(scene_with, monkeypatch):
     assert cost.calibrated([short, cost.analytical_cost(scene_with(*TINY))])[0] is short
 
 
+def test_the_probe_is_measured_again_when_it_ages(monkeypatch):
+    """One process planning runs for longer than rods.cost.PROBE_MAX_AGE (a benchmark over many scenes) measures the
+    machine again instead of planning the later runs at its first probe's rate (2026-11-29: 0.54 x a 169 s run's
+    time, the rate having dropped since); within the age it reuses the probe, and `refresh` overrides both ways."""
+    readings, clock = iter([1.0, 0.4, 0.7, 0.9]), [0.0]
+    monkeypatch.setattr(cost, "_probe", lambda rows: next(readings))
+    monkeypatch.setattr(cost, "_probes", {})
+    monkeypatch.setattr(cost, "_clock", lambda: clock[0])
+    assert cost.probe_is_stale() and cost.machine_speed() == 1.0
+    clock[0] = 0.9 * cost.PROBE_MAX_AGE
+    assert not cost.probe_is_stale() and cost.machine_speed() == 1.0  # reused
+    clock[0] = 1.1 * cost.PROBE_MAX_AGE
+    assert cost.probe_is_stale() and cost.machine_speed() == 0.4  # measured again
+    assert cost.machine_speed(refresh=True) == 0.7  # a rank told to measure does
+    clock[0] = 10 * cost.PROBE_MAX_AGE
+    assert cost.machine_speed(refresh=False) == 0.7  # a rank told not to does not
+    assert cost.machine_speed(rows=cost.PROBE_ROWS // 2) == 0.9  # another size has its own probe
+
+
 @pytest.mark.mpi
 def test_every_rank_plans_at_rank_0s_probe(tmp_path):
     """Under mpirun -n 2 a long run's plan is calibrated by both ranks' probe at once, the slower taken by both: the
