@@ -146,8 +146,8 @@ def test_a_global_mesh_coarser_than_twice_auto_is_not_ok(scene_with):
     assert "fe.radial_size = 2.2 mm is 8.06 x" in both and "fe.axial_size = 2.1 mm is 2.1 x" in both
     for other in (sub, ana):
         assert checks.resolution_warning(other, scene_with("fe.axial_size=0.05")) is None
-    # auto follows the scene: 2 mm axial is coarse for a 1 m tip (auto 0.52 mm, force rise in 4 µs)
-    assert "3.86 x" in checks.resolution_warning(fe, scene_with("rod1.tip_radius=1.0", "fe.axial_size=2e-3"))
+    # auto follows the scene: 2 mm axial is coarse for a 1 m tip (auto 0.35 mm, force rise in 4 µs)
+    assert "5.79 x" in checks.resolution_warning(fe, scene_with("rod1.tip_radius=1.0", "fe.axial_size=2e-3"))
 
 
 def test_a_rattling_peak_is_not_ok():

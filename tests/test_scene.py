@@ -237,8 +237,9 @@ def test_stations(paper_dict):
 
 def test_auto_axial_size_is_the_papers_unless_the_force_rises_fast(scene_with):
     """fe.axial_size = "auto" (paper.toml's, the schema's default): the paper's 1 mm on its rods (diameter/12.7),
-    and at most c t_rise/50, t_rise = δ_P/s1 Hertz's approach at the impedance-bound force over the speed: a 1 m
-    tip's contact closes in ~5 µs and gets about half the size; a thinner rod scales it; a given size is kept."""
+    and at most c t_rise/75, t_rise = δ_P/s1 Hertz's approach at the impedance-bound force over the speed: a 1 m
+    tip's contact closes in ~5 µs and gets about a third of the size; a thinner rod scales it; a given size is
+    kept."""
     from rods import hertz
     from rods.scene import AXIAL_PER_DIAMETER, RISE_ELEMENTS
 
@@ -252,8 +253,8 @@ def test_auto_axial_size_is_the_papers_unless_the_force_rises_fast(scene_with):
     t_rise = δ / wide.speed  # [s]
     assert 4e-6 < t_rise < 6e-6
     assert wide["fe.axial_size"] == pytest.approx(wide.rod1.material.wave_speed * t_rise / RISE_ELEMENTS, rel=1e-12)
-    assert 0.45e-3 < wide["fe.axial_size"] < 0.6e-3
-    thin = scene_with("rod1.diameter=0.008", "rod2.diameter=0.008", "fe.radial_size=0.5e-3")
+    assert 0.3e-3 < wide["fe.axial_size"] < 0.4e-3
+    thin = scene_with("rod1.diameter=0.008", "rod2.diameter=0.008", "fe.radial_size=0.5e-3", "impact.speed=0.5")
     assert thin["fe.axial_size"] == pytest.approx(0.008 / AXIAL_PER_DIAMETER, rel=1e-12)
     assert wide.as_dict()["fe"]["axial_size"] == wide["fe.axial_size"]  # records hold the size used
     assert wide.as_dict(json_safe=False)["fe"]["axial_size"] == "auto"
