@@ -183,8 +183,9 @@ def test_low_speed_needs_a_refined_tip(scene_with):
 @pytest.mark.slow
 def test_a_fast_rising_force_gets_an_axial_mesh_that_resolves_its_ringing(scene_with):
     """A 1 m tip on the paper rods: the force rises in ~4 µs and the rods ring (lateral inertia), so the peak
-    force needs the axial mesh. The auto size (0.52 mm) is within 0.2% of a mesh 2x finer along and across
-    (measured -0.02% against 0.2 x 0.25 mm); the paper's 1 mm was +0.7% off (measured +0.69%)."""
+    force needs the axial mesh. The auto size (0.35 mm since 2026-11-29, c t_rise/75; 0.52 mm before) is within
+    0.2% of a mesh 2x finer along and across (measured at 0.52 mm: -0.02% against 0.2 x 0.25 mm); the paper's 1 mm
+    was +0.7% off (measured +0.69%)."""
     base = ("rod1.tip_radius=1.0", "simulation.end_time=1.2e-4")
     auto = scene_with(*base)
     fine = scene_with(
