@@ -500,9 +500,10 @@ def machine_speed(rows: int = PROBE_ROWS, refresh: bool | None = None) -> float:
     mesh's; :data:`PROBE_ROWS`: ~0.22 GB, ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE`.
     Measured again where the last probe of this size is older than :data:`PROBE_MAX_AGE` (``refresh`` overrides:
     under MPI one rank decides for all, :func:`calibrated`); 1.0 where the memory for it is not available."""
-    if not (probe_is_stale(rows) if refresh is None else refresh) and rows in _probes:
-        return _probes[rows][1]
-    _probes[rows] = (_clock(), _probe(rows))
+    if refresh is None:
+        refresh = probe_is_stale(rows)
+    if refresh or rows not in _probes:
+        _probes[rows] = (_clock(), _probe(rows))
     return _probes[rows][1]
 
 

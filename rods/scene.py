@@ -241,9 +241,8 @@ AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's d
 # on its 12.7 mm rods, so the paper scene's auto is its 14 mm exactly); > 2 cap heights by construction (a cap is
 # at most a radius high)
 SUBMODEL_DIAMETERS = 14e-3 / 12.7e-3
-# ... and at most the wavelength c t_rise of the contact force's rise / this [-] (Scene.axial_size): at 50, three
-# drawn scenes whose force rises in 3.0-3.5 diameter transits read +0.47 to +0.50% against the analytical model, the
-# mesh's share of the ringing overshoot (one of them converges to +0.16%); at 75, +0.08 to +0.19% (2026-11-29)
+# ... and at most the wavelength c t_rise of the contact force's rise / this [-] (Scene.axial_size: 50 left the
+# ringing overshoot of a force rising in 3-3.5 transits to the mesh, measured there)
 RISE_ELEMENTS = 75
 
 SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
