@@ -145,6 +145,8 @@ __all__ = [
     "locking_warning",
     "normal_warning",
     "rim_warning",
+    "rim_edge",
+    "rim_where",
     "front_spread",
     "energy_warning",
     "plateau_warning",
@@ -397,23 +399,35 @@ def _fe(summary: Mapping[str, Any], kind: str = "fe") -> bool:
 def rim_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning when the patch's outer edge, the contact radius plus the first contact point's distance from
     the rod's axis (an offset or tilted impact, rods.scene.first_contact_offsets), exceeds :data:`RIM_FRACTION`
-    of that rod's radius (centric: a / b; the paper rods with a 6 mm offset put the 1.09 mm patch past the rim)."""
-    from rods.scene import first_contact_offsets
-
+    of that rod's radius (:func:`rim_edge`; the paper rods with a 6 mm offset put the 1.09 mm patch past the rim)."""
     a = summary.get("contact_radius")
     if not a or summary.get("contact_law_warnings"):  # the analytical law said it already
         return None
-    e, θ = scene["impact.offset"], scene["impact.tilt"]
-    dists = first_contact_offsets(scene.rod1.tip_radius, scene.rod2.tip_radius, e, θ) if e or θ else (0.0, 0.0)
-    edge = max((a + d) / (r.diameter / 2) for d, r in zip(dists, scene.rods, strict=True))  # [-]
-    if edge <= RIM_FRACTION:
+    if (edge := rim_edge(a, scene)) <= RIM_FRACTION:
         return None
-    where = "the thinner rod's radius" if not (e or θ) else "its rod's radius at its outer edge (a misaligned impact)"
+    where = rim_where(scene)
     return (
         f"contact_radius: {a * 1e3:.3g} mm, {edge:.2f} of {where}: the patch reaches the rim, where Hertz's "
         "half-space (and the analytical rod-end term) no longer hold; the models' forces and durations differ here "
         "(a smaller tip radius or a lower speed keeps the patch inside)"
     )
+
+
+def rim_edge(a: float, scene: Any) -> float:
+    """The patch's outer edge over its rod's radius [-] for a contact radius ``a`` [m], the larger of the two rods':
+    a plus the first contact point's distance from the rod's axis (an offset or tilted impact,
+    rods.scene.first_contact_offsets; centric: a / b)."""
+    from rods.scene import first_contact_offsets
+
+    e, θ = scene["impact.offset"], scene["impact.tilt"]
+    dists = first_contact_offsets(scene.rod1.tip_radius, scene.rod2.tip_radius, e, θ) if e or θ else (0.0, 0.0)
+    return max((a + d) / (r.diameter / 2) for d, r in zip(dists, scene.rods, strict=True))
+
+
+def rim_where(scene: Any) -> str:
+    """What :func:`rim_edge` is a fraction of, in words."""
+    aligned = not (scene["impact.offset"] or scene["impact.tilt"])
+    return "the thinner rod's radius" if aligned else "its rod's radius at its outer edge (a misaligned impact)"
 
 
 def normal_warning(summary: Mapping[str, Any], scene: Any) -> str | None:

@@ -575,7 +575,7 @@ class Scene:
     @cached_property
     def _impedance_patch(self) -> tuple[float, float, float]:
         """(P [N], a_P [m], δ_P [m]): the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), Hertz's
-        contact radius and approach there (Scene.radial_size)."""
+        contact radius and approach there (Scene.radial_size, Scene.estimated_rise)."""
         from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
         P = impedance_force(self.speed, self.rod1, self.rod2)  # [N]
@@ -619,10 +619,8 @@ class Scene:
     @cached_property
     def axial_size(self) -> float:
         """``fe.axial_size`` resolved [m]. "auto": the thinner rod's diameter / :data:`AXIAL_PER_DIAMETER` (the
-        paper's 1 mm), at most c t_rise / :data:`RISE_ELEMENTS`, c the slower bar wave speed and t_rise = δ_P/s1
-        the time to close Hertz's approach at the impedance-bound force at the impact speed (its 10-90% rise,
-        measured in the analytical model: paper scene 15.5 µs estimated / 22.5 µs, 10 m/s 9.3 / 11.5 µs, a 1 m
-        tip 5.1 / 4.0 µs). A force that rises within a few diameter transits d/c rings the rods (lateral
+        paper's 1 mm), at most c t_rise / :data:`RISE_ELEMENTS`, c the slower bar wave speed and t_rise the
+        force's :attr:`estimated_rise`. A force that rises within a few diameter transits d/c rings the rods (lateral
         inertia); its peak then needs the ringing resolved along the rod: a 1 m tip on the paper rods, peak
         force against the finest mesh (0.2 mm x 0.25 mm, +0.67% from the 1D analytical model, which has no
         ringing): 1 mm +0.69%, 0.52 mm (auto at c t_rise/50) -0.02%; drawn scenes rising in 3.0-3.5 transits (the
@@ -637,7 +635,14 @@ class Scene:
         """What "auto" gives ``fe.axial_size`` on this scene [m], whatever the key holds (:attr:`axial_size`)."""
         diameter = min(r.diameter for r in self.rods) / AXIAL_PER_DIAMETER
         c = min(r.material.wave_speed for r in self.rods)  # [m/s]
-        return min(diameter, c * self._impedance_patch[2] / self.speed / RISE_ELEMENTS)
+        return min(diameter, c * self.estimated_rise / RISE_ELEMENTS)
+
+    @property
+    def estimated_rise(self) -> float:
+        """The contact force's rise time estimated from the scene alone [s]: δ_P/s1, the time to close Hertz's
+        approach δ_P at the impedance-bound force P (:attr:`impedance_force`) at the impact speed (against the
+        analytical model's 10-90% rise: paper scene 15.5 / 22.5 µs, 10 m/s 9.3 / 11.5 µs, a 1 m tip 5.1 / 4.0 µs)."""
+        return self._impedance_patch[2] / self.speed
 
     @property
     def submodel_length(self) -> float:

@@ -112,6 +112,15 @@ def planning(analytical: Any) -> str:
     return f"planning: the analytical model to its first contact (at most about {analytical.wall_time:.3g} s)"
 
 
+def outlook(scene: Scene, log: Callable[..., None] = print) -> None:
+    """Print, after the plan, the checks a run of ``scene`` will likely fail (rods.outlook: foreseen from closed
+    forms, before anything runs; nothing for a scene inside the models' range)."""
+    from rods.outlook import outlook as foreseen
+
+    for line in foreseen(scene):
+        log(f"outlook: {line}")
+
+
 def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print, comm: Any = None) -> None:
     """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
     --force, above the step/history budgets; before anything heavy is allocated. A long run's time is this

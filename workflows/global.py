@@ -59,6 +59,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     what = "the driving global" if args.driver else "the global"
     log(f"{plan.fe_stage(sc, what)} -> {out}")
+    _cli.outlook(scene, log)
     _cli.backend(scene, comm.size)
     _cli.afford(args, cost.fe_cost(sc, comm.size, what=what), log=log, comm=comm)
     if args.driver:

@@ -144,6 +144,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt, remedy=remedy
     )
     log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
+    _cli.outlook(scene, log)
     if args.restart:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)

@@ -1,0 +1,65 @@
+"""What a run of a scene will likely warn about, said in its plan, before anything runs.
+
+The run's own checks (rods.checks) judge its results after hours of stepping; a scene outside the models' range
+is known from closed forms at once. Each line here foresees one of those checks from the scene alone, at the
+impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (rods.scene.Scene.impedance_force: the stiff-contact bar limit) and
+the rise time δ_P/s1 it implies (rods.scene.Scene.estimated_rise):
+
+* **rim**: Hertz's contact radius at P against :data:`rods.checks.RIM_FRACTION` of the rod's radius
+  (:func:`rods.checks.rim_edge`, offset and tilt counted);
+* **yield**: Hertz's peak pressure at P against the paper's 1.1 S_y (rods.hertz.yield_check), per yield strength;
+* **bar theory**: the estimated rise against :data:`rods.checks.RISE_TRANSITS` diameter transits d/c of the
+  longer-transit rod.
+
+P bounds the analytical force from above and that force reaches it where it rises before a reflection returns
+(the paper scene's peak 1.3e-5 below it; a 6.5 mm tip at 0.5 m/s, rising longer, 5.3% below), so a rim or yield
+line may foresee a warning the run does not give; it misses one only where the FE's ringing lifts its peak above P
+(on the 57 rows of results/*probe*.json of 2026-11-29 neither happened). The rise is an estimate (against the
+analytical model's 10-90% rise: 15.5 / 22.5 µs on the paper scene, 5.1 / 4.0 µs with a 1 m tip), so a scene near
+the threshold may warn without a line here (there, 2 of 57 rows: a 1 m tip, 2.1 transits estimated, 1.6-1.7
+measured) or get a line without the warning (3 of 57). The paper scene gets none.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from rods import checks, hertz
+
+__all__ = ["outlook"]
+
+
+def outlook(scene: Any) -> list[str]:
+    """The checks a run of ``scene`` will likely fail (module docstring), one line each; empty where none."""
+    P = scene.impedance_force  # [N]
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
+    at_P = hertz.at_force(P, E_star, R_star)
+    lines = []
+    if (edge := checks.rim_edge(at_P["contact_radius"], scene)) > checks.RIM_FRACTION:
+        lines.append(
+            f"contact_radius: Hertz's radius at the impedance-bound force P = {P:.4g} N is "
+            f"{at_P['contact_radius'] * 1e3:.3g} mm, {edge:.2f} of {checks.rim_where(scene)} (the rim check: "
+            f"{checks.RIM_FRACTION:g}): the patch may reach the rim, where Hertz's half-space and the analytical "
+            "rod-end term no longer hold (a smaller tip radius or a lower speed keeps it inside)"
+        )
+    p0 = at_P["peak_pressure"]  # [Pa]
+    strengths: dict[float, list[str]] = {}
+    for n, rod in enumerate(scene.rods, start=1):
+        if not hertz.yield_check(p0, rod.material.yield_strength):
+            strengths.setdefault(rod.material.yield_strength, []).append(str(n))
+    for S_y, ns in strengths.items():
+        which = f"{'rod' if len(ns) == 1 else 'rods'} {' and '.join(ns)}"
+        lines.append(
+            f"yield: Hertz's peak pressure at P = {P:.4g} N is {p0 / 1e6:.4g} MPa, "
+            f"{p0 / (hertz.YIELD_FACTOR * S_y):.2f} x 1.1 S_y of {which}: the contact may yield, where the elastic "
+            "models no longer hold (a lower speed or a larger tip radius lowers it)"
+        )
+    rise, transit = scene.estimated_rise, max(r.diameter_transit for r in scene.rods)  # [s]
+    if rise < checks.RISE_TRANSITS * transit:
+        lines.append(
+            f"peak_contact_force: the force should rise in about {rise * 1e6:.3g} µs, {rise / transit:.2g} diameter "
+            f"transits d/c (the bar-theory check: {checks.RISE_TRANSITS:g}): the 1D bars will miss the rods' ringing; "
+            "expect the FE's peak above the analytical one by ~0.5% or more, and a fine auto axial mesh "
+            "(fe.axial_size)"
+        )
+    return lines
