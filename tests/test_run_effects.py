@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from rods import checks
@@ -54,6 +55,15 @@ def test_wave_response_runs_analytical_and_global_only(tmp_path):
     assert s["scene_overrides"] == an["scene_overrides"] == g["scene_overrides"]
     assert s["scene_overrides"] == [*(o for o in TINY if "=" in o), "effects=['wave_response']"]
     assert s["stage_settings"] == [] and s["scene"] == g["scene"]
+    # the same answer from every entry point: each model's own door, on the study's scene, writes the study's stage
+    for script, stage in (("global.py", "global"), ("analytical.py", "analytical")):
+        alone = tmp_path / script
+        p = in_process(script, *TINY, "--set", "effects=['wave_response']", "--out", str(alone), cwd=ROOT)
+        assert p.returncode == 0, p.stderr[-2000:]
+        ours, theirs = read_history(alone / "history.csv"), read_history(tmp_path / "run" / stage / "history.csv")
+        assert ours.keys() == theirs.keys() and len(ours["time"]) == 1201  # 0.3 ms every 0.25 µs
+        for key in ours:
+            np.testing.assert_array_equal(ours[key], theirs[key], err_msg=f"{script}: {key}")
 
 
 PATCH_STUDY = ("['contact_patch']", "--set", "submodel.levels=['coarse']")  # analytical, driver, one level
