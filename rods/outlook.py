@@ -59,7 +59,7 @@ def outlook(scene: Any) -> list[str]:
         lines.append(
             f"peak_contact_force: the force should rise in about {rise * 1e6:.3g} µs, {rise / transit:.2g} diameter "
             f"transits d/c (the bar-theory check: {checks.RISE_TRANSITS:g}): the 1D bars will miss the rods' ringing; "
-            "expect the FE's peak above the analytical one by ~0.5% or more, and a fine auto axial mesh "
-            "(fe.axial_size)"
+            "expect the FE's peak above the analytical one by ~0.5% or more (the auto fe.axial_size is refined to "
+            "follow the rise)"
         )
     return lines

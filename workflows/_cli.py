@@ -113,8 +113,8 @@ def planning(analytical: Any) -> str:
 
 
 def outlook(scene: Scene, log: Callable[..., None] = print) -> None:
-    """Print, after the plan, the checks a run of ``scene`` will likely fail (rods.outlook: foreseen from closed
-    forms, before anything runs; nothing for a scene inside the models' range)."""
+    """Print, before the cost estimate, the checks a run of ``scene`` will likely fail (rods.outlook: foreseen from
+    closed forms, before anything runs; nothing for a scene inside the models' range)."""
     from rods.outlook import outlook as foreseen
 
     for line in foreseen(scene):
