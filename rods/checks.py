@@ -146,6 +146,7 @@ __all__ = [
     "normal_warning",
     "rim_warning",
     "rim_edge",
+    "longer_transit",
     "rim_where",
     "front_spread",
     "energy_warning",
@@ -262,7 +263,7 @@ def ringing_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray
     if (trace := _force_trace(history)) is None:
         return None
     t, F = trace
-    transit = max(r.diameter_transit for r in scene.rods)  # [s] the longer diameter transit
+    transit = longer_transit(scene)  # [s]
     window = RING_TRANSITS * transit  # [s]
     if t[-1] - t[int(np.argmax(F))] < window:
         return None
@@ -330,7 +331,7 @@ def bar_theory_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
     if np.argmax(F) == F.size - 1:
         return None
     rise = t[np.argmax(F > 0.9 * F.max())] - t[np.argmax(F > 0.1 * F.max())]  # [s]
-    transit = max(r.diameter_transit for r in scene.rods)  # [s] the longer diameter transit
+    transit = longer_transit(scene)  # [s]
     if rise < RISE_TRANSITS * transit:
         return (
             f"peak_contact_force: the force rises (10-90%) in {rise * 1e6:.3g} µs, {rise / transit:.2g} diameter "
@@ -411,6 +412,12 @@ def rim_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
         "half-space (and the analytical rod-end term) no longer hold; the models' forces and durations differ here "
         "(a smaller tip radius or a lower speed keeps the patch inside)"
     )
+
+
+def longer_transit(scene: Any) -> float:
+    """The longer of the two rods' diameter transits d/c [s]: the time scale the ringing and bar-theory checks judge
+    a force's rise and ripple against (module docstring)."""
+    return max(r.diameter_transit for r in scene.rods)
 
 
 def rim_edge(a: float, scene: Any) -> float:

@@ -31,6 +31,7 @@ __all__ = [
     "axis_stresses",
     "check_yield",
     "check_yield_rods",
+    "rods_by_strength",
     "contact_radius",
     "at_force",
     "contact_constants",
@@ -421,14 +422,20 @@ def yield_check(p0: float, yield_strength: float | None) -> bool:
     return p0 < YIELD_FACTOR * yield_strength
 
 
-def check_yield_rods(p0: float, rods: Sequence[Any]) -> None:
-    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the Hertz pressure p0 [Pa] of their contact: one
-    warning per distinct yield strength, naming the rods it holds for (two steel rods: one warning, not two)."""
+def rods_by_strength(rods: Sequence[Any]) -> dict[float | None, str]:
+    """Rod 1 and Rod 2 (``rods``) grouped by yield strength [Pa] (None: unknown), each group named in words ("rod
+    2", "rods 1 and 2"): a yield check says one line per distinct strength (two steel rods: one, not two)."""
     groups: dict[float | None, list[int]] = {}
     for n, rod in enumerate(rods, start=1):
         groups.setdefault(rod.material.yield_strength, []).append(n)
-    for S_y, ns in groups.items():
-        check_yield(p0, S_y, where=f"rod {ns[0]}" if len(ns) == 1 else f"rods {' and '.join(map(str, ns))}")
+    return {S_y: f"rod {ns[0]}" if len(ns) == 1 else f"rods {' and '.join(map(str, ns))}" for S_y, ns in groups.items()}
+
+
+def check_yield_rods(p0: float, rods: Sequence[Any]) -> None:
+    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the Hertz pressure p0 [Pa] of their contact: one
+    warning per distinct yield strength, naming the rods it holds for (:func:`rods_by_strength`)."""
+    for S_y, which in rods_by_strength(rods).items():
+        check_yield(p0, S_y, where=which)
 
 
 def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:

@@ -43,18 +43,15 @@ def outlook(scene: Any) -> list[str]:
             "rod-end term no longer hold (a smaller tip radius or a lower speed keeps it inside)"
         )
     p0 = at_P["peak_pressure"]  # [Pa]
-    strengths: dict[float, list[str]] = {}
-    for n, rod in enumerate(scene.rods, start=1):
-        if not hertz.yield_check(p0, rod.material.yield_strength):
-            strengths.setdefault(rod.material.yield_strength, []).append(str(n))
-    for S_y, ns in strengths.items():
-        which = f"{'rod' if len(ns) == 1 else 'rods'} {' and '.join(ns)}"
+    for S_y, which in hertz.rods_by_strength(scene.rods).items():
+        if hertz.yield_check(p0, S_y):
+            continue
         lines.append(
             f"yield: Hertz's peak pressure at P = {P:.4g} N is {p0 / 1e6:.4g} MPa, "
             f"{p0 / (hertz.YIELD_FACTOR * S_y):.2f} x 1.1 S_y of {which}: the contact may yield, where the elastic "
             "models no longer hold (a lower speed or a larger tip radius lowers it)"
         )
-    rise, transit = scene.estimated_rise, max(r.diameter_transit for r in scene.rods)  # [s]
+    rise, transit = scene.estimated_rise, checks.longer_transit(scene)  # [s]
     if rise < checks.RISE_TRANSITS * transit:
         lines.append(
             f"peak_contact_force: the force should rise in about {rise * 1e6:.3g} µs, {rise / transit:.2g} diameter "
