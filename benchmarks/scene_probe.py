@@ -11,7 +11,9 @@ verification matrix's targets (rods.study.verification.TARGETS) and its definiti
 run's own warnings name where a model leaves its range. A gap is only the FE's when a finer mesh moves it:
 ``workflows/verify.py --case paper --set ...`` adds that mesh check for one probe. Writes --out + .json and .md.
 ``--random N --seed S``: N scenes drawn at random from wide physical ranges (:func:`random_probes`: six materials,
-3-40 mm rods at least 5 diameters long, any tips, 0.05-20 m/s) instead of the named ones: scenes nobody chose.
+3-40 mm rods at least 5 diameters long, any tips, 0.05-20 m/s) instead of the named ones: scenes nobody chose. A
+drawn scene whose run this benchmark would make is estimated above :data:`RANDOM_BUDGET` on one rank is listed under
+the table as drawn and not run, and the draw goes on: a seed's scenes are the seed's alone, whatever the prices.
 """
 
 from __future__ import annotations
@@ -116,14 +118,20 @@ PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of 
 }
 
 
+def probe_scene(sc, analytical_summary: dict | None = None):
+    """The scene a probe's FE run solves: ``sc`` to :data:`PHASE` x its contact phase (rods.plan.contact_phase of
+    the analytical model's summary; without one, rods.plan.driver_phase runs it to its first contact)."""
+    phase = plan.driver_phase(sc) if analytical_summary is None else plan.contact_phase(analytical_summary, sc.end_time)
+    return sc.with_overrides(f"simulation.end_time={PHASE * phase!r}")
+
+
 def probe(name: str, out: Path, comm) -> dict | None:
     """Run probe ``name`` into ``out/name`` (collective); its row on rank 0."""
     what, overrides = PROBES[name]
     sc = load_scene(PAPER, overrides)
     t0 = time.perf_counter()
     a = stages.analytical(sc, out / name / "analytical", comm)
-    end = PHASE * plan.contact_phase(a.summary, sc.end_time)
-    fe_scene = sc.with_overrides(f"simulation.end_time={end!r}")
+    fe_scene = probe_scene(sc, a.summary)
     (estimate,) = cost.calibrated([cost.fe_cost(fe_scene, comm.size)], comm)  # what the run's plan says
     t1 = time.perf_counter()
     g = stages.global_model(fe_scene, out / name / "global", comm)
@@ -211,7 +219,7 @@ def render(data: dict) -> str:
             f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} "
             f"| {estimate_ratio(r)} | {warn} |"
         )
-    lines += tally(data["rows"]) + estimate_spread(data["rows"])
+    lines += tally(data["rows"]) + not_run(data) + estimate_spread(data["rows"])
     for r in data["rows"]:
         for model, ws in r["warnings"].items():
             lines += [f"* {r['description']}, {model}: {w}" for w in ws]
@@ -254,30 +262,43 @@ SLENDERNESS = 5.0  # a rod at least this many diameters long, and 0.05 m [-]
 LENGTHS = (0.05, 1.0)  # [m] log-uniform
 TIP_RADII = (0.6, 0.3)  # a curved tip: from 0.6 x the diameter (a cap below a hemisphere) to 0.3 m, log-uniform
 SPEEDS = (0.05, 20.0)  # [m/s] log-uniform
-RANDOM_BUDGET = 600.0  # [s] a drawn scene's estimated wall time (full 1.5 ms, rods.cost) at most; redrawn above
+RANDOM_BUDGET = (
+    600.0  # [s] a drawn scene's estimated wall time (full 1.5 ms, rods.cost) at most; listed, not run, above
+)
 RANGES = (
     f"each rod of {', '.join(MATERIALS)} (yield unset), {DIAMETERS[0] * 1e3:g}-{DIAMETERS[1] * 1e3:g} mm in diameter, "
     f"{LENGTHS[0]:g}-{LENGTHS[1]:g} m and at least {SLENDERNESS:g} diameters long; Rod 1's tip curved, Rod 2's half "
     f"the time, radii {TIP_RADII[0]:g} diameters to {TIP_RADII[1]:g} m; {SPEEDS[0]:g}-{SPEEDS[1]:g} m/s; all "
-    f"log-uniform; scenes estimated above {RANDOM_BUDGET:g} s redrawn"
+    f"log-uniform; a scene estimated above {RANDOM_BUDGET:g} s listed as not run and the draw going on"
 )
 
 
 def global_wall_time(overrides: tuple[str, ...]) -> float:
     """The estimated wall time [s] of the global FE model of the paper scene with ``overrides`` to its end_time, on
-    one rank (rods.cost.fe_cost: the scene alone, nothing run)."""
-    from rods import cost
-
+    one rank (rods.cost.fe_cost: the scene alone, nothing run; wave_probe.py's runs)."""
     return cost.fe_cost(load_scene(PAPER, overrides)).wall_time
 
 
+def probe_wall_time(overrides: tuple[str, ...]) -> float:
+    """The estimated wall time [s] of this benchmark's FE run of the paper scene with ``overrides`` (to
+    :data:`PHASE` x its contact phase, :func:`probe_scene`: the analytical model run to its first contact, seconds),
+    on one rank: what a drawn scene is held to the budget by."""
+    return cost.fe_cost(probe_scene(load_scene(PAPER, overrides))).wall_time
+
+
 def random_probes(
-    n: int, seed: int, wall_time: Callable[[tuple[str, ...]], float] = global_wall_time
+    n: int,
+    seed: int,
+    wall_time: Callable[[tuple[str, ...]], float] = global_wall_time,
+    skipped: list[dict] | None = None,
 ) -> dict[str, tuple[str, tuple[str, ...]]]:
     """``n`` scenes drawn (numpy's PCG64 from ``seed``: the same list on every rank and every run) from the ranges
     above: two rods of any two materials, diameters, lengths and tips (Rod 1 curved; Rod 2 curved half the time),
     one impact speed. Each is inside the schema and within :data:`RANDOM_BUDGET` of ``wall_time(overrides)``, the
-    probe's estimated wall time [s] (default :func:`global_wall_time`); a scene above it is redrawn."""
+    probe's estimated wall time [s] (default :func:`global_wall_time`). A scene above the budget is appended to
+    ``skipped`` (its description and estimate: a table lists it as drawn and not run) and the draw goes on. The
+    candidates' sequence is the seed's alone (the prices only say which of them run), so a change to the cost model
+    moves a scene between the run and the skipped, never swaps one scene for another unseen."""
     import numpy as np
 
     rng = np.random.default_rng(seed)
@@ -301,15 +322,38 @@ def random_probes(
             what.append(f"{name} {d * 1e3:.1f} mm x {L:.2f} m, {tip}")
         v = log_uniform(*SPEEDS)
         overrides.append(f"impact.speed={v:.3g}")
-        if wall_time(tuple(overrides)) > RANDOM_BUDGET:
+        description = f"{' onto '.join(what)}, {v:.3g} m/s"
+        estimate = wall_time(tuple(overrides))  # [s]
+        if estimate > RANDOM_BUDGET:
+            if skipped is not None:
+                skipped.append({"description": description, "overrides": overrides, "estimate": estimate})
             continue
-        probes[f"random-{seed}-{len(probes)}"] = (f"{' onto '.join(what)}, {v:.3g} m/s", tuple(overrides))
+        probes[f"random-{seed}-{len(probes)}"] = (description, tuple(overrides))
     return probes
+
+
+def not_run(data: dict) -> list[str]:
+    """The lines under a drawn table naming the scenes the draw skipped (over :data:`RANDOM_BUDGET`), so that a table
+    of cheap scenes says it is one; nothing for named probes."""
+    draw = data.get("draw")
+    if draw is None or "skipped" not in draw:  # named probes (or a draw recorded before skipped scenes were)
+        return []
+    skipped = draw["skipped"]
+    if not skipped:
+        return ["", f"Every scene the draw made ran (none estimated above the {RANDOM_BUDGET:g} s budget).", ""]
+    return [
+        "",
+        f"Drawn and not run, their plans above the {RANDOM_BUDGET:g} s budget on one rank (in the draw's order, "
+        f"among the {draw['n'] + len(skipped)} it made):",
+        "",
+        *(f"* {s['description']}: estimated {s['estimate']:.0f} s" for s in skipped),
+        "",
+    ]
 
 
 def main(argv: list[str] | None = None) -> int:
     """The named probes, or with ``--random N [--seed S]`` N scenes drawn by :func:`random_probes` instead."""
-    return run_probes(argv, __doc__, "scene-probe", PROBES, probe, render, TARGETS, global_wall_time)
+    return run_probes(argv, __doc__, "scene-probe", PROBES, probe, render, TARGETS, probe_wall_time)
 
 
 def drawn(argv: list[str] | None, probes: dict, wall_time: Callable) -> tuple[list[str], dict | None, str]:
@@ -322,9 +366,10 @@ def drawn(argv: list[str] | None, probes: dict, wall_time: Callable) -> tuple[li
     known, rest = ap.parse_known_args(argv)
     draw = None
     if known.random > 0:
+        skipped: list[dict] = []
         probes.clear()
-        probes.update(random_probes(known.random, known.seed, wall_time))
-        draw = {"n": known.random, "seed": known.seed, "ranges": RANGES}
+        probes.update(random_probes(known.random, known.seed, wall_time, skipped))
+        draw = {"n": known.random, "seed": known.seed, "ranges": RANGES, "skipped": skipped}
     return rest, draw, "--random N [--seed S]: N scenes drawn at random instead of the named probes (" + RANGES + ")"
 
 

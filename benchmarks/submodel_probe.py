@@ -13,7 +13,7 @@ study's status with the keys of its warnings. Targets (issue 13, for the level t
 places at 16 or more elements across the patch): force within :data:`FORCE`, area and peak pressure within
 :data:`HERTZ` of Hertz. Writes --out + .json and .md. ``--random N --seed S``: N scenes drawn as
 scene_probe.py draws them (scene_probe.random_probes), each study estimated within its budget
-(:func:`study_wall_time`), instead of the named ones.
+(:func:`study_wall_time`; a scene above it listed under the table as not run), instead of the named ones.
 """
 
 from __future__ import annotations
@@ -148,7 +148,8 @@ def render(data: dict) -> str:
             f"| {errs['p0']} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} "
             f"| {scene_probe.estimate_ratio(r)} |"
         )
-    lines += scene_probe.study_tail(data["rows"]) + scene_probe.estimate_spread(data["rows"], "study")
+    lines += scene_probe.study_tail(data["rows"]) + scene_probe.not_run(data)
+    lines += scene_probe.estimate_spread(data["rows"], "study")
     return "\n".join(lines) + "\n"
 
 

@@ -10,7 +10,8 @@ average peak speed of the global against the analytical model, against the bands
 (rods.checks.AGREE_FORCE, AGREE_DURATION, AGREE_PEAK_SPEED: the verification matrix's agreement), the energy error,
 and the study's status with the keys of its warnings. An average peak speed a model itself calls unreliable (its
 plateau warnings) is not held to its band (the study does not compare it either). ``--random N --seed S``: N scenes
-drawn as scene_probe.py draws them (its global's whole run estimated within the budget). Writes --out + .json and .md.
+drawn as scene_probe.py draws them (its global's whole run estimated within the budget; a scene above it listed under
+the table as not run). Writes --out + .json and .md.
 """
 
 from __future__ import annotations
@@ -118,7 +119,7 @@ def render(data: dict) -> str:
             f"| {cell(r['peak_speed_analytical'], '.4g')} | {speed} | {r['energy_error']:.1e}{mark['energy']} "
             f"| {r['dofs']:,} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} |"
         )
-    lines += scene_probe.study_tail(data["rows"])
+    lines += scene_probe.study_tail(data["rows"]) + scene_probe.not_run(data)
     return "\n".join(lines) + "\n"
 
 

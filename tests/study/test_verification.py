@@ -287,17 +287,59 @@ def test_scene_probe_draws_the_same_random_scenes_inside_the_schema(monkeypatch)
     probes = dict(bench.PROBES)
     rest, draw, epilog = bench.drawn(["--random", "2", "--seed", "3", "--out", "x"], probes, bench.global_wall_time)
     assert rest == ["--out", "x"] and probes == bench.random_probes(2, seed=3)
+    skipped = draw.pop("skipped")  # seed 3: its first candidate priced above the budget
     assert draw == {"n": 2, "seed": 3, "ranges": bench.RANGES} and bench.RANGES in epilog
+    assert [s["estimate"] > bench.RANDOM_BUDGET for s in skipped] == [True]
     named = dict(bench.PROBES)
     assert bench.drawn(["--out", "x"], named, bench.global_wall_time)[:2] == (["--out", "x"], None)
     assert named == bench.PROBES
     seen = {}
     monkeypatch.setattr(bench, "run_probes", lambda argv, *args: seen.update(argv=argv, random=args[-1]) or 0)
-    assert bench.main(["--random", "2"]) == 0 and seen == {"argv": ["--random", "2"], "random": bench.global_wall_time}
+    assert bench.main(["--random", "2"]) == 0 and seen == {"argv": ["--random", "2"], "random": bench.probe_wall_time}
+    # a drawn scene is priced by the run this benchmark makes (its contact phase), not by the scene's whole end_time
+    ((_, overrides),) = bench.random_probes(1, seed=3).values()
+    sc = load_scene(PAPER, list(overrides))
+    short = bench.probe_scene(sc)
+    assert short.end_time < sc.end_time and bench.probe_wall_time(overrides) == cost.fe_cost(short).wall_time
+    assert bench.probe_wall_time(overrides) < bench.global_wall_time(overrides)
     # the table says how its scenes were drawn, so that it can be rerun
-    md = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": draw})
+    md = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": {**draw, "skipped": []}})
     assert "`mpirun -n 2 python benchmarks/scene_probe.py --random 2 --seed 3`; 2 scenes drawn at random" in md
-    assert f"({bench.RANGES}); each FE run" in md
+    assert f"({bench.RANGES}); each FE run" in md and "Every scene the draw made ran" in md  # none skipped here
+
+
+def test_a_random_draw_lists_the_scenes_it_skips_and_keeps_the_seeds_scenes_when_prices_move():
+    """The draw's candidates are the seed's alone: a scene over the budget is listed as drawn and not run (with its
+    estimate) and the draw goes on, so dearer prices move a scene from the run to the skipped and never swap one
+    scene for another unseen; every probe table names the skipped (a table of cheap scenes says it is one)."""
+    bench = benchmark("scene_probe")
+    free = [what for what, _ in bench.random_probes(6, seed=5, wall_time=lambda o: 0.0).values()]
+    priced, skipped = iter(range(100)), []
+
+    def dear(overrides):  # the second and fourth candidates over the budget
+        return 1e4 if next(priced) in (1, 3) else 0.0
+
+    drawn = bench.random_probes(4, seed=5, wall_time=dear, skipped=skipped)
+    assert [what for what, _ in drawn.values()] == [free[0], free[2], free[4], free[5]]
+    assert [s["description"] for s in skipped] == [free[1], free[3]] and {s["estimate"] for s in skipped} == {1e4}
+    assert all(load_scene(PAPER, s["overrides"]) for s in skipped)  # what is needed to run it by hand
+    draw = {"n": 4, "seed": 5, "ranges": bench.RANGES, "skipped": skipped}
+    tables = (
+        bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": [], "draw": draw}),
+        benchmark("submodel_probe").render(
+            {"ranks": 2, "targets": {"force": 0.5, "hertz": 2}, "rows": [], "draw": draw}
+        ),
+        benchmark("wave_probe").render(
+            {"ranks": 2, "targets": benchmark("wave_probe").BANDS, "rows": [], "draw": draw}
+        ),
+    )
+    for md in tables:
+        assert (
+            "Drawn and not run, their plans above the 600 s budget on one rank (in the draw's order, among the 6" in md
+        )
+        assert f"* {free[1]}: estimated 10000 s" in md and f"* {free[3]}: estimated 10000 s" in md
+    named = bench.render({"ranks": 2, "targets": verification.TARGETS, "rows": []})
+    assert "Drawn and not run" not in named and "Every scene the draw" not in named
 
 
 @pytest.mark.slow  # 21 s serial: the default suite keeps to its 5 minutes
