@@ -53,7 +53,7 @@ FIELDS = (
 )
 
 
-# the main job's scene (workflows/Snakefile's PAPER_SCENE), which its global meshes run on
+# the main job's scene, which its global meshes run on (workflows/Snakefile's rules take it from here)
 PAPER_SCENE = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "paper.toml"
 CONFIG_KEYS = (
     "scene", "speeds", "mesh_levels", "dt_fractions", "kinds", "fe_speed", "ranks", "mpi",
