@@ -70,6 +70,7 @@ __all__ = [
     "check",
     "fe_cost",
     "machine_speed",
+    "total",
 ]
 
 STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 h at the paper mesh) [-]
@@ -231,6 +232,26 @@ class Cost:
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+
+DEAREST_SHARE = 0.5  # a stage above this share of a run's estimated wall time is named in its total [-]
+
+
+def total(costs: Sequence[Cost]) -> str | None:
+    """The line under several stages' costs: their wall time in all and, where one stage is above
+    :data:`DEAREST_SHARE` of it and a setting chose it (its ``remedy``: a study's submodel level), that stage's share
+    and how to leave it out: a small contact patch puts a study's auto levels down to ultra-fine, each level about
+    8 x the one above it (2D: 4 x the cells, 2 x the steps), so that one level can be most of the study. None for a
+    single stage."""
+    if len(costs) < 2:
+        return None
+    wall = sum(c.wall_time for c in costs)  # [s]
+    line = f"cost in all: wall time about {_duration(wall)} on {max(c.ranks for c in costs)} rank(s)"
+    dearest = max(costs, key=lambda c: c.wall_time)
+    share = dearest.wall_time / wall if wall > 0 else 0.0
+    if share > DEAREST_SHARE and dearest.remedy:
+        line += f", {share:.0%} of it {dearest.what} (to leave it out: {dearest.remedy})"
+    return line
 
 
 def _duration(s: float) -> str:

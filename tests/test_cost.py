@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -466,3 +467,25 @@ def test_any_axisymmetric_mesh_gets_a_finite_estimate_or_a_refusal(scene_with, t
         return
     assert 0 < c.wall_time < math.inf and c.steps >= 1 and 0 < c.memory_bound_time <= c.wall_time
     assert 0 < cost._rim_factor(sc, sc["fe.axial_size"], sc.tip_grading) <= 1.0
+
+
+def test_the_total_names_the_stage_that_is_most_of_a_study(scene_with):
+    """cost.total: the wall time of several stages in all, and a submodel level above half of it named with how to
+    leave it out (a small patch puts the auto levels down to ultra-fine, each about 8 x the one above it); a stage no
+    setting chose (the global) is not named; one stage gets no line."""
+    from rods import plan
+    from rods.study.pipeline import stage_costs
+
+    sc = scene_with("effects=['contact_patch']", "impact.speed=0.3", "rod1.tip_radius=0.01")
+    p = plan.study_plan(sc)
+    costs = stage_costs(sc, p, 2)
+    finest = max(costs, key=lambda c: c.wall_time)
+    wall = sum(c.wall_time for c in costs)
+    line = cost.total(costs)
+    assert finest.what == f"the submodel {p.submodel_levels[-1]}" and finest.wall_time > 0.5 * wall
+    assert line.startswith(f"cost in all: wall time about {cost._duration(wall)} on 2 rank(s), ")
+    assert f"{finest.wall_time / wall:.0%} of it {finest.what} (to leave it out: submodel.levels without" in line
+    cheap = [c for c in costs if c is not finest]
+    assert "of it" not in cost.total([*cheap, replace(finest, wall_time=0.1 * finest.wall_time)])
+    assert "of it" not in cost.total([*cheap, replace(finest, remedy="")])  # no setting to name
+    assert cost.total(costs[:1]) is None

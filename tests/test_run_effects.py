@@ -213,11 +213,13 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
     )  # fmt: skip
     assert p.returncode == 0, p.stderr
     assert "submodel levels: coarse, mid, fine" in p.stdout and "cost of the submodel fine" in p.stdout
+    assert "\ncost in all: wall time about " in p.stdout  # the stages' sum under their costs
     assert "dry run" in p.stdout and not out.exists()
     for script in ("analytical.py", "global.py"):  # the single-model doors too
         p = in_process(script, "--dry-run", "--out", str(out), cwd=ROOT)
         assert p.returncode == 0 and "cost of" in p.stdout and "dry run" in p.stdout, (script, p.stderr)
         assert p.stdout.startswith("plan: ") and not out.exists()  # what would run, then what it costs
+        assert "cost in all" not in p.stdout  # one stage: its cost is the whole
     p = in_process("global.py", "--driver", "--dry-run", "--out", str(out), cwd=ROOT)
     assert "plan: the driving global (axisymmetric" in p.stdout and "t_end = 0.000244" in p.stdout  # the contact phase
 

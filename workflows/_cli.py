@@ -130,9 +130,12 @@ def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = pri
 
     for c in costs:  # the memory first (--force never lifts it): no probe for a run that cannot start
         cost.check(c, force=True)
-    for c in cost.calibrated(costs, comm):
+    calibrated = cost.calibrated(costs, comm)
+    for c in calibrated:
         cost.check(c, args.force)
         log(c.describe())
+    if line := cost.total(calibrated):  # several stages: their sum, and the one that is most of it
+        log(line)
     if getattr(args, "dry_run", False):
         log("dry run: the input and the output folder are valid; nothing was run or written")
         raise SystemExit(0)
