@@ -21,16 +21,19 @@ import json
 import os
 import re
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 __all__ = [
     "MAX_VALUE",
     "InputError",
+    "distinct",
     "input_dir",
     "one_line",
     "output_dir",
     "output_file",
+    "output_names",
     "safe_name",
     "scene_folder",
     "short",
@@ -115,6 +118,27 @@ def output_file(path: str | Path, what: str = "--out") -> Path:
         raise InputError(what, p, "is an existing folder, not a file", "give a file path inside it")
     output_dir(p.parent, what)
     return p
+
+
+def output_names(folder: str | Path, names: Sequence[str], what: str = "--out") -> None:
+    """The files a stage will write into ``folder`` (``names``) can be written: none of them is a folder (a stage
+    that met one failed at that write, exit 1, after writing the files before it)."""
+    for name in names:
+        q = Path(folder) / name
+        if q.is_dir():
+            raise InputError(what, folder, f"{q} is in the way: a folder where a file is written", "remove it, or "
+                             "give another path")  # fmt: skip
+
+
+def distinct(values: Sequence[Any], what: str) -> None:
+    """Each of a repeatable option's ``values`` given once: a run given twice is counted twice (a table row, a
+    convergence level, a case run twice into one folder)."""
+    seen = set()
+    for v in values:
+        key = str(Path(v).resolve()) if isinstance(v, Path) else v
+        if key in seen:
+            raise InputError(what, v, "given more than once", f"give each {what} once")
+        seen.add(key)
 
 
 def _name_lengths(p: Path, what: str) -> None:

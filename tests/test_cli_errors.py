@@ -72,6 +72,28 @@ def here(tmp_path) -> Path:
     (tmp_path / "blocked" / "summary.json").mkdir(parents=True)  # a folder where a run writes its summary
     (tmp_path / "blocked-study").mkdir()
     (tmp_path / "blocked-study" / "global").write_text("")  # a file where a study writes its global stage
+    # found by a newcomer's walk-through (2026-11-29): each of these ran to exit 0 on the wrong data or failed late
+    ended = {"model": "fe-axisymmetric", "scene_values": paper, "contact_duration": 2e-4}
+    folder("global", ended, history=True)
+    folder("global-unended", {**ended, "contact_duration": None}, history=True)  # stopped before its contact ended
+    folder("driver-run", {**ended, "contact_phase": 2.4e-4}, history=True)  # a driving global's summary
+    sub = {"model": "fe-submodel-coarse", "driver_scene_values": paper}
+    folder("submodel-unended", {**sub, "contact_duration": None}, history=True)
+    folder("submodel", {**sub, "contact_duration": 2e-4}, history=True)
+    folder("garbage-history", ended)
+    (tmp_path / "garbage-history" / "history.csv").write_text("garbage\n")
+    (tmp_path / "blocked-compare" / "table3.json").mkdir(parents=True)  # a folder where compare.py writes a file
+    (tmp_path / "blocked-convergence" / "convergence.png").mkdir(parents=True)
+    (tmp_path / "blocked-paper" / "table2.json").mkdir(parents=True)
+    (tmp_path / "blocked-x.png").mkdir()  # where accuracy_cost.py --out blocked-x writes its figure
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "table2.json").write_text("{bad")
+    (tmp_path / "results-list").mkdir()
+    for name in ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json"):
+        (tmp_path / "results-list" / name).write_text("[]")
+    (tmp_path / "results-empty").mkdir()
+    for name in ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json"):
+        (tmp_path / "results-empty" / name).write_text("{}")
     many = ",".join(['"wave_response"'] * 200_000)
     (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
     return tmp_path
@@ -283,6 +305,114 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--restart", "checkpoint.json"],
     ),
     "contact picture without fields": ("contact_picture.py", ["--fields", "nope", "--out", "o/x"], ["--fields"]),
+    # found by a newcomer's walk-through (2026-11-29)
+    "accuracy-cost an unfinished run": (
+        "accuracy_cost.py",
+        ["--run", "g=global-unended", "--out", "o/x"],
+        ["--run", "first contact has not ended"],
+    ),
+    "accuracy-cost a run twice": (
+        "accuracy_cost.py",
+        ["--run", "a=global", "--run", "b=global", "--out", "o/x"],
+        ["--run", "more than once"],
+    ),
+    "accuracy-cost figure in the way": (
+        "accuracy_cost.py",
+        ["--run", "global", "--out", "blocked-x"],
+        ["blocked-x.png"],
+    ),
+    "fig4 a submodel run": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "submodel", "--png", "o/f.png", "--md", "o/f.md"],
+        ["--fe", "submodel", "not a global run"],
+    ),
+    "fig4 a driver": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "driver-run", "--png", "o/f.png", "--md", "o/f.md"],
+        ["--fe", "driving global", "own global run"],
+    ),
+    "fig4 png format": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "global", "--png", "o/f.txt", "--md", "o/f.md"],
+        ["--png", "f.txt", "not a figure format"],
+    ),
+    "fig4 garbage history": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "garbage-history", "--png", "o/f.png", "--md", "o/f.md"],
+        ["--fe", "unreadable history.csv"],
+    ),
+    "compare a submodel cut short": (
+        "compare.py",
+        ["--global", "global", "--submodel", "submodel-unended", "--out", "o"],
+        ["--submodel", "first contact has not ended"],
+    ),
+    "compare a submodel twice": (
+        "compare.py",
+        ["--global", "global", "--submodel", "submodel", "--submodel", "./submodel", "--out", "o"],
+        ["--submodel", "more than once"],
+    ),
+    "compare table in the way": ("compare.py", ["--global", "global", "--out", "blocked-compare"], ["table3.json"]),
+    "convergence a run twice": (
+        "convergence.py",
+        ["--run", "global", "--run", "global", "--out", "o"],
+        ["--run", "more than once"],
+    ),
+    "convergence an unfinished run": (
+        "convergence.py",
+        ["--run", "global-unended", "--out", "o"],
+        ["--run", "not ended"],
+    ),
+    "convergence figure in the way": (
+        "convergence.py",
+        ["--run", "global", "--out", "blocked-convergence"],
+        ["convergence.png"],
+    ),
+    "paper table in the way": ("paper.py", ["--out", "o", "--results", "blocked-paper"], ["--results", "table2.json"]),
+    "report unreadable json": (
+        "report.py",
+        ["--results", "results", "--out", "o/R.md"],
+        ["--results", "table2.json", "unreadable JSON"],
+    ),
+    "report a list": (
+        "report.py",
+        ["--results", "results-list", "--out", "o/R.md"],
+        ["--results", "table2.json", "holds a list"],
+    ),
+    "report empty data": (
+        "report.py",
+        ["--results", "results-empty", "--out", "o/R.md"],
+        ["--results", "not that stage's data"],
+    ),
+    "report missing stage file": (
+        "report.py",
+        ["--results", "afile-less", "--out", "o/R.md"],
+        ["--results", "no such file"],
+    ),
+    "report contact study missing": (
+        "report.py",
+        ["--results", "results", "--contact-study", "nope.json", "--out", "o/R.md"],
+        ["--contact-study", "nope.json", "no such file"],
+    ),
+    "verify a case twice": (
+        "verify.py",
+        ["--case", "paper", "--case", "paper", "--dry-run", "--out", "o"],
+        ["--case", "more than once"],
+    ),
+    "submodel set fe.dt": (
+        "submodel.py",
+        ["--global", "driver", "--set", "fe.dt=1e-9", "--out", "o"],
+        ["--set", "fe.dt", "--dt"],
+    ),
+    "submodel set fe.radial_size": (
+        "submodel.py",
+        ["--global", "driver", "--set", "fe.radial_size=1e-4", "--out", "o"],
+        ["--set", "fe.radial_size", "--size or --level"],
+    ),
+    "record-until below a step": (
+        "global.py",
+        ["--record-cut", "--record-until", "1e-20", "--out", "o"],
+        ["--record-until", "one time step", "t = 0 alone"],
+    ),
 }
 
 

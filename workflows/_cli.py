@@ -141,6 +141,17 @@ def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = pri
         raise SystemExit(0)
 
 
+def figure_file(path: str | Path, flag: str) -> None:
+    """A figure's path names a format matplotlib writes (refused, exit 2, before anything is read or written: it
+    failed at the figure, after the data beside it was written)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    formats = FigureCanvasAgg.get_supported_filetypes()
+    suffix = Path(path).suffix.lstrip(".").lower()
+    if suffix not in formats:
+        raise InputError(flag, path, f"not a figure format ({', '.join(sorted(formats))})", "give a .png path")
+
+
 def backend(scene: Scene, ranks: int) -> None:
     """The scene's fe.backend can run on ``ranks`` ranks (rods.fe.backend.select: serial only for numpy/cupy, CuPy
     importable): refused, exit 2, before any stage (the model's set-up would find it after a study's analytical

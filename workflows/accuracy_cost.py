@@ -13,7 +13,7 @@ from __future__ import annotations
 import _cli
 from rods.paper import accuracy_cost
 from rods.paper.data import parse_run, read_run
-from rods.preflight import InputError
+from rods.preflight import InputError, distinct
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -21,11 +21,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--run", action="append", default=[], help="LABEL=DIR of a run with summary.json, history.csv")
     ap.set_defaults(out="output/paper/accuracy-cost")
     args = ap.parse_args(argv)
-    _cli.output_file(args.out, "--out")  # --out is a prefix: OUT.json, OUT.md, OUT.png
+    out = _cli.output_file(args.out, "--out")  # --out is a prefix: OUT.json, OUT.md, OUT.png
+    for suffix in accuracy_cost.SUFFIXES:
+        _cli.output_file(out.with_suffix(suffix), "--out")
     scene = _cli.load(args)
     if not args.run:
         raise InputError("--run", [], "no runs given", "give at least one --run LABEL=DIR")
-    runs = [read_run(folder, label or folder.name, "--run", scene=scene) for label, folder in map(parse_run, args.run)]
+    given = [parse_run(spec) for spec in args.run]
+    distinct([folder for _, folder in given], "--run")
+    # each a finished run: its first contact ended (an FE run stopped before it reads a peak force still rising)
+    runs = [read_run(folder, label or folder.name, "--run", scene=scene, whole_contact=True) for label, folder in given]
     data = accuracy_cost.write(scene, runs, args.out)
     print("\n".join(accuracy_cost.render_table(data)))
     return 0

@@ -14,11 +14,13 @@ output/compare/<scene>; the record (results/) only with --out results.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import _cli
 from rods import cost
 from rods.analytical import simulate
 from rods.paper.data import read_run, read_summary
+from rods.preflight import distinct, output_names
 from rods.scene import Scene
 from rods.study import stages, table3
 from rods.study.table3 import ModelRun
@@ -27,8 +29,8 @@ from rods.study.table3 import ModelRun
 def _run(role: str, folder: str, scene: Scene) -> ModelRun:
     """A run's summary (and a submodel's history); a missing, unreadable, wrong-kind or other scene's one is bad
     input (exit 2, rods.paper.data.read_summary)."""
-    if role == "submodel":
-        run = read_run(folder, flag="--submodel", kinds=("submodel",), scene=scene)
+    if role == "submodel":  # its first contact ended, as the globals' (a submodel cut short reads a force still rising)
+        run = read_run(folder, flag="--submodel", kinds=("submodel",), scene=scene, whole_contact=True)
         return ModelRun(role, run.summary, run.history)
     flag = {"global-driver": "--global", "global-uniform": "--global-uniform"}[role]
     return ModelRun(role, read_summary(folder, flag, ("global",), scene, whole_contact=True))
@@ -41,10 +43,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--submodel", action="append", default=[], help="submodel level folder (repeatable)")
     args = ap.parse_args(argv)
     scene = _cli.load(args)
+    distinct([Path(d) for d in args.submodel], "--submodel")  # a level given twice is two rows of Table 3
     runs = [_run("global-uniform", args.global_uniform, scene)] if args.global_uniform else []
     runs += [_run("global-driver", args.global_dir, scene), *(_run("submodel", d, scene) for d in args.submodel)]
     cost.check(cost.analytical_cost(scene))  # the reference run below: refused (exit 2) before it, as its stage is
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
+    output_names(out, stages.COMPARISON_FILES)
     comparison = stages.comparison(scene, simulate(scene).summary, runs, out)
     print(table3.render_markdown(comparison.data))
     _cli.status(comparison.data)  # the finest submodel level's checks, as a study's "compare:" warnings

@@ -14,7 +14,7 @@ from __future__ import annotations
 import _cli
 from rods.paper import convergence
 from rods.paper.data import parse_run, read_summary
-from rods.preflight import InputError
+from rods.preflight import InputError, distinct, output_names
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -23,10 +23,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.set_defaults(out="output/paper/convergence")
     args = ap.parse_args(argv)
     out = _cli.output_dir(args.out, "--out")
+    output_names(out, convergence.FILES)
     scene = _cli.load(args)
     if not args.run:
         raise InputError("--run", [], "no runs given", "give --run DIR of a submodel level or a global mesh")
-    runs = [(label, read_summary(folder, "--run", scene=scene)) for label, folder in map(parse_run, args.run)]
+    given = [parse_run(spec) for spec in args.run]
+    distinct([folder for _, folder in given], "--run")  # a run given twice is a level counted twice
+    runs = [(label, read_summary(folder, "--run", scene=scene, whole_contact=True)) for label, folder in given]
     data = convergence.for_scene(scene, runs, out)
     print(convergence.render_markdown(data))
     return 0

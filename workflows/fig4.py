@@ -10,8 +10,11 @@ passes --png results/fig4.png --md results/fig4.md.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import _cli
 from rods.paper.data import parse_run, read_run
+from rods.preflight import InputError
 from rods.scene import scene_from_summary
 from rods.study import fig4
 
@@ -25,14 +28,19 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     for flag, f in (("--png", args.png), ("--md", args.md)):
         _cli.output_file(f, flag)  # before any run is read: a refused call writes nothing
+    _cli.figure_file(args.png, "--png")
+    _cli.output_file(Path(args.md).with_suffix(".json"), "--md")  # the data beside the table (rods.study.fig4.write)
     analytical = read_run(args.analytical, "analytical", "--analytical", ("analytical",))
     scene = scene_from_summary(analytical.summary["scene_values"])  # the FE runs must be of the same impact
     # fig4.py has no --scene/--set: the scene is the --analytical run's
     remedy = "give an FE run of the --analytical run's scene, or an --analytical run of that FE run's scene"
-    fe = [
-        read_run(folder, label, "--fe", ("global", "submodel"), scene, remedy)
-        for label, folder in map(parse_run, args.fe)
-    ]
+    # Fig. 4 is the Rod-2 midpoint over the whole run: a global's, not a submodel's (its "midpoint" is the cut
+    # region's) nor a driver's (it stops after the contact phase, before most plateaus)
+    fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in map(parse_run, args.fe)]
+    for (_, folder), run in zip(map(parse_run, args.fe), fe, strict=True):
+        if "contact_phase" in run.summary:  # rods.study.stages.driver_keys
+            why = "a driving global (global.py --driver): it stops after the contact phase, before the plateaus"
+            raise InputError("--fe", folder, why, "give the scene's own global run (workflows/global.py)")
     data = fig4.write(analytical, fe, args.png, args.md)
     print(fig4.render_md(data, args.png))
     return 0

@@ -61,7 +61,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     log(f"{plan.fe_stage(sc, what)} -> {out}")
     _cli.outlook(scene, log)
     _cli.backend(scene, comm.size)
-    _cli.afford(args, cost.fe_cost(sc, comm.size, what=what), log=log, comm=comm)
+    c = cost.fe_cost(sc, comm.size, what=what)
+    if args.record_until is not None and args.record_until < sc.end_time / max(c.steps, 1.0):  # the stable step
+        step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's: the set-up solves it exactly
+        _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
+                  f"record would hold t = 0 alone; give --record-until {10 * step:.3g} or more")  # fmt: skip
+    _cli.afford(args, c, log=log, comm=comm)
     if args.driver:
         s = stages.driver(scene, out, comm, phase, progress=progress, log=log).summary
     else:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import _cli
 from rods.paper import table2
+from rods.preflight import output_names
 
 SCENES = Path(__file__).resolve().parent / "scenes"
 
@@ -25,6 +26,7 @@ def main(argv: list[str] | None = None) -> int:
     results = args.out if args.results is None else args.results
     for flag, f in (("--out", args.out), ("--results", results)):
         _cli.output_dir(f, flag)
+    output_names(results, table2.FILES, "--results")  # before the six trials run
     out, results = Path(args.out), Path(results)
     print(f"plan: analytical model on the Table-2 trials -> {out}/analytical/<trial>; tables -> {results}")
     data = table2.write(SCENES, out, results)

@@ -14,19 +14,36 @@ from pathlib import Path
 import _cli
 from rods import io
 from rods.paper import report
+from rods.preflight import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_STUDY = ROOT / "results" / "contact-study.json"  # benchmarks/contact_study.py's record
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.bare_parser(__doc__)
     ap.add_argument("--results", default=None, help="folder of the stage JSON files (default: the folder of --out)")
     ap.add_argument("--out", default="output/paper/REPORT.md")
-    ap.add_argument("--contact-study", default=str(ROOT / "results" / "contact-study.json"))
+    ap.add_argument("--contact-study", default=None, help=f"the contact study's record (default {DEFAULT_STUDY})")
     args = ap.parse_args(argv)
     out = _cli.output_file(args.out, "--out")
-    data = report.read(Path(args.results) if args.results else out.parent, Path(args.contact_study))
-    io.atomic_write_text(out, report.render(data))
+    study = Path(args.contact_study) if args.contact_study is not None else DEFAULT_STUDY
+    if args.contact_study is not None and not study.is_file():  # the default may be absent; one asked for may not
+        raise InputError("--contact-study", study, "no such file", "give the contact study's JSON, or leave it out")
+    results = Path(args.results) if args.results else out.parent
+    data = report.read(results, study if study.is_file() else None)
+    try:
+        text = report.render(data)
+    except (
+        KeyError,
+        TypeError,
+        AttributeError,
+        IndexError,
+        ValueError,
+    ) as e:  # a file that parses but is not its stage's
+        why = f"a stage file is not that stage's data ({type(e).__name__}: {e})"
+        raise InputError("--results", results, why, "rerun the main job's stages (make paper)") from None
+    io.atomic_write_text(out, text)
     print(f"wrote {out}")
     return 0
 

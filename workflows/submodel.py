@@ -33,6 +33,16 @@ from rods.preflight import InputError, input_dir
 from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, scene_from_summary
 from rods.study import stages
 
+# scene keys the submodel replaces by its own options (rods.fe.submodel.submodel_scene): --set of one is refused,
+# it would be ignored
+OWN_OPTIONS = {
+    "fe.radial_size": "--size or --level",
+    "fe.axial_size": "--axial-size",
+    "fe.tip_grading": "--size or --level",
+    "fe.dt": "--dt",
+    "fe.penalty": "--set submodel.penalty",
+    "simulation.end_time": "--end-time",
+}
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
 
 
@@ -129,6 +139,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
+    for text in args.overrides:  # its mesh, step and end are its options': the scene's keys are the global's
+        key = text.split("=", 1)[0].strip()
+        if key in OWN_OPTIONS:
+            why = f"{key} is the global's; the submodel takes its own from {OWN_OPTIONS[key]}"
+            raise InputError("--set", text, why, f"give {OWN_OPTIONS[key]} instead")
     gdir, gsum, scene, end = _driver(args, argv)
     dt = gsum["dt"] if args.dt == "global" else args.dt
     level = submodel_label(args.level, args.size)

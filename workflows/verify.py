@@ -18,6 +18,7 @@ import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where inst
 from mpi4py import MPI
 
 import _cli
+from rods.preflight import distinct
 from rods.study import verification
 
 
@@ -33,6 +34,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         _cli.output_dir(args.tables, "--tables")
     log, progress = _cli.rank0(comm)
     cases = args.case or list(verification.CASES)
+    distinct(cases, "--case")  # a case given twice would run twice into its one folder
     log(f"plan: verification matrix, {len(cases)} case(s) of scene '{base.name}' ({', '.join(cases)}) -> {out}")
     costs = [c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size, args.force)]
     for name in cases:

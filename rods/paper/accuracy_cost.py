@@ -207,6 +207,9 @@ def plot(data: dict[str, Any], path: Path) -> None:
     plt.close(fig)
 
 
+SUFFIXES = (".json", ".md", ".png")  # the files write makes of its prefix
+
+
 def write(scene: Scene, runs: list[Run], out: Path) -> dict[str, Any]:
     """The stage: ``out`` + .json, .md, .png."""
     data = compute(scene, runs)

@@ -482,6 +482,9 @@ def plot(data: Mapping[str, Any], path: str | Path) -> None:
     plt.close(fig)
 
 
+FILES = ("convergence.json", "convergence.md", "convergence.png")  # what write puts in its folder
+
+
 def write(
     records: Sequence[Mapping[str, Any]], analytical_force: float, E_star: float, R_star: float, out_dir: str | Path
 ) -> dict[str, Any]:

@@ -5,9 +5,12 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from rods import io
 from rods.compare import percent
@@ -126,14 +129,20 @@ def read_run(
     kinds: tuple[str, ...] = ("analytical", "global", "submodel"),
     scene: Scene | None = None,
     other_scene: str = "give --scene/--set of that run, or a run of this scene",
+    whole_contact: bool = False,
 ) -> io.Run:
     """The run in ``folder`` (history.csv, summary.json: :func:`read_summary`, ``other_scene`` its remedy for a
-    run of another scene); the label defaults to the summary's model."""
+    run of another scene, ``whole_contact`` as there); the label defaults to the summary's model. A history.csv
+    without columns of two or more samples is refused as unreadable."""
     folder = Path(folder)
-    summary = read_summary(folder, flag, kinds, scene, ("summary.json", "history.csv"), other_scene)
+    summary = read_summary(folder, flag, kinds, scene, ("summary.json", "history.csv"), other_scene, whole_contact)
     try:
-        history = io.read_history(folder / "history.csv")
-    except (ValueError, OSError) as e:
+        with warnings.catch_warnings():  # numpy warns of an empty file before the check below names it
+            warnings.simplefilter("ignore", UserWarning)
+            history = io.read_history(folder / "history.csv")
+        if not history or min(np.size(v) for v in history.values()) < 2:
+            raise ValueError("no columns with two or more samples")
+    except (ValueError, OSError, IndexError, TypeError) as e:
         raise InputError(flag, folder, f"unreadable history.csv ({e})", "rerun that stage") from None
     return io.Run(label or summary.get("model", folder.name), history, summary)
 

@@ -20,6 +20,7 @@ import numpy as np
 from rods.compare import percent
 from rods.io import read_data
 from rods.paper import accuracy_cost, convergence, table2
+from rods.preflight import InputError
 from rods.study import fig4
 
 __all__ = ["ReportData", "read", "render"]
@@ -39,18 +40,34 @@ class ReportData:
     edge_scatter: dict[str, Any] | None = None  # edge-scatter.json (benchmarks/edge_scatter.py), if it exists
 
 
+def _read(path: Path, flag: str, required: bool) -> dict[str, Any] | None:
+    """A stage's JSON data at ``path`` (None where an optional one is absent); a missing required file or one that
+    does not parse to an object is bad input (:class:`InputError` naming ``flag`` and the file, exit 2)."""
+    if not path.is_file():
+        if required:
+            raise InputError(flag, path, "no such file", "run the stage that writes it (make paper)")
+        return None
+    try:
+        data = read_data(path)
+    except (OSError, ValueError) as e:
+        raise InputError(flag, path, f"unreadable JSON ({e})", "rerun the stage that writes it") from None
+    if not isinstance(data, dict):
+        raise InputError(flag, path, f"holds a {type(data).__name__}, not a stage's data", "rerun that stage")
+    return data
+
+
 def read(results: Path, contact_study: Path | None = None) -> ReportData:
     """The stage files in ``results``; the contact study from its own path (a benchmark, optional)."""
     results = Path(results)
     files = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json")
-    penalty = read_data(contact_study) if contact_study is not None and Path(contact_study).is_file() else None
-    fields = read_data(results / "contact-fields.json") if (results / "contact-fields.json").is_file() else None
-    verify = read_data(results / "verification.json") if (results / "verification.json").is_file() else None
-    conv = read_data(results / "convergence.json") if (results / "convergence.json").is_file() else None
-    drivers = read_data(results / "driver-study.json") if (results / "driver-study.json").is_file() else None
-    scatter = read_data(results / "edge-scatter.json") if (results / "edge-scatter.json").is_file() else None
+    penalty = _read(Path(contact_study), "--contact-study", False) if contact_study is not None else None
+    fields = _read(results / "contact-fields.json", "--results", False)
+    verify = _read(results / "verification.json", "--results", False)
+    conv = _read(results / "convergence.json", "--results", False)
+    drivers = _read(results / "driver-study.json", "--results", False)
+    scatter = _read(results / "edge-scatter.json", "--results", False)
     return ReportData(
-        *(read_data(results / f) for f in files),
+        *(_read(results / f, "--results", True) for f in files),
         contact_study=penalty,
         contact_fields=fields,
         verification=verify,

@@ -270,6 +270,9 @@ def plot_fig4_analytical(history: dict[str, Any], speed: float, path: Path) -> N
     plt.close(fig)
 
 
+FILES = ("table2.json", "table2.csv", "table2.md", "table2.png", "fig4-analytical.png")  # what write puts in results
+
+
 def write(scenes: Path, out: Path, results: Path) -> dict[str, Any]:
     """The whole stage: runs under ``out``, table2.{json,csv,md,png} and fig4-analytical.png in ``results``."""
     data = compute(scenes, out)

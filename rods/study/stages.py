@@ -353,6 +353,17 @@ def _finish_submodel(
         io.write_summary(out / "summary.json", sr.summary)
 
 
+# what the comparison stage writes into its folder (rods.preflight.output_names checks them before it runs)
+COMPARISON_FILES = (
+    "table3.json",
+    "table3.md",
+    "table3.csv",
+    "fig6-sigma-r.png",
+    "fig5c-pressure.png",
+    "fig5c-profile.png",
+)
+
+
 def comparison(
     scene: Scene,
     analytical_summary: Mapping[str, Any],
