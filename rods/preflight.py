@@ -167,7 +167,7 @@ def input_dir(path: str | Path, files: tuple[str, ...], what: str, remedy: str) 
     """``path`` as a folder a stage reads: exists and holds ``files``."""
     p = Path(path)
     if not p.is_dir():
-        raise InputError(what, p, "no such folder", remedy)
+        raise InputError(what, p, "a file, not a folder" if p.exists() else "no such folder", remedy)
     for f in files:
         if not (p / f).is_file():
             raise InputError(what, p, f"has no {f}", remedy)

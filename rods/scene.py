@@ -971,7 +971,11 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     """Read, override and validate a scene file; raises SceneError on any problem."""
     p = Path(path)
     if not p.is_file():
-        what = "is a folder, not a scene file" if p.is_dir() else "no such scene file"
+        what = (
+            "is a folder, not a scene file"
+            if p.is_dir()
+            else ("not a regular file (a device or pipe)" if p.exists() else "no such scene file")
+        )
         raise SceneError(
             "--scene", str(path), what, "give a .toml scene, e.g. workflows/scenes/paper.toml", argument=True
         )

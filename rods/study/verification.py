@@ -106,7 +106,7 @@ def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
     for key, _, value in (o.partition("=") for o in extra):
         if (key := key.strip()) in own:
             raise SceneError(
-                key, value.strip(), f"is verification case '{name}''s own setting ({own[key]})",
+                key, value.strip(), f"verification case '{name}' sets this key itself (to {own[key]})",
                 "leave it to the case, or pick the cases that do not set it with --case",
             )  # fmt: skip
     try:
