@@ -213,8 +213,8 @@ SUFFIXES = (".json", ".md", ".png")  # the files write makes of its prefix
 def write(scene: Scene, runs: list[Run], out: Path) -> dict[str, Any]:
     """The stage: ``out`` + .json, .md, .png."""
     data = compute(scene, runs)
-    out = Path(out)
-    write_data(out.with_suffix(".json"), data)
-    io.atomic_write_text(out.with_suffix(".md"), render_md(data))
-    plot(data, out.with_suffix(".png"))
+    json_file, md_file, png_file = (Path(out).with_suffix(s) for s in SUFFIXES)
+    write_data(json_file, data)
+    io.atomic_write_text(md_file, render_md(data))
+    plot(data, png_file)
     return data

@@ -491,10 +491,10 @@ def write(
     """The stage: ``out_dir``/convergence.json (:func:`compute`), convergence.md (:func:`render_markdown`),
     convergence.png (:func:`plot`). Returns the data."""
     data = compute(records, analytical_force, E_star, R_star)
-    out = Path(out_dir)
-    write_data(out / "convergence.json", data)
-    io.atomic_write_text(out / "convergence.md", render_markdown(data))
-    plot(data, out / "convergence.png")
+    json_file, md_file, png_file = (Path(out_dir) / name for name in FILES)
+    write_data(json_file, data)
+    io.atomic_write_text(md_file, render_markdown(data))
+    plot(data, png_file)
     return data
 
 

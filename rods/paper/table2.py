@@ -277,10 +277,11 @@ def write(scenes: Path, out: Path, results: Path) -> dict[str, Any]:
     """The whole stage: runs under ``out``, table2.{json,csv,md,png} and fig4-analytical.png in ``results``."""
     data = compute(scenes, out)
     results.mkdir(parents=True, exist_ok=True)
-    write_data(results / "table2.json", data)
-    io.atomic_write_text(results / "table2.csv", render_csv(data))
-    io.atomic_write_text(results / "table2.md", render_md(data))
-    plot(data, results / "table2.png")
+    json_file, csv_file, md_file, png_file, fig4_file = (results / name for name in FILES)
+    write_data(json_file, data)
+    io.atomic_write_text(csv_file, render_csv(data))
+    io.atomic_write_text(md_file, render_md(data))
+    plot(data, png_file)
     h = io.read_history(out / "analytical" / data["fe_trial"] / "history.csv")
-    plot_fig4_analytical(h, fe_row(data)["impact_speed"], results / "fig4-analytical.png")
+    plot_fig4_analytical(h, fe_row(data)["impact_speed"], fig4_file)
     return data
