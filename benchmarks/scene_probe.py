@@ -262,9 +262,9 @@ SLENDERNESS = 5.0  # a rod at least this many diameters long, and 0.05 m [-]
 LENGTHS = (0.05, 1.0)  # [m] log-uniform
 TIP_RADII = (0.6, 0.3)  # a curved tip: from 0.6 x the diameter (a cap below a hemisphere) to 0.3 m, log-uniform
 SPEEDS = (0.05, 20.0)  # [m/s] log-uniform
-RANDOM_BUDGET = (
-    600.0  # [s] a drawn scene's estimated wall time (full 1.5 ms, rods.cost) at most; listed, not run, above
-)
+# [s] a drawn scene's estimated wall time on one rank (rods.cost, of the run the benchmark makes) at most; a scene
+# above it is listed as drawn and not run
+RANDOM_BUDGET = 600.0
 RANGES = (
     f"each rod of {', '.join(MATERIALS)} (yield unset), {DIAMETERS[0] * 1e3:g}-{DIAMETERS[1] * 1e3:g} mm in diameter, "
     f"{LENGTHS[0]:g}-{LENGTHS[1]:g} m and at least {SLENDERNESS:g} diameters long; Rod 1's tip curved, Rod 2's half "

@@ -91,6 +91,8 @@ def output_dir(path: str | Path, what: str = "--out") -> Path:
     return p
 
 
+REMOVE = "remove it, or give another folder"  # the remedy of a name in the way
+
 # what the stages write into their folder (files) and a study into its own (stage folders): an entry of that name of
 # the other kind failed the run at its first write (IsADirectoryError, exit 1, a history.csv without its summary)
 RUN_FILES = ("summary.json", "history.csv", "pressure_profile.csv", "cut.h5", "fields.xdmf", "checkpoint.json")
@@ -100,12 +102,11 @@ STAGE_FOLDERS = ("analytical", "global", "driver", "submodel")
 def _blocked_names(p: Path, what: str) -> None:
     """No entry of ``p`` named as a run's file (:data:`RUN_FILES`) is a folder, none named as a study's stage
     folder (:data:`STAGE_FOLDERS`) a file."""
-    for names, is_kind, kind in ((RUN_FILES, Path.is_file, "file"), (STAGE_FOLDERS, Path.is_dir, "folder")):
-        for name in names:
-            q = p / name
-            if q.exists() and not is_kind(q):
-                why = f"{q} is in the way: a run writes a {kind} of that name there"
-                raise InputError(what, p, why, "remove it, or give another folder")
+    output_names(p, RUN_FILES, what)
+    for name in STAGE_FOLDERS:
+        q = p / name
+        if q.exists() and not q.is_dir():
+            raise InputError(what, p, f"{q} is in the way: a run writes a folder of that name there", REMOVE)
 
 
 def output_file(path: str | Path, what: str = "--out") -> Path:
@@ -121,13 +122,12 @@ def output_file(path: str | Path, what: str = "--out") -> Path:
 
 
 def output_names(folder: str | Path, names: Sequence[str], what: str = "--out") -> None:
-    """The files a stage will write into ``folder`` (``names``) can be written: none of them is a folder (a stage
-    that met one failed at that write, exit 1, after writing the files before it)."""
+    """The files a stage will write into ``folder`` (``names``) can be written: none of them is a folder or other
+    non-file (a stage that met one failed at that write, exit 1, after writing the files before it)."""
     for name in names:
         q = Path(folder) / name
-        if q.is_dir():
-            raise InputError(what, folder, f"{q} is in the way: a folder where a file is written", "remove it, or "
-                             "give another path")  # fmt: skip
+        if q.exists() and not q.is_file():
+            raise InputError(what, folder, f"{q} is in the way: a run writes a file of that name there", REMOVE)
 
 
 def distinct(values: Sequence[Any], what: str) -> None:

@@ -36,8 +36,9 @@ def main(argv: list[str] | None = None) -> int:
     remedy = "give an FE run of the --analytical run's scene, or an --analytical run of that FE run's scene"
     # Fig. 4 is the Rod-2 midpoint over the whole run: a global's, not a submodel's (its "midpoint" is the cut
     # region's) nor a driver's (it stops after the contact phase, before most plateaus)
-    fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in map(parse_run, args.fe)]
-    for (_, folder), run in zip(map(parse_run, args.fe), fe, strict=True):
+    given = [parse_run(spec) for spec in args.fe]
+    fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in given]
+    for (_, folder), run in zip(given, fe, strict=True):
         if "contact_phase" in run.summary:  # rods.study.stages.driver_keys
             why = "a driving global (global.py --driver): it stops after the contact phase, before the plateaus"
             raise InputError("--fe", folder, why, "give the scene's own global run (workflows/global.py)")

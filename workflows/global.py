@@ -62,8 +62,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     _cli.outlook(scene, log)
     _cli.backend(scene, comm.size)
     c = cost.fe_cost(sc, comm.size, what=what)
-    if args.record_until is not None and args.record_until < sc.end_time / max(c.steps, 1.0):  # the stable step
-        step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's: the set-up solves it exactly
+    step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's stable step (the set-up solves it exactly)
+    if args.record_until is not None and args.record_until < step:
         _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
                   f"record would hold t = 0 alone; give --record-until {10 * step:.3g} or more")  # fmt: skip
     _cli.afford(args, c, log=log, comm=comm)

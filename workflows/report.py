@@ -32,15 +32,9 @@ def main(argv: list[str] | None = None) -> int:
         raise InputError("--contact-study", study, "no such file", "give the contact study's JSON, or leave it out")
     results = Path(args.results) if args.results else out.parent
     data = report.read(results, study if study.is_file() else None)
-    try:
+    try:  # a stage file that parses but is not its stage's data fails in the rendering
         text = report.render(data)
-    except (
-        KeyError,
-        TypeError,
-        AttributeError,
-        IndexError,
-        ValueError,
-    ) as e:  # a file that parses but is not its stage's
+    except (KeyError, TypeError, AttributeError, IndexError, ValueError) as e:
         why = f"a stage file is not that stage's data ({type(e).__name__}: {e})"
         raise InputError("--results", results, why, "rerun the main job's stages (make paper)") from None
     io.atomic_write_text(out, text)

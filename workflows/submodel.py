@@ -30,7 +30,7 @@ from rods.fe import checkpoint
 from rods.fe.cut import recorded_until
 from rods.fe.submodel import submodel_label, submodel_scene
 from rods.preflight import InputError, input_dir
-from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, scene_from_summary
+from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, parse_override, scene_from_summary
 from rods.study import stages
 
 # scene keys the submodel replaces by its own options (rods.fe.submodel.submodel_scene): --set of one is refused,
@@ -140,7 +140,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     for text in args.overrides:  # its mesh, step and end are its options': the scene's keys are the global's
-        key = text.split("=", 1)[0].strip()
+        key, _ = parse_override(text)
         if key in OWN_OPTIONS:
             why = f"{key} is the global's; the submodel takes its own from {OWN_OPTIONS[key]}"
             raise InputError("--set", text, why, f"give {OWN_OPTIONS[key]} instead")
