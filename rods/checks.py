@@ -61,6 +61,9 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
 * **sampling**: an output interval that puts fewer than :data:`PULSE_SAMPLES_OK` samples on the first contact
   (:func:`sampling_warning`, every model): the stations' histories and the midpoint's peak speed and strain come
   from the output samples, the contact's own keys never do (its force trace is every step's);
+* **graded core**: a radially graded global (``fe.radial_grading``) whose contact radius passed its uniform core
+  (``mesh.core_radius``, :data:`rods.scene.CORE_RADII` x Hertz's radius at the impedance-bound force, which bounds
+  a first contact; :func:`core_warning`): the patch's edge then lay in elements growing outward;
 * **mesh resolution**: a global FE run whose set ``fe.radial_size`` or ``fe.axial_size`` is more than
   :data:`COARSE_OK` x the scene's "auto" size (:func:`resolution_warning`): its force and duration are not verified
   there (measured on the paper rods against the analytical model, auto +0.05%: axial 2 mm +0.08%, 4 mm +0.25%,
@@ -140,6 +143,7 @@ __all__ = [
     "contact_warning",
     "driver_warning",
     "patch_warning",
+    "core_warning",
     "resolution_warning",
     "sampling_warning",
     "locking_warning",
@@ -512,6 +516,18 @@ def locking_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     )
 
 
+def core_warning(summary: Mapping[str, Any]) -> str | None:
+    """A warning when a radially graded mesh's contact patch reached past the uniform core (rods.fe.mesh.
+    radial_columns): the core is sized by the first contact's force bound, a later contact may exceed it."""
+    a, core = summary.get("contact_radius"), summary.get("mesh", {}).get("core_radius")
+    if not a or not core or a <= core:
+        return None
+    return (
+        f"contact_radius: {a * 1e3:.3g} mm, past the graded mesh's uniform core ({core * 1e3:.3g} mm): the patch's "
+        "edge lay in elements growing outward; rerun with fe.radial_grading='uniform'"
+    )
+
+
 def patch_warning(summary: Mapping[str, Any], scene: Any = None) -> str | None:
     """A warning when an FE run has fewer than :data:`PATCH_ELEMENTS_OK` elements across its contact radius, the
     smaller of its own and Hertz's at its force (an under-resolved patch overstates its own radius and would
@@ -873,7 +889,7 @@ def apply(
         found.append(w)
     if _fe(summary) and (w := patch_warning(summary, scene)) is not None:
         found.append(w)
-    for w in (resolution_warning(summary, scene), sampled):
+    for w in (core_warning(summary), resolution_warning(summary, scene), sampled):
         if w is not None:
             found.append(w)
     for w in (

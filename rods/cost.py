@@ -169,6 +169,24 @@ CAP_STEP_FACTOR = (
     (77.7, 0.56),
     (90.0, 0.68),
 )
+# the same for a radially graded tip (fe.radial_grading, rods.fe.mesh.radial_columns; butterfly caps, above 70°, are
+# never graded): its rim cells are wider, so its step is longer, 1.07x (10.5°) to 1.54x (69°) the uniform mesh's.
+# Measured 2026-11-29 on the paper rods at 2.197 and 0.2 m/s (auto sizes, both rods graded), the lower of the two
+# (within 5%) times 0.99, made monotone (44.9°: 0.627 measured)
+GRADED_CAP_STEP_FACTOR = (
+    (0.0, 1.0),
+    (14.7, 1.0),
+    (25.0, 0.85),
+    (30.5, 0.77),
+    (39.4, 0.616),
+    (44.9, 0.616),
+    (52.5, 0.547),
+    (57.9, 0.492),
+    (61.9, 0.449),
+    (65.1, 0.403),
+    (69.0, 0.358),
+    (70.0, 0.358),
+)
 # axisymmetric submodel (uniform size h, no grading, rods.fe.submodel.submodel_scene): Δt of its curved tip / the
 # estimate above, against the rim angle [deg, -]. Measured at h = 0.25 and 0.125 mm (the same to 2%; the lower kept)
 # on the paper rods, tips 50 to 6.35 mm; the butterfly cap (above 70°, rods.fe.mesh.BUTTERFLY_ANGLE) steps up. Flat
@@ -259,12 +277,16 @@ def _duration(s: float) -> str:
 
 
 def _mesh_axisymmetric(
-    scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]
+    scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float], radial: str = "uniform"
 ) -> tuple[float, float]:
-    """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods, 2 DOFs per node."""
+    """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods (``radial``:
+    fe.radial_grading, the global's; a submodel's is uniform), 2 DOFs per node."""
     from rods.fe.mesh import mesh_counts
 
-    counts = [mesh_counts(_with_length(rod, L), h_r, h, g) for rod, L in zip(scene.rods, lengths, strict=True)]
+    core = scene.graded_core
+    counts = [
+        mesh_counts(_with_length(rod, L), h_r, h, g, core, radial) for rod, L in zip(scene.rods, lengths, strict=True)
+    ]
     return float(sum(c for c, _ in counts)), 2.0 * sum(n for _, n in counts)
 
 
@@ -323,7 +345,9 @@ def fe_cost(
     if kind == "3d":
         cells, dofs = _mesh_3d(scene, h_r, h, g, lengths)
     else:
-        cells, dofs = _mesh_axisymmetric(scene, h_r, h, g, lengths)
+        cells, dofs = _mesh_axisymmetric(
+            scene, h_r, h, g, lengths, scene["fe.radial_grading"] if size is None else "uniform"
+        )
     end = scene.end_time if end_time is None else end_time
     dt = _march_step(scene, h_r, h, g, size, dt)
     steps = math.ceil(end / dt)
@@ -410,7 +434,7 @@ def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | Non
     if scene["fe.kind"] == "3d":
         stable *= _third_dimension(h_r, g * h)
     else:
-        stable *= _cap_step_factor(scene, CAP_STEP_FACTOR if size is None else SUBMODEL_CAP_STEP_FACTOR)
+        stable *= _cap_step_factor(scene, size is not None)
         if size is None:
             stable *= _rim_factor(scene, h, g)
     if scene["fe.contact"] != "penalty":
@@ -455,12 +479,22 @@ def _rim_factor(scene: Scene, h: float, g: float) -> float:
     return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
 
 
-def _cap_step_factor(scene: Scene, table: tuple[tuple[float, float], ...]) -> float:
-    """The factor of ``table`` (:data:`CAP_STEP_FACTOR`, :data:`SUBMODEL_CAP_STEP_FACTOR`) at the larger rim angle
-    of the two tips (1 for flat tips), interpolated linearly."""
-    phi = max(math.degrees(math.asin(min(1.0, r.diameter / 2 / r.tip_radius))) for r in scene.rods)
-    angles, factors = zip(*table, strict=True)
-    return float(np.interp(phi, angles, factors))
+def _cap_step_factor(scene: Scene, submodel: bool) -> float:
+    """The cap factor of the more limiting tip (1 for flat tips), interpolated linearly in its rim angle: a submodel's
+    from :data:`SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially graded rod,
+    :data:`GRADED_CAP_STEP_FACTOR`."""
+    graded = (False, False)
+    if not submodel:
+        from rods.fe.mesh import scene_columns
+
+        graded = tuple(len(c) > 1 for c in scene_columns(scene))
+    factors = []
+    for rod, g in zip(scene.rods, graded, strict=True):
+        table = SUBMODEL_CAP_STEP_FACTOR if submodel else GRADED_CAP_STEP_FACTOR if g else CAP_STEP_FACTOR
+        phi = math.degrees(math.asin(min(1.0, rod.diameter / 2 / rod.tip_radius)))
+        angles, values = zip(*table, strict=True)
+        factors.append(float(np.interp(phi, angles, values)))
+    return min(factors)
 
 
 def _switching_step(scene: Scene, factor: float, h_n: float) -> float:

@@ -173,6 +173,14 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
     sym = "" if scene["fe.symmetry"] == "full" else f", {scene['fe.symmetry']} symmetry"
     if size is None:
         mesh = f"mesh {scene.axial_size * 1e3:.4g} mm axial x {scene.radial_size * 1e3:.4g} mm radial"
+        if scene["fe.kind"] == "axisymmetric":
+            from rods.fe.mesh import scene_columns
+
+            columns = scene_columns(scene)
+            if graded := [k + 1 for k, c in enumerate(columns) if len(c) > 1]:
+                which = "both rods" if len(graded) == 2 else f"rod {graded[0]}"
+                core = min(columns[k - 1][0].r_end for k in graded)  # [m]
+                mesh += f" ({which} graded across outside r = {core * 1e3:.3g} mm)"
     else:
         mesh = f"mesh {size * 1e3:.4g} mm at the contact"
     law = scene["fe.contact"]

@@ -51,6 +51,9 @@ SYMMETRIES = ("full", "half", "quarter")
 FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
 # how the loop applies K (rods.fe.matrixfree): the assembled matrix, or element by element on an array backend
 FE_OPERATORS = ("assembled", "matrix-free")
+# the axisymmetric mesh across a rod (rods.fe.mesh.radial_columns): uniform at fe.radial_size, or that size in a core
+# around the patch (CORE_RADII x a_P) growing outward to the bar's size; auto grades a rod where that halves its elements
+RADIAL_GRADINGS = ("auto", "uniform", "graded")
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
 # ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
@@ -235,6 +238,10 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
 DEFAULT_FIELD_INTERVAL = 10e-6  # [s] field frames when the "fields" effect asks without fe.field_interval
 PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected contact radius [-] (Scene.radial_size)
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
+# a graded mesh (fe.radial_grading) keeps fe.radial_size out to this many Hertz radii a_P from the axis [-]: the
+# patch (a <= a_P) and the ring around it where Hertz's stresses still vary on the patch's scale (their gradients
+# fall as (a/r)^3 outside it); the elements then grow by rods.fe.mesh.GROWTH per element to the bar's size
+CORE_RADII = 3.0
 AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's diameter / this (the paper's 1 mm) [-]
 # fe.submodel_length = "auto": the cut planes this many diameters of the thicker rod from the tips [-]: past the
 # contact's Saint-Venant zone (about one diameter), where the section's stress is the bar's (the paper's 14 mm cut
@@ -271,6 +278,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
+    # axisymmetric only (the 3D section is an O-grid at fe.radial_size, a submodel uniform): rods.fe.mesh.radial_columns
+    "fe.radial_grading": ("str", "auto", _choice(RADIAL_GRADINGS)),
     # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
     # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
     "fe.degree": ("int", 1, _only(1, "the explicit model is Q1: row-sum lumped Q2 masses vanish on the axis")),
@@ -615,6 +624,12 @@ class Scene:
         """What "auto" gives ``fe.radial_size`` on this scene [m], whatever the key holds (:attr:`radial_size`)."""
         bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS
         return min(bar, self._impedance_patch[1] / PATCH_ELEMENTS)
+
+    @property
+    def graded_core(self) -> float:
+        """Radius [m] of the uniform core of a graded axisymmetric mesh (``fe.radial_grading``): :data:`CORE_RADII`
+        Hertz radii a_P at the impedance-bound force, which bounds the first contact's patch."""
+        return CORE_RADII * self._impedance_patch[1]
 
     @cached_property
     def axial_size(self) -> float:

@@ -205,6 +205,7 @@ class ExplicitModel:
         mesh_text = getattr(rm, "description", None) or (
             f"{rm.n_radial} radial x ({rm.n_axial[0]} + {rm.n_axial[1]}) axial Q{sc['fe.degree']} cells, "
             f"h_r = {rm.h_radial * 1e3:.4g} mm, h_z = {rm.h_axial * 1e3:.4g} mm (tip {rm.h_tip * 1e3:.4g} mm)"
+            + _grading_text(rm)
         )
         return {
             "model": self.model_name,
@@ -429,6 +430,17 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
     }
 
 
+def _grading_text(rm: RodsMesh) -> str:
+    """The plan's words for a radially graded mesh (rods.fe.mesh.radial_columns): which rods, core, largest size."""
+    graded = rm.graded
+    if not any(graded):
+        return ""
+    which = "both rods" if all(graded) else f"rod {graded.index(True) + 1}"
+    return (
+        f"; {which} graded across outside r = {rm.core_radius * 1e3:.4g} mm, up to {rm.h_rim * 1e3:.4g} mm at the rim"
+    )
+
+
 def pressure_profile(model: ExplicitModel, peak: dict[str, Any]) -> dict[str, np.ndarray]:
     """The contact pressure on the Rod-1 tip's nodes at peak force, by radius r; 3D also each node's x, y (the
     nodes are not in rings and a misaligned patch is not axisymmetric: rows of one r differ by their angle)."""
@@ -449,10 +461,14 @@ def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np
             "tip_axial_size": rm.h_tip,
             "n_radial": rm.n_radial,
             "n_axial": list(rm.n_axial),
+            "radial_grading": sc["fe.radial_grading"],
+            "graded": list(rm.graded),
         },
         "pressure_profile": {k: v.tolist() for k, v in pressure_profile(model, peak).items()},
         "scene_values": sc.as_dict(),
     }
+    if any(summary["mesh"]["graded"]):  # the patch's uniform core and the largest size across (rods.fe.mesh)
+        summary["mesh"] |= {"core_radius": rm.core_radius, "rim_radial_size": rm.h_rim}
     if model.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending
         summary["symmetry"] = rm.symmetry
         summary["impact_offset"] = sc["impact.offset"]

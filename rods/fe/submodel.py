@@ -59,7 +59,7 @@ def submodel_scene(
     dt: float | str = "auto",
 ) -> Scene:
     """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], uniform size
-    h [m] across and ``h_axial`` (default h) along, no tip grading, the scene's contact law (under the
+    h [m] across and ``h_axial`` (default h) along, no tip or radial grading, the scene's contact law (under the
     penalty law its own layer ε = ``submodel.penalty`` x E*/h), the default mid station only
     (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
     L_s = scene["fe.submodel_length"]
@@ -71,6 +71,7 @@ def submodel_scene(
             "radial_size": h,
             "axial_size": h_axial or h,
             "tip_grading": 1.0,
+            "radial_grading": "uniform",  # levels refine alike everywhere (their Richardson ratio 2)
             "dt": dt,
             "penalty": scene["submodel.penalty"],
             "submodel_length": L_s,  # resolved: "auto" on the cut rods would give another length
