@@ -52,7 +52,7 @@ FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
 # how the loop applies K (rods.fe.matrixfree): the assembled matrix, or element by element on an array backend
 FE_OPERATORS = ("assembled", "matrix-free")
 # the axisymmetric mesh across a rod (rods.fe.mesh.radial_columns): uniform at fe.radial_size, or that size in a core
-# around the patch (CORE_RADII x a_P) growing outward to the bar's size; auto grades a rod where that halves its elements
+# around the patch (CORE_RADII x a_P) growing outward to the bar's size; auto grades where that halves a rod's elements
 RADIAL_GRADINGS = ("auto", "uniform", "graded")
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below

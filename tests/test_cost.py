@@ -74,8 +74,8 @@ def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
 )
 def test_the_axisymmetric_mesh_is_counted_node_by_node(scene_with, extra):
     """The plan's DOFs are the mesh's, 2 per node (rods.fe.mesh.mesh_counts: Euler's V = F + E_b/2 + 1 per rod), for
-    one-block and butterfly caps, flat or curved, graded along or across or not: 2.3 per cell before, 5.29e4 planned on the paper mesh
-    against 48,050 built."""
+    one-block and butterfly caps, flat or curved, graded along or across or not: 2.3 per cell before, 5.29e4 planned
+    on the paper mesh against 48,050 built."""
     from rods.fe.mesh import build_mesh
 
     sc = scene_with(*TINY, *extra)

@@ -210,11 +210,13 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     the tip face (as :func:`face_count`: a curved face's nodes as far apart as the flat face's it meets), then
     elements growing by at most :data:`GROWTH` per element up to at most the bar's size H = min(h, R / BAR_ELEMENTS)
     (the axial size resolves the waves along the rod, BAR_ELEMENTS the rod's section), then a uniform column at the
-    last one's size to the rim (no neighbours' ratio above GROWTH anywhere, the core's edge included). The core holds the patch and the stable step's smallest element, so a
-    graded rod keeps the uniform one's step and contact and loses the fine elements where nothing needs them: a
-    structured mesh at the patch's size otherwise runs the whole radius (4 mm tip on a 4.2 mm rod at 0.177 m/s: 72
-    elements of 0.029 mm across). "auto" grades where that leaves at most :data:`GRADED_SHARE` of the uniform count;
-    a butterfly cap (:func:`butterfly`), a core past the rim or H < 2 hr stay uniform."""
+    last one's size to the rim (no neighbours' ratio above GROWTH anywhere, the core's edge included). The core
+    holds the patch and the smallest element, so a graded rod keeps the uniform one's contact and step (longer on a
+    curved cap, whose rim cells are wider: rods.cost.GRADED_CAP_STEP_FACTOR) and loses the fine elements where
+    nothing needs them: a structured mesh at the patch's size otherwise runs the whole radius (4 mm tip on a 4.2 mm
+    rod at 0.177 m/s: 72 elements of 0.029 mm across). "auto" grades where that leaves at most :data:`GRADED_SHARE`
+    of the uniform count; a butterfly cap (:func:`butterfly`), a core past the rim or leaving a band under 2 hr, and
+    H < 2 hr stay uniform."""
     R = rod.diameter / 2
     uniform = (Column(R, face_count(rod, hr)),)
     H = min(h, R / BAR_ELEMENTS)  # [m] the bar's element size across
