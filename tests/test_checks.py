@@ -93,6 +93,27 @@ def test_an_unresolved_patch_is_not_ok():
     assert checks.patch_warning({"contact_radius": 1.09e-3}) is None
 
 
+def test_a_patch_past_a_graded_core_is_not_ok():
+    """A radially graded global (fe.radial_grading) whose contact radius passed its uniform core warns, naming both
+    radii and the uniform mesh; inside the core, or on a uniform mesh (no core_radius), it does not."""
+    graded = {"contact_radius": 1.3e-3, "mesh": {"radial_size": 0.1e-3, "core_radius": 1.2e-3}}
+    w = checks.core_warning(graded)
+    assert w.startswith("contact_radius: 1.3 mm, past the graded mesh's uniform core (1.2 mm)") and "'uniform'" in w
+    assert checks.core_warning({**graded, "contact_radius": 1.1e-3}) is None
+    assert checks.core_warning({"contact_radius": 1.3e-3, "mesh": {"radial_size": 0.1e-3}}) is None
+
+
+def test_a_plan_names_the_rods_a_graded_mesh_grades(scene_with):
+    """The plan's mesh words (rods.plan.fe_stage): the paper scene uniform, at 0.1 m/s both rods graded outside the
+    core (3 Hertz radii at the impedance-bound force, 0.39 mm there, rounded up to whole elements)."""
+    from rods import plan
+
+    assert "graded" not in plan.fe_stage(scene_with(), "the global")
+    line = plan.fe_stage(scene_with("impact.speed=0.1"), "the global")
+    assert "(both rods graded across outside r = 1.17 mm)" in line
+    assert "graded" not in plan.fe_stage(scene_with("impact.speed=0.1", "fe.radial_grading='uniform'"), "the global")
+
+
 def test_an_unresolved_patch_cannot_certify_itself_and_3d_counts_node_rings(scene_with):
     """10 mm rods, 10 mm tip, 1 m/s, coarse submodel (h = 0.25 mm): its own radius 0.518 mm (2.07 h, area +20.7%)
     passed; Hertz's at its force, 0.471 mm (1.88 h), is the one judged. A 3D quarter submodel at a = 4.4 h (area
