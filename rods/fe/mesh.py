@@ -227,38 +227,46 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     core = n_core * hr if math.isinf(rt) else rt * math.sin(min(n_core * hr / rt, math.asin(R / rt)))
     if core >= R:
         return uniform
-    columns = [Column(core, n_core)]
-    width = R - core  # [m] outside the core
-    n_g = math.ceil(math.log(H / hr) / math.log(GROWTH) - 1e-9)
-    q_H = (H / hr) ** (1.0 / n_g)
-
-    def grown(q: float) -> float:  # [m] n_g elements hr q^k, k = 1..n_g
-        return n_g * hr if q == 1.0 else hr * q * (q**n_g - 1.0) / (q - 1.0)
-
-    if width - grown(q_H) >= H:
-        # n_g elements growing by q to s = hr q^n_g, then n_u of size s: q solves grown(q) + n_u s = width, q <= q_H
-        # (so s <= H); no jump between the columns, as between the core and the first graded element
-        n_u = element_count(width - grown(q_H), H)
-        lo, hi = 1.0, q_H  # the total grows with q: n_u >= (width - grown(q_H))/H puts the root in [1, q_H]
-        for _ in range(100):
-            q = 0.5 * (lo + hi)
-            lo, hi = (q, hi) if grown(q) + n_u * hr * q**n_g < width else (lo, q)
-        columns += [Column(core + grown(hi), n_g, hi), Column(R, n_u)]
-    else:  # the rim comes before H would: the fewest elements hr q^k, k = 1..n, q <= GROWTH, none above H, to fill it
-        for n in range(1, math.floor(width / hr * (1 + 1e-12)) + 1):  # n hr <= width: none shorter than hr
-            q_max = min(GROWTH, (H / hr) ** (1.0 / n))
-            if hr * q_max * (q_max**n - 1.0) / (q_max - 1.0) >= width:
-                lo, hi = 1.0, q_max
-                for _ in range(100):
-                    q = 0.5 * (lo + hi)
-                    lo, hi = (q, hi) if (n * hr if q == 1.0 else hr * q * (q**n - 1.0) / (q - 1.0)) < width else (lo, q)
-                columns.append(Column(R, n, hi))
-                break
-        else:  # a rim band 1.2 to 2 hr wide: no such elements, and the uniform mesh costs about as much
-            return uniform
+    outside = _outside_columns(hr, H, core, R)
+    if outside is None:
+        return uniform
+    columns = (Column(core, n_core), *outside)
     if grading == "auto" and sum(c.n for c in columns) > GRADED_SHARE * uniform[0].n:
         return uniform
-    return tuple(columns)
+    return columns
+
+
+def _grown(hr: float, n: int, q: float) -> float:
+    """Width [m] of n elements hr q^k, k = 1..n."""
+    return n * hr if q == 1.0 else hr * q * (q**n - 1.0) / (q - 1.0)
+
+
+def _outward_ratio(hr: float, n: int, n_tail: int, width: float, q_max: float) -> float:
+    """The ratio q in [1, ``q_max``] at which n elements hr q^k (k = 1..n) and ``n_tail`` more of hr q^n fill
+    ``width`` [m] (bisection: the total grows with q; the caller puts the root in the interval)."""
+    lo, hi = 1.0, q_max
+    for _ in range(100):
+        q = 0.5 * (lo + hi)
+        lo, hi = (q, hi) if _grown(hr, n, q) + n_tail * hr * q**n < width else (lo, q)
+    return hi
+
+
+def _outside_columns(hr: float, H: float, core: float, R: float) -> tuple[Column, ...] | None:
+    """The columns from the core's edge ``core`` to the rim ``R`` [m]: elements from hr q growing by q <= GROWTH
+    to at most H, then uniform at the last one's size; None where a band this narrow (1.2 to 2 hr) has none."""
+    width = R - core  # [m]
+    n_g = math.ceil(math.log(H / hr) / math.log(GROWTH) - 1e-9)
+    q_H = (H / hr) ** (1.0 / n_g)
+    if width - _grown(hr, n_g, q_H) >= H:
+        # n_g growing to s = hr q^n_g, then n_u of size s; n_u >= (width - grown(q_H))/H puts q in [1, q_H] (s <= H)
+        n_u = element_count(width - _grown(hr, n_g, q_H), H)
+        q = _outward_ratio(hr, n_g, n_u, width, q_H)
+        return Column(core + _grown(hr, n_g, q), n_g, q), Column(R, n_u)
+    for n in range(1, math.floor(width / hr * (1 + 1e-12)) + 1):  # the rim before H: n hr <= width, none below hr
+        q_max = min(GROWTH, (H / hr) ** (1.0 / n))
+        if _grown(hr, n, q_max) >= width:
+            return (Column(R, n, _outward_ratio(hr, n, 0, width, q_max)),)
+    return None
 
 
 def scene_columns(scene: Scene) -> tuple[tuple[Column, ...], tuple[Column, ...]]:
