@@ -59,6 +59,7 @@ TAGS = {
 }
 
 GROWTH = 1.2  # target size ratio between neighbouring elements in a graded block (tip or radial) [-]
+RIM_ASPECT = 1.0  # a graded rod's elements across at most this x the axial size [-] (rods.fe.mesh.radial_columns)
 GRADED_SHARE = 0.5  # fe.radial_grading "auto": a rod is graded where that leaves at most this share of its elements
 # across [-]: below it the uniform mesh, the one results/verification.md measured, is kept (the paper rods: 18 of 24)
 
@@ -219,7 +220,7 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     H < 2 hr stay uniform."""
     R = rod.diameter / 2
     uniform = (Column(R, face_count(rod, hr)),)
-    H = min(h, R / BAR_ELEMENTS)  # [m] the bar's element size across
+    H = min(RIM_ASPECT * h, R / BAR_ELEMENTS)  # [m] the bar's element size across
     if grading == "uniform" or butterfly(rod) is not None or core >= R or H < 2.0 * hr:
         return uniform
     n_core = element_count(arc_to(rod, core), hr)
