@@ -59,9 +59,12 @@ TAGS = {
 }
 
 GROWTH = 1.2  # target size ratio between neighbouring elements in a graded block (tip or radial) [-]
-RIM_ASPECT = 1.0  # a graded rod's elements across at most this x the axial size [-] (rods.fe.mesh.radial_columns)
+# a graded rod's elements across at most this x the axial size [-]: no wider than long. 4 (R/8 binding, 1.56 mm on
+# 0.47 mm) gave a 6 mm rod striking a 25 mm one the same contact on half the DOFs (+0.140% against +0.156% uniform,
+# 101k DOFs against 211k; 2026-11-29), its waves in the thick rod not measured, so not taken
+RIM_ASPECT = 1.0
 GRADED_SHARE = 0.5  # fe.radial_grading "auto": a rod is graded where that leaves at most this share of its elements
-# across [-]: below it the uniform mesh, the one results/verification.md measured, is kept (the paper rods: 18 of 24)
+# across [-]: above it the uniform mesh, the one results/verification.md measured, is kept (the paper rods: 19 of 24)
 
 
 @dataclass
@@ -209,15 +212,15 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     Uniform: one column, :func:`face_count` elements. Graded: a core out to ``core`` [m] (the scene's
     :attr:`~rods.scene.Scene.graded_core`, around the contact patch, rounded up to whole elements) at ``hr`` along
     the tip face (as :func:`face_count`: a curved face's nodes as far apart as the flat face's it meets), then
-    elements growing by at most :data:`GROWTH` per element up to at most the bar's size H = min(h, R / BAR_ELEMENTS)
-    (the axial size resolves the waves along the rod, BAR_ELEMENTS the rod's section), then a uniform column at the
-    last one's size to the rim (no neighbours' ratio above GROWTH anywhere, the core's edge included). The core
-    holds the patch and the smallest element, so a graded rod keeps the uniform one's contact and step (longer on a
-    curved cap, whose rim cells are wider: rods.cost.GRADED_CAP_STEP_FACTOR) and loses the fine elements where
-    nothing needs them: a structured mesh at the patch's size otherwise runs the whole radius (4 mm tip on a 4.2 mm
-    rod at 0.177 m/s: 72 elements of 0.029 mm across). "auto" grades where that leaves at most :data:`GRADED_SHARE`
-    of the uniform count; a butterfly cap (:func:`butterfly`), a core past the rim or leaving a band under 2 hr, and
-    H < 2 hr stay uniform."""
+    elements growing by at most :data:`GROWTH` per element up to at most the bar's size H = min(:data:`RIM_ASPECT` h,
+    R / BAR_ELEMENTS) (the axial size resolves the waves along the rod, BAR_ELEMENTS the rod's section), then a
+    uniform column at the last one's size to the rim (no neighbours' ratio above GROWTH anywhere, the core's edge
+    included). The core holds the patch and the smallest element, so a graded rod keeps the uniform one's contact
+    and step (longer on a curved cap, whose rim cells are wider: rods.cost.GRADED_CAP_STEP_FACTOR) and loses the
+    fine elements where nothing needs them: a structured mesh at the patch's size otherwise runs the whole radius
+    (4 mm tip on a 4.2 mm rod at 0.177 m/s: 72 elements of 0.029 mm across). "auto" grades where that leaves at
+    most :data:`GRADED_SHARE` of the uniform count; a butterfly cap (:func:`butterfly`), a core past the rim or
+    leaving a band under 2 hr, and H < 2 hr stay uniform."""
     R = rod.diameter / 2
     uniform = (Column(R, face_count(rod, hr)),)
     H = min(RIM_ASPECT * h, R / BAR_ELEMENTS)  # [m] the bar's element size across
