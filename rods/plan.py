@@ -174,13 +174,13 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
     if size is None:
         mesh = f"mesh {scene.axial_size * 1e3:.4g} mm axial x {scene.radial_size * 1e3:.4g} mm radial"
         if scene["fe.kind"] == "axisymmetric":
-            from rods.fe.mesh import scene_columns
+            from rods.fe.mesh import graded_words, scene_columns
 
             columns = scene_columns(scene)
-            if graded := [k + 1 for k, c in enumerate(columns) if len(c) > 1]:
-                which = "both rods" if len(graded) == 2 else f"rod {graded[0]}"
-                core = min(columns[k - 1][0].r_end for k in graded)  # [m]
-                mesh += f" ({which} graded across outside r = {core * 1e3:.3g} mm)"
+            graded = tuple(len(c) > 1 for c in columns)
+            if any(graded):
+                core = min(c[0].r_end for c, g in zip(columns, graded, strict=True) if g)  # [m]
+                mesh += f" ({graded_words(graded)} graded across outside r = {core * 1e3:.3g} mm)"
     else:
         mesh = f"mesh {size * 1e3:.4g} mm at the contact"
     law = scene["fe.contact"]

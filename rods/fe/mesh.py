@@ -284,6 +284,11 @@ def scene_columns(scene: Scene) -> tuple[tuple[Column, ...], tuple[Column, ...]]
     return tuple(radial_columns(rod, hr, h, core, grading) for rod in scene.rods)  # type: ignore[return-value]
 
 
+def graded_words(graded: tuple[bool, ...]) -> str:
+    """Which rods a graded mesh grades, in a plan's words ("both rods", "rod 2"); "" where none."""
+    return "both rods" if all(graded) else next((f"rod {k + 1}" for k, g in enumerate(graded) if g), "")
+
+
 def column_sizes(columns: tuple[Column, ...]) -> tuple[float, float]:
     """(core, rim) element sizes [m] across: the first column's and the largest anywhere (the last element of a
     graded column, a uniform column's own)."""

@@ -52,7 +52,7 @@ from rods.fe.explicit import CentralDifference
 from rods.fe.fields import FieldOutput
 from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, Interrupted, RunGuard
 from rods.fe.kinematic import KinematicContact
-from rods.fe.mesh import TAGS, RodsMesh, build_mesh
+from rods.fe.mesh import TAGS, RodsMesh, build_mesh, graded_words
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d
 from rods.fe.observers import Observer, Progress, march
 from rods.fe.probes import PointProbes, station_points
@@ -432,12 +432,11 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
 
 def _grading_text(rm: RodsMesh) -> str:
     """The plan's words for a radially graded mesh (rods.fe.mesh.radial_columns): which rods, core, largest size."""
-    graded = rm.graded
-    if not any(graded):
+    if not any(rm.graded):
         return ""
-    which = "both rods" if all(graded) else f"rod {graded.index(True) + 1}"
     return (
-        f"; {which} graded across outside r = {rm.core_radius * 1e3:.4g} mm, up to {rm.h_rim * 1e3:.4g} mm at the rim"
+        f"; {graded_words(rm.graded)} graded across outside r = {rm.core_radius * 1e3:.4g} mm, up to "
+        f"{rm.h_rim * 1e3:.4g} mm at the rim"
     )
 
 
