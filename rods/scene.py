@@ -918,6 +918,10 @@ def _cross_checks(v: dict[str, Any]) -> None:
         )
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
         raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
+    if v["fe.radial_grading"] == "graded" and v["fe.kind"] == "3d":
+        raise SceneError(
+            "fe.radial_grading", "graded", "applies to fe.kind = 'axisymmetric' only (the 3D section is an O-grid)"
+        )
     # the 3D model's mirrors: half (y -> -y) holds for an offset along x and a tilt about y; quarter (x and y)
     # needs a centric, aligned impact
     if v["fe.symmetry"] == "quarter" and (v["impact.offset"] > 0 or v["impact.tilt"] > 0):

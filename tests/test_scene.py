@@ -482,3 +482,14 @@ def test_a_library_override_is_recorded_beside_the_users(scene_with):
     assert stage.label == user.label and stage.overrides == ("impact.speed=1.0",)
     assert stage.settings == ("simulation.end_time=1e-4", "fe.axial_size=2e-4")
     assert load_scene(PAPER, [*stage.overrides, *stage.settings]).as_dict() == stage.as_dict()
+
+
+def test_radial_grading_is_refused_on_the_3d_model(scene_with):
+    """fe.radial_grading = "graded" asks for the axisymmetric mesh's graded columns; the 3D O-grid has none, so a
+    3D scene asking for it is refused before anything runs ("auto" and "uniform" stay valid there)."""
+    with pytest.raises(SceneError, match=r"'fe.radial_grading' = 'graded': applies to fe.kind = 'axisymmetric' only"):
+        scene_with("fe.kind='3d'", "fe.radial_grading='graded'")
+    for v in ("auto", "uniform"):
+        assert scene_with("fe.kind='3d'", f"fe.radial_grading='{v}'")["fe.radial_grading"] == v
+    with pytest.raises(SceneError, match=r"'fe.radial_grading' = 'steep': must be one of auto, uniform, graded"):
+        scene_with("fe.radial_grading='steep'")
