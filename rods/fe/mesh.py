@@ -41,6 +41,7 @@ __all__ = [
     "axial_spacing",
     "build_mesh",
     "element_count",
+    "element_sizes",
     "mesh_counts",
     "radial_columns",
 ]
@@ -178,10 +179,24 @@ def butterfly(rod: Rod) -> Butterfly | None:
     return Butterfly(t, th, {**pts, "Oc": (0.0, rt)})
 
 
+def arc_to(rod: Rod, r: float) -> float:
+    """Length [m] of the tip face's profile from the apex out to the radius ``r`` [m]: r flat, r_t asin(r/r_t) on a
+    spherical cap."""
+    rt = rod.tip_radius
+    return r if math.isinf(rt) else rt * math.asin(min(1.0, r / rt))
+
+
 def tip_arc_length(rod: Rod) -> float:
-    """Length [m] of the tip face's profile from the apex to the rim: R flat, r_t asin(R/r_t) on a spherical cap."""
-    R, rt = rod.diameter / 2, rod.tip_radius
-    return R if math.isinf(rt) else rt * math.asin(min(1.0, R / rt))
+    """Length [m] of the tip face's profile from the apex to the rim (:func:`arc_to` at the rod's radius)."""
+    return arc_to(rod, rod.diameter / 2)
+
+
+def cap_depth(rho: Any, r: float) -> Any:
+    """Cap depth c(ρ) = r - sqrt(r² - ρ²) [m] at the radius ``rho`` [m] (array or float) of a sphere of radius r
+    (0 for a flat tip)."""
+    if math.isinf(r):
+        return np.zeros_like(rho)
+    return r - np.sqrt(np.maximum(r * r - np.asarray(rho) ** 2, 0.0))
 
 
 def face_count(rod: Rod, hr: float) -> int:
@@ -201,12 +216,6 @@ class Column:
     ratio: float = 1.0
 
 
-def arc_to(rod: Rod, r: float) -> float:
-    """Length [m] of the tip face's profile from the apex out to the radius ``r`` [m] (:func:`tip_arc_length`)."""
-    rt = rod.tip_radius
-    return r if math.isinf(rt) else rt * math.asin(min(1.0, r / rt))
-
-
 def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> tuple[Column, ...]:
     """The columns across ``rod`` at radial size ``hr`` and axial size ``h`` [m] under ``fe.radial_grading``.
 
@@ -221,7 +230,7 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     fine elements where nothing needs them: a structured mesh at the patch's size otherwise runs the whole radius
     (4 mm tip on a 4.2 mm rod at 0.177 m/s: 72 elements of 0.029 mm across). "auto" grades where that leaves at
     most :data:`GRADED_SHARE` of the uniform count; a butterfly cap (:func:`butterfly`), a core past the rim or
-    leaving a band under 2 hr, and H < 2 hr stay uniform."""
+    leaving a band no such elements fill (under hr, 1.2-2 hr, 2.64-3 hr), and H < 2 hr stay uniform."""
     R = rod.diameter / 2
     uniform = (Column(R, face_count(rod, hr)),)
     H = min(RIM_ASPECT * h, R / BAR_ELEMENTS)  # [m] the bar's element size across
@@ -258,7 +267,8 @@ def _outward_ratio(hr: float, n: int, n_tail: int, width: float, q_max: float) -
 
 def _outside_columns(hr: float, H: float, core: float, R: float) -> tuple[Column, ...] | None:
     """The columns from the core's edge ``core`` to the rim ``R`` [m]: elements from hr q growing by q <= GROWTH
-    to at most H, then uniform at the last one's size; None where a band this narrow (1.2 to 2 hr) has none."""
+    to at most H, then uniform at the last one's size; None where none fill a band this narrow (under hr, 1.2 to 2 hr,
+    2.64 to 3 hr: n elements of hr q^k, q <= GROWTH, span n hr to hr (q + ... + q^n))."""
     width = R - core  # [m]
     n_g = math.ceil(math.log(H / hr) / math.log(GROWTH) - 1e-9)
     q_H = (H / hr) ** (1.0 / n_g)
@@ -290,16 +300,16 @@ def graded_words(graded: tuple[bool, ...]) -> str:
     return "both rods" if all(graded) else next((f"rod {k + 1}" for k, g in enumerate(graded) if g), "")
 
 
-def column_sizes(columns: tuple[Column, ...]) -> tuple[float, float]:
-    """(core, rim) element sizes [m] across: the first column's and the largest anywhere (the last element of a
-    graded column, a uniform column's own)."""
-    r0, sizes = 0.0, []
+def element_sizes(columns: tuple[Column, ...]) -> np.ndarray:
+    """Every element's size across [m] of a rod's ``columns``, axis to rim (a graded column's first element is
+    width (q - 1)/(q^n - 1), the rest grow by q)."""
+    sizes, r0 = [], 0.0
     for c in columns:
         width = c.r_end - r0
         first = width / c.n if c.ratio == 1.0 else width * (c.ratio - 1.0) / (c.ratio**c.n - 1.0)
-        sizes.append((first, first * c.ratio ** (c.n - 1)))
+        sizes.append(first * c.ratio ** np.arange(c.n))
         r0 = c.r_end
-    return sizes[0][0], max(s for pair in sizes for s in pair)
+    return np.concatenate(sizes)
 
 
 def butterfly_counts(b: Butterfly, hr: float) -> tuple[int, int, int]:
@@ -377,21 +387,25 @@ def _flat_block_cap(geo, rod: Rod, s: float, columns: tuple[Column, ...]) -> dic
     import gmsh
 
     R, rt = rod.diameter / 2, rod.tip_radius
-    depth = (lambda r: 0.0) if math.isinf(rt) else (lambda r: rt - math.sqrt(max(rt * rt - r * r, 0.0)))
     centre = None if math.isinf(rt) else geo.addPoint(0.0, s * rt, 0.0)
     points = [geo.addPoint(0.0, 0.0, 0.0)]
     tips = []
     for c in columns:
         r = R if c is columns[-1] else c.r_end  # the rim exactly, whatever a column's round-off
-        points.append(geo.addPoint(r, s * (rod.cap_height if r == R else depth(r)), 0.0))
+        points.append(geo.addPoint(r, s * (rod.cap_height if r == R else float(cap_depth(r, rt))), 0.0))
         a, b = points[-2], points[-1]
         tips.append(geo.addLine(a, b) if centre is None else geo.addCircleArc(a, centre, b))
     geo.synchronize()
     for tag, c in zip(tips, columns, strict=True):
         gmsh.model.geo.mesh.setTransfiniteCurve(tag, c.n + 1, "Progression", c.ratio)
-    h_core = arc_to(rod, columns[0].r_end) / columns[0].n if len(columns) > 1 else tip_arc_length(rod) / columns[0].n
-    return {"surfaces": [], "tip": tips, "axis": [], "rim": [[t] for t in tips], "corners": points,
-            "columns": columns, "h_face": h_core}  # fmt: skip
+    return {
+        "surfaces": [],
+        "tip": tips,
+        "axis": [],
+        "rim": [[t] for t in tips],
+        "corners": points,
+        "h_face": arc_to(rod, columns[0].r_end) / columns[0].n,
+    }  # the core's (the whole face's when uniform)
 
 
 def _column_block(geo, lower: list[list[int]], corners: list[int], columns, z_end: float, n: int, ratio: float):
@@ -432,6 +446,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     geo = gmsh.model.geo
     surfaces, tips, ends, axes, outers = {}, {}, {}, {}, {}
     info = {}
+    graded_columns = scene_columns(scene)
     for k, (rod, s) in enumerate(((scene.rod1, -1.0), (scene.rod2, 1.0)), start=1):
         sp = axial_spacing(rod, h, g)
         b = butterfly(rod)
@@ -440,7 +455,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
             columns = (Column(rod.diameter / 2, cap["n_cross"]),)
             lower, corners = [cap["rim"]], list(cap["corners"])
         else:
-            columns = scene_columns(scene)[k - 1]
+            columns = graded_columns[k - 1]
             cap = _flat_block_cap(geo, rod, s, columns)
             lower, corners = cap["rim"], cap["corners"]
         # axial stations: optional graded block, then the uniform block to the far end
@@ -510,7 +525,7 @@ def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
         h_axial=scene["fe.axial_size"],
         graded=graded,  # type: ignore[arg-type]
         core_radius=min((info[k][4][0].r_end for k in (1, 2) if graded[k - 1]), default=math.inf),
-        h_rim=max((column_sizes(info[k][4])[1] for k in (1, 2) if graded[k - 1]), default=0.0),
+        h_rim=max((float(element_sizes(info[k][4]).max()) for k in (1, 2) if graded[k - 1]), default=0.0),
     )
 
 

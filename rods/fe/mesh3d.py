@@ -38,7 +38,7 @@ import dolfinx.io.gmsh
 import numpy as np
 from mpi4py import MPI
 
-from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, element_count, gmsh_to_dolfinx
+from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, cap_depth, element_count, gmsh_to_dolfinx
 from rods.scene import Rod, Scene, SceneError
 
 __all__ = [
@@ -223,13 +223,6 @@ def _build_gmsh_model(scene: Scene, symmetry: str) -> dict:  # rank 0 only
     return info
 
 
-def _cap(rho: np.ndarray, r: float) -> np.ndarray:
-    """Cap depth c(ρ) = r - sqrt(r² - ρ²) [m] of a sphere of radius r (0 for a flat tip)."""
-    if math.isinf(r):
-        return np.zeros_like(rho)
-    return r - np.sqrt(np.maximum(r * r - rho * rho, 0.0))
-
-
 def _rod_nodes(msh: dolfinx.mesh.Mesh, cell_tags: dolfinx.mesh.MeshTags, tag: int) -> np.ndarray:
     """Local geometry-node indices of the cells tagged ``tag``."""
     cells = cell_tags.find(tag)
@@ -252,7 +245,7 @@ def build_mesh_3d(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh3D:
             continue
         xk = x[nodes]
         blend = np.maximum(0.0, 1.0 - np.abs(xk[:, 2]) / info[k]["L_b"])
-        x[nodes, 2] += sign * _cap(np.hypot(xk[:, 0], xk[:, 1]), rod.tip_radius) * blend
+        x[nodes, 2] += sign * cap_depth(np.hypot(xk[:, 0], xk[:, 1]), rod.tip_radius) * blend
     # placement of rod 1: rotate, offset, then close the gap against rod 2's tip surface
     θ, e = scene["impact.tilt"], scene["impact.offset"]
     placed = Placement(θ, e, 0.0).apply(x[nodes1])
@@ -260,7 +253,7 @@ def build_mesh_3d(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh3D:
     rho = np.hypot(placed[:, 0], placed[:, 1])
     over = rho <= R2 * (1 + 1e-12)  # rod-1 nodes above rod 2's face
     # the gap z_2(x, y) - z_1 of rod-1 nodes over rod 2's tip surface, minimised over all ranks
-    gap = _cap(rho[over], r2) - placed[over, 2]
+    gap = cap_depth(rho[over], r2) - placed[over, 2]
     g_min = comm.allreduce(float(gap.min()) if gap.size else math.inf, op=MPI.MIN)
     if not math.isfinite(g_min):
         raise SceneError("impact.offset", e, f"must leave Rod 1's tip over Rod 2's face (radius {R2:g} m)")

@@ -9,11 +9,20 @@ import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
 # isort: split
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from mpi4py import MPI
 
-from rods.fe.mesh import GROWTH, axial_spacing, build_mesh, face_count, radial_columns, scene_columns
+from rods.fe.mesh import (
+    GROWTH,
+    arc_to,
+    axial_spacing,
+    build_mesh,
+    element_sizes,
+    face_count,
+    radial_columns,
+    scene_columns,
+)
 from rods.scene import BAR_ELEMENTS, load_scene
 
 from ..conftest import PAPER
@@ -91,17 +100,6 @@ def test_curved_face_nodes_are_spaced_as_the_flat_face_they_meet(tip_radius):
     assert np.diff(slave).max() <= 0.25e-3 * (1 + 1e-9)  # no face element longer than the size asked for
 
 
-def column_element_sizes(columns) -> np.ndarray:
-    """Every element's size across [m], axis to rim, of a rod's columns (rods.fe.mesh.Column)."""
-    sizes, r0 = [], 0.0
-    for c in columns:
-        k = np.arange(c.n)
-        w = (c.r_end - r0) * ((c.ratio - 1.0) / (c.ratio**c.n - 1.0) if c.ratio != 1.0 else 1.0 / c.n)
-        sizes.append(w * c.ratio**k)
-        r0 = c.r_end
-    return np.concatenate(sizes)
-
-
 @settings(max_examples=200, deadline=None)
 @given(
     diameter=st.floats(3e-3, 40e-3),  # [m]
@@ -110,12 +108,13 @@ def column_element_sizes(columns) -> np.ndarray:
     h_over_hr=st.floats(1.0, 40.0),
     core_over_hr=st.floats(1.0, 200.0),
 )
+@example(diameter=0.004, tip_radius=float("inf"), hr=1.2e-05, h_over_hr=2.0, core_over_hr=163.5)  # a 2.67 hr band
 def test_graded_columns_keep_the_core_and_grow_smoothly(diameter, tip_radius, hr, h_over_hr, core_over_hr):
     """Graded: the columns fill the radius exactly; the core's elements are hr long along the tip face (the uniform
     face's spacing, where the patch and the stable step's smallest element are); outside it no element is shorter
     than hr or longer than the bar's size min(h, R/BAR_ELEMENTS), and neighbours differ by at most GROWTH, across the
-    columns' joins too. A core past the rim or leaving a band under 2 hr, or a bar size below 2 hr, stay one uniform
-    column (as a butterfly cap does; the caps drawn here are shallower)."""
+    columns' joins too. A core past the rim or leaving a band no such elements fill (under hr, 1.2-2 hr, 2.64-3 hr),
+    or a bar size below 2 hr, stay one uniform column (as a butterfly cap does; the caps drawn here are shallower)."""
     R = diameter / 2
     sc = load_scene(PAPER, [f"rod1.diameter={diameter}", f"rod2.diameter={diameter}", "rod1.length=1",
                             "rod2.length=1", f"rod1.tip_radius={max(min(tip_radius, 1.0), 3 * R)}"])  # fmt: skip
@@ -123,11 +122,14 @@ def test_graded_columns_keep_the_core_and_grow_smoothly(diameter, tip_radius, hr
     h, core = h_over_hr * hr, core_over_hr * hr
     columns = radial_columns(rod, hr, h, core, "graded")
     assert columns[-1].r_end == pytest.approx(R, rel=1e-12)
-    sizes = column_element_sizes(columns)
+    sizes = element_sizes(columns)
     assert sizes.sum() == pytest.approx(R, rel=1e-9)
     if len(columns) == 1:
         assert columns == radial_columns(rod, hr, h, core, "uniform") and columns[0].n == face_count(rod, hr)
-        assert min(h, R / BAR_ELEMENTS) < 2 * hr or core + 3 * hr > R  # (a core rounded up, then a band < 2 hr)
+        rt, n = rod.tip_radius, np.ceil(arc_to(rod, core) / hr - 1e-9)  # the core rounded up to whole elements
+        band = (R - (n * hr if np.isinf(rt) else rt * np.sin(min(n * hr / rt, np.arcsin(R / rt))))) / hr  # [hr]
+        gaps = ((-np.inf, 1.0), (GROWTH, 2.0), (GROWTH + GROWTH**2, 3.0))  # no hr q^k, q <= GROWTH, fills these
+        assert min(h, R / BAR_ELEMENTS) < 2 * hr or any(lo - 1e-9 < band < hi + 1e-9 for lo, hi in gaps), band
         return
     n_core = columns[0].n
     arc = rod.tip_radius * np.arcsin(columns[0].r_end / rod.tip_radius) if np.isfinite(rod.tip_radius) else None
@@ -161,8 +163,8 @@ def test_a_graded_mesh_is_built_as_its_columns_say():
     assert rm.graded == (True, True)
     x = rm.mesh.geometry.x
     face = np.sort(x[(np.abs(x[:, 1]) < 1e-12) & (x[:, 0] > -1.0), 0])  # Rod 2's face (Rod 1's apex at r = 0 too)
-    expected = np.concatenate([[0.0], np.cumsum(column_element_sizes(scene_columns(sc)[1]))])
+    expected = np.concatenate([[0.0], np.cumsum(element_sizes(scene_columns(sc)[1]))])
     np.testing.assert_allclose(np.unique(face), expected, rtol=1e-8, atol=1e-15)  # gmsh's progression: 2e-9
     assert rm.h_radial == pytest.approx(sc["fe.radial_size"], rel=1e-9)
     assert rm.core_radius == pytest.approx(min(c[0].r_end for c in scene_columns(sc)), rel=1e-12)
-    assert rm.h_rim == pytest.approx(max(column_element_sizes(c).max() for c in scene_columns(sc)), rel=1e-9)
+    assert rm.h_rim == pytest.approx(max(element_sizes(c).max() for c in scene_columns(sc)), rel=1e-9)
