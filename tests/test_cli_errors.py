@@ -568,6 +568,67 @@ def test_restart_compatibility_is_checked_before_the_set_up(tmp_path, scene_with
     assert time.perf_counter() - t0 < 15
 
 
+PRE_SET_UP_DAMAGE = {k: DAMAGE[k] for k in ("truncated", "garbage", "empty", "missing")}  # a flipped byte: load's CRC
+
+
+@pytest.mark.parametrize("damage", list(PRE_SET_UP_DAMAGE))
+def test_a_damaged_checkpoint_file_is_refused_before_the_set_up(tmp_path, scene_with, damage):
+    """precheck opens every rank's file as an archive: one missing, truncated or not an .npz is named before the
+    mesh and the eigensolve (load reads the arrays and their checksums later)."""
+    from mpi4py import MPI
+
+    from rods.fe import checkpoint
+
+    sc = scene_with()
+    checkpoint.save(tmp_path, 10, 1e-6, {"u": np.arange(1000.0)}, MPI.COMM_SELF, "k", checkpoint.scene_hash(sc))
+    assert checkpoint.precheck(tmp_path, 1, sc)["step"] == 10
+    PRE_SET_UP_DAMAGE[damage](tmp_path / "checkpoint-10-r0.npz")
+    with pytest.raises(checkpoint.CheckpointError, match=r"checkpoint-10-r0.npz.*missing or damaged.*remove"):
+        checkpoint.precheck(tmp_path, 1, sc)
+
+
+@pytest.mark.parametrize(
+    "manifest, words",
+    [
+        ({"step": 10, "ranks": 0, "scene": "k"}, ("damaged", "ranks >= 1")),
+        ({"step": -1, "ranks": 1, "scene": "k"}, ("damaged", "step >= 0")),
+        ({"step": 10, "ranks": 1, "scene": "k"}, ("does not name its scene", "remove")),
+    ],
+)
+def test_a_manifest_without_a_scene_or_with_no_ranks_is_refused(tmp_path, scene_with, manifest, words):
+    from rods.fe import checkpoint
+
+    (tmp_path / "checkpoint.json").write_text(json.dumps(manifest))
+    with pytest.raises(checkpoint.CheckpointError) as e:
+        checkpoint.precheck(tmp_path, 1, scene_with())
+    assert all(w in str(e.value) for w in words) and "mpirun -n 0" not in str(e.value)
+
+
+def _tree(folder: Path) -> dict[str, float]:
+    return {str(f): f.stat().st_mtime_ns for f in folder.rglob("*")} if folder.exists() else {}
+
+
+def test_a_study_restart_with_nothing_to_resume_is_refused_before_it_writes(tmp_path):
+    """run.py --restart into a folder with no study begun (none, or empty): exit 2, nothing created; a damaged
+    checkpoint of the study's global: exit 2 before the set-up, nothing written (the analytical stage untouched)."""
+    for out in (tmp_path / "none", tmp_path / "empty"):
+        if out.name == "empty":
+            out.mkdir()
+        p = in_process("run.py", *TINY, "--restart", "--out", str(out), cwd=tmp_path)
+        refused(p, "--restart", "no stopped study", "run without --restart")
+        assert _tree(out) == {} and out.exists() == (out.name == "empty")
+    out = tmp_path / "study"
+    (out / "analytical").mkdir(parents=True)
+    (out / "analytical" / "summary.json").write_text("{}")
+    (out / "global").mkdir()
+    (out / "global" / "checkpoint.json").write_text("{not json")
+    before = _tree(out)
+    p = in_process("run.py", *TINY, "--restart", "--out", str(out), cwd=tmp_path)
+    refused(p, "checkpoint.json", "damaged", "remove")
+    assert _tree(out) == before
+    assert "dt_critical" not in p.stdout  # refused before the model's set-up
+
+
 def _wait_for(path: Path, text: str, timeout: float) -> None:
     t0 = time.monotonic()
     while text not in (path.read_text() if path.exists() else ""):

@@ -77,15 +77,19 @@ def _manifest(out: Path) -> dict[str, Any] | None:
         return None
     try:
         meta = json.loads(m.read_text())
-        int(meta["step"]), int(meta["ranks"]), str(meta["scene"])
+        step, ranks, _ = int(meta["step"]), int(meta["ranks"]), str(meta["scene"])
+        if step < 0 or ranks < 1:
+            raise ValueError(f"step {step}, ranks {ranks}: a step >= 0 by ranks >= 1")
     except (OSError, ValueError, KeyError, TypeError) as e:
         raise CheckpointError("checkpoint file", str(m), f"damaged ({one_line(str(e))})", _remedy(out)) from None
     return meta
 
 
-def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
+def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
     """Before the set-up: ``out`` holds a checkpoint written by ``ranks`` ranks for ``scene`` (by
-    :func:`scene_hash`, where the manifest has it); its manifest, else CheckpointError naming the remedy."""
+    :func:`scene_hash`; None: not checked here, :func:`load` checks the run's key) whose every rank's file is there and a readable archive (its contents are read, and their
+    checksums checked, by :func:`load`); its manifest, else CheckpointError naming the remedy. Every rank checks the
+    same files, so all refuse together."""
     meta = _manifest(out)
     if meta is None:
         raise CheckpointError(
@@ -96,10 +100,13 @@ def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
         )
     if int(meta["ranks"]) != ranks:
         raise CheckpointError(
-            "--restart", str(out), f"the checkpoint was written by {meta['ranks']} ranks, this run has {ranks}",
+            "--restart", str(out), f"the checkpoint was written by {_ranks(meta['ranks'])}, this run has {ranks}",
             f"restart with mpirun -n {meta['ranks']}",
         )  # fmt: skip
-    if meta.get("scene_hash", scene_hash(scene)) != scene_hash(scene):
+    if scene is not None and not meta.get("scene_hash"):
+        why = "the checkpoint does not name its scene (written by an older rods), so it cannot be matched to this one"
+        raise CheckpointError("--restart", str(out), why, _remedy(out))
+    if scene is not None and meta["scene_hash"] != scene_hash(scene):
         why = "the checkpoint belongs to another scene or settings"
         ours = json.loads(json.dumps(scene.as_dict()))
         # none named where the manifest has no values (a checkpoint written before they were kept)
@@ -109,7 +116,15 @@ def precheck(out: Path, ranks: int, scene: Any) -> dict[str, Any]:
             key, here, there = (given or diffs)[0]
             why += f" ({key} = {there!r} there, {here!r} in this run)"
         raise CheckpointError("--restart", str(out), why, _remedy(out))
+    for r in range(int(meta["ranks"])):
+        f = Path(out) / _name(int(meta["step"]), r)
+        if not zipfile.is_zipfile(f):  # absent, a folder, truncated or not an archive
+            raise CheckpointError("checkpoint file", str(f), "missing or damaged (not a readable .npz)", _remedy(out))
     return meta
+
+
+def _ranks(n: Any) -> str:
+    return "1 rank" if int(n) == 1 else f"{n} ranks"
 
 
 def discard(out: Path, comm: MPI.Comm) -> None:
@@ -172,11 +187,15 @@ def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | N
         return None
     if int(meta["ranks"]) != comm.size:
         raise CheckpointError(
-            "checkpoint file", str(Path(out) / MANIFEST), f"written by {meta['ranks']} ranks, this run has {comm.size}",
+            "checkpoint file", str(Path(out) / MANIFEST), f"written by {_ranks(meta['ranks'])}, this run has {comm.size}",
             f"restart with mpirun -n {meta['ranks']}",
         )  # fmt: skip
-    if meta["scene"] != scene_key:
-        raise CheckpointError("checkpoint file", str(Path(out) / MANIFEST), "another scene or settings", _remedy(out))
+    if meta["scene"] != scene_key:  # the scene's values passed precheck: the run key's other parts differ
+        why = (
+            "written by another run (its scene, step, partition or state format differ from this run's: another "
+            "fe.dt, rods or DOLFINx version)"
+        )
+        raise CheckpointError("checkpoint file", str(Path(out) / MANIFEST), why, _remedy(out))
     f = Path(out) / _name(meta["step"], comm.rank)
     state, problem = None, ""
     try:

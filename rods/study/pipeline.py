@@ -95,6 +95,9 @@ def run_study(
         g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
+    if restart:
+        _precheck_restart(p, out, comm, g if p.global_model and not shared else None, shared)
+    if p.global_model:
         kept, model = _set_up_global(g, out / "global", comm, restart, kw)
     stages.write_analytical(done["analytical"], comm)  # the scene passed every check: the study writes from here
     if not restart:  # afresh: a stage summary left from an earlier run here must not be kept by a later --restart
@@ -182,17 +185,37 @@ def _said(stage: stages.Stage, log: Any) -> stages.Stage:
     return stage
 
 
+def _stage_folders(p: plan.Plan, shared: bool) -> list[str]:
+    """The planned FE stages' folders in a study's ``--out``."""
+    folders = ["global"] if p.global_model else []
+    folders += ["driver"] if p.submodel_levels and not shared else []
+    return folders + [f"submodel/{level}" for level in p.submodel_levels]
+
+
 def _forget_stages(p: plan.Plan, out: Path, comm: Any, shared: bool) -> None:
     """Remove the planned FE stages' summary.json from an earlier run in ``out`` (collective; rank 0 deletes): a
     fresh study killed before it rewrote them would leave an older run's finished stages for ``--restart`` to
     keep (the same scene's, but maybe another code version's), beside the new ones it had written."""
     if comm.rank == 0:
-        folders = ["global"] if p.global_model else []
-        folders += ["driver"] if p.submodel_levels and not shared else []
-        folders += [f"submodel/{level}" for level in p.submodel_levels]
-        for folder in folders:
+        for folder in _stage_folders(p, shared):
             (out / folder / "summary.json").unlink(missing_ok=True)
     comm.Barrier()
+
+
+def _precheck_restart(p: plan.Plan, out: Path, comm: Any, g: Scene | None, shared: bool) -> None:
+    """A study's restart refused before any set-up or write (CheckpointError, exit 2): ``out`` holds no study begun
+    (a study writes analytical/summary.json before any FE stage), or a planned FE stage's checkpoint there is
+    damaged, of another rank count or, the global's ``g`` (the global that resumes from its checkpoint; None:
+    none does), of another scene (rods.fe.checkpoint.precheck; the other stages' scenes are derived at their
+    set-up, whose load checks them). Every rank reads the same files, so all refuse together."""
+    from rods.fe import checkpoint
+
+    if not (out / "analytical" / "summary.json").is_file():
+        why = "no stopped study in this folder (a study writes analytical/summary.json before its FE stages)"
+        raise checkpoint.CheckpointError("--restart", str(out), why, "run without --restart, or give the study's --out")
+    for folder in _stage_folders(p, shared):
+        if (out / folder / checkpoint.MANIFEST).exists():
+            checkpoint.precheck(out / folder, comm.size, g if folder == "global" else None)
 
 
 def _status(

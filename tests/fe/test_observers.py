@@ -42,7 +42,7 @@ def test_checkpoint_round_trip(tmp_path):
     for name, col in rec.history().items():
         assert np.array_equal(rec2.history()[name], col), name
     assert np.array_equal(rec2.force, rec.force) and rec2.peak["F"] == rec.peak["F"]
-    with pytest.raises(ValueError, match="another scene"):
+    with pytest.raises(ValueError, match="another run"):
         checkpoint.load(tmp_path, COMM, "other")
 
 
