@@ -87,9 +87,9 @@ def _manifest(out: Path) -> dict[str, Any] | None:
 
 def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
     """Before the set-up: ``out`` holds a checkpoint written by ``ranks`` ranks for ``scene`` (by
-    :func:`scene_hash`; None: not checked here, :func:`load` checks the run's key) whose every rank's file is there and a readable archive (its contents are read, and their
-    checksums checked, by :func:`load`); its manifest, else CheckpointError naming the remedy. Every rank checks the
-    same files, so all refuse together."""
+    :func:`scene_hash`; None: not checked here, :func:`load` checks the run's key) whose every rank's file is there
+    and a readable archive (:func:`load` reads the arrays and checks their checksums); its manifest, else
+    CheckpointError naming the remedy. Every rank checks the same files, so all refuse together."""
     meta = _manifest(out)
     if meta is None:
         raise CheckpointError(
@@ -186,10 +186,9 @@ def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | N
     if meta is None:
         return None
     if int(meta["ranks"]) != comm.size:
-        raise CheckpointError(
-            "checkpoint file", str(Path(out) / MANIFEST), f"written by {_ranks(meta['ranks'])}, this run has {comm.size}",
-            f"restart with mpirun -n {meta['ranks']}",
-        )  # fmt: skip
+        why = f"written by {_ranks(meta['ranks'])}, this run has {comm.size}"
+        remedy = f"restart with mpirun -n {meta['ranks']}"
+        raise CheckpointError("checkpoint file", str(Path(out) / MANIFEST), why, remedy)
     if meta["scene"] != scene_key:  # the scene's values passed precheck: the run key's other parts differ
         why = (
             "written by another run (its scene, step, partition or state format differ from this run's: another "
