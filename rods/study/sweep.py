@@ -64,25 +64,20 @@ CONFIG_KEYS = (
 class ConfigError(ValueError):
     """A Snakemake config value (workflows/sweep.yaml or --config) that the sweeps cannot run."""
 
-    def __init__(self, key: str, value: object, why: str):
-        super().__init__(
-            f"config '{key}' = {short(value)}: {why} (workflows/sweep.yaml; override with --config {key}=...)"
-        )
+    def __init__(self, key: str, value: object, why: str, remedy: str = ""):
+        remedy = remedy or f"workflows/sweep.yaml; override with --config {key}=..."
+        super().__init__(f"config '{key}' = {short(value)}: {why} ({remedy})")
 
 
-def check_config(config: Mapping[str, object]) -> None:
+def check_config(config: Mapping[str, object], local_cpus: int | None = None) -> None:
     """Refuse, before any job, a config the sweeps cannot run: unknown keys, a scene that does not load, speeds,
     mesh sizes, time-step fractions, model kinds, ranks and levels outside the scene schema's ranges (each value
-    is checked as the scene override it becomes), a gpu that is not auto/true/false."""
-    from rods.scene import SUBMODEL_LEVELS, SceneError, load_scene, nearest_key
+    is checked as the scene override it becomes), an entry given twice (the same run twice, or one folder given
+    twice to a stage that refuses it), a gpu that is not auto/true/false; ``local_cpus`` (the machine's CPUs where
+    the jobs run on it, None on a cluster executor): more ranks per run than that."""
+    from rods.scene import SceneError, load_scene
 
-    unknown = sorted(set(config) - set(CONFIG_KEYS))
-    if unknown:
-        hint = f"did you mean '{near}'?; " if (near := nearest_key(unknown[0], CONFIG_KEYS)) else ""
-        raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; {hint}known: {', '.join(CONFIG_KEYS)}")
-    missing = [k for k in CONFIG_KEYS if k not in config]
-    if missing:
-        raise ConfigError(missing[0], None, "missing (workflows/sweep.yaml states every key)")
+    _keys(config)
     try:
         load_scene(str(config["scene"]))
     except SceneError as e:
@@ -97,6 +92,8 @@ def check_config(config: Mapping[str, object]) -> None:
                 load_scene(str(scene or config["scene"]), overrides(v))
             except (SceneError, TypeError, ValueError, KeyError, IndexError) as e:
                 raise ConfigError(key, values, f"entry {short(v)}: {e}") from None
+        if kind is list:
+            _once(key, values, [_number(v) if key in ("speeds", "dt_fractions") else v for v in values])
 
     each("speeds", list, lambda v: [f"impact.speed={_number(v)!r}"])
     each("mesh_levels", dict, lambda k: _mesh_level(config["mesh_levels"][k]))
@@ -111,18 +108,64 @@ def check_config(config: Mapping[str, object]) -> None:
         load_scene(str(config["scene"]), [f"impact.speed={_number(config['fe_speed'])!r}"])
     except (SceneError, TypeError, ValueError) as e:
         raise ConfigError("fe_speed", config["fe_speed"], str(e)) from None
-    if isinstance(config["ranks"], bool) or not isinstance(config["ranks"], int) or config["ranks"] < 1:
-        raise ConfigError("ranks", config["ranks"], "must be an integer >= 1 (MPI ranks per FE run)")
+    _ranks(config, local_cpus)
+    gpu_choice(config["gpu"])
+    _paper_levels(config)
+
+
+def _keys(config: Mapping[str, object]) -> None:
+    """Every key known (an unknown one named with the nearest known one) and given."""
+    from rods.scene import nearest_key
+
+    unknown = sorted(set(config) - set(CONFIG_KEYS))
+    if unknown:
+        near = nearest_key(unknown[0], CONFIG_KEYS)
+        hint = f"did you mean '{near}'?; " if near else ""
+        fix = f"workflows/sweep.yaml; spell it --config {near}=..." if near else "workflows/sweep.yaml; remove it"
+        raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; {hint}known: {', '.join(CONFIG_KEYS)}", fix)
+    missing = [k for k in CONFIG_KEYS if k not in config]
+    if missing:
+        raise ConfigError(missing[0], None, "missing (workflows/sweep.yaml states every key)")
+
+
+def _ranks(config: Mapping[str, object], local_cpus: int | None) -> None:
+    """``ranks`` a count >= 1, at most ``local_cpus`` (:func:`check_config`); ``mpi`` a launcher command."""
+    ranks = config["ranks"]
+    if isinstance(ranks, bool) or not isinstance(ranks, int) or ranks < 1:
+        raise ConfigError("ranks", ranks, "must be an integer >= 1 (MPI ranks per FE run)")
+    if local_cpus is not None and ranks > local_cpus:
+        why = f"more MPI ranks per FE run than this machine's {local_cpus} CPUs, where the jobs run (oversubscribed)"
+        fix = f"--config ranks={local_cpus} or fewer, or a cluster: --workflow-profile workflows/profiles/slurm"
+        raise ConfigError("ranks", ranks, why, fix)
     if config["mpi"] is not None and not isinstance(config["mpi"], str):  # --config mpi= gives None
         raise ConfigError("mpi", config["mpi"], "must be a launcher command ('' = the venv's mpirun)")
-    gpu_choice(config["gpu"])
+
+
+def _paper_levels(config: Mapping[str, object]) -> None:
+    """The main job's submodel levels: known, each once, at least one; its phase levels among them."""
+    from rods.scene import SUBMODEL_LEVELS
+
     for key in ("paper_levels", "paper_phase_levels"):
         levels = config[key]
         if not isinstance(levels, list) or not all(isinstance(v, str) and v in SUBMODEL_LEVELS for v in levels):
             raise ConfigError(key, levels, f"must be a list of submodel levels: {', '.join(SUBMODEL_LEVELS)}")
+        _once(key, levels, levels)
+    if not config["paper_levels"]:
+        why = "must name at least one submodel level (the main job's contact-patch study and its convergence)"
+        raise ConfigError("paper_levels", config["paper_levels"], why)
     if extra := [v for v in config["paper_phase_levels"] if v not in config["paper_levels"]]:  # dropped silently
         why = f"level {extra[0]!r} is not among paper_levels {config['paper_levels']}: the main job does not run it"
         raise ConfigError("paper_phase_levels", config["paper_phase_levels"], why)
+
+
+def _once(key: str, values: object, keys: list) -> None:
+    """Each entry of the list ``values`` (compared as ``keys``: numbers by value) given once: twice would run one
+    point twice, or give its folder twice to a stage that refuses that, hours into the job."""
+    seen = set()
+    for v, k in zip(values, keys, strict=True):  # type: ignore[call-overload]
+        if k in seen:
+            raise ConfigError(key, values, f"entry {short(v)} given more than once; give each once")
+        seen.add(k)
 
 
 def _folder_names(config: Mapping[str, object]) -> None:

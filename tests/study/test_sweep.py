@@ -58,6 +58,16 @@ def test_the_shipped_config_passes(config):
         ({"paper_levels": ["coarse", "mid"], "paper_phase_levels": ["fine"]}, ["'paper_phase_levels'", "'fine'"]),
         ({"mesh_levels": {"coarse": [2e-3, 5e-4], "x y": [1e-3, 2.5e-4]}}, ["'mesh_levels'", "'x y'", "folder"]),
         ({"paper_global_meshes": {"a b": ["fe.radial_size=0.25e-3"]}}, ["'paper_global_meshes'", "'a b'"]),
+        # a second audit (2026-11-29): a level given twice passed, and the main job's compare stage refused the
+        # folder given twice hours later; a point given twice ran twice; no level at all; a typo's remedy was the typo
+        ({"paper_levels": ["fine", "fine"], "paper_phase_levels": ["fine"]}, ["'paper_levels'", "'fine'", "once"]),
+        ({"paper_phase_levels": ["coarse", "coarse"]}, ["'paper_phase_levels'", "more than once"]),
+        ({"speeds": [1.0, "1.0"]}, ["'speeds'", "more than once"]),
+        ({"dt_fractions": [0.5, 0.50]}, ["'dt_fractions'", "more than once"]),
+        ({"kinds": ["axisymmetric", "axisymmetric"]}, ["'kinds'", "more than once"]),
+        ({"paper_levels": [], "paper_phase_levels": []}, ["'paper_levels'", "at least one"]),
+        ({"sceen": "x"}, ["--config scene=..."]),
+        ({"zzzzzz": "x"}, ["remove it"]),
     ],
 )
 def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
@@ -67,6 +77,15 @@ def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
         check_config(config | change)
     for w in words:
         assert w in str(e.value), str(e.value)
+
+
+def test_more_ranks_than_the_machines_cpus_are_refused_where_the_jobs_run_on_it(config):
+    """Local execution (the Snakefile passes os.cpu_count()): mpirun -n 1000 on a 2-core machine was planned; a
+    cluster executor (None) takes any count."""
+    check_config(config | {"ranks": 4}, local_cpus=4)
+    with pytest.raises(ConfigError, match=r"'ranks' = 5: .*4 CPUs.*--config ranks=4 or fewer.*profiles/slurm"):
+        check_config(config | {"ranks": 5}, local_cpus=4)
+    check_config(config | {"ranks": 1000}, local_cpus=None)
 
 
 def test_the_main_jobs_global_meshes_are_checked_on_the_paper_scene(config, tmp_path):
@@ -95,6 +114,12 @@ def test_snakemake_stops_at_parse_time_with_one_line(tmp_path):
     )  # fmt: skip
     lines = p.stderr.strip().splitlines()
     assert p.returncode == 2 and len(lines) == 1 and "config 'speeds'" in lines[0], p.stderr[-2000:]
+    p = subprocess.run(
+        [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "1", "-n", "mesh_sweep", "--config", "ranks=100000"],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "config 'ranks' = 100000" in lines[0], p.stderr[-2000:]
 
 
 def test_a_sweep_row_carries_its_runs_status_and_what_its_warnings_name(tmp_path):
