@@ -135,16 +135,17 @@ class SceneError(ValueError):
 REQUIRED = object()
 
 
-def _positive(unit: str, hi: float = math.inf, hint_hi: str = "", lo: float = 0.0):
+def _positive(unit: str, hi: float = math.inf, hint_hi: str = "", lo: float = 0.0, hint_lo: str = ""):
     """Check 0 < value <= hi, or lo <= value <= hi where a floor ``lo`` > 0 is given: a length, time or speed far
-    below any continuum scene (:data:`TINY`), whose counts (cells, steps, samples) would overflow a float;
-    ``hint_hi`` explains a too-large value (often wrong units)."""
+    below any continuum scene (:data:`TINY`), whose counts (cells, steps, samples) would overflow a float, or a
+    material constant below any solid's; ``hint_hi`` and ``hint_lo`` explain a too-large or too-small value (often
+    wrong units)."""
     span = f"({lo:g}, {hi:g}]" if lo == 0.0 else f"[{lo:g}, {hi:g}]"
 
     def check(key: str, v: float) -> None:
         if not (v > 0.0 and v >= lo):
             if lo > 0.0:
-                hint = "a smaller value is below any continuum scene" if v > 0.0 else ""
+                hint = (hint_lo or "a smaller value is below any continuum scene") if v > 0.0 else ""
                 raise SceneError(key, v, f"must be in {span} {unit}", hint)
             raise SceneError(key, v, f"must be > 0 {unit}" if hi == math.inf else f"must be in {span} {unit}")
         if v > hi:
@@ -227,9 +228,13 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
         f"{p}.material.density": (
             "float",
             REQUIRED,
-            _positive("kg/m^3", hi=1e5),
+            _positive("kg/m^3", hi=1e5, lo=100.0, hint_lo="looks like g/cm^3; give kg/m^3"),
         ),
-        f"{p}.material.youngs_modulus": ("float", REQUIRED, _positive("Pa", hi=1e13)),
+        f"{p}.material.youngs_modulus": (
+            "float",
+            REQUIRED,
+            _positive("Pa", hi=1e13, lo=1e6, hint_lo="looks like GPa or MPa; give Pa"),
+        ),
         f"{p}.material.poisson_ratio": ("float", REQUIRED, _interval(-1.0, 0.5)),
         f"{p}.material.yield_strength": ("float|none", None, _positive("Pa", hi=1e11)),
     }
@@ -350,7 +355,7 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
         return v
     if isinstance(v, bool) or not isinstance(v, int | float):
         extra = {"float|auto": " or 'auto'", "float|none": " or 'none' (not stated)"}.get(kind, "")
-        raise SceneError(key, v, f"must be a number{extra}")
+        raise SceneError(key, v, f"must be a number{extra}", _number_example(key))
     try:
         v = float(v)
     except OverflowError:  # an integer beyond float64
@@ -361,6 +366,26 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
     if math.isinf(v) and kind != "float|inf":
         raise SceneError(key, v, "must be finite")
     return v
+
+
+def _number_example(key: str) -> str:
+    """A remedy for a value that is no number: the key with its default, or the paper scene's value, in SI units."""
+    default = SCHEMA.get(key, (None, None))[1]
+    if default is REQUIRED or default is None or isinstance(default, str):
+        default = PAPER_EXAMPLES.get(key.split(".", 1)[-1])
+    return "" if default is None else f"e.g. {key}={default!r} (SI units)"
+
+
+# the paper scene's values of the keys with no default, as examples in a remedy (workflows/scenes/paper.toml: Rod 2)
+PAPER_EXAMPLES = {
+    "length": 0.70099,
+    "diameter": 0.0127,
+    "material.density": 7803.0,
+    "material.youngs_modulus": 204.3e9,
+    "material.poisson_ratio": 0.3,
+    "material.yield_strength": 2.2e9,
+    "speed": 2.197,
+}
 
 
 def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
@@ -394,7 +419,10 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise SceneError(text, None, "an override needs a key before '='")
     try:
         value = tomllib.loads(f"v = {raw}")["v"]
-    except tomllib.TOMLDecodeError:
+    except tomllib.TOMLDecodeError as e:
+        if raw[:1] in "[{\"'":  # meant as a TOML list, table or string: a bare string would hide the slip
+            remedy = "e.g. --set 'effects=[\"contact_patch\"]' (quote the whole --set for the shell)"
+            raise SceneError(key, raw, f"malformed TOML value ({str(e).splitlines()[0]})", remedy) from None
         value = raw
     return key, value
 
@@ -870,15 +898,6 @@ def _rod_checks(v: dict[str, Any], n: int) -> None:
             f"rod{n}.length", v[f"rod{n}.length"], f"must be >= 2 x diameter = {2 * d:g} m (a slender rod)"
         )
     E, S = v[f"rod{n}.material.youngs_modulus"], v[f"rod{n}.material.yield_strength"]
-    if E < 1e6:
-        raise SceneError(f"rod{n}.material.youngs_modulus", E, "must be >= 1e6 Pa", "looks like GPa or MPa; give Pa")
-    if v[f"rod{n}.material.density"] < 100.0:
-        raise SceneError(
-            f"rod{n}.material.density",
-            v[f"rod{n}.material.density"],
-            "must be >= 100 kg/m^3",
-            "looks like g/cm^3; give kg/m^3",
-        )
     if S is not None and S >= E:
         raise SceneError(
             f"rod{n}.material.yield_strength",
@@ -990,15 +1009,24 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     """Read, override and validate a scene file; raises SceneError on any problem."""
     p = Path(path)
     if not p.is_file():
-        what = (
-            "is a folder, not a scene file"
-            if p.is_dir()
-            else ("not a regular file (a device or pipe)" if p.exists() else "no such scene file")
-        )
         raise SceneError(
-            "--scene", str(path), what, "give a .toml scene, e.g. workflows/scenes/paper.toml", argument=True
+            "--scene",
+            str(path),
+            _not_a_file(path),
+            "give a .toml scene, e.g. workflows/scenes/paper.toml",
+            argument=True,
         )
     return scene_from_dict(_read_with_base(p, ()), overrides, source=str(p))
+
+
+def _not_a_file(path: str | Path) -> str:
+    """Why ``path`` is no scene file (an empty path is Path('.'), a folder)."""
+    p = Path(path)
+    if not str(path).strip():
+        return "an empty path"
+    if p.is_dir():
+        return "is a folder, not a scene file"
+    return "not a regular file (a device or pipe)" if p.exists() else "no such scene file"
 
 
 def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
@@ -1010,7 +1038,8 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
         # UTF-8 whatever the locale; a byte-order mark some editors write is dropped
         data = tomllib.loads(p.read_text(encoding="utf-8-sig"))
     except tomllib.TOMLDecodeError as e:
-        raise SceneError("--scene", str(p), f"malformed TOML: {e}", argument=True) from None
+        fix = "fix the TOML syntax there (strings quoted, tables as [rod1], one key = value a line)"
+        raise SceneError("--scene", str(p), f"malformed TOML: {e}", fix, argument=True) from None
     except UnicodeDecodeError:
         raise SceneError("--scene", str(p), "not a text (UTF-8) TOML file", argument=True) from None
     except OSError as e:  # unreadable: permissions, a device, an I/O error
@@ -1022,8 +1051,9 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     if not isinstance(base, str):
         raise SceneError("base", base, "must be a path string to another scene file")
     bp = p.parent / base
-    if not bp.is_file():
-        raise SceneError("base", base, f"no such scene file ({bp})")
+    if not base.strip() or not bp.is_file():
+        why = "an empty path" if not base.strip() else f"{_not_a_file(bp)} ({bp})"
+        raise SceneError("base", base, why, f'a scene file relative to {p.name}\'s folder, e.g. base = "paper.toml"')
     merged = _read_with_base(bp, (*seen, p.resolve()))
     _merge(merged, data)
     return merged

@@ -98,8 +98,8 @@ BAD = [
     ("rod2.diameter=0", "rod2.diameter", "[1e-06, "),
     ("impact.speed=0", "impact.speed", "[1e-09, "),
     ("impact.speed=-2", "impact.speed", "[1e-09, "),
-    ("rod1.material.density=0", "rod1.material.density", "(0, "),
-    ("rod2.material.youngs_modulus=-1", "rod2.material.youngs_modulus", "(0, "),
+    ("rod1.material.density=0", "rod1.material.density", "[100, 100000]"),
+    ("rod2.material.youngs_modulus=-1", "rod2.material.youngs_modulus", "[1e+06, 1e+13]"),
     ("rod1.material.poisson_ratio=0.5", "rod1.material.poisson_ratio", "(-1, 0.5)"),
     ("rod1.material.poisson_ratio=-1", "rod1.material.poisson_ratio", "(-1, 0.5)"),
     ("impact.speed=nan", "impact.speed", "NaN"),
@@ -493,3 +493,36 @@ def test_radial_grading_is_refused_on_the_3d_model(scene_with):
         assert scene_with("fe.kind='3d'", f"fe.radial_grading='{v}'")["fe.radial_grading"] == v
     with pytest.raises(SceneError, match=r"'fe.radial_grading' = 'steep': must be one of auto, uniform, graded"):
         scene_with("fe.radial_grading='steep'")
+
+
+@pytest.mark.parametrize(
+    ("override", "words"),
+    [  # a second bad-input audit (2026-11-29): each message's range and remedy as the user needs them
+        ("rod1.material.density=50", ["[100, 100000] kg/m^3", "g/cm^3"]),  # one range, the one that holds
+        ("rod2.material.density=1.1e5", ["[100, 100000] kg/m^3"]),  # was "(0, 100000]" above, ">= 100" below
+        ("rod1.material.youngs_modulus=200", ["[1e+06, 1e+13] Pa", "GPa or MPa"]),
+        ("impact.speed=fast", ["must be a number", "e.g. impact.speed=2.197"]),  # the remedy: a value to copy
+        ("rod1.length=abc", ["must be a number", "e.g. rod1.length="]),
+        ('effects=["contact_patch"', ["malformed TOML value", "quote the whole --set"]),  # was "unknown effect"
+        ("simulation.end_time=[1", ["malformed TOML value"]),
+    ],
+)
+def test_a_bad_value_names_the_range_that_holds_and_a_remedy(override, words):
+    with pytest.raises(SceneError) as e:
+        load_scene(PAPER, [override])
+    for w in words:
+        assert w in str(e.value), str(e.value)
+
+
+def test_a_scene_path_that_is_empty_or_a_folder_is_called_so(tmp_path):
+    with pytest.raises(SceneError, match="an empty path"):
+        load_scene("")
+    (tmp_path / "b.toml").write_text(f'base = "{tmp_path}"\n')
+    with pytest.raises(SceneError, match=r"'base'.*is a folder.*e.g. base = "):
+        load_scene(tmp_path / "b.toml")
+    (tmp_path / "e.toml").write_text('base = ""\n')
+    with pytest.raises(SceneError, match=r"'base' = '': an empty path"):
+        load_scene(tmp_path / "e.toml")
+    (tmp_path / "m.toml").write_text('name = "x\n')
+    with pytest.raises(SceneError, match=r"malformed TOML.*fix the TOML syntax"):
+        load_scene(tmp_path / "m.toml")

@@ -66,7 +66,7 @@ class _Override(argparse.Action):
         try:
             parse_override(text)
         except SceneError as e:
-            raise argparse.ArgumentError(self, f"{text!r}: {e.allowed}") from None
+            raise argparse.ArgumentError(self, f"{text!r}: {e.allowed}" + (f" ({e.hint})" if e.hint else "")) from None
         setattr(namespace, self.dest, [*(getattr(namespace, self.dest) or []), text])
 
 
