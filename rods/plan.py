@@ -268,6 +268,27 @@ def study_plan(scene: Scene, analytical_summary: Mapping[str, Any] | None = None
     return make_plan(scene, first_contact_end(s))
 
 
+def check_levels(scene: Scene) -> None:
+    """Refuse (SceneError, before anything runs) ``submodel.levels`` given as a list that no submodel would use: the
+    effects ask for none (no contact_patch or subsurface_stress), or none of them is finer across the contact than
+    the global mesh while the ladder has one (the submodels would add cost, not resolution; where even the finest
+    level is not finer, "auto" picks it and :func:`make_plan` says so)."""
+    levels = scene.values["submodel.levels"]
+    if levels == "auto":
+        return
+    if not set(scene.effects) & set(SUBMODEL_EFFECTS):
+        why = f"given, but effects = {list(scene.effects)} run no submodel (contact_patch or subsurface_stress do)"
+        raise SceneError("submodel.levels", levels, why, "add 'contact_patch' to effects, or --set \"submodel.levels='auto'\"")
+    finest = min(levels, key=SUBMODEL_LEVEL_SIZES.__getitem__)
+    finer = [lv for lv in SUBMODEL_LEVELS if SUBMODEL_LEVEL_SIZES[lv] < scene.radial_size]
+    if SUBMODEL_LEVEL_SIZES[finest] >= scene.radial_size and finer:
+        why = (
+            f"no level finer than the global mesh across the contact ({scene.radial_size * 1e3:.4g} mm; finest given: "
+            f"{finest}, {SUBMODEL_LEVEL_SIZES[finest] * 1e3:.4g} mm): the submodels would add cost, not resolution"
+        )
+        raise SceneError("submodel.levels", levels, why, f"'auto', or levels from {finer[0]} on")
+
+
 def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
     """The plan for ``scene``; ``contact_end`` [s] (the end of the analytical model's first contact
     episode, :func:`first_contact_end`) bounds the global run when only contact effects are asked for."""

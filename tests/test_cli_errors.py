@@ -119,6 +119,15 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "200k effects": ("analytical.py", ["--scene", "many.toml", "--out", "o"], ["effects", "characters"]),
     # refused by the model's set-up before, after the study's analytical stage had written its folder
     "study fe.degree 2": ("run.py", ["--set", "fe.degree=2", "--out", "o"], ["fe.degree", "2", "Q1"]),
+    # a second bad-input audit (2026-11-29): levels without a contact effect ran without them; levels coarser than
+    # the global mesh ran (the plan said "add cost, not resolution")
+    "study levels unused": ("run.py", ["--set", "submodel.levels=['fine']", "--out", "o"], ["given, but effects"]),
+    "study levels coarser than the global": (
+        "run.py",
+        ["--set", "effects=['contact_patch']", "--set", "submodel.levels=['ultra-coarse-x4']", "--out", "o"],
+        ["submodel.levels", "not resolution", "'auto'"],
+    ),
+    "study --restart into nothing": ("run.py", ["--restart", "--out", "o"], ["--restart", "no stopped study"]),
     "study fe.dt unstable": ("run.py", ["--set", "fe.dt=1e-6", "--out", "o"], ["fe.dt", "stable limit"]),
     # above the exact limit (1.506e-7 s on this mesh), within the estimate's factor 2: refused by the global's
     # set-up, which ran after the analytical stage had written o/analytical (found 2026-11-25)

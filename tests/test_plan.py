@@ -140,3 +140,18 @@ def test_a_plans_analytical_run_records_a_bounded_history(scene_with, monkeypatc
     monkeypatch.setattr(cost, "available_memory", lambda: 1e6)  # [B]
     with pytest.raises(InputError, match="analytical model"):
         plan.planning_summary(scene_with())
+
+
+def test_levels_no_submodel_would_use_are_refused(scene_with):
+    """A bad-input audit (2026-11-29): run.py with submodel.levels and no contact effect ran without them, silently;
+    levels all coarser than the global mesh ran submodels that resolve less than their driver. Both refused;
+    'auto' and useful levels pass, and where even the ladder's finest is not finer, the plan says so instead."""
+    plan.check_levels(scene_with())  # auto, waves
+    plan.check_levels(scene_with("effects=['contact_patch']", "submodel.levels=['coarse', 'fine']"))
+    with pytest.raises(SceneError, match=r"'submodel.levels' = \['fine'\]: given, but effects = \['wave_response'\]"):
+        plan.check_levels(scene_with("submodel.levels=['fine']"))
+    with pytest.raises(SceneError, match=r"no level finer than the global mesh .*0.2728 mm.*levels from coarse on"):
+        plan.check_levels(scene_with("effects=['contact_patch']", "submodel.levels=['ultra-coarse', 'extra-coarse']"))
+    fine_global = scene_with("effects=['contact_patch']", "fe.radial_size=1e-6", "submodel.levels=['ultra-fine']")
+    plan.check_levels(fine_global)  # no level of the ladder is finer: refusing would leave no remedy
+    assert "add cost, not resolution" in " ".join(plan.make_plan(fine_global).reasons)

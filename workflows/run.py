@@ -37,6 +37,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--restart", action="store_true", help="resume a stopped study in --out: finished stages kept")
     args = ap.parse_args(argv)
     scene = _cli.load(args)
+    plan.check_levels(scene)  # levels no submodel would use: refused before the analytical model runs
     out = _cli.out_dir(args, "run", scene)
     log, progress = _cli.rank0(comm)
     analytical = cost.check(cost.analytical_cost(scene), args.force)
