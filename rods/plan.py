@@ -278,7 +278,8 @@ def check_levels(scene: Scene) -> None:
         return
     if not set(scene.effects) & set(SUBMODEL_EFFECTS):
         why = f"given, but effects = {list(scene.effects)} run no submodel (contact_patch or subsurface_stress do)"
-        raise SceneError("submodel.levels", levels, why, "add 'contact_patch' to effects, or --set \"submodel.levels='auto'\"")
+        fix = "add 'contact_patch' to effects, or --set \"submodel.levels='auto'\""
+        raise SceneError("submodel.levels", levels, why, fix)
     finest = min(levels, key=SUBMODEL_LEVEL_SIZES.__getitem__)
     finer = [lv for lv in SUBMODEL_LEVELS if SUBMODEL_LEVEL_SIZES[lv] < scene.radial_size]
     if SUBMODEL_LEVEL_SIZES[finest] >= scene.radial_size and finer:
