@@ -13,7 +13,7 @@ Writes analytical-vs-ddeint.md and analytical-convergence.png into --out (defaul
 
 from __future__ import annotations
 
-import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -27,6 +27,9 @@ from rods.study.figures import pyplot
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "results"
+sys.path.insert(0, str(ROOT / "workflows"))
+
+import _cli  # noqa: E402  (the entry points' one error path)
 
 
 def best_of(fn, n=3):
@@ -175,8 +178,8 @@ def plot(rows: list[tuple], path: Path) -> None:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--end-time", type=float, default=3e-4)
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap.add_argument("--end-time", type=_cli.positive, default=3e-4, help="[s] (default %(default)s)")
     ap.add_argument("--scene", default=str(ROOT / "workflows/scenes/paper.toml"))
     ap.add_argument("--out", default=str(RESULTS), help="folder of the table and the figure (default results/)")
     args = ap.parse_args()
@@ -190,4 +193,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.tool(main)

@@ -17,7 +17,6 @@ Writes --out + .json (read by the paper report), .md and .png.
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 import time
@@ -30,7 +29,8 @@ import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where 
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
+import _cli  # noqa: E402
 from rods import hertz, io, metrics  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.compare import cell, measured  # noqa: E402
@@ -209,7 +209,7 @@ def plot(data: dict, curves: list[dict], path: Path) -> None:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     p0 = SCHEMA["fe.penalty"][1]
     ap.add_argument("--factors", type=float, nargs="+", default=[0.5 * p0, p0, 2 * p0, 4 * p0])
     ap.add_argument(
@@ -229,6 +229,11 @@ def main() -> None:
     )
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "contact-study")
     args = ap.parse_args()
+    _cli.output_file(args.out)  # before the runs: an unwritable --out was found at the last write
+    for f in args.factors:  # each penalty row's settings, before the kinematic rows run
+        load_scene(PAPER, ["fe.contact='penalty'", f"fe.penalty={f!r}"])
+    for ζ in args.dampings:
+        load_scene(PAPER, ["fe.contact='penalty'", f"fe.contact_damping={ζ!r}"])
     rows, curves = [], []
     for sc in SCENES:
         settings = [("kinematic", None, "element", None)]
@@ -257,4 +262,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.tool(main)

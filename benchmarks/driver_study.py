@@ -17,7 +17,6 @@ mpirun). Writes --out + .json, .md and .png (force curves of the finest level).
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import tempfile
@@ -33,11 +32,12 @@ from mpi4py import MPI  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
+import _cli  # noqa: E402
 from rods import io, metrics, plan  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
-from rods.scene import SUBMODEL_DRIVINGS, load_scene  # noqa: E402
+from rods.scene import SUBMODEL_DRIVINGS, SUBMODEL_LEVELS, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
 
@@ -117,13 +117,14 @@ def plot(curves: dict, analytical: dict, path: Path) -> None:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--levels", nargs="+", default=["coarse", "mid", "fine"])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap.add_argument("--levels", nargs="+", default=["coarse", "mid", "fine"], choices=SUBMODEL_LEVELS)
     ap.add_argument(
         "--drivings", nargs="+", choices=SUBMODEL_DRIVINGS, default=None, help="run only these, merged into --out"
     )
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "driver-study")
     args = ap.parse_args()
+    _cli.output_file(args.out)  # before the runs: an unwritable --out was found at the last write
     cases = [c for c in CASES if args.drivings is None or c[2] in args.drivings]
     comm = MPI.COMM_WORLD
     root = comm.rank == 0
@@ -177,4 +178,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    _cli.tool(main)

@@ -15,7 +15,6 @@ monotonicity test over halvings cannot see past it. Writes --out + .json and .md
 
 from __future__ import annotations
 
-import argparse
 import sys
 import warnings
 from pathlib import Path
@@ -24,10 +23,11 @@ import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where 
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
 import numpy as np  # noqa: E402
 from mpi4py import MPI  # noqa: E402
 
+import _cli  # noqa: E402
 from rods import hertz, io  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
 from rods.scene import SUBMODEL_LEVEL_SIZES, load_scene  # noqa: E402
@@ -83,7 +83,7 @@ def render_md(data: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--levels", nargs="+", default=["mid", "fine"], choices=list(SUBMODEL_LEVEL_SIZES))
     ap.add_argument("--work", type=Path, default=ROOT / "output" / "edge-scatter", help="run folders")
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "edge-scatter")
@@ -115,4 +115,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    _cli.tool(main)

@@ -37,6 +37,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
+import _cli  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
 MESHES = {  # name: overrides of the paper scene (fe.kind = 3d)
@@ -150,7 +152,7 @@ def paper_estimate(rows: list[dict]) -> list[str]:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--ranks", type=int, default=2, help="largest rank count N (runs 1, 2, 4, ..., N)")
     ap.add_argument("--steps", type=int, default=300)
     ap.add_argument("--meshes", nargs="+", default=list(MESHES), choices=list(MESHES))
@@ -204,4 +206,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.tool(main)

@@ -31,7 +31,6 @@ difference. Writes ``--out``
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import math
 import platform
@@ -47,7 +46,8 @@ from mpi4py import MPI
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
+import _cli  # noqa: E402
 from rods.fe import backend as backends  # noqa: E402
 from rods.fe import forms, matrixfree  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
@@ -240,7 +240,7 @@ def report(args, be_name: str, copy: float, rows: list[dict], run: dict | None, 
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--backend", default="cupy", choices=["cupy", "numpy", "petsc"])
     ap.add_argument("--meshes", nargs="*", default=["coarse", "medium", "paper"], choices=list(MESHES))
     ap.add_argument("--steps", type=int, default=200)
@@ -283,4 +283,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.tool(main)

@@ -10,7 +10,6 @@ Writes --out + .md and .json; the .md table is the source of rods.hertz.ROD_END_
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -20,13 +19,14 @@ import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where 
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
+import _cli  # noqa: E402
 from rods.fe.end_compliance import end_correction  # noqa: E402
 from rods.hertz import ROD_END_NU  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=48, help="radial Q2 elements of the default mesh")
     ap.add_argument("--out", default=str(ROOT / "results" / "rod-end-compliance"))
     args = ap.parse_args(argv)
@@ -60,4 +60,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    _cli.tool(main)

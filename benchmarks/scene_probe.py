@@ -30,9 +30,10 @@ import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where 
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
+sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error path
 from mpi4py import MPI  # noqa: E402
 
+import _cli  # noqa: E402
 from rods import cost, io, plan  # noqa: E402
 from rods.compare import cell, difference, percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
@@ -379,11 +380,12 @@ def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, target
     ``random(overrides)``, a probe's estimated wall time [s] (:func:`drawn`), then write OUT.json and OUT.md
     (``render_data``; the draw kept in the data) on rank 0 and print the table."""
     argv, draw, epilog = drawn(argv, probes, random)
-    ap = argparse.ArgumentParser(description=doc.splitlines()[0], epilog=epilog)
+    ap = _cli.bare_parser(doc.splitlines()[0], epilog=epilog)
     ap.add_argument("--probe", action="append", choices=list(probes), help="probe (repeatable; default all)")
     ap.add_argument("--out", default=str(ROOT / "results" / name), help="tables: OUT.json, OUT.md")
     ap.add_argument("--runs", default=str(ROOT / "output" / name), help="folder of the runs")
     args = ap.parse_args(argv)
+    _cli.output_file(args.out), _cli.output_dir(args.runs)  # before the runs: found at the last write before
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()
     rows = [run(p, Path(args.runs), comm) for p in args.probe or probes]
@@ -399,4 +401,4 @@ def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, target
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.tool(main)

@@ -26,10 +26,11 @@ from pathlib import Path
 import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]  # the library; scene_probe beside this file
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks"), str(ROOT / "workflows")]  # the library; scene_probe; _cli
 
 import scene_probe  # noqa: E402  (its probes' scenes and its command line)
 
+import _cli  # noqa: E402  (the entry points' one error path)
 from rods import checks, cost, plan  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
 from rods.study.pipeline import run_study, stage_costs  # noqa: E402
@@ -159,4 +160,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.tool(main)

@@ -24,10 +24,11 @@ from pathlib import Path
 import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]  # the library; scene_probe beside this file
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks"), str(ROOT / "workflows")]  # the library; scene_probe; _cli
 
 import scene_probe  # noqa: E402  (its probes' scenes, its draw and its command line)
 
+import _cli  # noqa: E402  (the entry points' one error path)
 from rods import checks  # noqa: E402
 from rods.compare import cell, difference, percent  # noqa: E402
 from rods.scene import load_scene  # noqa: E402
@@ -130,4 +131,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    _cli.tool(main)

@@ -318,6 +318,13 @@ def entry(main: Callable[[Sequence[str] | None], int]) -> NoReturn:
     sys.exit(code)
 
 
-def bare_parser(description: str) -> argparse.ArgumentParser:
-    """A parser without the scene options (the paper's rendering scripts), with the one-line errors."""
-    return _Parser(description=description)
+def bare_parser(description: str, **kw: Any) -> argparse.ArgumentParser:
+    """A parser without the scene options (the paper's rendering scripts, the benchmarks), with the one-line
+    errors."""
+    return _Parser(description=description, **kw)
+
+
+def tool(main: Callable[[], int | None]) -> NoReturn:
+    """Run a benchmark's ``main()`` (it parses sys.argv itself) as a command (:func:`entry`): bad input one line and
+    exit 2, as every entry point's."""
+    entry(lambda argv=None: main() or 0)
