@@ -419,6 +419,8 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise SceneError(text, None, "an override needs a key before '='")
     try:
         value = tomllib.loads(f"v = {raw}")["v"]
+        if isinstance(value, float) and math.isinf(value) and "inf" not in raw.lower():  # 1e400 reads as inf
+            raise SceneError(key, raw, "must be a number a float64 holds (below 1.8e308)")
     except tomllib.TOMLDecodeError as e:
         if raw[:1] in "[{\"'":  # meant as a TOML list, table or string: a bare string would hide the slip
             remedy = "e.g. --set 'effects=[\"contact_patch\"]' (quote the whole --set for the shell)"
@@ -772,7 +774,9 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
         out.append(Station(rod, pos, name))
     names = [s.name for s in out]
     if len(set(names)) != len(names):
-        raise SceneError("station", names, "station names must be unique")
+        twice = next(n for n in names if names.count(n) > 1)
+        built_in = " (rod2_mid is the built-in Rod-2 midpoint station's)" if twice == "rod2_mid" else ""
+        raise SceneError("station", names, f"station names must be unique: {twice!r} twice{built_in}", "rename it")
     return tuple(out)
 
 

@@ -505,6 +505,8 @@ def test_radial_grading_is_refused_on_the_3d_model(scene_with):
         ("rod1.length=abc", ["must be a number", "e.g. rod1.length="]),
         ('effects=["contact_patch"', ["malformed TOML value", "quote the whole --set"]),  # was "unknown effect"
         ("simulation.end_time=[1", ["malformed TOML value"]),
+        ("impact.speed=1e400", ["'1e400'", "float64 holds"]),  # was "= inf: must be finite", not what was typed
+        ('station=[{rod = 2, position = 0.35, name = "rod2_mid"}]', ["'rod2_mid' twice", "built-in"]),
     ],
 )
 def test_a_bad_value_names_the_range_that_holds_and_a_remedy(override, words):
