@@ -412,7 +412,7 @@ def _march_step(scene: Scene, h_r: float, h: float, g: float, size: float | None
             given,
             f"must be <= the stable limit, about {limit:.3g} s on this mesh (estimated from its smallest element; "
             "the set-up computes it exactly)",
-            "fe.dt = 'auto' takes fe.dt_fraction of it",
+            "fe.dt = 'auto' takes fe.dt_fraction of it" if size is None else "--dt auto takes fe.dt_fraction of it",
         )
     return given
 

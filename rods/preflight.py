@@ -170,7 +170,8 @@ def input_dir(path: str | Path, files: tuple[str, ...], what: str, remedy: str) 
         raise InputError(what, p, "a file, not a folder" if p.exists() else "no such folder", remedy)
     for f in files:
         if not (p / f).is_file():
-            raise InputError(what, p, f"has no {f}", remedy)
+            why = f"its {f} is not a file" if (p / f).exists() else f"has no {f}"
+            raise InputError(what, p, why, remedy)
     return p
 
 

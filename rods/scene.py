@@ -145,7 +145,7 @@ def _positive(unit: str, hi: float = math.inf, hint_hi: str = "", lo: float = 0.
     def check(key: str, v: float) -> None:
         if not (v > 0.0 and v >= lo):
             if lo > 0.0:
-                hint = (hint_lo or "a smaller value is below any continuum scene") if v > 0.0 else ""
+                hint = (hint_lo or "the floor: a smaller value is below any continuum scene") if v > 0.0 else ""
                 raise SceneError(key, v, f"must be in {span} {unit}", hint)
             raise SceneError(key, v, f"must be > 0 {unit}" if hi == math.inf else f"must be in {span} {unit}")
         if v > hi:
