@@ -39,6 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     scene = _cli.load(args)
     plan.check_levels(scene)  # levels no submodel would use: refused before the analytical model runs
     out = _cli.out_dir(args, "run", scene)
+    _cli.backend(scene, comm.size)  # refused before the plan, which names a folder a refused run never makes
     log, progress = _cli.rank0(comm)
     analytical = cost.check(cost.analytical_cost(scene), args.force)
     log(_cli.planning(analytical))  # before the plan, which runs the analytical model to the first contact
@@ -46,7 +47,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
     _cli.outlook(scene, log)
-    _cli.backend(scene, comm.size)
     if args.restart:
         log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
     _cli.afford(args, analytical, *stage_costs(scene, p, comm.size), log=log, comm=comm)

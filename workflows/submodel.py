@@ -159,11 +159,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     c = cost.fe_cost(
         scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt, remedy=remedy
     )
-    log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
-    _cli.outlook(scene, log)
     if args.restart:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
-    _cli.backend(scene, comm.size)
+    _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
+    log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
+    _cli.outlook(scene, log)
     _cli.afford(args, c, log=log, comm=comm)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(

@@ -35,10 +35,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, progress = _cli.rank0(comm)
     cases = args.case or list(verification.CASES)
     distinct(cases, "--case")  # a case given twice would run twice into its one folder
-    log(f"plan: verification matrix, {len(cases)} case(s) of scene '{base.name}' ({', '.join(cases)}) -> {out}")
     costs = [c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size, args.force)]
     for name in cases:
         _cli.backend(verification.case_scene(base, name, args.overrides), comm.size)
+    log(f"plan: verification matrix, {len(cases)} case(s) of scene '{base.name}' ({', '.join(cases)}) -> {out}")
     _cli.afford(args, *costs, log=log, comm=comm)  # every case's runs, before the first is started
     data = verification.run_matrix(base, out, comm, cases, args.overrides, log, progress, args.tables)
     if comm.rank == 0:

@@ -45,7 +45,7 @@ from typing import Any
 from rods import checks, io, metrics, plan
 from rods.analytical import PAPER_LAW
 from rods.compare import cell, difference, measured, percent
-from rods.scene import Scene, SceneError
+from rods.scene import Scene, SceneError, parse_override
 
 __all__ = [
     "CASES",
@@ -102,11 +102,11 @@ def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
     """Case ``name`` of :data:`CASES` on ``base``, with the caller's ``extra`` overrides last. A caller's override of
     a key the case sets is refused (it would run the case as another scene under the case's name: ``--set
     impact.speed=3`` ran "speed-1.0" at 3 m/s), and a refused value names the case whose setting it meets."""
-    own = dict(o.split("=", 1) for o in CASES[name][1])
-    for key, _, value in (o.partition("=") for o in extra):
-        if (key := key.strip()) in own:
+    own = dict(parse_override(o) for o in CASES[name][1])
+    for key, value in (parse_override(o) for o in extra):
+        if key in own:
             raise SceneError(
-                key, value.strip(), f"verification case '{name}' sets this key itself (to {own[key]})",
+                key, value, f"verification case '{name}' sets this key itself (to {own[key]!r})",
                 "leave it to the case, or pick the cases that do not set it with --case",
             )  # fmt: skip
     try:
