@@ -150,7 +150,8 @@ DT_REFUSE_FACTOR = 2.0  # [-]
 # where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°), times 0.99.
 # Measured on the paper rods at the auto mesh, 2026-11-27 (tip radius 35, 25, 15, 12.5, 10, 9, 8, 7.5, 7.2, 7, 6.8,
 # 6.77, 6.75, 6.5, 6.35 mm); the table before, measured before a curved tip's face was divided along its arc
-# (rods.fe.mesh.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long
+# (rods.fe.mesh.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long (the butterflies' rows, remeasured
+# 2026-11-29 at 0.1 m/s: 0.98x to 0.96x these, within the estimate's band)
 CAP_STEP_FACTOR = (
     (0.0, 1.0),
     (10.5, 1.0),
@@ -169,10 +170,11 @@ CAP_STEP_FACTOR = (
     (77.7, 0.56),
     (90.0, 0.68),
 )
-# the same for a radially graded tip (fe.radial_grading, rods.fe.mesh.radial_columns; butterfly caps, above 70°, are
-# never graded): its rim cells are wider, so its step is longer, 1.07x (10.5°) to 1.54x (69°) the uniform mesh's.
-# Measured 2026-11-29 on the paper rods at 2.197 and 0.2 m/s (auto sizes, both rods graded), the lower of the two
-# (within 5%) times 0.99, made monotone (44.9°: 0.627 measured)
+# the same for a radially graded tip (fe.radial_grading, rods.fe.mesh.radial_columns): its rim cells are wider, so its
+# step is longer, 1.07x (10.5°) to 1.54x (69°) the uniform mesh's. Measured 2026-11-29 on the paper rods at 2.197
+# and 0.2 m/s (auto sizes, both rods graded), the lower of the two (within 5%) times 0.99, made monotone (44.9°: 0.627
+# measured); a graded butterfly (above 70°, rods.fe.mesh.graded_butterfly) at 0.1, 0.5 and 2.197 m/s (6.75, 6.5 and
+# 6.35 mm tips, graded forced; the three speeds within 2%), 1.1x to 1.7x the uniform butterfly's
 GRADED_CAP_STEP_FACTOR = (
     (0.0, 1.0),
     (14.7, 1.0),
@@ -186,6 +188,9 @@ GRADED_CAP_STEP_FACTOR = (
     (65.1, 0.403),
     (69.0, 0.358),
     (70.0, 0.358),
+    (70.2, 0.768),
+    (77.7, 0.750),
+    (90.0, 0.729),
 )
 # axisymmetric submodel (uniform size h, no grading, rods.fe.submodel.submodel_scene): Δt of its curved tip / the
 # estimate above, against the rim angle [deg, -]. Measured at h = 0.25 and 0.125 mm (the same to 2%; the lower kept)

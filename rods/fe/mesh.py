@@ -179,6 +179,87 @@ def butterfly(rod: Rod) -> Butterfly | None:
     return Butterfly(t, th, {**pts, "Oc": (0.0, rt)})
 
 
+@dataclass(frozen=True)
+class GradedButterfly:
+    """A butterfly cap (:class:`Butterfly`) graded outside a core at the apex (``fe.radial_grading``): the arc A-P
+    split at K, ``n_core`` elements of hr from the apex to K, then ``n_g`` growing by ``q_g`` to P; its inner
+    companions D-C (at K') and O-G (at K'', in the rim plane, ``r_core`` = n_core hr from the axis) split alike, so
+    band and core are two blocks each; across the bands ``m`` elements from hr at the face growing inward by
+    ``q_m``, along P-E (and C-G, D-O, K'-K'') ``n_b`` growing on by ``q_b``. Neighbours differ by at most
+    :data:`GROWTH` everywhere: K-P grows to at most GROWTH x the bands' largest element, which the body's columns
+    meet at G. The rod's body has three columns: the core, the graded part to G and the band's, whose elements
+    shrink to hr at the rim E."""
+
+    n_core: int
+    n_g: int
+    q_g: float  # [-]
+    m: int
+    q_m: float  # [-]
+    n_b: int
+    q_b: float  # [-]
+    r_core: float  # [m] K'' in the rim plane
+    R: float  # [m] the rod's radius
+    t: float  # [m] the bands' thickness
+
+    @property
+    def columns(self) -> tuple[Column, ...]:
+        """The body's columns under the cap's rim line O-K''-G-E."""
+        return (
+            Column(self.r_core, self.n_core),
+            Column(self.R - self.t, self.n_g, self.q_g),
+            Column(self.R, self.m, 1.0 / self.q_m),
+        )
+
+
+def graded_butterfly(rod: Rod, hr: float, h: float, core: float, grading: str) -> GradedButterfly | None:
+    """The graded layout of ``rod``'s butterfly cap at radial size ``hr``, axial size ``h`` and core radius ``core``
+    [m] under ``fe.radial_grading``, or None: uniform (asked, no butterfly, "auto" where grading leaves more than
+    :data:`GRADED_SHARE` of the uniform elements across, or an arc or band too short to grade: none of the
+    single progressions by at most :data:`GROWTH` fits, or they meet at G or P with a larger ratio)."""
+    b = butterfly(rod)
+    H = bar_size(rod, h)
+    if grading == "uniform" or b is None or H < 2.0 * hr:
+        return None
+    arc_ap, arc_pe = b.arcs
+    n_core = element_count(arc_to(rod, core), hr)
+    across, along = _progression(hr, H, b.t), _progression(hr, H, arc_ap - n_core * hr)
+    if across is None or along is None:
+        return None
+    # the bands' and the arc's progressions meet at G (the body's columns) and P: capped alike, at GROWTH x the
+    # shorter one's largest element, so the longer one grows no further than its neighbour allows
+    cap = min(H, GROWTH * hr * min(q ** (n - 1) for n, q in (across, along)))
+    across, along = _progression(hr, cap, b.t), _progression(hr, cap, arc_ap - n_core * hr)
+    if across is None or along is None:
+        return None
+    (m, q_m), (n_g, q_g) = across, along
+    s_band, s_p = hr * q_m ** (m - 1), hr * q_g ** (n_g - 1)  # [m] their largest: at G, and before P
+    on = _progression(s_p, max(H, s_p), arc_pe) or (element_count(arc_pe, s_p), 1.0)
+    s_on = arc_pe / on[0] if on[1] == 1.0 else arc_pe * (on[1] - 1.0) / (on[1] ** on[0] - 1.0)  # [m] after P
+    if max(s_band / s_p, s_p / s_band, s_p / s_on, s_on / s_p) > GROWTH * (1 + 1e-9):
+        return None  # a join no single progressions make smooth (short arcs on a coarse mesh)
+    gb = GradedButterfly(n_core, n_g, q_g, m, q_m, *on, n_core * hr, rod.diameter / 2, b.t)
+    n_a, _, m_uniform = butterfly_counts(b, hr)
+    if grading == "auto" and n_core + n_g + m > GRADED_SHARE * (n_a + m_uniform):
+        return None
+    return gb
+
+
+def _progression(first: float, H: float, width: float) -> tuple[int, float] | None:
+    """(n, q): n elements first q^k (k = 0..n-1) filling ``width`` [m], q in [1, :data:`GROWTH`], the last at most
+    ``H`` [m], n the fewest; None where the width is under two first elements or no such n fits."""
+    if width < 2.0 * first:
+        return None
+    for n in range(2, math.floor(width / first * (1 + 1e-12)) + 1):
+        q_max = min(GROWTH, (H / first) ** (1.0 / (n - 1)))
+        if _grown(first, n, q_max) / q_max >= width:  # sizes first q^k, k = 0..n-1: the k = 1..n sum over q
+            lo, hi = 1.0, q_max
+            for _ in range(100):
+                q = 0.5 * (lo + hi)
+                lo, hi = (q, hi) if _grown(first, n, q) / q < width else (lo, q)
+            return n, hi
+    return None
+
+
 def arc_to(rod: Rod, r: float) -> float:
     """Length [m] of the tip face's profile from the apex out to the radius ``r`` [m]: r flat, r_t asin(r/r_t) on a
     spherical cap."""
@@ -232,9 +313,13 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     most :data:`GRADED_SHARE` of the uniform count; a butterfly cap (:func:`butterfly`), a core past the rim or
     leaving a band no such elements fill (under hr, 1.2-2 hr, 2.64-3 hr), and H < 2 hr stay uniform."""
     R = rod.diameter / 2
+    if (b := butterfly(rod)) is not None:
+        gb = graded_butterfly(rod, hr, h, core, grading)
+        n_a, _, m = butterfly_counts(b, hr)
+        return (Column(R, n_a + m),) if gb is None else gb.columns
     uniform = (Column(R, face_count(rod, hr)),)
-    H = min(RIM_ASPECT * h, R / BAR_ELEMENTS)  # [m] the bar's element size across
-    if grading == "uniform" or butterfly(rod) is not None or core >= R or H < 2.0 * hr:
+    H = bar_size(rod, h)
+    if grading == "uniform" or core >= R or H < 2.0 * hr:
         return uniform
     n_core = element_count(arc_to(rod, core), hr)
     rt = rod.tip_radius  # the core's elements hr long along the face: its edge where the face's arc is n_core hr
@@ -245,9 +330,17 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     if outside is None:
         return uniform
     columns = (Column(core, n_core), *outside)
-    if grading == "auto" and sum(c.n for c in columns) > GRADED_SHARE * uniform[0].n:
+    share = GRADED_SHARE if grading == "auto" else 1.0  # "graded": any saving (none where hr fills the band alone)
+    if sum(c.n for c in columns) > share * uniform[0].n - (share == 1.0):
         return uniform
     return columns
+
+
+def bar_size(rod: Rod, h: float) -> float:
+    """The bar's element size across ``rod`` at axial size ``h`` [m]: H = min(:data:`RIM_ASPECT` h, R /
+    BAR_ELEMENTS), the largest a graded mesh grows to (the axial size resolves the waves along the rod,
+    BAR_ELEMENTS the rod's section)."""
+    return min(RIM_ASPECT * h, rod.diameter / 2 / BAR_ELEMENTS)
 
 
 def _grown(hr: float, n: int, q: float) -> float:
@@ -333,51 +426,83 @@ def mesh_counts(
         n = sum(c.n for c in radial_columns(rod, hr, h, core, radial))
         cells, half_boundary = n * n_z, n + n_z
     else:
-        n_a, n_b, m = butterfly_counts(b, hr)
+        gb = graded_butterfly(rod, hr, h, core, radial)
+        n_a, n_b, m = butterfly_counts(b, hr) if gb is None else (gb.n_core + gb.n_g, gb.n_b, gb.m)
         cells, half_boundary = (n_a + n_b) * m + n_a * n_b + (n_a + m) * n_z, n_a + n_b + m + n_z
     return cells, cells + half_boundary + 1
 
 
-def _butterfly_cap(geo, b: Butterfly, s: float, hr: float) -> dict[str, Any]:  # rank 0 only
-    """Mesh a cap laid out as ``b`` (:func:`butterfly`; side ``s`` = -1: rod 1, +1: rod 2) in three blocks; returns
-    the tip and axis curves, the rim line O-G-E (the next block's bottom), its end points and counts."""
+def _butterfly_cap(geo, b: Butterfly, s: float, hr: float, gb: GradedButterfly | None) -> dict[str, Any]:
+    """Mesh a cap laid out as ``b`` (:func:`butterfly`; side ``s`` = -1: rod 1, +1: rod 2) in three blocks, or in
+    five graded as ``gb`` (:class:`GradedButterfly`: the band along A-P and the core split at K, K', K''); returns the
+    tip and axis curves, the rim line O-G-E (the body's bottom, one entry per column), its points and counts."""
     import gmsh
 
-    p = {k: geo.addPoint(r, s * z, 0.0) for k, (r, z) in b.points.items()}
-    n_a, n_b, m = butterfly_counts(b, hr)
-    c = {
-        "AP": (geo.addCircleArc(p["A"], p["Oc"], p["P"]), n_a),
-        "PE": (geo.addCircleArc(p["P"], p["Oc"], p["E"]), n_b),
-        "AD": (geo.addLine(p["A"], p["D"]), m),
-        "PC": (geo.addLine(p["P"], p["C"]), m),
-        "EG": (geo.addLine(p["E"], p["G"]), m),
-        "DC": (geo.addLine(p["D"], p["C"]), n_a),
-        "CG": (geo.addLine(p["C"], p["G"]), n_b),
-        "DO": (geo.addLine(p["D"], p["O"]), n_b),
-        "OG": (geo.addLine(p["O"], p["G"]), n_a),
+    pts = dict(b.points)
+    if gb is None:
+        n_a, n_b, m = butterfly_counts(b, hr)
+        q_m = 1.0
+    else:
+        n_a, n_b, m, q_m = gb.n_core + gb.n_g, gb.n_b, gb.m, gb.q_m
+        rt, t = pts["Oc"][1], b.t
+        th = gb.n_core * hr / rt  # K: the core's edge on the arc
+        K = (rt * math.sin(th), rt * (1.0 - math.cos(th)))
+        pts |= {"K": K, "K'": (K[0] * (1.0 - t / rt), K[1] + t * (rt - K[1]) / rt), "K''": (gb.r_core, pts["O"][1])}
+    p = {k: geo.addPoint(r, s * z, 0.0) for k, (r, z) in pts.items()}
+    arc, line = (lambda a, z: geo.addCircleArc(p[a], p["Oc"], p[z])), (lambda a, z: geo.addLine(p[a], p[z]))
+    q_b = 1.0 if gb is None else gb.q_b
+    c = {  # curve: (tag, elements, progression along it)
+        "PE": (arc("P", "E"), n_b, q_b),
+        "AD": (line("A", "D"), m, q_m),  # across the bands: from hr at the face inward
+        "PC": (line("P", "C"), m, q_m),
+        "EG": (line("E", "G"), m, q_m),
+        "CG": (line("C", "G"), n_b, q_b),
+        "DO": (line("D", "O"), n_b, q_b),
     }
-    T = {k: v[0] for k, v in c.items()}
-    loops = (
-        [T["AP"], T["PC"], -T["DC"], -T["AD"]],  # the band along the arc from the apex
-        [T["PE"], T["EG"], -T["CG"], -T["PC"]],  # the band to the rim
-        [T["DC"], T["CG"], -T["OG"], -T["DO"]],  # the core
-    )
-    surfaces = [geo.addPlaneSurface([geo.addCurveLoop(loop)]) for loop in loops]
+    if gb is None:
+        c |= {"AP": (arc("A", "P"), n_a, 1.0), "DC": (line("D", "C"), n_a, 1.0), "OG": (line("O", "G"), n_a, 1.0)}
+        loops = [["AP", "PC", "-DC", "-AD"], ["PE", "EG", "-CG", "-PC"], ["DC", "CG", "-OG", "-DO"]]
+        rim, corners = [["OG", "-EG"]], ["O", "E"]
+    else:
+        c |= {
+            "AK": (arc("A", "K"), gb.n_core, 1.0),
+            "KP": (arc("K", "P"), gb.n_g, gb.q_g),
+            "KK'": (line("K", "K'"), m, q_m),
+            "DK'": (line("D", "K'"), gb.n_core, 1.0),
+            "K'C": (line("K'", "C"), gb.n_g, gb.q_g),
+            "K'K''": (line("K'", "K''"), n_b, q_b),
+            "OK''": (line("O", "K''"), gb.n_core, 1.0),
+            "K''G": (line("K''", "G"), gb.n_g, gb.q_g),
+        }
+        loops = [
+            ["AK", "KK'", "-DK'", "-AD"],  # the band over the core
+            ["KP", "PC", "-K'C", "-KK'"],  # the band, graded along
+            ["PE", "EG", "-CG", "-PC"],  # the band to the rim
+            ["DK'", "K'K''", "-OK''", "-DO"],  # the core under the core
+            ["K'C", "CG", "-K''G", "-K'K''"],  # the core, graded along
+        ]
+        rim, corners = [["OK''"], ["K''G"], ["-EG"]], ["O", "K''", "G", "E"]
+
+    def tag(name: str) -> int:
+        return -c[name[1:]][0] if name.startswith("-") else c[name][0]
+
+    surfaces = [geo.addPlaneSurface([geo.addCurveLoop([tag(x) for x in loop])]) for loop in loops]
     geo.synchronize()
-    for tag, n in c.values():
-        gmsh.model.geo.mesh.setTransfiniteCurve(tag, n + 1)
+    for curve, n, q in c.values():
+        gmsh.model.geo.mesh.setTransfiniteCurve(curve, n + 1, "Progression", q)
     for surf in surfaces:
         gmsh.model.geo.mesh.setTransfiniteSurface(surf)
         gmsh.model.geo.mesh.setRecombine(2, surf)
+    tip = ["AP", "PE"] if gb is None else ["AK", "KP", "PE"]
     return {
         "surfaces": surfaces,
-        "tip": [T["AP"], T["PE"]],
-        "axis": [T["AD"], T["DO"]],
-        "rim": [T["OG"], -T["EG"]],  # O -> G -> E
-        "corners": (p["O"], p["E"]),
+        "tip": [tag(x) for x in tip],
+        "axis": [tag("AD"), tag("DO")],
+        "rim": [[tag(x) for x in column] for column in rim],
+        "corners": [p[x] for x in corners],
         "n_cross": n_a + m,
-        "h_tip": b.t / m,  # the element normal to the contact face at the apex [m]
-        "h_face": max(length / n for length, n in zip(b.arcs, (n_a, n_b), strict=True)),  # along the face [m]
+        "h_tip": b.t / m if gb is None else hr,  # the element normal to the contact face at the apex [m]
+        "h_face": max(length / n for length, n in zip(b.arcs, (n_a, n_b), strict=True)) if gb is None else hr,
     }
 
 
@@ -450,14 +575,13 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     for k, (rod, s) in enumerate(((scene.rod1, -1.0), (scene.rod2, 1.0)), start=1):
         sp = axial_spacing(rod, h, g)
         b = butterfly(rod)
+        columns = graded_columns[k - 1]
         if b:
-            cap = _butterfly_cap(geo, b, s, hr)
-            columns = (Column(rod.diameter / 2, cap["n_cross"]),)
-            lower, corners = [cap["rim"]], list(cap["corners"])
+            gb = graded_butterfly(rod, hr, h, scene.graded_core, scene["fe.radial_grading"])
+            cap = _butterfly_cap(geo, b, s, hr, gb)
         else:
-            columns = graded_columns[k - 1]
             cap = _flat_block_cap(geo, rod, s, columns)
-            lower, corners = cap["rim"], cap["corners"]
+        lower, corners = cap["rim"], cap["corners"]
         # axial stations: optional graded block, then the uniform block to the far end
         blocks = []
         if sp.n_graded:

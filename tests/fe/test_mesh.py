@@ -1,6 +1,6 @@
 """Axisymmetric meshing (rods.fe.mesh): the graded tip block keeps its tip element on any cap, and the built
 mesh has it where the contact is; a radially graded rod keeps the patch's size in its core and grows smoothly to
-the bar's size outside it."""
+the bar's size outside it, a near-hemispherical (butterfly) cap too."""
 
 from __future__ import annotations
 
@@ -14,12 +14,18 @@ from hypothesis import strategies as st
 from mpi4py import MPI
 
 from rods.fe.mesh import (
+    GRADED_SHARE,
     GROWTH,
     arc_to,
     axial_spacing,
+    bar_size,
     build_mesh,
+    butterfly,
+    butterfly_counts,
     element_sizes,
     face_count,
+    graded_butterfly,
+    mesh_counts,
     radial_columns,
     scene_columns,
 )
@@ -138,7 +144,8 @@ def test_graded_columns_keep_the_core_and_grow_smoothly(diameter, tip_radius, hr
     outside = sizes[n_core:]
     assert outside.min() >= hr * (1 - 1e-9) and outside.max() <= min(h, R / BAR_ELEMENTS) * (1 + 1e-9)
     steps = sizes[1:] / sizes[:-1]
-    assert steps.max() <= GROWTH * (1 + 1e-9) and steps.min() >= 1 - 1e-9  # never shrinking outward
+    arc_over_r = n_core * hr / columns[0].r_end  # a curved core's elements are hr along the face, less across (r)
+    assert steps.max() <= GROWTH * arc_over_r * (1 + 1e-9) and steps.min() >= 1 - 1e-9  # never shrinking outward
     assert sizes.size < face_count(rod, hr)  # and fewer than the uniform face's
 
 
@@ -168,3 +175,84 @@ def test_a_graded_mesh_is_built_as_its_columns_say():
     assert rm.h_radial == pytest.approx(sc["fe.radial_size"], rel=1e-9)
     assert rm.core_radius == pytest.approx(min(c[0].r_end for c in scene_columns(sc)), rel=1e-12)
     assert rm.h_rim == pytest.approx(max(element_sizes(c).max() for c in scene_columns(sc)), rel=1e-9)
+
+
+def _progression_sizes(first: float, n: int, q: float) -> np.ndarray:
+    return first * q ** np.arange(n)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    diameter=st.floats(3e-3, 40e-3),  # [m]
+    bulge=st.floats(0.0, 0.99),  # tip radius from R (a hemisphere) towards the butterfly's limit R / sin 70°
+    hr=st.floats(5e-6, 1e-3),  # [m]
+    h_over_hr=st.floats(1.0, 40.0),
+    core_over_hr=st.floats(1.0, 200.0),
+)
+def test_a_graded_butterfly_keeps_the_core_and_grows_smoothly(diameter, bulge, hr, h_over_hr, core_over_hr):
+    """A butterfly cap graded (rods.fe.mesh.graded_butterfly): the arc from the apex holds n_core elements of hr
+    (at least the core asked for), then grows by at most GROWTH to P, filling the arc A-P exactly; across the bands
+    the elements grow from hr at the face to fill their thickness; along P-E on; no element above the bar's size
+    (or the last before P, where that is larger), none below hr; the body's columns fill the radius, neighbours within
+    GROWTH across every join (the core's edge, G), and fewer than the uniform butterfly's. None: uniform (a bar size
+    under 2 hr, or an arc or band too short for the growth)."""
+    R = diameter / 2
+    rt = R * (1 + 1e-12) / (1.0 - bulge * (1.0 - np.sin(np.radians(70.0))))  # R <= rt < R / sin 70°
+    sc = load_scene(PAPER, [f"rod1.diameter={diameter}", f"rod2.diameter={diameter}", "rod1.length=1",
+                            "rod2.length=1", f"rod1.tip_radius={rt}"])  # fmt: skip
+    rod = sc.rod1
+    b = butterfly(rod)
+    assert b is not None
+    h, core, H = h_over_hr * hr, core_over_hr * hr, bar_size(rod, h_over_hr * hr)
+    gb = graded_butterfly(rod, hr, h, core, "graded")
+    n_a, _, m_uniform = butterfly_counts(b, hr)
+    if gb is None:
+        assert radial_columns(rod, hr, h, core, "graded") == radial_columns(rod, hr, h, core, "uniform")
+        return  # (the property: what is graded is smooth; graded_butterfly refuses the layouts it cannot make so)
+    arc_ap, arc_pe = b.arcs
+    assert gb.n_core * hr >= arc_to(rod, core) * (1 - 1e-9)
+    along = np.concatenate([np.full(gb.n_core, hr), _progression_sizes(hr, gb.n_g, gb.q_g)])
+    across = _progression_sizes(hr, gb.m, gb.q_m)
+    q = gb.q_b  # P-E as gmsh divides it: n_b elements growing by q_b filling the arc
+    on = _progression_sizes(arc_pe / gb.n_b if q == 1 else arc_pe * (q - 1) / (q**gb.n_b - 1), gb.n_b, q)
+    assert along.sum() == pytest.approx(arc_ap, rel=1e-9) and across.sum() == pytest.approx(b.t, rel=1e-9)
+    for sizes in (along, across):
+        assert sizes.min() >= hr * (1 - 1e-9) and sizes.max() <= H * (1 + 1e-9)
+        assert (sizes[1:] / sizes[:-1]).max() <= GROWTH * (1 + 1e-9)
+    assert on.max() <= max(H, along[-1]) * (1 + 1e-9) and 1 <= q <= GROWTH * (1 + 1e-9)
+    assert 1 / GROWTH <= on[0] / along[-1] * (1 + 1e-9) and on[0] / along[-1] <= GROWTH * (1 + 1e-9)  # at P
+    body = element_sizes(gb.columns)
+    assert gb.columns[-1].r_end == R and body.sum() == pytest.approx(R, rel=1e-9)
+    ratios = body[1:] / body[:-1]
+    assert max(ratios.max(), 1 / ratios.min()) <= GROWTH * (1 + 1e-9)  # the band's shrink to the rim included
+    assert body[-1] == pytest.approx(hr, rel=1e-9) and len(body) < n_a + m_uniform
+    auto = graded_butterfly(rod, hr, h, core, "auto")
+    assert (auto is not None) == (len(body) <= GRADED_SHARE * (n_a + m_uniform))
+
+
+def test_a_graded_butterfly_is_built_as_its_layout_says():
+    """The paper rods with a hemispherical Rod 1 at 0.1 m/s (auto: graded, 52 elements across instead of 116): the
+    built mesh has the counted cells and nodes, its tip face's nodes hr apart along the arc out to the core and the
+    rim plane's as the body's columns say, and no cell angle under 40° (the uniform butterfly's: 46°)."""
+    sc = load_scene(PAPER, ["rod1.tip_radius=0.00635", "impact.speed=0.1", "simulation.end_time=1e-5"])
+    hr = sc["fe.radial_size"]
+    gb = graded_butterfly(sc.rod1, hr, sc["fe.axial_size"], sc.graded_core, "auto")
+    assert gb is not None and gb.n_core + gb.n_g + gb.m <= GRADED_SHARE * face_count(sc.rod1, hr)
+    rm = build_mesh(sc, MPI.COMM_SELF)
+    counts = [mesh_counts(r, hr, sc["fe.axial_size"], sc.tip_grading, sc.graded_core, "auto") for r in sc.rods]
+    assert rm.mesh.topology.index_map(2).size_local == sum(c for c, _ in counts)
+    assert rm.mesh.geometry.x.shape[0] == sum(n for _, n in counts)
+    assert rm.graded == (True, True) and scene_columns(sc)[0] == gb.columns
+    assert rm.core_radius == pytest.approx(min(gb.r_core, scene_columns(sc)[1][0].r_end), rel=1e-12)
+    x = rm.mesh.geometry.x[:, :2]
+    rt = sc.rod1.tip_radius
+    on_cap = (x[:, 1] < 0) & (np.abs(np.hypot(x[:, 0], x[:, 1] + rt) - rt) < 1e-9)  # Rod 1's spherical face
+    arc = np.sort(rt * np.arcsin(np.clip(x[on_cap, 0] / rt, 0, 1)))
+    np.testing.assert_allclose(np.diff(arc)[: gb.n_core], hr, rtol=1e-6)
+    rim = np.sort(x[np.abs(x[:, 1] + sc.rod1.cap_height) < 1e-12, 0])  # Rod 1's rim plane O-G-E
+    np.testing.assert_allclose(rim, np.concatenate([[0.0], np.cumsum(element_sizes(gb.columns))]), atol=1e-12)
+    cells = x[rm.mesh.geometry.dofmaps[0]][:, [0, 1, 3, 2]]  # counter-clockwise corners
+    e = np.roll(cells, -1, axis=1) - cells
+    a, b = -np.roll(e, 1, axis=1), e
+    cos = (a * b).sum(2) / (np.linalg.norm(a, axis=2) * np.linalg.norm(b, axis=2))
+    assert np.degrees(np.arccos(np.clip(cos, -1, 1))).min() > 40.0
