@@ -151,7 +151,7 @@ DT_REFUSE_FACTOR = 2.0  # [-]
 # Measured on the paper rods at the auto mesh, 2026-11-27 (tip radius 35, 25, 15, 12.5, 10, 9, 8, 7.5, 7.2, 7, 6.8,
 # 6.77, 6.75, 6.5, 6.35 mm); the table before, measured before a curved tip's face was divided along its arc
 # (rods.fe.mesh.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long (the butterflies' rows, remeasured
-# 2026-11-29 at 0.1 m/s: 0.98x to 0.96x these, within the estimate's band)
+# 2026-11-29 at 0.1 m/s: 0.98x to 0.95x these, within the estimate's band)
 CAP_STEP_FACTOR = (
     (0.0, 1.0),
     (10.5, 1.0),

@@ -68,7 +68,7 @@ def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
         ("rod1.tip_radius=0.008",),
         ("fe.tip_grading=0.3",),
         ("fe.radial_grading='graded'", "fe.radial_size=0.1e-3"),  # a core and graded columns on both rods
-        ("fe.radial_grading='graded'", "fe.radial_size=0.1e-3", "rod1.tip_radius=0.00635"),  # butterfly: uniform
+        ("fe.radial_grading='graded'", "fe.radial_size=0.1e-3", "rod1.tip_radius=0.00635"),  # a graded butterfly
     ],
     ids=["paper-tip", "flat-rod1", "8mm-tip", "graded", "radially-graded", "graded-butterfly"],
 )

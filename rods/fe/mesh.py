@@ -8,8 +8,9 @@ Layout (x = r >= 0, y = z along the common axis; SI units, metres):
 * A curved tip of radius r_k is the spherical cap ``z = ±(r_k - sqrt(r_k² - r²))`` (height
   :attr:`rods.scene.Rod.cap_height` at r = d/2); a flat tip is the plane ``z = 0``.
 * The tip face is the bottom of the first block, from the apex to the rim; a near-hemispherical cap (rim angle
-  asin(d/2r_k) above :data:`BUTTERFLY_ANGLE`) is instead three blocks of its own (:func:`butterfly`), since one
-  block's corner at the rim would be a 180° angle whose element sets the stable step.
+  asin(d/2r_k) above :data:`BUTTERFLY_ANGLE`) is instead three blocks of its own (:func:`butterfly`; five, graded:
+  :func:`graded_butterfly`), since one block's corner at the rim would be a 180° angle whose element sets the
+  stable step.
 
 The mesh is built by gmsh on rank 0 only (transfinite + recombine: structured quadrilaterals) and
 distributed with :func:`dolfinx.io.gmsh.model_to_mesh`. The two rods are separate gmsh surfaces
@@ -310,8 +311,10 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     and step (longer on a curved cap, whose rim cells are wider: rods.cost.GRADED_CAP_STEP_FACTOR) and loses the
     fine elements where nothing needs them: a structured mesh at the patch's size otherwise runs the whole radius
     (4 mm tip on a 4.2 mm rod at 0.177 m/s: 72 elements of 0.029 mm across). "auto" grades where that leaves at
-    most :data:`GRADED_SHARE` of the uniform count; a butterfly cap (:func:`butterfly`), a core past the rim or
-    leaving a band no such elements fill (under hr, 1.2-2 hr, 2.64-3 hr), and H < 2 hr stay uniform."""
+    most :data:`GRADED_SHARE` of the uniform count ("graded": fewer than it); a core past the rim or leaving a band
+    no such elements fill (under hr, 1.2-2 hr, 2.64-3 hr), and H < 2 hr stay uniform. A butterfly cap
+    (:func:`butterfly`) is graded by :func:`graded_butterfly` (its body's three columns), else one column of its
+    n_a + m elements across."""
     R = rod.diameter / 2
     if (b := butterfly(rod)) is not None:
         gb = graded_butterfly(rod, hr, h, core, grading)
