@@ -240,9 +240,7 @@ def graded_butterfly(rod: Rod, hr: float, h: float, core: float, grading: str) -
         return None  # a join no single progressions make smooth (short arcs on a coarse mesh)
     gb = GradedButterfly(n_core, n_g, q_g, m, q_m, *on, n_core * hr, rod.diameter / 2, b.t)
     n_a, _, m_uniform = butterfly_counts(b, hr)
-    if grading == "auto" and n_core + n_g + m > GRADED_SHARE * (n_a + m_uniform):
-        return None
-    return gb
+    return gb if _saves(n_core + n_g + m, n_a + m_uniform, grading) else None
 
 
 def _progression(first: float, H: float, width: float) -> tuple[int, float] | None:
@@ -333,10 +331,15 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     if outside is None:
         return uniform
     columns = (Column(core, n_core), *outside)
-    share = GRADED_SHARE if grading == "auto" else 1.0  # "graded": any saving (none where hr fills the band alone)
-    if sum(c.n for c in columns) > share * uniform[0].n - (share == 1.0):
+    if not _saves(sum(c.n for c in columns), uniform[0].n, grading):
         return uniform
     return columns
+
+
+def _saves(graded: int, uniform: int, grading: str) -> bool:
+    """Whether ``graded`` elements across are worth it against ``uniform`` under ``fe.radial_grading``: "auto" at
+    most :data:`GRADED_SHARE` of them, "graded" any fewer (none where hr fills a band alone)."""
+    return graded < uniform and (grading != "auto" or graded <= GRADED_SHARE * uniform)
 
 
 def bar_size(rod: Rod, h: float) -> float:
