@@ -312,6 +312,13 @@ def test_summary_against_analytical(model, result):
     assert s["midpoint_peak_strain"] == pytest.approx(a.summary["midpoint_peak_strain"], rel=0.05)
 
 
+def _graded_or_uniform(base: list[str], mode: str) -> tuple[int, dict, np.ndarray]:
+    """(DOFs, summary, Rod 2's midpoint velocity) of the paper scene with ``base`` at fe.radial_grading ``mode``."""
+    m = ExplicitModel(load_scene(PAPER, [*base, f"fe.radial_grading='{mode}'"]))
+    r = m.run()
+    return m.n_global, r.summary, r.history["rod2_mid_velocity"]
+
+
 def test_a_graded_global_answers_as_the_uniform_one():
     """fe.radial_grading "graded" (rods.fe.mesh.radial_columns) against "uniform" on the same sizes (short paper
     rods at 1 m/s, 0.125 mm across, 1 mm along; a_P = 0.84 mm, the core 2.6 mm): 31 elements across instead of 52,
@@ -320,12 +327,7 @@ def test_a_graded_global_answers_as_the_uniform_one():
     (measured over 400 µs: 0.64%, where halving the uniform mesh's radial size moves it by 0.76%)."""
     base = ["rod1.length=0.07", "rod2.length=0.1", "impact.speed=1.0", "fe.axial_size=1e-3",
             "fe.radial_size=0.125e-3", "simulation.end_time=2e-4"]  # fmt: skip
-    runs = {}
-    for mode in ("uniform", "graded"):
-        m = ExplicitModel(load_scene(PAPER, [*base, f"fe.radial_grading='{mode}'"]))
-        r = m.run()
-        runs[mode] = (m.n_global, r.summary, r.history["rod2_mid_velocity"])
-    (n_u, u, v_u), (n_g, g, v_g) = runs["uniform"], runs["graded"]
+    (n_u, u, v_u), (n_g, g, v_g) = (_graded_or_uniform(base, mode) for mode in ("uniform", "graded"))
     assert v_u.shape == v_g.shape and np.abs(v_g - v_u).max() < 0.015 * np.abs(v_u).max()
     assert g["mesh"]["graded"] == [True, True] and u["mesh"]["graded"] == [False, False] and n_g < 0.7 * n_u
     assert g["mesh"]["core_radius"] >= 3 * 0.84e-3 and g["mesh"]["radial_size"] == pytest.approx(0.125e-3)
@@ -342,12 +344,7 @@ def test_a_graded_butterfly_answers_as_the_uniform_one():
     velocity history within 1.5% of its peak (0.20%), on under 0.6 of the uniform mesh's DOFs (15.3k against 34.3k)."""
     base = ["rod1.length=0.07", "rod2.length=0.1", "impact.speed=0.5", "fe.axial_size=1e-3", "rod1.tip_radius=0.00635",
             "fe.radial_size=0.1e-3", "simulation.end_time=1.1e-4"]  # fmt: skip
-    runs = {}
-    for mode in ("uniform", "graded"):
-        m = ExplicitModel(load_scene(PAPER, [*base, f"fe.radial_grading='{mode}'"]))
-        r = m.run()
-        runs[mode] = (m.n_global, r.summary, r.history["rod2_mid_velocity"])
-    (n_u, u, v_u), (n_g, g, v_g) = runs["uniform"], runs["graded"]
+    (n_u, u, v_u), (n_g, g, v_g) = (_graded_or_uniform(base, mode) for mode in ("uniform", "graded"))
     assert g["mesh"]["graded"] == [True, True] and n_g < 0.6 * n_u
     assert v_u.shape == v_g.shape and np.abs(v_g - v_u).max() < 0.015 * np.abs(v_u).max()
     assert g["peak_contact_force"] == pytest.approx(u["peak_contact_force"], rel=3e-3)
