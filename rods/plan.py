@@ -27,7 +27,7 @@ The recipe, defined once here and used by every door (``workflows/run.py``, ``gl
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -280,14 +280,21 @@ def check_levels(scene: Scene) -> None:
         why = f"given, but effects = {list(scene.effects)} run no submodel (contact_patch or subsurface_stress do)"
         fix = "add 'contact_patch' to effects, or --set \"submodel.levels='auto'\""
         raise SceneError("submodel.levels", levels, why, fix)
-    finest = min(levels, key=SUBMODEL_LEVEL_SIZES.__getitem__)
+    finest = _no_finer(levels, scene.radial_size)
     finer = [lv for lv in SUBMODEL_LEVELS if SUBMODEL_LEVEL_SIZES[lv] < scene.radial_size]
-    if SUBMODEL_LEVEL_SIZES[finest] >= scene.radial_size and finer:
+    if finest is not None and finer:
         why = (
             f"no level finer than the global mesh across the contact ({scene.radial_size * 1e3:.4g} mm; finest given: "
             f"{finest}, {SUBMODEL_LEVEL_SIZES[finest] * 1e3:.4g} mm): the submodels would add cost, not resolution"
         )
         raise SceneError("submodel.levels", levels, why, f"'auto', or levels from {finer[0]} on")
+
+
+def _no_finer(levels: Sequence[str], radial_size: float) -> str | None:
+    """The finest of ``levels`` where none is finer than the global's ``radial_size`` [m] across the contact (the
+    submodels add cost, not resolution), else None."""
+    finest = min(levels, key=SUBMODEL_LEVEL_SIZES.__getitem__) if levels else None
+    return finest if finest is not None and SUBMODEL_LEVEL_SIZES[finest] >= radial_size else None
 
 
 def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
@@ -307,8 +314,7 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
     levels = tuple(scene["submodel.levels"]) if contact else ()
     if contact:
         reasons.append("contact_patch/subsurface_stress: the submodel refines the contact region")
-    if levels and min(SUBMODEL_LEVEL_SIZES[lv] for lv in levels) >= scene.radial_size:
-        finest = min(levels, key=SUBMODEL_LEVEL_SIZES.__getitem__)
+    if (finest := _no_finer(levels, scene.radial_size)) is not None:
         reasons.append(
             f"no submodel level is finer than the global mesh across the contact (finest: {finest}, "
             f"{SUBMODEL_LEVEL_SIZES[finest] * 1e3:.4g} mm; global {scene.radial_size * 1e3:.4g} mm): the submodels "

@@ -133,6 +133,8 @@ class SceneError(ValueError):
 # kind: "float", "int", "str", "list[str]", "float|auto"; check(key, value) raises SceneError.
 # --------------------------------------------------------------------------------------------
 REQUIRED = object()
+# the paper's scene (Table 1's rods at 2.197 m/s), which the main job runs
+PAPER_SCENE = Path(__file__).resolve().parents[1] / "workflows" / "scenes" / "paper.toml"
 
 
 def _positive(unit: str, hi: float = math.inf, hint_hi: str = "", lo: float = 0.0, hint_lo: str = ""):
@@ -369,23 +371,15 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
 
 
 def _number_example(key: str) -> str:
-    """A remedy for a value that is no number: the key with its default, or the paper scene's value, in SI units."""
+    """A remedy for a value that is no number: the key with its default, or else its value in the paper scene
+    (:data:`PAPER_SCENE`, read only here, on the error's path), in SI units."""
     default = SCHEMA.get(key, (None, None))[1]
     if default is REQUIRED or default is None or isinstance(default, str):
-        default = PAPER_EXAMPLES.get(key.split(".", 1)[-1])
-    return "" if default is None else f"e.g. {key}={default!r} (SI units)"
-
-
-# the paper scene's values of the keys with no default, as examples in a remedy (workflows/scenes/paper.toml: Rod 2)
-PAPER_EXAMPLES = {
-    "length": 0.70099,
-    "diameter": 0.0127,
-    "material.density": 7803.0,
-    "material.youngs_modulus": 204.3e9,
-    "material.poisson_ratio": 0.3,
-    "material.yield_strength": 2.2e9,
-    "speed": 2.197,
-}
+        try:
+            default = _flatten(tomllib.loads(PAPER_SCENE.read_text(encoding="utf-8"))).get(key)
+        except (OSError, tomllib.TOMLDecodeError):  # an install without the workflows folder: no example
+            default = None
+    return "" if not isinstance(default, int | float) else f"e.g. {key}={default!r} (SI units)"
 
 
 def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:

@@ -315,9 +315,10 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     n_a + m elements across."""
     R = rod.diameter / 2
     if (b := butterfly(rod)) is not None:
-        gb = graded_butterfly(rod, hr, h, core, grading)
+        if (gb := graded_butterfly(rod, hr, h, core, grading)) is not None:
+            return gb.columns
         n_a, _, m = butterfly_counts(b, hr)
-        return (Column(R, n_a + m),) if gb is None else gb.columns
+        return (Column(R, n_a + m),)
     uniform = (Column(R, face_count(rod, hr)),)
     H = bar_size(rod, h)
     if grading == "uniform" or core >= R or H < 2.0 * hr:

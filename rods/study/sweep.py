@@ -18,7 +18,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from rods import io
-from rods.preflight import short
+from rods.preflight import InputError, distinct, short
+from rods.scene import PAPER_SCENE  # the main job's scene, which its global meshes run on (the Snakefile's rules)
 
 __all__ = [
     "CONFIG_KEYS",
@@ -53,8 +54,6 @@ FIELDS = (
 )
 
 
-# the main job's scene, which its global meshes run on (workflows/Snakefile's rules take it from here)
-PAPER_SCENE = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "paper.toml"
 CONFIG_KEYS = (
     "scene", "speeds", "mesh_levels", "dt_fractions", "kinds", "fe_speed", "ranks", "mpi",
     "paper_levels", "paper_phase_levels", "paper_global_meshes", "gpu",
@@ -159,13 +158,12 @@ def _paper_levels(config: Mapping[str, object]) -> None:
 
 
 def _once(key: str, values: object, keys: list) -> None:
-    """Each entry of the list ``values`` (compared as ``keys``: numbers by value) given once: twice would run one
-    point twice, or give its folder twice to a stage that refuses that, hours into the job."""
-    seen = set()
-    for v, k in zip(values, keys, strict=True):  # type: ignore[call-overload]
-        if k in seen:
-            raise ConfigError(key, values, f"entry {short(v)} given more than once; give each once")
-        seen.add(k)
+    """Each entry of the list ``values`` (compared as ``keys``: numbers by value) given once (rods.preflight.distinct):
+    twice would run one point twice, or give its folder twice to a stage that refuses that, hours into the job."""
+    try:
+        distinct(keys, key)
+    except InputError as e:
+        raise ConfigError(key, values, f"entry {short(e.value)} given more than once; give each once") from None
 
 
 def _folder_names(config: Mapping[str, object]) -> None:
