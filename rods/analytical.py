@@ -19,8 +19,14 @@ discrete delays k T_i; the paper's f_i', g_i' are a_i and the returning wave.
 
 Contact law: the paper's (``analytical.contact = "hertz"``, :data:`PAPER_LAW`) is Hertz's half-space approach.
 The default, ``"hertz-rod"``, adds the rods' end correction, a linear term: δ = (P/K)^{2/3} + c P with
-c = Σ_i χ(ν_i)/(E_i b_i) < 0 (:func:`rods.hertz.rod_end_compliance`): the bars already carry the far field
-that the half-space approach counts. The state is then the Hertz part δ_H = (P/K)^{2/3}, and
+c = Σ_i χ_i/(E_i b_i) (:func:`rods.hertz.rod_end_compliance`, χ_i < 0 on the paper's rods): the bars already
+carry the far field that the half-space approach counts, and a deep cap is softer than a half-space. χ_i depends
+on ν_i, the cap's depth b_i/R_i and weakly on the patch a/b_i, taken at the scene's impedance-bound patch a_P
+(rods.scene.Scene.impedance_patch_radius, which bounds the first contact's). It also counts the caps' shape in
+the bars: each is the uniform bar of its rod's mass (rods.scene.Rod.bar_length: a curved tip's cap holds less than
+the cylinder of its height, so the bar ends ΔL_i short of the apex, 0.29 mm on the paper's 35 mm tip, 2.1 mm on a
+hemisphere of the paper's rods), where the paper's bars are L_i from the apex, and a station x from the apex sits at
+x - ΔL_i along its bar (:attr:`WaveModel.caps`). The state is then the Hertz part δ_H = (P/K)^{2/3}, and
 δ_H' = δ' / (1 + (3/2) c K sqrt(δ_H)). Where the patch grows as wide as the rods the correction would
 reverse the approach (:meth:`WaveModel.rod_end_term_problem`); such a run falls back to the paper's law and
 says so in its warnings (status "warnings"). The paper's reproduction (Table 2) uses the paper's law. It is the paper's
@@ -132,16 +138,26 @@ class WaveModel:
     speed: float  # s1 [m/s]
     rtol: float = 1e-10
     compliance: float = 0.0  # c [m/N]: linear term of the approach (rod-end correction; 0: paper Eq. 8)
+    # the bars of the rods' mass, a curved tip's cap counted (rods.scene.Rod.bar_length; the "hertz-rod" law's),
+    # or the paper's bars of the rods' length L from the apex (False)
+    caps: bool = False
     E_star: float = field(init=False)  # [Pa]
     R_star: float = field(init=False)  # [m]
     K: float = field(init=False)  # Hertz stiffness [N/m^1.5]
+
+    @property
+    def rods(self) -> tuple[Rod, Rod]:
+        return self.rod1, self.rod2
 
     def __post_init__(self) -> None:
         self.E_star, self.R_star = hertz.contact_constants(self.rod1, self.rod2)
         self.K = hertz.contact_stiffness(self.E_star, self.R_star)
         self.Z = (self.rod1.impedance, self.rod2.impedance)  # [N s/m]
-        self.T = (self.rod1.transit_time, self.rod2.transit_time)  # [s]
         self.c = (self.rod1.material.wave_speed, self.rod2.material.wave_speed)  # [m/s]
+        self.offset = tuple(r.bar_offset if self.caps else 0.0 for r in self.rods)  # [m] apex to the bar's end
+        self.L = tuple(r.length - d for r, d in zip(self.rods, self.offset, strict=True))  # [m] the bars
+        self.T = tuple(2 * L / c for L, c in zip(self.L, self.c, strict=True))  # [s]
+        self.mass = tuple(r.material.density * r.area * L for r, L in zip(self.rods, self.L, strict=True))  # [kg]
         self._history = _History()
         self.contacts: list[list[float]] = []  # [start, end] of each contact episode [s]
         # scale of δ: the quasi-static Hertz compression under the stiff-contact force s1 Z1 Z2/(Z1+Z2)
@@ -340,9 +356,11 @@ class WaveModel:
     # ---- kinematics (paper Eq. 9, generalised to any station) ---------------------------
     def station(self, rod: int, x: float, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Axial velocity [m/s] (impact direction positive) and axial strain [-] (compression < 0)
-        at distance ``x`` from the tip of rod ``rod``; Eq. 9 is the case rod = 2, x = L2/2."""
+        at distance ``x`` from the apex of rod ``rod`` (x - ΔL along its bar, rods.scene.Rod.bar_offset); Eq. 9 is
+        the case rod = 2, x = L2/2."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
         c, T = self.c[rod - 1], self.T[rod - 1]
+        x = x - self.offset[rod - 1]  # [m] along the bar (a station is never in the cap)
         out = self.wave(rod, t - x / c)  # leaving the tip
         back = self.wave(rod, t + x / c - T)  # returning from the free end
         v_rel = out + back  # away from the contact
@@ -353,7 +371,7 @@ class WaveModel:
     def rigid_velocities(self) -> tuple[float, float]:
         """Mean (rigid-body) velocities of Rod 1 and Rod 2 after the last separation [m/s]."""
         I = float(self.impulse(self._history.t_end)[0])
-        return self.speed - I / self.rod1.mass, I / self.rod2.mass
+        return self.speed - I / self.mass[0], I / self.mass[1]
 
     def peak(self) -> tuple[float, float]:
         """(time, value) of the largest contact force, refined on the dense output."""
@@ -386,7 +404,7 @@ def contact_compliance(scene: Scene) -> float:
     the two rods' end corrections for "hertz-rod" (module docstring)."""
     if scene["analytical.contact"] == "hertz":
         return 0.0
-    return sum(hertz.rod_end_compliance(rod) for rod in scene.rods)
+    return sum(hertz.rod_end_compliance(rod, scene.impedance_patch_radius) for rod in scene.rods)
 
 
 def _histories(scene: Scene, model: WaveModel) -> tuple[dict[str, NDArray[np.float64]], dict[str, str]]:
@@ -429,15 +447,15 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     t0 = time.perf_counter()
     rtol = scene["analytical.rtol"] if rtol is None else rtol
 
-    def solve(c: float) -> WaveModel:
-        return WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c).run(scene.end_time)
+    def solve(c: float, caps: bool) -> WaveModel:
+        return WaveModel(scene.rod1, scene.rod2, scene.speed, rtol=rtol, compliance=c, caps=caps).run(scene.end_time)
 
     c, law, law_warnings = contact_compliance(scene), scene["analytical.contact"], []
-    model = solve(c)
+    model = solve(c, caps=law == "hertz-rod")
     if (problem := model.rod_end_term_problem()) is not None:
         # a patch as wide as the rods: the correction's range ends; the paper's law keeps the run (with a warning)
         c, law, law_warnings = 0.0, "hertz", [problem]
-        model = solve(c)
+        model = solve(c, caps=False)
     wall = time.perf_counter() - t0
     hist, units = _histories(scene, model)
     trace = force_trace(scene, model)

@@ -50,23 +50,101 @@ __all__ = [
 
 YIELD_FACTOR = 1.1  # P < 1.1 S_y keeps the contact elastic (paper §2.3, Fischer-Cripps) [-]
 
-# The rod-end correction χ(ν) [-] of the Hertz approach (rods.fe.end_compliance: a rod's end is stiffer than
-# the half-space by χ F/(E b)); tabulated by `python benchmarks/rod_end_compliance.py`
-# (results/rod-end-compliance.md: Q2, n = 48, a = 0.15 b; a mesh 2 x finer agrees to 0.04%, a = 0.075 b
-# to 0.12% for ν >= -0.5 and 0.6% at -0.9). χ [-].
+# The rod-end correction χ(ν, b/R, a/b) [-] of the Hertz approach (rods.fe.end_compliance: a rod's end differs from
+# the half-space by χ F/(E b), measured from the end of the 1D bar of the rod's mass); tabulated by
+# `python benchmarks/rod_end_compliance.py` (results/rod-end-compliance.md), indexed [ν][b/R][a/b].
 ROD_END_NU = (-0.9, -0.5, -0.25, 0.0, 0.15, 0.25, 0.3, 0.35, 0.4, 0.45, 0.49)  # [-]
-ROD_END_CHI = (  # [-]
-    -0.08331,
-    -0.45605,
-    -0.59294,
-    -0.64660,
-    -0.63791,
-    -0.61491,
-    -0.59823,
-    -0.57810,
-    -0.55450,
-    -0.52743,
-    -0.50329,
+ROD_END_S = (0.0, 0.25, 0.5, 0.75, 0.9, 1.0)  # b/R: flat to a hemisphere [-]
+ROD_END_ALPHA = (0.025, 0.05, 0.1, 0.2, 0.4)  # a/b: the Hertz patch's radius over the rod's [-]
+ROD_END_CHI: tuple[tuple[tuple[float, ...], ...], ...] = (  # [-] [ν][b/R][a/b]
+    (  # ν = -0.90
+        (-0.08263, -0.08274, -0.08293, -0.08362, -0.08637),  # b/R = 0
+        (0.09653, 0.07467, 0.05211, 0.02795, -0.00143),  # b/R = 0.25
+        (0.30115, 0.25628, 0.21035, 0.16043, 0.09928),  # b/R = 0.5
+        (0.54505, 0.47719, 0.40611, 0.32715, 0.22753),  # b/R = 0.75
+        (0.72393, 0.64185, 0.55503, 0.45643, 0.32915),  # b/R = 0.9
+        (0.87152, 0.77987, 0.68215, 0.56981, 0.42106),  # b/R = 1
+    ),
+    (  # ν = -0.50
+        (-0.45528, -0.45557, -0.45566, -0.45575, -0.45580),  # b/R = 0
+        (-0.11991, -0.17502, -0.23112, -0.28801, -0.34635),  # b/R = 0.25
+        (0.23228, 0.11913, 0.00614, -0.10996, -0.23161),  # b/R = 0.5
+        (0.60146, 0.43168, 0.25892, 0.08011, -0.10934),  # b/R = 0.75
+        (0.83412, 0.62964, 0.42054, 0.20196, -0.03019),  # b/R = 0.9
+        (0.99714, 0.76961, 0.53601, 0.29117, 0.02942),  # b/R = 1
+    ),
+    (  # ν = -0.25
+        (-0.59227, -0.59261, -0.59262, -0.59234, -0.59074),  # b/R = 0
+        (-0.32043, -0.36653, -0.41342, -0.46024, -0.50597),  # b/R = 0.25
+        (-0.04726, -0.14239, -0.23587, -0.33006, -0.42429),  # b/R = 0.5
+        (0.22449, 0.08277, -0.05931, -0.20213, -0.34465),  # b/R = 0.75
+        (0.38902, 0.21880, 0.04769, -0.12525, -0.29618),  # b/R = 0.9
+        (0.50214, 0.31316, 0.12269, -0.06945, -0.25931),  # b/R = 1
+    ),
+    (  # ν = +0.00
+        (-0.64607, -0.64641, -0.64637, -0.64584, -0.64315),  # b/R = 0
+        (-0.48470, -0.51158, -0.53907, -0.56592, -0.59034),  # b/R = 0.25
+        (-0.32922, -0.38564, -0.43953, -0.49258, -0.54281),  # b/R = 0.5
+        (-0.18083, -0.26383, -0.34540, -0.42446, -0.49801),  # b/R = 0.75
+        (-0.09157, -0.19090, -0.28858, -0.38350, -0.46952),  # b/R = 0.9
+        (-0.02791, -0.13778, -0.24605, -0.35046, -0.44445),  # b/R = 1
+    ),
+    (  # ν = +0.15
+        (-0.63746, -0.63778, -0.63772, -0.63711, -0.63409),  # b/R = 0
+        (-0.54131, -0.55612, -0.57145, -0.58604, -0.59800),  # b/R = 0.25
+        (-0.45048, -0.48256, -0.51199, -0.54033, -0.56561),  # b/R = 0.5
+        (-0.36452, -0.41091, -0.45551, -0.49715, -0.53321),  # b/R = 0.75
+        (-0.31061, -0.36591, -0.41907, -0.46886, -0.50999),  # b/R = 0.9
+        (-0.26868, -0.32958, -0.38826, -0.44245, -0.48672),  # b/R = 1
+    ),
+    (  # ν = +0.25
+        (-0.61451, -0.61482, -0.61475, -0.61412, -0.61101),  # b/R = 0
+        (-0.55425, -0.56216, -0.57056, -0.57824, -0.58338),  # b/R = 0.25
+        (-0.49719, -0.51534, -0.53097, -0.54557, -0.55750),  # b/R = 0.5
+        (-0.44185, -0.46743, -0.49128, -0.51246, -0.52904),  # b/R = 0.75
+        (-0.40421, -0.43454, -0.46283, -0.48816, -0.50643),  # b/R = 0.9
+        (-0.37160, -0.40477, -0.43586, -0.46301, -0.48230),  # b/R = 1
+    ),
+    (  # ν = +0.30
+        (-0.59786, -0.59816, -0.59808, -0.59745, -0.59435),  # b/R = 0
+        (-0.55201, -0.55707, -0.56260, -0.56745, -0.56986),  # b/R = 0.25
+        (-0.50791, -0.52029, -0.53025, -0.53929, -0.54597),  # b/R = 0.5
+        (-0.46363, -0.48061, -0.49599, -0.50898, -0.51810),  # b/R = 0.75
+        (-0.43143, -0.45147, -0.46965, -0.48525, -0.49492),  # b/R = 0.9
+        (-0.40164, -0.42341, -0.44329, -0.45976, -0.46977),  # b/R = 1
+    ),
+    (  # ν = +0.35
+        (-0.57774, -0.57803, -0.57795, -0.57733, -0.57426),  # b/R = 0
+        (-0.54341, -0.54612, -0.54930, -0.55183, -0.55207),  # b/R = 0.25
+        (-0.50918, -0.51680, -0.52214, -0.52669, -0.52926),  # b/R = 0.5
+        (-0.47271, -0.48264, -0.49113, -0.49759, -0.50102),  # b/R = 0.75
+        (-0.44398, -0.45559, -0.46556, -0.47347, -0.47672),  # b/R = 0.9
+        (-0.41568, -0.42811, -0.43893, -0.44698, -0.45017),  # b/R = 1
+    ),
+    (  # ν = +0.40
+        (-0.55415, -0.55443, -0.55436, -0.55374, -0.55074),  # b/R = 0
+        (-0.52803, -0.52899, -0.53040, -0.53123, -0.52993),  # b/R = 0.25
+        (-0.50026, -0.50428, -0.50620, -0.50749, -0.50724),  # b/R = 0.5
+        (-0.46808, -0.47274, -0.47614, -0.47795, -0.47766),  # b/R = 0.75
+        (-0.44068, -0.44600, -0.44996, -0.45245, -0.45166),  # b/R = 0.9
+        (-0.41244, -0.41793, -0.42213, -0.42432, -0.42335),  # b/R = 1
+    ),
+    (  # ν = +0.45
+        (-0.52707, -0.52735, -0.52728, -0.52670, -0.52378),  # b/R = 0
+        (-0.50546, -0.50535, -0.50568, -0.50548, -0.50334),  # b/R = 0.25
+        (-0.48037, -0.48216, -0.48202, -0.48143, -0.47976),  # b/R = 0.5
+        (-0.44872, -0.45014, -0.45051, -0.44975, -0.44788),  # b/R = 0.75
+        (-0.42039, -0.42184, -0.42227, -0.42186, -0.41962),  # b/R = 0.9
+        (-0.39070, -0.39198, -0.39230, -0.39145, -0.38919),  # b/R = 1
+    ),
+    (  # ν = +0.49
+        (-0.50293, -0.50318, -0.50314, -0.50258, -0.49973),  # b/R = 0
+        (-0.48190, -0.48154, -0.48158, -0.48106, -0.47882),  # b/R = 0.25
+        (-0.45603, -0.45720, -0.45649, -0.45548, -0.45376),  # b/R = 0.5
+        (-0.42211, -0.42247, -0.42199, -0.42082, -0.41933),  # b/R = 0.75
+        (-0.39133, -0.39149, -0.39104, -0.39030, -0.38887),  # b/R = 0.9
+        (-0.35926, -0.35932, -0.35866, -0.35758, -0.35649),  # b/R = 1
+    ),
 )
 
 FloatOrArray = float | NDArray[np.float64]
@@ -172,22 +250,32 @@ def approach(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
     return _out((_force(F) / K) ** (2.0 / 3.0))
 
 
-def rod_end_compliance(rod: _RodLike) -> float:
-    """The rod-end correction χ(ν)/(E b) [m/N] (< 0) of one body's Hertz approach: a rod of radius b is
-    stiffer at its end than the half-space Hertz assumes, because its 1D bar strain already carries the far
-    field (rods.fe.end_compliance). The approach of the bar ends is δ = δ_Hertz(F) + Σ_i χ(ν_i) F/(E_i b_i).
+def rod_end_compliance(rod: _RodLike, a: float) -> float:
+    """The rod-end correction χ(ν, b/R, a/b)/(E b) [m/N] of one body's Hertz approach at a Hertz radius ``a`` [m]:
+    the approach of the contact centre relative to the end of the rod's 1D bar (rods.scene.Rod.bar_offset) differs
+    from the half-space's, because the bar's strain already carries the far field (a flat end: stiffer, χ < 0) and
+    a deep cap is slenderer than a half-space beside the patch (softer: χ rises towards 0 with b/R).
+    The approach of the bar ends is δ = δ_Hertz(F) + Σ_i χ_i F/(E_i b_i).
 
-    χ is interpolated (monotone cubic) in :data:`ROD_END_CHI` over ν in [-0.9, 0.49]; outside, the end
-    value (a Poisson ratio below -0.9 or above 0.49 is no engineering metal). The clamp's error is a part of the
-    whole term's effect, which is small there (measured on the paper scene, both rods at ν: the term moves the
-    first contact by -0.027 µs at -0.95 and -1.02 µs at 0.4999, of which the table's slope over the last 0.01
-    in ν is 1.3%, and the peak force by 4e-9 and 4e-5): no warning. Assumes a << b and a tip whose cap is short
-    against b (the cap's own shape is not in χ)."""
-    from scipy.interpolate import PchipInterpolator
+    χ is interpolated (monotone cubic in ν, b/R and ln a/b) in :data:`ROD_END_CHI`: ν in [-0.9, 0.49], b/R in
+    [0, 1] (the schema's range), a/b in [0.025, 0.4]; outside, the end value (a Poisson ratio below -0.9 or
+    above 0.49 is no engineering metal; on a flat end χ varies by 0.7% over the whole a/b range, on a hemisphere
+    by about 0.03 per halving of a, so a smaller patch's clamped value is a few hundredths off). The clamp's
+    error in ν is a part of the whole term's effect, which is small there (measured on the paper scene, both
+    rods at ν: the term moves the first contact by -0.027 µs at -0.95 and -1.02 µs at 0.4999, of which the
+    table's slope over the last 0.01 in ν is 1.3%, and the peak force by 4e-9 and 4e-5): no warning."""
+    b = 0.5 * rod.diameter  # [m]
+    s = 0.0 if math.isinf(rod.tip_radius) else b / rod.tip_radius
+    return _end_chi(rod.material.poisson_ratio, s, a / b) / (rod.material.youngs_modulus * b)
 
-    ν = min(max(rod.material.poisson_ratio, ROD_END_NU[0]), ROD_END_NU[-1])
-    χ = float(PchipInterpolator(ROD_END_NU, ROD_END_CHI)(ν))
-    return χ / (rod.material.youngs_modulus * 0.5 * rod.diameter)
+
+def _end_chi(ν: float, s: float, α: float) -> float:
+    """χ [-] interpolated in :data:`ROD_END_CHI` at Poisson ratio ν, b/R = s and a/b = α, each clamped to its axis."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    axes = (ROD_END_NU, ROD_END_S, np.log(ROD_END_ALPHA))
+    point = [min(max(x, axis[0]), axis[-1]) for x, axis in zip((ν, s, math.log(α)), axes, strict=True)]
+    return float(RegularGridInterpolator(axes, np.asarray(ROD_END_CHI), method="pchip")(point)[0])
 
 
 # --------------------------------------------------------------------------------------------

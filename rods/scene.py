@@ -514,8 +514,8 @@ class Rod:
 
     @property
     def mass(self) -> float:
-        """m = ρ A L [kg] (the cap's missing volume is neglected, as in the 1D model)."""
-        return self.material.density * self.area * self.length
+        """m = ρ A L_bar [kg]: the rod's, cap included (:attr:`bar_length`)."""
+        return self.material.density * self.area * self.bar_length
 
     @property
     def impedance(self) -> float:
@@ -524,8 +524,8 @@ class Rod:
 
     @property
     def transit_time(self) -> float:
-        """Round-trip time of a bar wave, 2L/c [s] (the delay of Eqs. 2 and 4)."""
-        return 2 * self.length / self.material.wave_speed
+        """Round-trip time of a bar wave, 2 L_bar/c [s] (the delay of Eqs. 2 and 4; :attr:`bar_length`)."""
+        return 2 * self.bar_length / self.material.wave_speed
 
     @property
     def diameter_transit(self) -> float:
@@ -538,6 +538,26 @@ class Rod:
         """Height of the spherical cap r - sqrt(r² - (d/2)²) [m]; 0 for a flat tip."""
         r, ρ = self.tip_radius, self.diameter / 2
         return 0.0 if math.isinf(r) else r - math.sqrt(r * r - ρ * ρ)
+
+    @property
+    def cap_volume(self) -> float:
+        """Volume of the spherical cap π h² (3r - h)/3 [m^3] (h: :attr:`cap_height`); 0 for a flat tip."""
+        h = self.cap_height
+        return 0.0 if h == 0.0 else math.pi * h * h * (3 * self.tip_radius - h) / 3
+
+    @property
+    def bar_offset(self) -> float:
+        """ΔL = h - V_cap/A [m]: how far from the apex the end of the 1D bar of the rod's mass lies (a cap holds less
+        than the cylinder of its height: 1/2 of it on a shallow cap, 2/3 on a hemisphere, ΔL = b/3). The 1D model's
+        bar is :attr:`bar_length` long and its displacement is extrapolated to there (rods.fe.end_compliance)."""
+        return self.cap_height - self.cap_volume / self.area
+
+    @property
+    def bar_length(self) -> float:
+        """L_bar = L - ΔL [m]: the uniform bar of the rod's mass and section (:attr:`bar_offset`), the analytical
+        model's rod at its default law (rods.analytical.WaveModel.caps; the paper's takes L itself: 0.29 mm longer
+        on the paper's 35 mm tip, 2.1 mm on a hemisphere of the paper's rods, 0.85% of Rod 1's mass there)."""
+        return self.length - self.bar_offset
 
 
 @dataclass(frozen=True)
@@ -647,13 +667,19 @@ class Scene:
     def auto_radial_size(self) -> float:
         """What "auto" gives ``fe.radial_size`` on this scene [m], whatever the key holds (:attr:`radial_size`)."""
         bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS
-        return min(bar, self._impedance_patch[1] / PATCH_ELEMENTS)
+        return min(bar, self.impedance_patch_radius / PATCH_ELEMENTS)
+
+    @property
+    def impedance_patch_radius(self) -> float:
+        """Hertz's contact radius a_P [m] at the impedance-bound force (:attr:`impedance_force`): it bounds the first
+        contact's patch (the auto meshes' scale, the analytical model's rod-end term's patch)."""
+        return self._impedance_patch[1]
 
     @property
     def graded_core(self) -> float:
         """Radius [m] of the uniform core of a graded axisymmetric mesh (``fe.radial_grading``): :data:`CORE_RADII`
         Hertz radii a_P at the impedance-bound force, which bounds the first contact's patch."""
-        return CORE_RADII * self._impedance_patch[1]
+        return CORE_RADII * self.impedance_patch_radius
 
     @cached_property
     def axial_size(self) -> float:

@@ -197,22 +197,41 @@ def test_yield_check_and_warning():
 
 
 def test_rod_end_compliance_scales_with_modulus_and_radius():
-    """c = χ(ν)/(E b): the table's value at a node, halved by doubling E or the diameter, negative, and clamped
-    outside the table's ν range."""
+    """c = χ(ν, b/R, a/b)/(E b): the table's value at a node, halved by doubling E or all lengths (χ is
+    dimensionless: the same b/R and a/b), and clamped outside the table's ν and a/b ranges."""
     from types import SimpleNamespace as NS
 
-    def rod(E, ν, d):
-        return NS(diameter=d, tip_radius=math.inf, material=NS(youngs_modulus=E, poisson_ratio=ν))
+    def rod(E, ν, d, R=math.inf):
+        return NS(diameter=d, tip_radius=R, material=NS(youngs_modulus=E, poisson_ratio=ν))
 
-    i = hertz.ROD_END_NU.index(0.3)
-    c = hertz.rod_end_compliance(rod(200e9, 0.3, 0.0127))
-    assert c == pytest.approx(hertz.ROD_END_CHI[i] / (200e9 * 0.00635), rel=1e-12)
-    assert c < 0
-    assert hertz.rod_end_compliance(rod(400e9, 0.3, 0.0127)) == pytest.approx(c / 2, rel=1e-12)
-    assert hertz.rod_end_compliance(rod(200e9, 0.3, 0.0254)) == pytest.approx(c / 2, rel=1e-12)
-    assert hertz.rod_end_compliance(rod(200e9, 0.4999, 0.0127)) == hertz.rod_end_compliance(
-        rod(200e9, hertz.ROD_END_NU[-1], 0.0127)
+    i, j, k = hertz.ROD_END_NU.index(0.3), hertz.ROD_END_S.index(1.0), hertz.ROD_END_ALPHA.index(0.1)
+    b = 0.00635  # [m]
+    c = hertz.rod_end_compliance(rod(200e9, 0.3, 2 * b, b), 0.1 * b)
+    assert c == pytest.approx(hertz.ROD_END_CHI[i][j][k] / (200e9 * b), rel=1e-12)
+    assert hertz.rod_end_compliance(rod(400e9, 0.3, 2 * b, b), 0.1 * b) == pytest.approx(c / 2, rel=1e-12)
+    assert hertz.rod_end_compliance(rod(200e9, 0.3, 4 * b, 2 * b), 0.2 * b) == pytest.approx(c / 2, rel=1e-12)
+    flat = rod(200e9, 0.3, 2 * b)
+    assert hertz.rod_end_compliance(flat, 0.1 * b) < 0
+    assert hertz.rod_end_compliance(rod(200e9, 0.4999, 2 * b), 0.1 * b) == hertz.rod_end_compliance(
+        rod(200e9, hertz.ROD_END_NU[-1], 2 * b), 0.1 * b
     )
+    assert hertz.rod_end_compliance(flat, 1e-6 * b) == hertz.rod_end_compliance(flat, hertz.ROD_END_ALPHA[0] * b)
+
+
+def test_rod_end_table_is_a_smooth_physical_surface():
+    """The tabulated χ: a flat end is stiffer than the half-space (χ < 0) and does not depend on the patch's size
+    (within 1% over a/b 0.025-0.4 for ν >= -0.5: the far field sees a point load); a cap is softer the deeper it
+    is (χ rises with b/R at every ν and patch), and on a hemisphere χ rises as the patch shrinks for ν <= 0.35
+    (the curved surface's ln(R/a), whose weight falls towards ν = 1/2: within 0.015 above)."""
+    χ = np.asarray(hertz.ROD_END_CHI)
+    assert χ.shape == (len(hertz.ROD_END_NU), len(hertz.ROD_END_S), len(hertz.ROD_END_ALPHA))
+    flat = χ[:, 0, :]
+    assert np.all(flat < 0)
+    assert np.all(np.ptp(flat[1:], axis=1) < 0.01 * np.abs(flat[1:]).min(axis=1))  # ν >= -0.5
+    assert np.all(np.diff(χ, axis=1) > 0)
+    ν = np.asarray(hertz.ROD_END_NU)
+    assert np.all(np.diff(χ[ν <= 0.35, -1, :], axis=1) < 0)
+    assert np.all(np.ptp(χ[ν > 0.35, -1, :], axis=1) < 0.015)
 
 
 def test_subsurface_hertz_reduces_to_surface_and_axis():

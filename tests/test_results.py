@@ -40,6 +40,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
     "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
+    "rod-end-compliance.md": lambda: benchmark("rod_end_compliance").render(_data("rod-end-compliance.json")),
 }
 
 

@@ -453,10 +453,12 @@ def test_value_differences_name_every_dotted_key_that_differs(scene_with):
 
 
 def test_a_rods_wave_times_are_its_bar_wave_over_its_length_and_diameter():
-    """2L/c and d/c of the paper's Rod 1 (A2 steel, c = sqrt(E/ρ) = 5117 m/s): 97.75 µs and 2.482 µs."""
+    """2L/c and d/c of the paper's Rod 1 (A2 steel, c = sqrt(E/ρ) = 5117 m/s): 97.64 µs (its bar of 249.80 mm, the
+    35 mm cap holding 0.29 mm less than its cylinder) and 2.482 µs."""
     rod = load_scene(SCENES / "paper.toml").rod1
     c = math.sqrt(204.3e9 / 7803.0)  # [m/s]
-    assert rod.transit_time == pytest.approx(2 * 0.25009 / c, rel=1e-12)
+    assert rod.bar_length == pytest.approx(0.24980, abs=5e-6)
+    assert rod.transit_time == pytest.approx(2 * rod.bar_length / c, rel=1e-12)
     assert rod.diameter_transit == pytest.approx(0.0127 / c, rel=1e-12)
     assert rod.diameter_transit == pytest.approx(2.482e-6, rel=1e-3)
 
@@ -528,3 +530,25 @@ def test_a_scene_path_that_is_empty_or_a_folder_is_called_so(tmp_path):
     (tmp_path / "m.toml").write_text('name = "x\n')
     with pytest.raises(SceneError, match=r"malformed TOML.*fix the TOML syntax"):
         load_scene(tmp_path / "m.toml")
+
+
+@pytest.mark.parametrize("R_over_b", [1.0, 1.5, 5.5, 1e4, math.inf])
+def test_the_1d_bar_holds_the_rods_mass(scene_with, R_over_b):
+    """Rod.bar_length is the uniform bar of the rod's volume: the body L - h plus the cap's volume (a solid of
+    revolution, integrated here by quadrature) over the section; a hemisphere's bar ends b/3 in from the apex, a
+    shallow cap's at half its height, a flat end's at the end; the mass and the bar's round trip follow it."""
+    b = 0.00635  # [m] the paper rods' radius
+    sc = scene_with(f"rod1.tip_radius={b * R_over_b!r}" if R_over_b < math.inf else "impact.speed=1.0")
+    rod = sc.rod1 if R_over_b < math.inf else sc.rod2  # the paper's Rod 2 is flat
+    h, R = rod.cap_height, rod.tip_radius
+    z = np.linspace(0.0, h, 20001)
+    volume = math.pi * np.trapezoid(2 * R * z - z**2, z) if h > 0 else 0.0  # the cap's radius² at z from its apex
+    assert rod.cap_volume == pytest.approx(volume, rel=1e-7, abs=1e-18)
+    assert rod.bar_length * rod.area == pytest.approx((rod.length - h) * rod.area + volume, rel=1e-9)
+    assert rod.mass == pytest.approx(rod.material.density * rod.area * rod.bar_length, rel=1e-12)
+    assert rod.transit_time == pytest.approx(2 * rod.bar_length / rod.material.wave_speed, rel=1e-12)
+    if R_over_b == 1.0:
+        assert rod.bar_offset == pytest.approx(b / 3, rel=1e-9)
+    elif R_over_b >= 1e4:
+        assert rod.bar_offset == pytest.approx(h / 2, rel=1e-3, abs=0.0)
+        assert (rod.bar_offset == 0.0) == (R_over_b == math.inf)
