@@ -335,9 +335,10 @@ class WaveModel:
 
     def rod_end_term_problem(self) -> str | None:
         """Why the rod-end term is not a correction on this run (None: it is). It must stay one:
-        dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) >= 0.25 at the largest approach (about a <= 0.57 b for equal steel rods:
-        χ is constant to 2% for Hertz radii a from 0.075 b to 0.7 b, rods.fe.end_compliance; beyond, the patch
-        covers the rod's end and neither Hertz nor the correction holds)."""
+        dδ/dδ_H = 1 + (3/2) c K sqrt(δ_H) >= 0.25 at the largest approach (about a <= 0.57 b for equal steel rods
+        with flat ends: a flat end's χ is constant to 0.7% for Hertz radii a from 0.025 b to 0.4 b,
+        rods.fe.end_compliance; beyond, the patch covers the rod's end and neither Hertz nor the correction holds).
+        A deep cap's χ is larger (less negative; positive on caps of ν < -0.5), so its term reverses later or never."""
         if self.compliance == 0.0 or not self._history.t_lo:
             return None
         δ_H = max(float(np.max(self._history(np.asarray(self._history.t_lo), 0))), 0.0)

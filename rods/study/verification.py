@@ -28,8 +28,9 @@ A case *passes* when every targeted column is inside its target. The targets are
 figures; the matrix reports what the defaults give, it does not tune them.
 
 The reference is the analytical model at the scene's default contact law, ``analytical.contact = "hertz-rod"``
-(rods.analytical): Hertz's half-space approach less the rods' end correction χ(ν) F/(E b), the far field that the
-1D bars already carry (χ from a static elasticity solve, rods.fe.end_compliance, not from these runs). A second
+(rods.analytical): Hertz's half-space approach less the rods' end correction χ F/(E b), the far field that the
+1D bars already carry (χ of ν, the cap's depth and the patch's size from a static elasticity solve,
+rods.fe.end_compliance, not from these runs), on bars of the rods' mass (rods.scene.Rod.bar_length). A second
 table compares the same FE runs with the paper's law (:data:`rods.analytical.PAPER_LAW`), which counts that far
 field twice, so its contact is too compliant and lasts longer.
 """
