@@ -56,12 +56,13 @@ def _unit_rod(s: float) -> Rod:
     )
 
 
-def _capped_rod(s: float, a: float, refine: float) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags]:
-    """P2 triangles on the rod's meridian: the cap (apex at z = -h) on the body r in [0, 1], z in [0, L]; the
-    elements a/(12 refine) at the apex, growing to 0.2/refine from 1.5 away (gmsh's distance threshold)."""
+def _capped_rod(rod: Rod, a: float, refine: float) -> tuple[dolfinx.mesh.Mesh, dolfinx.mesh.MeshTags]:
+    """P2 triangles on the meridian of ``rod`` (:func:`_unit_rod`): the cap (apex at z = -h) on the body r in
+    [0, 1], z in [0, L]; the elements a/(12 refine) at the apex, growing to 0.2/refine from 1.5 away (gmsh's
+    distance threshold)."""
     import gmsh
 
-    h = _unit_rod(s).cap_height
+    h = rod.cap_height
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -69,10 +70,10 @@ def _capped_rod(s: float, a: float, refine: float) -> tuple[dolfinx.mesh.Mesh, d
         geo, coarse = gmsh.model.geo, 0.2 / refine
         apex, rim = geo.addPoint(0.0, -h, 0.0), geo.addPoint(1.0, 0.0, 0.0)
         far_rim, far_axis = geo.addPoint(1.0, _LENGTH, 0.0), geo.addPoint(0.0, _LENGTH, 0.0)
-        if s == 0:
+        if h == 0.0:
             tip = geo.addLine(apex, rim)
         else:
-            tip = geo.addCircleArc(apex, geo.addPoint(0.0, 1.0 / s - h, 0.0), rim)
+            tip = geo.addCircleArc(apex, geo.addPoint(0.0, rod.tip_radius - h, 0.0), rim)
         far = geo.addLine(far_rim, far_axis)
         loop = geo.addCurveLoop([tip, geo.addLine(rim, far_rim), far, geo.addLine(far_axis, apex)])
         surface = geo.addPlaneSurface([loop])
@@ -113,7 +114,8 @@ def end_correction(ν: float, s: float = 0.0, a: float = 0.05, refine: float = 2
 
     ``s``: b/R, the rod's radius over its tip's (0: flat, 1: a hemisphere); ``a``: Hertz radius in rod radii
     (a << 1); ``refine``: the mesh's refinement (the elements scale as 1/refine)."""
-    msh, facets = _capped_rod(s, a, refine)
+    rod = _unit_rod(s)
+    msh, facets = _capped_rod(rod, a, refine)
     E, F = 1.0, 1.0  # [Pa], [N] (linear: χ is dimensionless)
     λ, μ = Material(density=1.0, youngs_modulus=E, poisson_ratio=ν).lame  # [Pa]
     V = dolfinx.fem.functionspace(msh, ("Lagrange", 2, (2,)))
@@ -155,7 +157,6 @@ def end_correction(ν: float, s: float = 0.0, a: float = 0.05, refine: float = 2
     uz = _axial_displacement_at(uh, pts).reshape(z.size, r.size)
     mean = np.trapezoid(uz * 2 * r, r, axis=1)  # ∫ u_z 2πr dr / π
     slope, at_base = np.polyfit(z, mean, 1)
-    rod = _unit_rod(s)
     z_e = rod.bar_offset - rod.cap_height  # the equal-mass bar's end (z = 0: the cap's base)
     apex = _axial_displacement_at(uh, np.array([[0.0, -rod.cap_height, 0.0]]))[0]
     half_space = (1 - ν**2) * 3 * F / (4 * a * E)
