@@ -515,8 +515,10 @@ def _paper_law_text(rows: list[dict[str, Any]]) -> str:
     rms = [(a, b) for a, b in rms if b is not None and math.isfinite(a) and math.isfinite(b)]
     return (
         f' The reference is the default `analytical.contact = "{rows[0].get("contact_law")}"`: Hertz\'s half-space '
-        "approach less the far field that the 1D bars already carry, χ(ν) F/(E b) per rod from a static elasticity "
-        "solve ([rod-end-compliance.md](rod-end-compliance.md), nothing fitted to these runs). Against the paper's "
+        "approach less the far field that the 1D bars already carry, χ F/(E b) per rod (χ of ν, the cap's depth and "
+        "the contact patch's size, from static elasticity solves, [rod-end-compliance.md](rod-end-compliance.md), "
+        "nothing fitted to these runs), with each rod a bar of its own mass (a cap is shorter than the cylinder it "
+        "replaces). Against the paper's "
         f"law the same FE runs meet every target in {n_ok} of {len(rows)} cases: durations up to {worst_d:.2f} µs "
         f"apart (with the correction: within {ours:.2f} µs)"
         + (

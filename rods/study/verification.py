@@ -327,8 +327,10 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         "the shift of the FE strain that minimises it (negative: the FE leads). Mesh change: default mesh minus a "
         f"mesh {MESH_CHECK:g} x finer (over the contact phase); the gap to the analytical model is the latter's "
         f"model form where it exceeds {MODEL_FORM_RATIO:g} x that change or the refinement widens it. "
-        f"The analytical model's contact law: {_laws(data['rows'])} (c: its rod-end term, rods.analytical; χ from a "
-        "static elasticity solve, [rod-end-compliance.md](rod-end-compliance.md), nothing fitted to these runs).",
+        f"The analytical model's contact law: {_laws(data['rows'])} (c: its rod-end term, rods.analytical; χ of ν, "
+        "the cap's depth and the patch's size from static elasticity solves, "
+        "[rod-end-compliance.md](rod-end-compliance.md), nothing fitted to these runs; each rod a bar of its own "
+        "mass).",
         "",
         "| case | peak force FE [N] | vs analytical | mesh change | duration FE [µs] | Δ duration [µs] "
         "| mesh change [µs] | avg. peak speed vs analytical | strain RMS [µε] | strain lag [µs] | energy error "
