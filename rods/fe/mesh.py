@@ -448,47 +448,14 @@ def _butterfly_cap(geo, b: Butterfly, s: float, hr: float, gb: GradedButterfly |
     pts = dict(b.points)
     if gb is None:
         n_a, n_b, m = butterfly_counts(b, hr)
-        q_m = 1.0
     else:
-        n_a, n_b, m, q_m = gb.n_core + gb.n_g, gb.n_b, gb.m, gb.q_m
+        n_a, n_b, m = gb.n_core + gb.n_g, gb.n_b, gb.m
         rt, t = pts["Oc"][1], b.t
         th = gb.n_core * hr / rt  # K: the core's edge on the arc
         K = (rt * math.sin(th), rt * (1.0 - math.cos(th)))
         pts |= {"K": K, "K'": (K[0] * (1.0 - t / rt), K[1] + t * (rt - K[1]) / rt), "K''": (gb.r_core, pts["O"][1])}
     p = {k: geo.addPoint(r, s * z, 0.0) for k, (r, z) in pts.items()}
-    arc, line = (lambda a, z: geo.addCircleArc(p[a], p["Oc"], p[z])), (lambda a, z: geo.addLine(p[a], p[z]))
-    q_b = 1.0 if gb is None else gb.q_b
-    c = {  # curve: (tag, elements, progression along it)
-        "PE": (arc("P", "E"), n_b, q_b),
-        "AD": (line("A", "D"), m, q_m),  # across the bands: from hr at the face inward
-        "PC": (line("P", "C"), m, q_m),
-        "EG": (line("E", "G"), m, q_m),
-        "CG": (line("C", "G"), n_b, q_b),
-        "DO": (line("D", "O"), n_b, q_b),
-    }
-    if gb is None:
-        c |= {"AP": (arc("A", "P"), n_a, 1.0), "DC": (line("D", "C"), n_a, 1.0), "OG": (line("O", "G"), n_a, 1.0)}
-        loops = [["AP", "PC", "-DC", "-AD"], ["PE", "EG", "-CG", "-PC"], ["DC", "CG", "-OG", "-DO"]]
-        rim, corners = [["OG", "-EG"]], ["O", "E"]
-    else:
-        c |= {
-            "AK": (arc("A", "K"), gb.n_core, 1.0),
-            "KP": (arc("K", "P"), gb.n_g, gb.q_g),
-            "KK'": (line("K", "K'"), m, q_m),
-            "DK'": (line("D", "K'"), gb.n_core, 1.0),
-            "K'C": (line("K'", "C"), gb.n_g, gb.q_g),
-            "K'K''": (line("K'", "K''"), n_b, q_b),
-            "OK''": (line("O", "K''"), gb.n_core, 1.0),
-            "K''G": (line("K''", "G"), gb.n_g, gb.q_g),
-        }
-        loops = [
-            ["AK", "KK'", "-DK'", "-AD"],  # the band over the core
-            ["KP", "PC", "-K'C", "-KK'"],  # the band, graded along
-            ["PE", "EG", "-CG", "-PC"],  # the band to the rim
-            ["DK'", "K'K''", "-OK''", "-DO"],  # the core under the core
-            ["K'C", "CG", "-K''G", "-K'K''"],  # the core, graded along
-        ]
-        rim, corners = [["OK''"], ["K''G"], ["-EG"]], ["O", "K''", "G", "E"]
+    c, loops, rim, corners, tip = _butterfly_blocks(geo, p, (n_a, n_b, m), gb)
 
     def tag(name: str) -> int:
         return -c[name[1:]][0] if name.startswith("-") else c[name][0]
@@ -500,7 +467,6 @@ def _butterfly_cap(geo, b: Butterfly, s: float, hr: float, gb: GradedButterfly |
     for surf in surfaces:
         gmsh.model.geo.mesh.setTransfiniteSurface(surf)
         gmsh.model.geo.mesh.setRecombine(2, surf)
-    tip = ["AP", "PE"] if gb is None else ["AK", "KP", "PE"]
     return {
         "surfaces": surfaces,
         "tip": [tag(x) for x in tip],
@@ -511,6 +477,45 @@ def _butterfly_cap(geo, b: Butterfly, s: float, hr: float, gb: GradedButterfly |
         "h_tip": b.t / m if gb is None else hr,  # the element normal to the contact face at the apex [m]
         "h_face": max(length / n for length, n in zip(b.arcs, (n_a, n_b), strict=True)) if gb is None else hr,
     }
+
+
+def _butterfly_blocks(geo, p: dict[str, int], counts: tuple[int, int, int], gb: GradedButterfly | None):
+    """The butterfly's curves between its points ``p`` (gmsh tags), each as (tag, elements, progression along it),
+    and its blocks as curve loops (a leading "-" reverses a curve), with the rim's columns, its corner points and
+    the tip's curves from the apex out: three blocks of ``counts`` = (n_a, n_b, m), or five graded as ``gb``."""
+    n_a, n_b, m = counts
+    q_m, q_b = (1.0, 1.0) if gb is None else (gb.q_m, gb.q_b)
+    arc, line = (lambda a, z: geo.addCircleArc(p[a], p["Oc"], p[z])), (lambda a, z: geo.addLine(p[a], p[z]))
+    c = {
+        "PE": (arc("P", "E"), n_b, q_b),
+        "AD": (line("A", "D"), m, q_m),  # across the bands: from hr at the face inward
+        "PC": (line("P", "C"), m, q_m),
+        "EG": (line("E", "G"), m, q_m),
+        "CG": (line("C", "G"), n_b, q_b),
+        "DO": (line("D", "O"), n_b, q_b),
+    }
+    if gb is None:
+        c |= {"AP": (arc("A", "P"), n_a, 1.0), "DC": (line("D", "C"), n_a, 1.0), "OG": (line("O", "G"), n_a, 1.0)}
+        loops = [["AP", "PC", "-DC", "-AD"], ["PE", "EG", "-CG", "-PC"], ["DC", "CG", "-OG", "-DO"]]
+        return c, loops, [["OG", "-EG"]], ["O", "E"], ["AP", "PE"]
+    c |= {
+        "AK": (arc("A", "K"), gb.n_core, 1.0),
+        "KP": (arc("K", "P"), gb.n_g, gb.q_g),
+        "KK'": (line("K", "K'"), m, q_m),
+        "DK'": (line("D", "K'"), gb.n_core, 1.0),
+        "K'C": (line("K'", "C"), gb.n_g, gb.q_g),
+        "K'K''": (line("K'", "K''"), n_b, q_b),
+        "OK''": (line("O", "K''"), gb.n_core, 1.0),
+        "K''G": (line("K''", "G"), gb.n_g, gb.q_g),
+    }
+    loops = [
+        ["AK", "KK'", "-DK'", "-AD"],  # the band over the core
+        ["KP", "PC", "-K'C", "-KK'"],  # the band, graded along
+        ["PE", "EG", "-CG", "-PC"],  # the band to the rim
+        ["DK'", "K'K''", "-OK''", "-DO"],  # the core under the core
+        ["K'C", "CG", "-K''G", "-K'K''"],  # the core, graded along
+    ]
+    return c, loops, [["OK''"], ["K''G"], ["-EG"]], ["O", "K''", "G", "E"], ["AK", "KP", "PE"]
 
 
 def _flat_block_cap(geo, rod: Rod, s: float, columns: tuple[Column, ...]) -> dict[str, Any]:  # rank 0 only
