@@ -31,6 +31,7 @@ __all__ = [
     "ROD_END_S",
     "approach",
     "axis_stresses",
+    "bar_rise",
     "check_yield",
     "check_yield_rods",
     "rods_by_strength",
@@ -250,6 +251,37 @@ def approach(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
     """
     K = contact_stiffness(E_star, R_star)
     return _out((_force(F) / K) ** (2.0 / 3.0))
+
+
+def _rise_time(u: float) -> float:
+    """τ(u) = ∫_0^u 2w/(1 - w³) dw [-]: the time of :func:`bar_rise`'s y' = 1 - y^(3/2) to reach y = u²."""
+    return (
+        -2.0 / 3.0 * math.log1p(-u)
+        + math.log(1.0 + u + u * u) / 3.0
+        - 2.0 / math.sqrt(3.0) * (math.atan((2.0 * u + 1.0) / math.sqrt(3.0)) - math.pi / 6.0)
+    )
+
+
+def bar_rise(τ: float) -> tuple[float, float]:
+    """A Hertz contact of two long bars before a reflection returns, at τ = t s1/δ_P [-]: (F/P, S) [-, -].
+
+    Rod 1 at s1 onto Rod 2 at rest: until a reflection comes back, each end moves as a bar's, so the approach obeys
+    δ' = s1 - F (1/Z1 + 1/Z2) with F = K δ^(3/2) (paper Eq. 8; Z = ρ c A). With the impedance bound
+    P = s1 Z1 Z2/(Z1 + Z2) and δ_P = (P/K)^(2/3), y = δ/δ_P obeys y' = 1 - y^(3/2), y(0) = 0, whose time to
+    reach y = u² is τ(u) = -2/3 ln(1 - u) + 1/3 ln(1 + u + u²) - 2/√3 (atan((2u + 1)/√3) - π/6) (u = √y;
+    partial fractions of 2u/(1 - u³)). F/P = y^(3/2); S = ∂ln F/∂ln K at a fixed time t (τ ∝ K^(2/3)) =
+    τ (1 - y^(3/2))/y: how much the force at t rests on the contact stiffness: 0 once it is impedance-bound (F = P
+    whatever K), 1 while the bars have barely moved (F = K (s1 t)^(3/2)). Past τ ≈ 24, y is 1 to round-off: (1, 0)."""
+    if τ <= 0.0:
+        return 0.0, 1.0
+    from scipy.optimize import brentq  # lazy: a scene validates without scipy's optimisers loaded
+
+    top = 1.0 - 1e-15  # [-] u below 1 by about round-off: τ(top) ≈ 24
+    if τ >= _rise_time(top):
+        return 1.0, 0.0
+    u = brentq(lambda u: _rise_time(u) - τ, 0.0, top, xtol=1e-15, rtol=1e-14)
+    y = u * u
+    return y**1.5, τ * (1.0 - y**1.5) / y
 
 
 def rod_end_compliance(rod: _RodLike, a: float) -> float:

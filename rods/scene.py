@@ -244,6 +244,11 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
 
 DEFAULT_FIELD_INTERVAL = 10e-6  # [s] field frames when the "fields" effect asks without fe.field_interval
 PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected contact radius [-] (Scene.radial_size)
+# ... where the first contact's peak rests on the contact stiffness (Scene.stiffness_sensitivity S at or above the
+# ramp's top), and linearly in S between the ramp's ends: the patch's discretisation error in the contact's
+# stiffness reaches the peak force times S, nothing where the force is impedance-bound (S -> 0)
+PATCH_ELEMENTS_STIFF = 6  # [-]
+SENSITIVITY_RAMP = (0.02, 0.1)  # [-]
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
 # a graded mesh (fe.radial_grading) keeps fe.radial_size out to this many Hertz radii a_P from the axis [-]: the
 # patch (a <= a_P) and the ring around it where Hertz's stresses still vary on the patch's scale (their gradients
@@ -640,26 +645,30 @@ class Scene:
         """``submodel.levels`` resolved. "auto": three consecutive levels (:data:`SUBMODEL_LEVEL_SIZES`, the last
         three where fewer remain) from the coarsest with :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P
         at the impedance-bound force and :data:`BAR_ELEMENTS` across the thinner rod's radius (the global's auto
-        mesh, :attr:`auto_radial_size`). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
+        mesh where its peak is impedance-bound, :attr:`auto_radial_size`; a study's levels start there whatever
+        the peak rests on, each a halving: a global's 6 would double the submodel's costs for a level the study
+        refines past anyway). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
         paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): ultra-fine and the
         two below it, 6.7, 13 and 27 elements across the patch, where the paper's three put 0.4, 0.8 and 1.7."""
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
-        n, h_auto = len(SUBMODEL_LEVELS), self.auto_radial_size  # [m] the global's auto mesh: one rule for both
+        bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS  # [m]
+        n, h_auto = len(SUBMODEL_LEVELS), min(bar, self.impedance_patch_radius / PATCH_ELEMENTS)  # [m]
         first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if h <= h_auto), n)
         start = min(first, n - 3)  # the finest three where fewer than three remain
         return list(SUBMODEL_LEVELS[start : start + 3])
 
     @cached_property
     def radial_size(self) -> float:
-        """``fe.radial_size`` resolved [m]. "auto": :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P at
-        the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), at most the thinner rod's radius /
+        """``fe.radial_size`` resolved [m]. "auto": :attr:`patch_elements` (4 to 6) elements across the Hertz radius
+        a_P at the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), at most the thinner rod's radius /
         :data:`BAR_ELEMENTS`. P bounds the first contact's force: the compression rate δ' = s1 - P (1/Z1 + 1/Z2)
         until the first reflection returns, so the force stops rising at P or before (paper scene: P = 5557 N, the
         analytical peak 5556 N), and a_P bounds the patch (a ∝ P^(1/3)). Measured on the paper rods' default
         kinematic contact, peak force against the analytical model: 4.4 elements across the patch +0.05%, 2.2
-        elements -0.40%, 1 element (0.05 m/s at 0.25 mm) +2.3%; auto at 0.05 m/s (0.077 mm) +0.11%."""
+        elements -0.40%, 1 element (0.05 m/s at 0.25 mm) +2.3%; 4 elements at 0.05 m/s (0.077 mm) +0.11%, at 0.1 m/s
+        +0.38% (:attr:`patch_elements`: these peaks rest on the contact stiffness; auto puts 6 there)."""
         v = self.values["fe.radial_size"]
         return self.auto_radial_size if v == "auto" else float(v)
 
@@ -667,7 +676,36 @@ class Scene:
     def auto_radial_size(self) -> float:
         """What "auto" gives ``fe.radial_size`` on this scene [m], whatever the key holds (:attr:`radial_size`)."""
         bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS
-        return min(bar, self.impedance_patch_radius / PATCH_ELEMENTS)
+        return min(bar, self.impedance_patch_radius / self.patch_elements)
+
+    @property
+    def patch_elements(self) -> float:
+        """Elements across the Hertz radius a_P that "auto" puts (:attr:`auto_radial_size`) [-]:
+        :data:`PATCH_ELEMENTS` where the first contact's peak is impedance-bound, :data:`PATCH_ELEMENTS_STIFF` where
+        it rests on the contact stiffness (:attr:`stiffness_sensitivity` S >= SENSITIVITY_RAMP[1]), linear in S
+        between. The patch's discretisation makes the FE contact a little stiff; the peak force carries that times S.
+        Measured (2026-11-30, peak force against the analytical model, each scene's default axial size): 30 mm rods at
+        2 m/s (S = 0.23) at 4 / 5 / 6 / 8 / 10 / 12 elements +0.515 / +0.309 / +0.162 / +0.064 / -0.029 / -0.031%;
+        the paper rods at 0.1 m/s (S = 0.17) at 4 / 5 / 6 +0.376 / +0.242 / +0.157%; 25 mm rods with a 50 mm tip
+        (0.16) +0.252 / +0.156 / +0.084%; the paper scene (S = 0.001) +0.052 / +0.077 / +0.037%: 16 named and drawn
+        probes of S < 0.02 read -0.01 to +0.16% at 4 (results/scene-probe*.md), those of S 0.14-0.36 +0.25 to +0.52%."""
+        lo, hi = SENSITIVITY_RAMP
+        ramp = min(1.0, max(0.0, (self.stiffness_sensitivity - lo) / (hi - lo)))
+        return PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * ramp
+
+    @cached_property
+    def stiffness_sensitivity(self) -> float:
+        """S = ∂ln F/∂ln K [-]: how much the first contact's force when the first reflection returns (about its peak:
+        the returning tension unloads the contact at once) rests on the contact stiffness K, by the bars' rise
+        (rods.hertz.bar_rise) at τ = t_r/t_P, t_r the shorter rod's round trip 2 L_bar/c and t_P = δ_P/s1
+        (:attr:`estimated_rise`). 0 where the force reaches the impedance bound first (the paper scene: τ = 6.3,
+        S = 0.001) and for two flat tips (no Hertz stiffness); the paper rods at 0.1 m/s: τ = 2.25, S = 0.17."""
+        from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
+
+        t_P = self.estimated_rise  # [s]
+        if not math.isfinite(t_P) or t_P <= 0.0:
+            return 0.0
+        return hertz.bar_rise(min(r.transit_time for r in self.rods) / t_P)[1]
 
     @property
     def impedance_patch_radius(self) -> float:

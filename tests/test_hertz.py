@@ -246,3 +246,28 @@ def test_subsurface_hertz_reduces_to_surface_and_axis():
     σ_r, _, σ_z = hertz.subsurface_stresses(1e-3 * a, z, a, p0, nu)
     assert np.allclose(σ_z, sz, rtol=1e-5)
     assert np.allclose(σ_r, sr, rtol=1e-2, atol=1e-3 * p0)  # a²/r² (1 - q³) cancels near the axis
+
+
+@pytest.mark.parametrize("τ", [0.05, 0.76, 1.5, 2.25, 6.3])
+def test_bar_rise_solves_the_bars_approach(τ):
+    """bar_rise's closed form against y' = 1 - y^(3/2), y(0) = 0 integrated numerically (the bars' approach
+    δ' = s1 - F (1/Z1 + 1/Z2), F = K δ^(3/2), scaled by δ_P and δ_P/s1), and its S = ∂ln F/∂ln K against a central
+    difference in K at a fixed time (τ ∝ K^(2/3))."""
+    from scipy.integrate import solve_ivp
+
+    y = solve_ivp(lambda s, y: [1.0 - y[0] ** 1.5], (0.0, τ), [0.0], rtol=1e-12, atol=1e-14).y[0, -1]
+    force, S = hertz.bar_rise(τ)
+    assert force == pytest.approx(y**1.5, rel=1e-8)
+    ε = 1e-5  # [-] relative change of K
+    up, down = (hertz.bar_rise(τ * (1 + e) ** (2 / 3))[0] for e in (ε, -ε))
+    assert S == pytest.approx((math.log(up) - math.log(down)) / (math.log1p(ε) - math.log1p(-ε)), rel=1e-5)
+
+
+def test_bar_rise_limits():
+    """Early the bars have barely moved: F = K (s1 t)^(3/2), F/P = τ^(3/2), S = 1; late the force is the impedance
+    bound P whatever K (S = 0); monotone between."""
+    force, S = hertz.bar_rise(1e-4)
+    assert force == pytest.approx(1e-6, rel=1e-3) and S == pytest.approx(1.0, abs=1e-3)
+    assert hertz.bar_rise(0.0) == (0.0, 1.0) and hertz.bar_rise(40.0) == (1.0, 0.0)
+    rises = [hertz.bar_rise(t) for t in np.linspace(0.1, 20.0, 60)]
+    assert all(a[0] < b[0] and a[1] > b[1] for a, b in zip(rises, rises[1:], strict=False))

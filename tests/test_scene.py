@@ -264,10 +264,11 @@ def test_auto_axial_size_is_the_papers_unless_the_force_rises_fast(scene_with):
 
 def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     """fe.radial_size = "auto" (the default): 4 elements across the Hertz radius at the impedance-bound force
-    s1 Z1 Z2/(Z1 + Z2), at most the thinner rod's radius / 8; re-resolved after an override; a record (as_dict)
-    holds the size used, a re-parse keeps "auto"."""
+    s1 Z1 Z2/(Z1 + Z2) where the peak is impedance-bound, 6 where it rests on the contact stiffness, at most the
+    thinner rod's radius / 8; re-resolved after an override; a record (as_dict) holds the size used, a re-parse
+    keeps "auto"."""
     from rods import hertz
-    from rods.scene import BAR_ELEMENTS, PATCH_ELEMENTS
+    from rods.scene import BAR_ELEMENTS, PATCH_ELEMENTS, PATCH_ELEMENTS_STIFF
 
     sc = scene_with("fe.radial_size=auto")
     E, R = hertz.contact_constants(sc.rod1, sc.rod2)
@@ -276,13 +277,40 @@ def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     assert sc["fe.radial_size"] == pytest.approx(a / PATCH_ELEMENTS, rel=1e-12)
     assert 0.25e-3 < sc["fe.radial_size"] < 0.3e-3  # near the paper's own 0.25 mm
     assert sc.tip_grading == pytest.approx(sc["fe.radial_size"] / sc["fe.axial_size"])
-    slow = sc.with_overrides("impact.speed=0.05")  # a smaller patch, a finer mesh: a ∝ s1^(1/3)
-    assert slow["fe.radial_size"] == pytest.approx(sc["fe.radial_size"] * (0.05 / sc.speed) ** (1 / 3), rel=1e-9)
+    slow = sc.with_overrides("impact.speed=0.05")  # a smaller patch (a ∝ s1^(1/3)), and its peak rests on K: 6 across
+    ratio = (0.05 / sc.speed) ** (1 / 3) * PATCH_ELEMENTS / PATCH_ELEMENTS_STIFF
+    assert slow["fe.radial_size"] == pytest.approx(sc["fe.radial_size"] * ratio, rel=1e-9)
     fast = sc.with_overrides("impact.speed=100")  # the patch outgrows the rod: the bar's own resolution
     assert fast["fe.radial_size"] == sc.rod1.diameter / 2 / BAR_ELEMENTS
     assert sc.as_dict()["fe"]["radial_size"] == sc["fe.radial_size"]
     assert sc.as_dict(json_safe=False)["fe"]["radial_size"] == "auto"
     assert scene_with("fe.radial_size=0.5e-3")["fe.radial_size"] == 0.5e-3
+
+
+def test_patch_elements_follow_the_peaks_stiffness_sensitivity(scene_with):
+    """Scene.stiffness_sensitivity is rods.hertz.bar_rise's S at the shorter round trip over δ_P/s1; the auto patch
+    count is 4 where it is below the ramp (the paper scene: impedance-bound), 6 above it (the paper rods at 0.1 m/s
+    and 30 mm rods at 2 m/s, whose peaks measured +0.38% and +0.52% at 4), linear between; a shorter Rod 2 brings the
+    reflection back sooner, so the same contact's peak rests more on K."""
+    from rods import hertz
+    from rods.scene import PATCH_ELEMENTS, PATCH_ELEMENTS_STIFF, SENSITIVITY_RAMP
+
+    paper = scene_with()
+    τ = min(r.transit_time for r in paper.rods) / paper.estimated_rise
+    assert paper.stiffness_sensitivity == hertz.bar_rise(τ)[1]
+    assert 6.0 < τ < 6.6 and paper.stiffness_sensitivity < SENSITIVITY_RAMP[0]
+    assert paper.patch_elements == PATCH_ELEMENTS
+    for stiff in (("impact.speed=0.1",), ("rod1.diameter=0.03", "rod2.diameter=0.03", "impact.speed=2.0")):
+        sc = scene_with(*stiff)
+        assert sc.stiffness_sensitivity > SENSITIVITY_RAMP[1] and sc.patch_elements == PATCH_ELEMENTS_STIFF
+        assert sc.auto_radial_size == pytest.approx(sc.impedance_patch_radius / PATCH_ELEMENTS_STIFF, rel=1e-12)
+    mid = scene_with("impact.speed=0.2")  # S = 0.085: on the ramp
+    lo, hi = SENSITIVITY_RAMP
+    assert lo < mid.stiffness_sensitivity < hi
+    expected = PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * (mid.stiffness_sensitivity - lo) / (hi - lo)
+    assert mid.patch_elements == pytest.approx(expected, rel=1e-12)
+    short = scene_with("impact.speed=0.5", "rod2.length=0.1")
+    assert short.stiffness_sensitivity > scene_with("impact.speed=0.5").stiffness_sensitivity
 
 
 @pytest.mark.parametrize("scene_overrides", [[], ["rod1.tip_radius=1.0"], ["impact.speed=0.05", "rod2.diameter=0.008"]])
