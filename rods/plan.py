@@ -366,7 +366,7 @@ def offers(plan: Plan, stage: str) -> tuple[str, ...]:
     it wins, a global finer than the submodels included), and the wave keys only when the wave response was
     asked for (a contact-only global stops after the contact phase); a submodel the contact keys but the
     duration (its run ends at the contact phase, cut by the driver's record). Without submodels the patch is
-    the analytical model's Hertz at its own force: the global's auto mesh puts ~4 elements across the patch
+    the analytical model's Hertz at its own force: the global's auto mesh puts 4-6 elements across the patch
     (paper scene: area to 0.02%, peak pressure -4.85%), which its own summary keeps."""
     if stage == "analytical":
         return CONTACT_KEYS + WAVE_KEYS

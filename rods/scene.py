@@ -285,8 +285,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # auto: the paper's 1 mm on its 12.7 mm rods (diameter / AXIAL_PER_DIAMETER), finer where the contact force
     # rises so fast that the rods ring (Scene.axial_size: a stiff, wide contact)
     "fe.axial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
-    # auto: PATCH_ELEMENTS elements across the expected contact radius (Scene.radial_size), so any scene's patch is
-    # resolved (the paper's mesh, 0.25 mm, is what auto gives there, 0.27 mm; at 0.05 m/s it gives 0.077 mm)
+    # auto: 4-6 elements across the expected contact radius (Scene.radial_size, Scene.patch_elements: 6 where the
+    # peak rests on the contact stiffness), so any scene's patch is resolved (the paper's mesh, 0.25 mm, is what auto
+    # gives there, 0.27 mm; at 0.05 m/s it gives 0.052 mm)
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
