@@ -654,8 +654,7 @@ class Scene:
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
-        bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS  # [m]
-        n, h_auto = len(SUBMODEL_LEVELS), min(bar, self.impedance_patch_radius / PATCH_ELEMENTS)  # [m]
+        n, h_auto = len(SUBMODEL_LEVELS), self._patch_size(PATCH_ELEMENTS)  # [m]
         first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if h <= h_auto), n)
         start = min(first, n - 3)  # the finest three where fewer than three remain
         return list(SUBMODEL_LEVELS[start : start + 3])
@@ -676,8 +675,11 @@ class Scene:
     @cached_property
     def auto_radial_size(self) -> float:
         """What "auto" gives ``fe.radial_size`` on this scene [m], whatever the key holds (:attr:`radial_size`)."""
-        bar = min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS
-        return min(bar, self.impedance_patch_radius / self.patch_elements)
+        return self._patch_size(self.patch_elements)
+
+    def _patch_size(self, elements: float) -> float:
+        """``elements`` across the Hertz radius a_P, at most the thinner rod's radius / :data:`BAR_ELEMENTS` [m]."""
+        return min(min(r.diameter for r in self.rods) / 2 / BAR_ELEMENTS, self.impedance_patch_radius / elements)
 
     @property
     def patch_elements(self) -> float:
