@@ -696,19 +696,26 @@ class Scene:
         ramp = min(1.0, max(0.0, (self.stiffness_sensitivity - lo) / (hi - lo)))
         return PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * ramp
 
-    @cached_property
+    @property
     def stiffness_sensitivity(self) -> float:
-        """S = ∂ln F/∂ln K [-]: how much the first contact's force when the first reflection returns (about its peak:
-        the returning tension unloads the contact at once) rests on the contact stiffness K, by the bars' rise
-        (rods.hertz.bar_rise) at τ = t_r/t_P, t_r the shorter rod's round trip 2 L_bar/c and t_P = δ_P/s1
-        (:attr:`estimated_rise`). 0 where the force reaches the impedance bound first (the paper scene: τ = 6.3,
-        S = 0.001) and for two flat tips (no Hertz stiffness); the paper rods at 0.1 m/s: τ = 2.25, S = 0.17."""
+        """S = ∂ln F/∂ln K [-]: how much the first contact's force when the first reflection returns rests on the
+        contact stiffness K (:attr:`bar_rise`). An index of the peak's own: the peak comes at that return or after
+        it, once the returning tension (the force history, delayed) has grown to stop the approach; a force still
+        far from the impedance bound at that return peaks where K set it. 0 where the force reaches the bound first
+        (the paper scene: τ = 6.3, S = 0.001); the paper rods at 0.1 m/s: τ = 2.25, S = 0.17."""
+        return self.bar_rise[1]
+
+    @cached_property
+    def bar_rise(self) -> tuple[float, float]:
+        """(F/P, S) [-, -] of the bars' rise (rods.hertz.bar_rise) at τ = t_r/t_P, t_r the shorter rod's round trip
+        2 L_bar/c and t_P = δ_P/s1 (:attr:`estimated_rise`): the first contact's force over the impedance bound when
+        the first reflection returns, and its sensitivity to the contact stiffness there."""
         from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
         t_P = self.estimated_rise  # [s]
         if not math.isfinite(t_P) or t_P <= 0.0:
-            return 0.0
-        return hertz.bar_rise(min(r.transit_time for r in self.rods) / t_P)[1]
+            return 1.0, 0.0
+        return hertz.bar_rise(min(r.transit_time for r in self.rods) / t_P)
 
     @property
     def impedance_patch_radius(self) -> float:
