@@ -690,8 +690,9 @@ class Scene:
         Measured (2026-11-30, peak force against the analytical model, each scene's default axial size): 30 mm rods at
         2 m/s (S = 0.23) at 4 / 5 / 6 / 8 / 10 / 12 elements +0.515 / +0.309 / +0.162 / +0.064 / -0.029 / -0.031%;
         the paper rods at 0.1 m/s (S = 0.17) at 4 / 5 / 6 +0.376 / +0.242 / +0.157%; 25 mm rods with a 50 mm tip
-        (0.16) +0.252 / +0.156 / +0.084%; the paper scene (S = 0.001) +0.052 / +0.077 / +0.037%: 16 named and drawn
-        probes of S < 0.02 read -0.01 to +0.16% at 4 (results/scene-probe*.md), those of S 0.14-0.36 +0.25 to +0.52%.
+        (0.16) +0.252 / +0.156 / +0.084%; the paper scene (S = 0.001) +0.052 / +0.077 / +0.037%: the 21 named and
+        drawn probes of S < 0.02 without a peak or patch warning read +0.01 to +0.16% at 4 (results/scene-probe*.md),
+        those of S 0.14-0.36 +0.25 to +0.52%.
         Above S = 0.5 the peak tracks the discretised patch's stiffness, which swings a few tenths of a percent with
         the mesh (-0.17..+0.52% over 4-12 elements at S = 0.68): no count fixes that cheaply, rods.checks warns."""
         lo, hi = SENSITIVITY_RAMP
