@@ -417,9 +417,11 @@ def reflection_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
 def stiffness_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning on an analytical run whose first contact's force, when the first reflection returns, rests on the
     contact stiffness more than :data:`STIFF_PEAK` (rods.scene.Scene.stiffness_sensitivity; module docstring)."""
-    if summary.get("model") != "analytical" or scene is None or scene.stiffness_sensitivity <= STIFF_PEAK:
+    if summary.get("model") != "analytical" or scene is None:
         return None
-    share, S = scene.bar_rise
+    share, S = scene.bar_rise  # (F/P, S): rods.scene.Scene.stiffness_sensitivity is S
+    if S <= STIFF_PEAK:
+        return None
     return (
         f"peak_contact_force: the first reflection returns while the force is near {share:.0%} of the impedance "
         f"bound, so the peak rests on the contact's stiffness (S = ∂ln F/∂ln K = {S:.2f}, rods.scene.Scene."

@@ -715,10 +715,8 @@ class Scene:
         the first reflection returns, and its sensitivity to the contact stiffness there."""
         from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
-        t_P = self.estimated_rise  # [s]
-        if not math.isfinite(t_P) or t_P <= 0.0:
-            return 1.0, 0.0
-        return hertz.bar_rise(min(r.transit_time for r in self.rods) / t_P)
+        # t_P > 0 on every valid scene: the schema refuses two flat tips and a speed of 0
+        return hertz.bar_rise(min(r.transit_time for r in self.rods) / self.estimated_rise)
 
     @property
     def impedance_patch_radius(self) -> float:
