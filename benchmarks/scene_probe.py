@@ -223,7 +223,7 @@ def render(data: dict) -> str:
             f"| {r['energy_error']:.1e}{mark['energy']} | {r['dofs']:,} | {r['wall_time']:.1f} "
             f"| {estimate_ratio(r)} | {warn} |"
         )
-    lines += tally(data["rows"]) + not_run(data) + estimate_spread(data["rows"])
+    lines += tally(data["rows"]) + reruns(data) + not_run(data) + estimate_spread(data["rows"])
     for r in data["rows"]:
         for model, ws in r["warnings"].items():
             lines += [f"* {r['description']}, {model}: {w}" for w in ws]
@@ -336,6 +336,18 @@ def random_probes(
     return probes
 
 
+def reruns(data: dict) -> list[str]:
+    """The lines under a table some of whose rows were rerun with ``--merge`` (:func:`merged`): which, and their wall
+    time; nothing for a table run whole."""
+    runs = data.get("reruns", [])
+    lines = [
+        f"Rerun with `--probe ... --merge` (the other rows as first run): {', '.join(r['probes'])} "
+        f"({r['wall_time']:.0f} s on the same ranks)."
+        for r in runs
+    ]
+    return ["", *lines, ""] if runs else []
+
+
 def not_run(data: dict) -> list[str]:
     """The lines under a drawn table naming the scenes the draw skipped (over :data:`RANDOM_BUDGET`), so that a table
     of cheap scenes says it is one; nothing for named probes."""
@@ -377,18 +389,39 @@ def drawn(argv: list[str] | None, probes: dict, wall_time: Callable) -> tuple[li
     return rest, draw, "--random N [--seed S]: N scenes drawn at random instead of the named probes (" + RANGES + ")"
 
 
+def merged(record: dict, rerun: dict) -> dict:
+    """``record`` (a probe table's data) with the ``rerun`` rows in place of its rows of the same probe, in the
+    record's order (a probe it does not hold appended); the rerun's rows and wall time listed under "reruns"."""
+    new = {r["probe"]: r for r in rerun["rows"]}
+    rows = [new.pop(r["probe"], r) for r in record["rows"]] + list(new.values())
+    reruns = [
+        *record.get("reruns", []),
+        {"probes": [r["probe"] for r in rerun["rows"]], "wall_time": rerun["wall_time"]},
+    ]
+    return {**record, "rows": rows, "reruns": reruns}
+
+
 def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, targets: dict, random: Callable) -> int:
     """A probe benchmark's command line (also benchmarks/submodel_probe.py's): run ``probes`` (``run(name, runs,
     comm)``: a row on rank 0), or ``--random N [--seed S]`` scenes drawn within :data:`RANDOM_BUDGET` of
     ``random(overrides)``, a probe's estimated wall time [s] (:func:`drawn`), then write OUT.json and OUT.md
-    (``render_data``; the draw kept in the data) on rank 0 and print the table."""
+    (``render_data``; the draw kept in the data) on rank 0 and print the table. ``--merge``: the rows run replace
+    the record's rows of the same probe in OUT.json, the others kept as they are (:func:`merged`)."""
     argv, draw, epilog = drawn(argv, probes, random)
     ap = _cli.bare_parser(doc.splitlines()[0], epilog=epilog)
     ap.add_argument("--probe", action="append", choices=list(probes), help="probe (repeatable; default all)")
     ap.add_argument("--out", default=str(ROOT / "results" / name), help="tables: OUT.json, OUT.md")
     ap.add_argument("--runs", default=str(ROOT / "output" / name), help="folder of the runs")
+    ap.add_argument(
+        "--merge", action="store_true", help="replace the --probe rows in OUT.json, keep its others (a partial rerun)"
+    )
     args = ap.parse_args(argv)
     _cli.output_file(args.out), _cli.output_dir(args.runs)  # before the runs: found at the last write before
+    record, path = None, Path(args.out + ".json")
+    if args.merge:  # before the runs, too
+        if not path.is_file():
+            _cli.fail(f"--merge: {path} does not exist: there is no record to merge the rows into; drop --merge")
+        record = io.read_data(path)
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()
     rows = [run(p, Path(args.runs), comm) for p in args.probe or probes]
@@ -396,6 +429,8 @@ def run_probes(argv, doc: str, name: str, probes: dict, run, render_data, target
         data = {"ranks": comm.size, "targets": targets, "wall_time": time.perf_counter() - t0, "rows": rows}
         if draw is not None:
             data["draw"] = draw
+        if record is not None:
+            data = merged(record, data)
         text = render_data(data)
         io.write_data(Path(args.out + ".json"), data)
         io.atomic_write_text(Path(args.out + ".md"), text)

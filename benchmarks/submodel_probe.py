@@ -149,7 +149,7 @@ def render(data: dict) -> str:
             f"| {errs['p0']} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} "
             f"| {scene_probe.estimate_ratio(r)} |"
         )
-    lines += scene_probe.study_tail(data["rows"]) + scene_probe.not_run(data)
+    lines += scene_probe.study_tail(data["rows"]) + scene_probe.reruns(data) + scene_probe.not_run(data)
     lines += scene_probe.estimate_spread(data["rows"], "study")
     return "\n".join(lines) + "\n"
 

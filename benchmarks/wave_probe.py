@@ -120,7 +120,7 @@ def render(data: dict) -> str:
             f"| {cell(r['peak_speed_analytical'], '.4g')} | {speed} | {r['energy_error']:.1e}{mark['energy']} "
             f"| {r['dofs']:,} | {r['status']} ({scene_probe.study_keys(r['warnings'])}) | {r['wall_time']:.0f} |"
         )
-    lines += scene_probe.study_tail(data["rows"]) + scene_probe.not_run(data)
+    lines += scene_probe.study_tail(data["rows"]) + scene_probe.reruns(data) + scene_probe.not_run(data)
     return "\n".join(lines) + "\n"
 
 

@@ -53,15 +53,19 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
   -0.26% (2.4%); the paper scene's force peaks before the reflection returns, +0.05%. Before the analytical bars
   counted the 35 mm caps' mass these gaps read +0.23, -0.60 and -1.03% at default settings, which this threshold
   was set on: the front's own part is the few tenths left);
-* **stiff peak**: the first reflection returning while the force is still far below the impedance bound
-  (rods.scene.Scene.stiffness_sensitivity S above :data:`STIFF_PEAK`; :func:`stiffness_warning`): the peak then
-  tracks the contact stiffness, and the FE's discretised patch carries that stiffness to a few tenths of a percent
-  whatever the mesh (measured 2026-11-30 on a drawn scene of S = 0.68, aluminium 20.5 mm x 0.11 m with a 99 mm tip
-  onto a 12.2 mm steel rod at 0.054 m/s, FE peak against the analytical model at 4 / 5 / 6 / 8 / 10 / 12 elements
-  across the patch: +0.24 / +0.40 / +0.52 / +0.18 / -0.17 / +0.11%; a second drawn scene of S = 0.66 +0.12% at 4,
-  +0.51% at 6; scenes of S 0.14-0.36 within 0.22% at the auto mesh's 6). The 30 mm rods above converge under the
-  patch's refinement alone (+0.515 / +0.162 / -0.03% at 4 / 6 / 10-12 elements, the axial size kept): their gap
-  at 4 was the patch's, which the auto mesh now resolves (rods.scene.Scene.patch_elements);
+* **stiff peak**: a global FE run whose first contact's peak rests on the contact stiffness (the first reflection
+  returning while the force is still far below the impedance bound: rods.scene.Scene.stiffness_sensitivity S) more
+  than its mesh resolves (:func:`stiffness_warning`): the discretised patch's force-approach law ripples about
+  Hertz's as node rings enter contact, and the peak carries S x that ripple, at the phase where it falls, so its
+  error is not monotone in the mesh (measured 2026-11-30, FE peak against the analytical model: a drawn scene of
+  S = 0.68, aluminium 20.5 mm x 0.11 m with a 99 mm tip onto a 12.2 mm steel rod at 0.054 m/s, at 4 / 5 / 6 / 8 /
+  10 / 12 elements across the patch +0.24 / +0.40 / +0.52 / +0.18 / -0.17 / +0.11%; a second drawn scene of
+  S = 0.66 at 4 / 6 / 8 / 10 +0.12 / +0.51 / +0.13 / -0.13%; a hemispherical tip on the paper rods at 0.2 m/s,
+  S = 0.33, at 4 / 5 / 6 / 7 / 8 / 12 -0.17 / -0.49 / -0.42 / -0.21 / -0.07 / +0.13%). The ripple's share,
+  S x rods.scene.PATCH_RIPPLE (6/n)² at n elements, above :data:`STIFF_PEAK` warns; "auto" puts enough elements
+  to keep it within rods.scene.PEAK_SHARE (rods.scene.Scene.patch_elements), so only a set ``fe.radial_size``
+  meets it. The 30 mm rods above converge under the patch's refinement alone (+0.515 / +0.162 / -0.03% at 4 / 6 /
+  10-12 elements, the axial size kept);
 * **contact law**: the analytical model's rod-end correction outside its range (a patch as wide as the rods,
   rods.analytical): the run fell back to the paper's law;
 * **patch resolution**: an FE run with fewer than :data:`PATCH_ELEMENTS_OK` elements across its contact radius
@@ -120,7 +124,7 @@ import numpy as np
 
 from rods import hertz, metrics
 from rods.compare import measured
-from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
+from rods.scene import PATCH_ELEMENTS_STIFF, PATCH_RIPPLE, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
 
 __all__ = [
     "AGREE_DURATION",
@@ -204,10 +208,9 @@ RING_STEP_OK = 0.05  # largest area of one node ring (2h/a) of an "ok" 3D FE run
 # "ok" run (measured gaps FE - analytical at that rise, FE on a mesh halved both ways: 0.93% -> +0.06%, 1.8% ->
 # -0.22%, 2.4% -> -0.26%; module docstring) [-]
 REFLECTION_RISE = 0.01
-# largest sensitivity S = ∂ln F/∂ln K of the first contact's force at the first reflection's return
-# (rods.scene.Scene.stiffness_sensitivity) of an "ok" analytical run: above it the peak rests on the contact
-# stiffness, which the FE's discretised patch carries to a few tenths of a percent (module docstring) [-]
-STIFF_PEAK = 0.5
+# largest share of the peak force that the discretised patch's stiffness ripple may carry into an "ok" global FE run's
+# peak: S x rods.scene.PATCH_RIPPLE (PATCH_ELEMENTS_STIFF / n)² at n elements across a_P (module docstring) [-]
+STIFF_PEAK = 0.005
 RISE_TRANSITS = 2.0  # shortest 10-90% rise of the analytical force, in diameter transits d/c, of an "ok" run [-]
 # largest contact radius / thinner rod's radius of an "ok" run: where the analytical rod-end term stays a correction
 # for equal steel rods (rods.analytical.WaveModel.rod_end_term_problem) [-]
@@ -415,19 +418,23 @@ def reflection_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
 
 
 def stiffness_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
-    """A warning on an analytical run whose first contact's force, when the first reflection returns, rests on the
-    contact stiffness more than :data:`STIFF_PEAK` (rods.scene.Scene.stiffness_sensitivity; module docstring)."""
-    if summary.get("model") != "analytical" or scene is None:
+    """A warning on a global FE run whose peak rests on the contact stiffness more than its mesh resolves: the
+    scene's S (rods.scene.Scene.stiffness_sensitivity) x the discretised patch's stiffness ripple at the run's n =
+    a_P / fe.radial_size elements across the Hertz radius, rods.scene.PATCH_RIPPLE (PATCH_ELEMENTS_STIFF / n)²,
+    above :data:`STIFF_PEAK` of the peak (module docstring). "auto" keeps it within rods.scene.PEAK_SHARE."""
+    if not _fe(summary) or _fe(summary, "fe-submodel") or scene is None:
         return None
-    share, S = scene.bar_rise  # (F/P, S): rods.scene.Scene.stiffness_sensitivity is S
-    if S <= STIFF_PEAK:
+    S, a_P = scene.stiffness_sensitivity, scene.impedance_patch_radius  # [-], [m]
+    n = a_P / scene.radial_size  # [-]
+    ripple = S * PATCH_RIPPLE * (PATCH_ELEMENTS_STIFF / n) ** 2  # [-] of the peak force
+    if ripple <= STIFF_PEAK:
         return None
     return (
-        f"peak_contact_force: the first reflection returns while the force is near {share:.0%} of the impedance "
-        f"bound, so the peak rests on the contact's stiffness (S = ∂ln F/∂ln K = {S:.2f}, rods.scene.Scene."
-        "stiffness_sensitivity): the FE's discretised patch carries that stiffness to a few tenths of a percent at "
-        "any mesh (-0.17% to +0.52% measured at 4-12 elements across the patch at S = 0.68); expect the FE's peak to "
-        "differ from this one by up to about 0.5% (compare the force histories with workflows/global.py)"
+        f"peak_contact_force: the peak rests on the contact's stiffness (S = ∂ln F/∂ln K = {S:.2f}, rods.scene.Scene."
+        f"stiffness_sensitivity) and fe.radial_size = {scene.radial_size * 1e3:.4g} mm puts {n:.3g} elements across "
+        f"the Hertz radius a_P = {a_P * 1e3:.4g} mm: the discretised patch's ripple carries up to about "
+        f"{ripple:.1%} into the peak (measured at S = 0.68: +0.52% at 6 elements, within 0.17% at 10-12); set it to "
+        f"'auto' ({scene.auto_radial_size * 1e3:.4g} mm) or finer"
     )
 
 

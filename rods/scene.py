@@ -249,6 +249,12 @@ PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected cont
 # stiffness reaches the peak force times S, nothing where the force is impedance-bound (S -> 0)
 PATCH_ELEMENTS_STIFF = 6  # [-]
 SENSITIVITY_RAMP = (0.02, 0.1)  # [-]
+# ... and, where S is larger, enough that S times the discretised patch's stiffness ripple stays within PEAK_SHARE of
+# the peak force: the ripple, measured as the peak's error / S at PATCH_ELEMENTS_STIFF elements (0.70-1.27% on four
+# scenes of S 0.23-0.68, Scene.patch_elements), falls as 1/n² (a drawn S = 0.66 scene's FE-analytical band over the
+# force's rise: 2.0 / 1.06 / 0.69 points at 6 / 8 / 10 elements)
+PATCH_RIPPLE = 0.013  # the patch stiffness's relative ripple at PATCH_ELEMENTS_STIFF elements [-]
+PEAK_SHARE = 0.0025  # half the peak force's 0.5% target [-]
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
 # a graded mesh (fe.radial_grading) keeps fe.radial_size out to this many Hertz radii a_P from the axis [-]: the
 # patch (a <= a_P) and the ring around it where Hertz's stresses still vary on the patch's scale (their gradients
@@ -686,18 +692,25 @@ class Scene:
         """Elements across the Hertz radius a_P that "auto" puts (:attr:`auto_radial_size`) [-]:
         :data:`PATCH_ELEMENTS` where the first contact's peak is impedance-bound, :data:`PATCH_ELEMENTS_STIFF` where
         it rests on the contact stiffness (:attr:`stiffness_sensitivity` S >= SENSITIVITY_RAMP[1]), linear in S
-        between. The patch's discretisation makes the FE contact a little stiff; the peak force carries that times S.
+        between; where S is larger still, n = PATCH_ELEMENTS_STIFF sqrt(S PATCH_RIPPLE / PEAK_SHARE), which keeps
+        S x the patch's stiffness ripple (PATCH_RIPPLE (6/n)²) within :data:`PEAK_SHARE` of the peak (from S = 0.19:
+        S = 0.33 8 elements, 0.68 11.3, at most 13.7).
+        The discretised patch's force-approach law ripples about Hertz's as node rings enter contact (the FE-analytical
+        force gap swings over the rise with the ring spacing), and the peak force carries that ripple times S, at the
+        ripple's phase where the peak falls: so at high S the peak's error is not monotone in the mesh.
         Measured (2026-11-30, peak force against the analytical model, each scene's default axial size): 30 mm rods at
         2 m/s (S = 0.23) at 4 / 5 / 6 / 8 / 10 / 12 elements +0.515 / +0.309 / +0.162 / +0.064 / -0.029 / -0.031%;
         the paper rods at 0.1 m/s (S = 0.17) at 4 / 5 / 6 +0.376 / +0.242 / +0.157%; 25 mm rods with a 50 mm tip
         (0.16) +0.252 / +0.156 / +0.084%; the paper scene (S = 0.001) +0.052 / +0.077 / +0.037%: the 21 named and
         drawn probes of S < 0.02 without a peak or patch warning read +0.01 to +0.16% at 4 (results/scene-probe*.md),
-        those of S 0.14-0.36 +0.25 to +0.52%.
-        Above S = 0.5 the peak tracks the discretised patch's stiffness, which swings a few tenths of a percent with
-        the mesh (-0.17..+0.52% over 4-12 elements at S = 0.68): no count fixes that cheaply, rods.checks warns."""
-        lo, hi = SENSITIVITY_RAMP
-        ramp = min(1.0, max(0.0, (self.stiffness_sensitivity - lo) / (hi - lo)))
-        return PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * ramp
+        those of S 0.14-0.36 +0.25 to +0.52%. At high S, where 6 was the worst count measured: a hemispherical tip on
+        the paper rods at 0.2 m/s (S = 0.33) at 4 / 5 / 6 / 7 / 8 / 12 -0.17 / -0.49 / -0.42 / -0.21 / -0.07 / +0.13%;
+        two drawn scenes (results/scene-probe-random.md), S = 0.68 at 4 / 5 / 6 / 8 / 10 / 12 +0.24 / +0.40 / +0.52 /
+        +0.18 / -0.17 / +0.11%, S = 0.66 at 4 / 6 / 8 / 10 +0.12 / +0.51 / +0.13 / -0.13%."""
+        S, (lo, hi) = self.stiffness_sensitivity, SENSITIVITY_RAMP
+        ramp = min(1.0, max(0.0, (S - lo) / (hi - lo)))
+        ripple = PATCH_ELEMENTS_STIFF * math.sqrt(S * PATCH_RIPPLE / PEAK_SHARE)
+        return max(PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * ramp, ripple)
 
     @property
     def stiffness_sensitivity(self) -> float:

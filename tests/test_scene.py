@@ -277,8 +277,9 @@ def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     assert sc["fe.radial_size"] == pytest.approx(a / PATCH_ELEMENTS, rel=1e-12)
     assert 0.25e-3 < sc["fe.radial_size"] < 0.3e-3  # near the paper's own 0.25 mm
     assert sc.tip_grading == pytest.approx(sc["fe.radial_size"] / sc["fe.axial_size"])
-    slow = sc.with_overrides("impact.speed=0.05")  # a smaller patch (a ∝ s1^(1/3)), and its peak rests on K: 6 across
-    ratio = (0.05 / sc.speed) ** (1 / 3) * PATCH_ELEMENTS / PATCH_ELEMENTS_STIFF
+    slow = sc.with_overrides("impact.speed=0.05")  # a smaller patch (a ∝ s1^(1/3)), and its peak rests on K: 7.1 across
+    assert slow.patch_elements > PATCH_ELEMENTS_STIFF
+    ratio = (0.05 / sc.speed) ** (1 / 3) * PATCH_ELEMENTS / slow.patch_elements
     assert slow["fe.radial_size"] == pytest.approx(sc["fe.radial_size"] * ratio, rel=1e-9)
     fast = sc.with_overrides("impact.speed=100")  # the patch outgrows the rod: the bar's own resolution
     assert fast["fe.radial_size"] == sc.rod1.diameter / 2 / BAR_ELEMENTS
@@ -289,26 +290,41 @@ def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
 
 def test_patch_elements_follow_the_peaks_stiffness_sensitivity(scene_with):
     """Scene.stiffness_sensitivity is rods.hertz.bar_rise's S at the shorter round trip over δ_P/s1; the auto patch
-    count is 4 where it is below the ramp (the paper scene: impedance-bound), 6 above it (the paper rods at 0.1 m/s
-    and 30 mm rods at 2 m/s, whose peaks measured +0.38% and +0.52% at 4), linear between; a shorter Rod 2 brings the
-    reflection back sooner, so the same contact's peak rests more on K."""
+    count is 4 where it is below the ramp (the paper scene: impedance-bound), 6 above it (the paper rods at 0.1 m/s,
+    whose peak measured +0.38% at 4), linear between; from S = 0.19 it grows as sqrt(S), so that S x the patch's
+    stiffness ripple, PATCH_RIPPLE (6/n)², stays at PEAK_SHARE of the peak: 6.6 on 30 mm rods at 2 m/s (S = 0.23,
+    +0.52% at 4, +0.16% at 6, +0.06% at 8), 11.3 on a drawn scene of S = 0.68 (+0.52% at 6, -0.17% / +0.11% at
+    10 / 12). A shorter Rod 2 brings the reflection back sooner, so the same contact's peak rests more on K."""
     from rods import hertz
-    from rods.scene import PATCH_ELEMENTS, PATCH_ELEMENTS_STIFF, SENSITIVITY_RAMP
+    from rods.scene import PATCH_ELEMENTS, PATCH_ELEMENTS_STIFF, PATCH_RIPPLE, PEAK_SHARE, SENSITIVITY_RAMP
 
     paper = scene_with()
     τ = min(r.transit_time for r in paper.rods) / paper.estimated_rise
     assert paper.stiffness_sensitivity == hertz.bar_rise(τ)[1]
     assert 6.0 < τ < 6.6 and paper.stiffness_sensitivity < SENSITIVITY_RAMP[0]
     assert paper.patch_elements == PATCH_ELEMENTS
-    for stiff in (("impact.speed=0.1",), ("rod1.diameter=0.03", "rod2.diameter=0.03", "impact.speed=2.0")):
-        sc = scene_with(*stiff)
-        assert sc.stiffness_sensitivity > SENSITIVITY_RAMP[1] and sc.patch_elements == PATCH_ELEMENTS_STIFF
-        assert sc.auto_radial_size == pytest.approx(sc.impedance_patch_radius / PATCH_ELEMENTS_STIFF, rel=1e-12)
+    sc = scene_with("impact.speed=0.1")  # S = 0.165: past the ramp, short of the ripple's rule
+    assert sc.stiffness_sensitivity > SENSITIVITY_RAMP[1] and sc.patch_elements == PATCH_ELEMENTS_STIFF
+    assert sc.auto_radial_size == pytest.approx(sc.impedance_patch_radius / PATCH_ELEMENTS_STIFF, rel=1e-12)
     mid = scene_with("impact.speed=0.2")  # S = 0.085: on the ramp
     lo, hi = SENSITIVITY_RAMP
     assert lo < mid.stiffness_sensitivity < hi
     expected = PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * (mid.stiffness_sensitivity - lo) / (hi - lo)
     assert mid.patch_elements == pytest.approx(expected, rel=1e-12)
+    al = ("youngs_modulus=70e9", "density=2700.0", "poisson_ratio=0.33", "yield_strength='none'")
+    drawn = scene_with(
+        *(f"rod1.material.{k}" for k in al), "rod1.diameter=0.02054", "rod1.length=0.1071", "rod1.tip_radius=0.09949",
+        "rod2.diameter=0.01222", "rod2.length=0.6599", "rod2.material.yield_strength='none'", "impact.speed=0.054",
+    )  # fmt: skip
+    thick = scene_with("rod1.diameter=0.03", "rod2.diameter=0.03", "impact.speed=2.0")
+    for sc, S, n in ((thick, 0.23, 6.6), (drawn, 0.68, 11.3)):
+        assert sc.stiffness_sensitivity == pytest.approx(S, abs=0.005)
+        assert sc.patch_elements == pytest.approx(n, abs=0.05)
+        ripple = sc.stiffness_sensitivity * PATCH_RIPPLE * (PATCH_ELEMENTS_STIFF / sc.patch_elements) ** 2
+        assert ripple == pytest.approx(PEAK_SHARE, rel=1e-12)
+    # continuous where the square root takes over from the ramp's top, and never above S = 1's count
+    S_join = PEAK_SHARE / PATCH_RIPPLE
+    assert 0.18 < S_join < 0.2 and PATCH_ELEMENTS_STIFF * math.sqrt(1.0 / S_join) < 14
     short = scene_with("impact.speed=0.5", "rod2.length=0.1")
     assert short.stiffness_sensitivity > scene_with("impact.speed=0.5").stiffness_sensitivity
 
