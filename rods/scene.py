@@ -291,9 +291,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # auto: the paper's 1 mm on its 12.7 mm rods (diameter / AXIAL_PER_DIAMETER), finer where the contact force
     # rises so fast that the rods ring (Scene.axial_size: a stiff, wide contact)
     "fe.axial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
-    # auto: 4-6 elements across the expected contact radius (Scene.radial_size, Scene.patch_elements: 6 where the
-    # peak rests on the contact stiffness), so any scene's patch is resolved (the paper's mesh, 0.25 mm, is what auto
-    # gives there, 0.27 mm; at 0.05 m/s it gives 0.052 mm)
+    # auto: 4-13.7 elements across the expected contact radius (Scene.radial_size, Scene.patch_elements: 6 and more
+    # where the peak rests on the contact stiffness), so any scene's patch is resolved (the paper's mesh, 0.25 mm, is
+    # what auto gives there, 0.27 mm; at 0.05 m/s it gives 0.043 mm)
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
@@ -667,14 +667,14 @@ class Scene:
 
     @cached_property
     def radial_size(self) -> float:
-        """``fe.radial_size`` resolved [m]. "auto": :attr:`patch_elements` (4 to 6) elements across the Hertz radius
+        """``fe.radial_size`` resolved [m]. "auto": :attr:`patch_elements` (4 to 13.7) elements across the Hertz radius
         a_P at the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), at most the thinner rod's radius /
         :data:`BAR_ELEMENTS`. P bounds the first contact's force: the compression rate δ' = s1 - P (1/Z1 + 1/Z2)
         until the first reflection returns, so the force stops rising at P or before (paper scene: P = 5557 N, the
         analytical peak 5556 N), and a_P bounds the patch (a ∝ P^(1/3)). Measured on the paper rods' default
         kinematic contact, peak force against the analytical model: 4.4 elements across the patch +0.05%, 2.2
         elements -0.40%, 1 element (0.05 m/s at 0.25 mm) +2.3%; 4 elements at 0.05 m/s (0.077 mm) +0.11%, at 0.1 m/s
-        +0.38% (:attr:`patch_elements`: these peaks rest on the contact stiffness; auto puts 6 there)."""
+        +0.38% (:attr:`patch_elements`: these peaks rest on the contact stiffness; auto puts 6 and 7.1 there)."""
         v = self.values["fe.radial_size"]
         return self.auto_radial_size if v == "auto" else float(v)
 
