@@ -230,8 +230,9 @@ def test_default_mesh_resolves_a_low_speed_patch():
     measured). The default fe.radial_size = "auto" put 4 elements across it (0.077 mm): peak force within 0.5%
     and duration within 2 µs of the default analytical model (measured 2026-11-27: +0.105%, -0.72 µs touch to
     separation; -0.22 µs read at 1e-3 of the peak, 2026-11-24). Serial, first contact. Since 2026-11-29 the auto
-    mesh grades both rods outside a 0.93 mm core (fe.radial_grading): passes, 47 s. Since 2026-11-30 auto puts 6
-    across (0.052 mm: this peak rests on the contact stiffness, Scene.stiffness_sensitivity 0.27)."""
+    mesh grades both rods outside a 0.93 mm core (fe.radial_grading): passes, 47 s. Since 2026-11-30 auto puts 7.1
+    across (0.043 mm: this peak rests on the contact stiffness, Scene.stiffness_sensitivity 0.27): +0.006%, -0.54 µs,
+    80k DOFs, 102 s serial (6 elements: -0.219%)."""
     import warnings
 
     from rods.analytical import simulate
