@@ -37,6 +37,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "edge-scatter.md": lambda: benchmark("edge_scatter").render_md(_data("edge-scatter.json")),
     "scene-probe.md": lambda: benchmark("scene_probe").render(_data("scene-probe.json")),
     "scene-probe-random.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random.json")),
+    "scene-probe-random-2026.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-2026.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
     "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
