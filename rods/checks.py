@@ -124,7 +124,7 @@ import numpy as np
 
 from rods import hertz, metrics
 from rods.compare import measured
-from rods.scene import PATCH_ELEMENTS_STIFF, PATCH_RIPPLE, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
+from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
 
 __all__ = [
     "AGREE_DURATION",
@@ -209,7 +209,7 @@ RING_STEP_OK = 0.05  # largest area of one node ring (2h/a) of an "ok" 3D FE run
 # -0.22%, 2.4% -> -0.26%; module docstring) [-]
 REFLECTION_RISE = 0.01
 # largest share of the peak force that the discretised patch's stiffness ripple may carry into an "ok" global FE run's
-# peak: S x rods.scene.PATCH_RIPPLE (PATCH_ELEMENTS_STIFF / n)² at n elements across a_P (module docstring) [-]
+# peak at n elements across a_P (rods.scene.Scene.peak_ripple; module docstring) [-]
 STIFF_PEAK = 0.005
 RISE_TRANSITS = 2.0  # shortest 10-90% rise of the analytical force, in diameter transits d/c, of an "ok" run [-]
 # largest contact radius / thinner rod's radius of an "ok" run: where the analytical rod-end term stays a correction
@@ -420,13 +420,13 @@ def reflection_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndar
 def stiffness_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning on a global FE run whose peak rests on the contact stiffness more than its mesh resolves: the
     scene's S (rods.scene.Scene.stiffness_sensitivity) x the discretised patch's stiffness ripple at the run's n =
-    a_P / fe.radial_size elements across the Hertz radius, rods.scene.PATCH_RIPPLE (PATCH_ELEMENTS_STIFF / n)²,
-    above :data:`STIFF_PEAK` of the peak (module docstring). "auto" keeps it within rods.scene.PEAK_SHARE."""
+    a_P / fe.radial_size elements across the Hertz radius (rods.scene.Scene.peak_ripple) above :data:`STIFF_PEAK` of
+    the peak (module docstring). "auto" keeps it within rods.scene.PEAK_SHARE."""
     if not _fe(summary) or _fe(summary, "fe-submodel") or scene is None:
         return None
     S, a_P = scene.stiffness_sensitivity, scene.impedance_patch_radius  # [-], [m]
     n = a_P / scene.radial_size  # [-]
-    ripple = S * PATCH_RIPPLE * (PATCH_ELEMENTS_STIFF / n) ** 2  # [-] of the peak force
+    ripple = scene.peak_ripple(n)  # [-] of the peak force
     if ripple <= STIFF_PEAK:
         return None
     return (

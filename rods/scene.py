@@ -709,8 +709,14 @@ class Scene:
         +0.18 / -0.17 / +0.11%, S = 0.66 at 4 / 6 / 8 / 10 +0.12 / +0.51 / +0.13 / -0.13%."""
         S, (lo, hi) = self.stiffness_sensitivity, SENSITIVITY_RAMP
         ramp = min(1.0, max(0.0, (S - lo) / (hi - lo)))
-        ripple = PATCH_ELEMENTS_STIFF * math.sqrt(S * PATCH_RIPPLE / PEAK_SHARE)
+        ripple = PATCH_ELEMENTS_STIFF * math.sqrt(S * PATCH_RIPPLE / PEAK_SHARE)  # peak_ripple(ripple) = PEAK_SHARE
         return max(PATCH_ELEMENTS + (PATCH_ELEMENTS_STIFF - PATCH_ELEMENTS) * ramp, ripple)
+
+    def peak_ripple(self, elements: float) -> float:
+        """The share of the first contact's peak force that the discretised patch's stiffness ripple carries at
+        ``elements`` across the Hertz radius a_P [-]: S x PATCH_RIPPLE (PATCH_ELEMENTS_STIFF / elements)², the model
+        :attr:`patch_elements` inverts at PEAK_SHARE and rods.checks.stiffness_warning holds a set mesh to."""
+        return self.stiffness_sensitivity * PATCH_RIPPLE * (PATCH_ELEMENTS_STIFF / elements) ** 2
 
     @property
     def stiffness_sensitivity(self) -> float:

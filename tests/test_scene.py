@@ -321,7 +321,7 @@ def test_patch_elements_follow_the_peaks_stiffness_sensitivity(scene_with):
         assert sc.stiffness_sensitivity == pytest.approx(S, abs=0.005)
         assert sc.patch_elements == pytest.approx(n, abs=0.05)
         ripple = sc.stiffness_sensitivity * PATCH_RIPPLE * (PATCH_ELEMENTS_STIFF / sc.patch_elements) ** 2
-        assert ripple == pytest.approx(PEAK_SHARE, rel=1e-12)
+        assert ripple == pytest.approx(PEAK_SHARE, rel=1e-12) and sc.peak_ripple(sc.patch_elements) == ripple
     # continuous where the square root takes over from the ramp's top, and never above S = 1's count
     S_join = PEAK_SHARE / PATCH_RIPPLE
     assert 0.18 < S_join < 0.2 and PATCH_ELEMENTS_STIFF * math.sqrt(1.0 / S_join) < 14
