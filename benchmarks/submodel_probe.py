@@ -49,6 +49,12 @@ PROBES: dict[str, tuple[str, tuple[str, ...]]] = {  # name: (what, overrides of 
         "100 mm rods, 200 mm tip, 1 m/s",
         ("rod1.diameter=0.1", "rod2.diameter=0.1", "rod1.tip_radius=0.2", "impact.speed=1.0"),
     ),
+    # patches small against a rod's section: the submodel levels graded across (rods.fe.submodel.submodel_grading)
+    "onto-40mm": ("the paper's Rod 1 onto a 40 mm Rod 2, 1 m/s", ("rod2.diameter=0.04", "impact.speed=1.0")),
+    "thin-onto-25mm": (
+        "a 6 mm Rod 1 with a 10 mm tip onto a 25 mm Rod 2",
+        ("rod1.diameter=0.006", "rod1.tip_radius=0.01", "rod2.diameter=0.025"),
+    ),
 }
 
 

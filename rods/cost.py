@@ -213,6 +213,24 @@ SUBMODEL_CAP_STEP_FACTOR = (
     (82.9, 0.62),
     (90.0, 0.64),
 )
+# the same for a graded submodel (rods.fe.submodel.submodel_grading): its rim cells are wider. Measured 2026-12-06 on
+# the paper rods with grading forced at h = 0.25 and 0.125 mm (the same to 3%), tips 50 to 6.35 mm, the lower of
+# the two x 0.99; flat and flatter tips (1.07-1.15 measured) and the butterfly's first degrees (unmeasured: the
+# uniform's) kept low
+GRADED_SUBMODEL_CAP_STEP_FACTOR = (
+    (0.0, 1.0),
+    (25.0, 1.0),
+    (31.9, 0.928),
+    (39.4, 0.837),
+    (48.3, 0.717),
+    (57.9, 0.577),
+    (65.1, 0.466),
+    (69.9, 0.393),
+    (70.0, 0.393),
+    (70.2, 0.51),
+    (74.2, 0.765),
+    (90.0, 0.637),
+)
 
 
 @dataclass(frozen=True)
@@ -285,12 +303,14 @@ def _mesh_axisymmetric(
     scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float], radial: str = "uniform"
 ) -> tuple[float, float]:
     """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods (``radial``:
-    fe.radial_grading, the global's; a submodel's is uniform), 2 DOFs per node."""
+    fe.radial_grading, the global's or a submodel's, rods.fe.submodel.submodel_grading; the bar's size bounded by
+    the global's axial size), 2 DOFs per node."""
     from rods.fe.mesh import mesh_counts
 
-    core = scene.graded_core
+    core, h_bar = scene.graded_core, scene.bar_axial_size
     counts = [
-        mesh_counts(_with_length(rod, L), h_r, h, g, core, radial) for rod, L in zip(scene.rods, lengths, strict=True)
+        mesh_counts(_with_length(rod, L), h_r, h, g, core, radial, h_bar)
+        for rod, L in zip(scene.rods, lengths, strict=True)
     ]
     return float(sum(c for c, _ in counts)), 2.0 * sum(n for _, n in counts)
 
@@ -337,8 +357,9 @@ def fe_cost(
     dt: float | str = "auto",
     remedy: str = "",
 ) -> Cost:
-    """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] (uniform
-    across, ``axial_size`` along, no grading, rods cut to fe.submodel_length) to ``end_time`` [s] at its own
+    """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] (across, uniform or
+    graded as rods.fe.submodel.submodel_grading, ``axial_size`` along, no tip grading, rods cut to
+    fe.submodel_length) to ``end_time`` [s] at its own
     step ``dt`` [s] ("auto": the stable one; the global's is fe.dt). ``remedy``: :attr:`Cost.remedy`."""
     kind = scene["fe.kind"]
     if size is None:
@@ -350,9 +371,10 @@ def fe_cost(
     if kind == "3d":
         cells, dofs = _mesh_3d(scene, h_r, h, g, lengths)
     else:
-        cells, dofs = _mesh_axisymmetric(
-            scene, h_r, h, g, lengths, scene["fe.radial_grading"] if size is None else "uniform"
-        )
+        from rods.fe.submodel import submodel_grading
+
+        radial = scene["fe.radial_grading"] if size is None else submodel_grading(scene)
+        cells, dofs = _mesh_axisymmetric(scene, h_r, h, g, lengths, radial)
     end = scene.end_time if end_time is None else end_time
     dt = _march_step(scene, h_r, h, g, size, dt)
     steps = math.ceil(end / dt)
@@ -439,7 +461,7 @@ def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | Non
     if scene["fe.kind"] == "3d":
         stable *= _third_dimension(h_r, g * h)
     else:
-        stable *= _cap_step_factor(scene, size is not None)
+        stable *= _cap_step_factor(scene, None if size is None else h_r)
         if size is None:
             stable *= _rim_factor(scene, h, g)
     if scene["fe.contact"] != "penalty":
@@ -484,18 +506,25 @@ def _rim_factor(scene: Scene, h: float, g: float) -> float:
     return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
 
 
-def _cap_step_factor(scene: Scene, submodel: bool) -> float:
+def _cap_step_factor(scene: Scene, size: float | None) -> float:
     """The cap factor of the more limiting tip (1 for flat tips), interpolated linearly in its rim angle: a submodel's
-    from :data:`SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially graded rod,
+    (of ``size`` [m] across) from :data:`SUBMODEL_CAP_STEP_FACTOR` or, on a graded rod,
+    :data:`GRADED_SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially graded rod,
     :data:`GRADED_CAP_STEP_FACTOR`."""
-    graded = (False, False)
-    if not submodel:
-        from rods.fe.mesh import scene_columns
+    from rods.fe.mesh import radial_columns, scene_columns
 
+    if size is None:
         graded = tuple(len(c) > 1 for c in scene_columns(scene))
+        tables = (CAP_STEP_FACTOR, GRADED_CAP_STEP_FACTOR)
+    else:
+        from rods.fe.submodel import submodel_grading
+
+        radial, h_bar, core = submodel_grading(scene), scene.bar_axial_size, scene.graded_core
+        graded = tuple(len(radial_columns(r, size, h_bar, core, radial)) > 1 for r in scene.rods)
+        tables = (SUBMODEL_CAP_STEP_FACTOR, GRADED_SUBMODEL_CAP_STEP_FACTOR)
     factors = []
     for rod, g in zip(scene.rods, graded, strict=True):
-        table = SUBMODEL_CAP_STEP_FACTOR if submodel else GRADED_CAP_STEP_FACTOR if g else CAP_STEP_FACTOR
+        table = tables[g]
         phi = math.degrees(math.asin(min(1.0, rod.diameter / 2 / rod.tip_radius)))
         angles, values = zip(*table, strict=True)
         factors.append(float(np.interp(phi, angles, values)))

@@ -297,7 +297,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
-    # axisymmetric only (the 3D section is an O-grid at fe.radial_size, a submodel uniform): rods.fe.mesh.radial_columns
+    # axisymmetric only (the 3D section is an O-grid at fe.radial_size): rods.fe.mesh.radial_columns; the submodels'
+    # too, one for all levels (rods.fe.submodel.submodel_grading)
     "fe.radial_grading": ("str", "auto", _choice(RADIAL_GRADINGS)),
     # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
     # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
@@ -606,6 +607,9 @@ class Scene:
     # paper's contact law), last one per key: summaries record them beside ``overrides`` ("stage_settings"), so that
     # the two together replay the run (the label names the user's scene only)
     settings: tuple[str, ...] = ()
+    # a submodel's driving global's resolved fe.axial_size [m], which bounds the elements a radially graded submodel
+    # grows to across (rods.fe.mesh.bar_size: nowhere coarser than its global); 0: this scene's own fe.axial_size
+    global_axial_size: float = 0.0
 
     @property
     def identity(self) -> dict[str, Any]:
@@ -660,10 +664,16 @@ class Scene:
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
-        n, h_auto = len(SUBMODEL_LEVELS), self._patch_size(PATCH_ELEMENTS)  # [m]
+        n, h_auto = len(SUBMODEL_LEVELS), self.submodel_start_size  # [m]
         first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if h <= h_auto), n)
         start = min(first, n - 3)  # the finest three where fewer than three remain
         return list(SUBMODEL_LEVELS[start : start + 3])
+
+    @property
+    def submodel_start_size(self) -> float:
+        """The auto submodel levels' start [m] (:attr:`submodel_levels`): :data:`PATCH_ELEMENTS` elements across a_P,
+        at most the thinner rod's radius / :data:`BAR_ELEMENTS`."""
+        return self._patch_size(PATCH_ELEMENTS)
 
     @cached_property
     def radial_size(self) -> float:
@@ -736,6 +746,12 @@ class Scene:
 
         # t_P > 0 on every valid scene: the schema refuses two flat tips and a speed of 0
         return hertz.bar_rise(min(r.transit_time for r in self.rods) / self.estimated_rise)
+
+    @property
+    def bar_axial_size(self) -> float:
+        """The axial size [m] that bounds a radially graded mesh's largest element across (rods.fe.mesh.bar_size):
+        the scene's own :attr:`axial_size`, a submodel's its driving global's (:attr:`global_axial_size`)."""
+        return self.global_axial_size or self.axial_size
 
     @property
     def impedance_patch_radius(self) -> float:

@@ -417,11 +417,6 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--global", "driver", "--set", "fe.radial_size=1e-4", "--out", "o"],
         ["--set", "fe.radial_size", "--size or --level"],
     ),
-    "submodel set fe.radial_grading": (
-        "submodel.py",
-        ["--global", "driver", "--set", "fe.radial_grading='graded'", "--out", "o"],
-        ["--set", "fe.radial_grading", "a submodel is uniform"],
-    ),
     "record-until below a step": (
         "global.py",
         ["--record-cut", "--record-until", "1e-20", "--out", "o"],

@@ -39,7 +39,6 @@ OWN_OPTIONS = {
     "fe.radial_size": "--size or --level",
     "fe.axial_size": "--axial-size",
     "fe.tip_grading": "--size or --level",
-    "fe.radial_grading": "--size or --level (a submodel is uniform at its size)",
     "fe.dt": "--dt",
     "fe.penalty": "--set submodel.penalty",
     "simulation.end_time": "--end-time",

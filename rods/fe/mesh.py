@@ -388,7 +388,7 @@ def scene_columns(scene: Scene) -> tuple[tuple[Column, ...], tuple[Column, ...]]
     """Both rods' columns (:func:`radial_columns`) on ``scene``'s global axisymmetric mesh."""
     hr, h, core, grading = (
         scene["fe.radial_size"],
-        scene["fe.axial_size"],
+        scene.bar_axial_size,
         scene.graded_core,
         scene["fe.radial_grading"],
     )
@@ -419,21 +419,28 @@ def butterfly_counts(b: Butterfly, hr: float) -> tuple[int, int, int]:
 
 
 def mesh_counts(
-    rod: Rod, hr: float, h: float, grading: float, core: float = math.inf, radial: str = "uniform"
+    rod: Rod,
+    hr: float,
+    h: float,
+    grading: float,
+    core: float = math.inf,
+    radial: str = "uniform",
+    h_bar: float | None = None,
 ) -> tuple[int, int]:
     """(cells, nodes) of one rod's mesh at radial size ``hr``, axial ``h`` [m], tip grading and radial grading
-    ``radial`` around a core of radius ``core`` [m] (:func:`radial_columns`; what the mesher makes). Nodes: a simply
+    ``radial`` around a core of radius ``core`` [m] (:func:`radial_columns`, its bar's size bounded by ``h_bar``,
+    default ``h``: :attr:`rods.scene.Scene.bar_axial_size`; what the mesher makes). Nodes: a simply
     connected quadrilateral mesh has V = F + E_b/2 + 1 (Euler's V - E + F = 1 with 4F = 2E - E_b), E_b its boundary
     edges: the tip, the axis, the outer surface and the far end; with a butterfly cap the tip's arcs A-P-E, the axis
     A-D-O and the shaft, the far end n_a + m wide."""
     sp = axial_spacing(rod, h, grading)
     n_z = sp.n_graded + sp.n_uniform
-    b = butterfly(rod)
+    b, h_bar = butterfly(rod), h if h_bar is None else h_bar
     if b is None:
-        n = sum(c.n for c in radial_columns(rod, hr, h, core, radial))
+        n = sum(c.n for c in radial_columns(rod, hr, h_bar, core, radial))
         cells, half_boundary = n * n_z, n + n_z
     else:
-        gb = graded_butterfly(rod, hr, h, core, radial)
+        gb = graded_butterfly(rod, hr, h_bar, core, radial)
         n_a, n_b, m = butterfly_counts(b, hr) if gb is None else (gb.n_core + gb.n_g, gb.n_b, gb.m)
         cells, half_boundary = (n_a + n_b) * m + n_a * n_b + (n_a + m) * n_z, n_a + n_b + m + n_z
     return cells, cells + half_boundary + 1
@@ -589,7 +596,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
         b = butterfly(rod)
         columns = graded_columns[k - 1]
         if b:
-            gb = graded_butterfly(rod, hr, h, scene.graded_core, scene["fe.radial_grading"])
+            gb = graded_butterfly(rod, hr, scene.bar_axial_size, scene.graded_core, scene["fe.radial_grading"])
             cap = _butterfly_cap(geo, b, s, hr, gb)
         else:
             cap = _flat_block_cap(geo, rod, s, columns)

@@ -2,7 +2,8 @@
 
 The submodel is the same :class:`rods.fe.model.ExplicitModel` machinery on a shorter region: the first
 L_s = ``fe.submodel_length`` of each rod (cut planes z = -L_s for Rod 1 and z = +L_s for Rod 2,
-measured from the apexes), meshed with a uniform size h across and along (aspect 1:1, as the paper).
+measured from the apexes), meshed with a size h across and along (aspect 1:1, as the paper), uniform or, where the patch is small
+against a rod's section, uniform in a core around it and graded outward across (:func:`submodel_grading`).
 It is built by :func:`submodel_scene`: a copy of the scene with both rod lengths set to L_s, so the
 "far ends" (facet tags ``rod1_end``/``rod2_end``) *are* the cut planes and no mesher change is needed.
 
@@ -39,6 +40,7 @@ __all__ = [
     "SubmodelResult",
     "run_submodel",
     "submodel_label",
+    "submodel_grading",
     "submodel_name",
     "submodel_scene",
     "surface_gauss_stress",
@@ -51,6 +53,32 @@ LEVEL_SIZES = SUBMODEL_LEVEL_SIZES
 # ----------------------------------------------------------------------------------------------
 # region
 # ----------------------------------------------------------------------------------------------
+def submodel_grading(scene: Scene) -> str:
+    """``fe.radial_grading`` of ``scene``'s submodels, one for all its levels: "uniform" or "graded" as the key
+    asks; "auto" (the default) "graded" where the global's rule (rods.fe.mesh.radial_columns, "auto": grading leaves
+    at most GRADED_SHARE of the uniform elements across) grades a rod at the auto levels' start
+    (:attr:`~rods.scene.Scene.submodel_start_size`), else uniform; 3D: uniform (an O-grid).
+
+    A graded level keeps its size h in a core of CORE_RADII Hertz radii a_P around the axis (the patch and the
+    stresses that vary on its scale) and along the whole cut length, and grows outward across by at most GROWTH per
+    element to its global's bar size (:attr:`~rods.scene.Scene.bar_axial_size`): nowhere coarser than the global.
+    Its levels halve h where the patch is; outside, their elements grow to the same bar size. Where the patch is
+    small against a rod's section a uniform level spends nearly all of its elements there: a 10 mm tungsten rod with
+    a 6 mm tip onto a 34.4 mm brass rod at 0.362 m/s, fine level (0.0625 mm), 454k DOFs uniform against 102k graded,
+    peak force -0.07%, p0 against Hertz at its own force -3.08% / -2.48%; the paper scene forced graded, fine
+    level, 93k against 60k DOFs, force -0.009%, area and p0 against Hertz -0.12 / -0.20% and -0.76 / -0.57%
+    (2026-12-06). The paper scene's and every scene's whose rods grading saves less than half of stays uniform,
+    as the paper's submodel."""
+    grading = scene["fe.radial_grading"]
+    if scene["fe.kind"] == "3d" or grading != "auto":
+        return "uniform" if scene["fe.kind"] == "3d" else grading
+    from rods.fe.mesh import radial_columns  # the mesher's own columns
+
+    h, h_bar, core = scene.submodel_start_size, scene.bar_axial_size, scene.graded_core
+    graded = any(len(radial_columns(rod, h, h_bar, core, "auto")) > 1 for rod in scene.rods)
+    return "graded" if graded else "uniform"
+
+
 def submodel_scene(
     scene: Scene,
     h: float,
@@ -58,8 +86,9 @@ def submodel_scene(
     end_time: float | None = None,
     dt: float | str = "auto",
 ) -> Scene:
-    """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], uniform size
-    h [m] across and ``h_axial`` (default h) along, no tip or radial grading, the scene's contact law (under the
+    """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], size h [m] across (uniform or
+    graded outward: :func:`submodel_grading`) and ``h_axial`` (default h) along, no tip grading, the scene's contact
+    law (under the
     penalty law its own layer ε = ``submodel.penalty`` x E*/h), the default mid station only
     (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
     L_s = scene["fe.submodel_length"]
@@ -71,7 +100,7 @@ def submodel_scene(
             "radial_size": h,
             "axial_size": h_axial or h,
             "tip_grading": 1.0,
-            "radial_grading": "uniform",  # levels refine alike everywhere (their Richardson ratio 2)
+            "radial_grading": submodel_grading(scene),  # one for all levels: they refine alike at the patch
             "dt": dt,
             "penalty": scene["submodel.penalty"],
             "submodel_length": L_s,  # resolved: "auto" on the cut rods would give another length
@@ -92,10 +121,15 @@ def submodel_scene(
         rod2=dataclasses.replace(sub.rod2, length=L_s),
         stations=(Station(2, L_s / 2, "rod2_mid"),),
         values=values,
+        global_axial_size=scene.bar_axial_size,  # a graded level's bar size: its global's
         overrides=scene.overrides,  # named as the scene it cuts (Scene.label)
         settings=(  # what the region changed of it (its summary's stage_settings)
             *scene.settings,
-            *(f"fe.{k}={v!r}" for k, v in d["fe"].items() if k in ("radial_size", "axial_size", "dt", "penalty")),
+            *(
+                f"fe.{k}={v!r}"
+                for k, v in d["fe"].items()
+                if k in ("radial_size", "axial_size", "radial_grading", "dt", "penalty")
+            ),
             f"rod1.length={L_s!r}",
             f"rod2.length={L_s!r}",
             f"simulation.end_time={end!r}",

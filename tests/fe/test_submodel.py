@@ -330,6 +330,55 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
     assert np.max(np.abs(σ - subsurface_stresses(r, z, a, p0, 0.3)[0])[away]) / ref < 0.05
 
 
+THICK = ["rod2.diameter=0.04", "impact.speed=1.0"]  # the paper's Rod 1 onto a 40 mm Rod 2: a_P 1.02 mm, R2 20 mm
+
+
+@pytest.mark.parametrize(
+    ("extra", "grading"),
+    [
+        ([], "uniform"),  # the paper scene: grading would save less than half across (the paper's uniform submodel)
+        (THICK, "graded"),
+        ([*THICK, "fe.radial_grading='uniform'"], "uniform"),  # the key asks
+        (["fe.radial_grading='graded'"], "graded"),
+        ([*THICK, "fe.kind='3d'"], "uniform"),  # an O-grid
+    ],
+    ids=["paper", "thick-rod2", "uniform-asked", "graded-asked", "3d"],
+)
+def test_submodel_grading_follows_the_patch_against_the_section(extra, grading):
+    """rods.fe.submodel.submodel_grading: one grading for all of a scene's levels, from fe.radial_grading ("auto":
+    the global's rule at the auto levels' start)."""
+    from rods.fe.submodel import submodel_grading
+
+    sc = load_scene(PAPER, extra)
+    assert submodel_grading(sc) == grading
+    assert submodel_scene(sc, 0.125e-3)["fe.radial_grading"] == grading
+
+
+def test_a_graded_submodel_keeps_its_size_at_the_patch_and_its_globals_across_the_rest():
+    """A graded level (coarse, 0.25 mm, on a 40 mm Rod 2 at 1 m/s): Rod 2's elements h wide over the core of
+    CORE_RADII a_P, then growing by at most GROWTH to the global's bar size (rods.fe.mesh.bar_size at the global's
+    axial size) and no wider; h along everywhere; the plan's DOFs the built mesh's (106 columns of 0.25 mm
+    uniform instead)."""
+    from mpi4py import MPI
+
+    from rods import cost
+    from rods.fe.mesh import GROWTH, bar_size, build_mesh, element_sizes, face_count, scene_columns
+
+    sc, h = load_scene(PAPER, [*THICK, "simulation.end_time=1e-6"]), 0.25e-3  # [m]
+    sub = submodel_scene(sc, h, end_time=1e-6)
+    sizes = element_sizes(scene_columns(sub)[1])
+    n_core = math.ceil(sc.graded_core / h - 1e-9)
+    np.testing.assert_allclose(sizes[:n_core], h, rtol=1e-9)
+    assert 2 * h < sizes.max() <= bar_size(sc.rod2, sc.axial_size) * (1 + 1e-9)
+    assert (sizes[1:] / sizes[:-1]).max() <= GROWTH * (1 + 1e-9)
+    assert sizes.size <= 0.5 * face_count(sub.rod2, h)
+    rm = build_mesh(sub, MPI.COMM_SELF)
+    assert rm.graded[1] and rm.mesh.geometry.x.shape[0] * 2 == cost.fe_cost(sc, size=h, end_time=1e-6).dofs
+    z = rm.mesh.geometry.x[:, 1]
+    dz = np.diff(np.unique(np.round(z[z > 0], 12)))  # Rod 2's rows along: L_s / ceil(L_s / h) apart
+    np.testing.assert_allclose(dz, sub["fe.submodel_length"] / math.ceil(sub["fe.submodel_length"] / h), rtol=1e-6)
+
+
 # ----------------------------------------------------------------------------------------------
 # 3D
 # ----------------------------------------------------------------------------------------------
