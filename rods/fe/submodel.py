@@ -2,8 +2,9 @@
 
 The submodel is the same :class:`rods.fe.model.ExplicitModel` machinery on a shorter region: the first
 L_s = ``fe.submodel_length`` of each rod (cut planes z = -L_s for Rod 1 and z = +L_s for Rod 2,
-measured from the apexes), meshed with a size h across and along (aspect 1:1, as the paper), uniform or, where the patch is small
-against a rod's section, uniform in a core around it and graded outward across (:func:`submodel_grading`).
+measured from the apexes), meshed with a size h across and along (aspect 1:1, as the paper), uniform or,
+where the patch is small against a rod's section, h in a core around it and graded outward across
+(:func:`submodel_grading`).
 It is built by :func:`submodel_scene`: a copy of the scene with both rod lengths set to L_s, so the
 "far ends" (facet tags ``rod1_end``/``rod2_end``) *are* the cut planes and no mesher change is needed.
 
