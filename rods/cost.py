@@ -300,19 +300,29 @@ def _duration(s: float) -> str:
 
 
 def _mesh_axisymmetric(
-    scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float], radial: str = "uniform"
+    scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float], radial: str, submodel: bool
 ) -> tuple[float, float]:
     """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods (``radial``:
-    fe.radial_grading, the global's or a submodel's, rods.fe.submodel.submodel_grading; the bar's size bounded by
-    the global's axial size), 2 DOFs per node."""
+    fe.radial_grading, the global's or a ``submodel``'s, rods.fe.submodel.submodel_grading; the bar's size bounded
+    by the global's axial size; a graded submodel's core along, rods.scene.Scene.axial_core), 2 DOFs per node."""
     from rods.fe.mesh import mesh_counts
 
     core, h_bar = scene.graded_core, scene.bar_axial_size
+    along = _submodel_core(scene) if submodel else scene.axial_core
     counts = [
-        mesh_counts(_with_length(rod, L), h_r, h, g, core, radial, h_bar)
+        mesh_counts(_with_length(rod, L), h_r, h, g, core, radial, h_bar, along)
         for rod, L in zip(scene.rods, lengths, strict=True)
     ]
     return float(sum(c for c, _ in counts)), 2.0 * sum(n for _, n in counts)
+
+
+def _submodel_core(scene: Scene) -> tuple[float, float]:
+    """(core [m], far size [m]) along the submodels of the global ``scene``: what rods.scene.Scene.axial_core gives
+    their scenes (rods.fe.submodel.submodel_scene)."""
+    from rods.fe.submodel import submodel_grading
+
+    graded = scene["fe.kind"] == "axisymmetric" and submodel_grading(scene) == "graded"
+    return (scene.graded_core, scene.bar_axial_size) if graded else (0.0, 0.0)
 
 
 def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> tuple[float, float]:
@@ -325,7 +335,7 @@ def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float,
     for rod, L in zip(scene.rods, lengths, strict=True):
         sec_cells, sec_nodes = section_size(rod.diameter / 2, h_r, scene["fe.symmetry"])
         sp = axial_spacing(_with_length(rod, L), h, g)
-        layers = sp.n_graded + sp.n_uniform
+        layers = sp.n
         cells, dofs = cells + sec_cells * layers, dofs + 3 * sec_nodes * (layers + 1)
     return cells, dofs
 
@@ -374,7 +384,7 @@ def fe_cost(
         from rods.fe.submodel import submodel_grading
 
         radial = scene["fe.radial_grading"] if size is None else submodel_grading(scene)
-        cells, dofs = _mesh_axisymmetric(scene, h_r, h, g, lengths, radial)
+        cells, dofs = _mesh_axisymmetric(scene, h_r, h, g, lengths, radial, size is not None)
     end = scene.end_time if end_time is None else end_time
     dt = _march_step(scene, h_r, h, g, size, dt)
     steps = math.ceil(end / dt)
@@ -462,8 +472,7 @@ def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | Non
         stable *= _third_dimension(h_r, g * h)
     else:
         stable *= _cap_step_factor(scene, None if size is None else h_r)
-        if size is None:
-            stable *= _rim_factor(scene, h, g)
+        stable *= _rim_factor(scene, h, g) if size is None else _submodel_rim_factor(scene, h)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
     factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
@@ -504,6 +513,23 @@ def _rim_factor(scene: Scene, h: float, g: float) -> float:
     0.125 / 0.25 x 0.125 / 0.125 x 0.0625 mm meshes ran 0.90/0.75/0.68 of the step estimated without it."""
     h0, g0 = scene.auto_axial_size, scene.auto_tip_grading
     return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
+
+
+def _submodel_rim_factor(scene: Scene, h: float) -> float:
+    """A submodel's step at axial size ``h`` [m] over the same region's uniform along (where the cap tables were
+    measured), as far as the rim cells set it: a graded submodel's core block (rods.fe.mesh.axial_spacing) is the
+    cap's block, its rim cells (L_c - c)/L_c of the axis's against (L_s - c)/L_s; the smaller over both tips, 1 where
+    the region is uniform along, a tip flat or a butterfly."""
+    from rods.fe.mesh import axial_spacing, butterfly
+
+    L_s, along = scene["fe.submodel_length"], _submodel_core(scene)
+    factors = [1.0]
+    for rod in scene.rods:
+        c, cut = rod.cap_height, _with_length(rod, L_s)
+        sp = axial_spacing(cut, h, 1.0, *along)
+        if sp.n_core and c > 0 and butterfly(rod) is None:
+            factors.append((sp.core_length - c) / sp.core_length / ((L_s - c) / L_s))
+    return min(factors)
 
 
 def _cap_step_factor(scene: Scene, size: float | None) -> float:

@@ -754,6 +754,16 @@ class Scene:
         return self.global_axial_size or self.axial_size
 
     @property
+    def axial_core(self) -> tuple[float, float]:
+        """(core [m], far size [m]) along a graded submodel's rods (rods.fe.mesh.axial_spacing): its size over
+        :attr:`graded_core` from each tip, growing to its global's axial size (:attr:`global_axial_size`); (0, 0) on
+        a global or a uniform submodel (no core: a global's tip grading grows from the tip)."""
+        v = self.values
+        if self.global_axial_size and v["fe.radial_grading"] == "graded" and v["fe.kind"] == "axisymmetric":
+            return self.graded_core, self.global_axial_size
+        return 0.0, 0.0
+
+    @property
     def impedance_patch_radius(self) -> float:
         """Hertz's contact radius a_P [m] at the impedance-bound force (:attr:`impedance_force`): it bounds the first
         contact's patch (the auto meshes' scale, the analytical model's rod-end term's patch)."""

@@ -88,13 +88,27 @@ class RodsMesh:
 @dataclass(frozen=True)
 class AxialSpacing:
     """Graded block at the tip (``n_graded`` elements, ratio ``ratio``, length ``graded_length``)
-    followed by ``n_uniform`` uniform elements."""
+    followed by ``n_uniform`` uniform elements; a graded submodel's (:func:`axial_spacing` with a core) starts with
+    ``n_core`` elements of ``h_tip`` over ``core_length`` before them."""
 
     n_graded: int
     ratio: float
     graded_length: float  # [m]
     n_uniform: int
     h_tip: float  # [m]
+    n_core: int = 0
+    core_length: float = 0.0  # [m]
+
+    @property
+    def n(self) -> int:
+        """Elements along the rod [-]."""
+        return self.n_core + self.n_graded + self.n_uniform
+
+
+# a graded submodel's core along each rod (axial_spacing) at least this many cap heights long [-]: the mesher spaces
+# every column of the block alike, so the rim's cells are (L - c)/L of the axis's; 10 keeps them within 10% of the
+# uniform region's
+CAP_HEIGHTS = 10.0
 
 
 def element_count(length: float, h: float) -> int:
@@ -103,8 +117,15 @@ def element_count(length: float, h: float) -> int:
     return max(1, math.ceil(length / h - 1e-9))
 
 
-def axial_spacing(rod: Rod, h: float, grading: float) -> AxialSpacing:
-    """Element counts along one rod for nominal size ``h`` [m] and tip grading ``g`` (h_tip = g h)."""
+def axial_spacing(rod: Rod, h: float, grading: float, core: float = 0.0, h_far: float = 0.0) -> AxialSpacing:
+    """Element counts along one rod for nominal size ``h`` [m] and tip grading ``g`` (h_tip = g h). With a ``core``
+    [m] (a graded submodel, :func:`rods.fe.submodel.submodel_grading`; g = 1): elements of h over at least
+    ``core`` and :data:`CAP_HEIGHTS` cap heights, then growing by at most GROWTH per element to ``h_far`` [m] (its
+    global's axial size), then of h_far to the far end; uniform h where the rod is too short for that."""
+    if core > 0.0 and h_far >= 2.0 * h:
+        graded = _cored_spacing(rod, h, core, h_far)
+        if graded is not None:
+            return graded
     L = rod.length
     if grading >= 1.0:
         n = element_count(L, h)
@@ -119,6 +140,19 @@ def axial_spacing(rod: Rod, h: float, grading: float) -> AxialSpacing:
         n_g, q = _graded_counts(a, length, h, n_g)
     n_u = element_count(L - length, h)
     return AxialSpacing(n_g, q, length, n_u, a)
+
+
+def _cored_spacing(rod: Rod, h: float, core: float, h_far: float) -> AxialSpacing | None:
+    """:func:`axial_spacing` with a core: n_c elements of h, n_g growing by q <= GROWTH from h q to h_far, n_u of
+    h_far; None where they do not fit the rod."""
+    n_c = element_count(max(core, CAP_HEIGHTS * rod.cap_height), h)
+    n_g = max(1, math.ceil(math.log(h_far / h) / math.log(GROWTH)))
+    q = (h_far / h) ** (1.0 / n_g)  # sizes h q^k, k = 1..n_g: the last is h_far
+    graded = _grown(h, n_g, q)
+    rest = rod.length - n_c * h - graded
+    if rest < h_far:
+        return None
+    return AxialSpacing(n_g, q, graded, element_count(rest, h_far), h, n_c, n_c * h)
 
 
 def _graded_counts(a: float, length: float, h: float, n0: int) -> tuple[int, float]:
@@ -426,15 +460,16 @@ def mesh_counts(
     core: float = math.inf,
     radial: str = "uniform",
     h_bar: float | None = None,
+    core_along: tuple[float, float] = (0.0, 0.0),
 ) -> tuple[int, int]:
     """(cells, nodes) of one rod's mesh at radial size ``hr``, axial ``h`` [m], tip grading and radial grading
     ``radial`` around a core of radius ``core`` [m] (:func:`radial_columns`, its bar's size bounded by ``h_bar``,
-    default ``h``: :attr:`rods.scene.Scene.bar_axial_size`; what the mesher makes). Nodes: a simply
+    default ``h``: :attr:`rods.scene.Scene.bar_axial_size`; along, a graded submodel's ``core_along``,
+    :attr:`rods.scene.Scene.axial_core`; what the mesher makes). Nodes: a simply
     connected quadrilateral mesh has V = F + E_b/2 + 1 (Euler's V - E + F = 1 with 4F = 2E - E_b), E_b its boundary
     edges: the tip, the axis, the outer surface and the far end; with a butterfly cap the tip's arcs A-P-E, the axis
     A-D-O and the shaft, the far end n_a + m wide."""
-    sp = axial_spacing(rod, h, grading)
-    n_z = sp.n_graded + sp.n_uniform
+    n_z = axial_spacing(rod, h, grading, *core_along).n
     b, h_bar = butterfly(rod), h if h_bar is None else h_bar
     if b is None:
         n = sum(c.n for c in radial_columns(rod, hr, h_bar, core, radial))
@@ -592,7 +627,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     info = {}
     graded_columns = scene_columns(scene)
     for k, (rod, s) in enumerate(((scene.rod1, -1.0), (scene.rod2, 1.0)), start=1):
-        sp = axial_spacing(rod, h, g)
+        sp = axial_spacing(rod, h, g, *scene.axial_core)
         b = butterfly(rod)
         columns = graded_columns[k - 1]
         if b:
@@ -601,10 +636,12 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
         else:
             cap = _flat_block_cap(geo, rod, s, columns)
         lower, corners = cap["rim"], cap["corners"]
-        # axial stations: optional graded block, then the uniform block to the far end
+        # axial stations: a graded submodel's core, optional graded block, then the uniform block to the far end
         blocks = []
+        if sp.n_core:
+            blocks.append((s * sp.core_length, sp.n_core, 1.0))
         if sp.n_graded:
-            blocks.append((s * sp.graded_length, sp.n_graded, sp.ratio))
+            blocks.append((s * (sp.core_length + sp.graded_length), sp.n_graded, sp.ratio))
         blocks.append((s * rod.length, sp.n_uniform, 1.0))
         surfaces[k], axis_curves, outer_curves = list(cap["surfaces"]), list(cap["axis"]), []
         for z_end, n, ratio in blocks:
@@ -662,7 +699,7 @@ def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
         cell_tags=data.cell_tags,
         facet_tags=data.facet_tags,
         n_radial=max(info[1][0], info[2][0]),
-        n_axial=(sp1.n_graded + sp1.n_uniform, sp2.n_graded + sp2.n_uniform),
+        n_axial=(sp1.n, sp2.n),
         h_radial=max(info[1][3], info[2][3]),  # the larger node spacing along the two tip faces' cores
         h_tip=min(info[1][2], info[2][2]),
         h_axial=scene["fe.axial_size"],

@@ -357,7 +357,8 @@ def test_submodel_grading_follows_the_patch_against_the_section(extra, grading):
 def test_a_graded_submodel_keeps_its_size_at_the_patch_and_its_globals_across_the_rest():
     """A graded level (coarse, 0.25 mm, on a 40 mm Rod 2 at 1 m/s): Rod 2's elements h wide over the core of
     CORE_RADII a_P, then growing by at most GROWTH to the global's bar size (rods.fe.mesh.bar_size at the global's
-    axial size) and no wider; h along everywhere; the plan's DOFs the built mesh's (106 columns of 0.25 mm
+    axial size) and no wider; along, h over that core from the tip, then growing to the global's axial size (the
+    cut's band at the global's spacing: 58 rows); the plan's DOFs the built mesh's (80 columns and 177 rows of 0.25 mm
     uniform instead)."""
     from mpi4py import MPI
 
@@ -375,8 +376,10 @@ def test_a_graded_submodel_keeps_its_size_at_the_patch_and_its_globals_across_th
     rm = build_mesh(sub, MPI.COMM_SELF)
     assert rm.graded[1] and rm.mesh.geometry.x.shape[0] * 2 == cost.fe_cost(sc, size=h, end_time=1e-6).dofs
     z = rm.mesh.geometry.x[:, 1]
-    dz = np.diff(np.unique(np.round(z[z > 0], 12)))  # Rod 2's rows along: L_s / ceil(L_s / h) apart
-    np.testing.assert_allclose(dz, sub["fe.submodel_length"] / math.ceil(sub["fe.submodel_length"] / h), rtol=1e-6)
+    dz = np.diff(np.unique(np.round(z[z >= 0], 12)))  # Rod 2's rows along (its tip at z = 0)
+    np.testing.assert_allclose(dz[:n_core], h, rtol=1e-6)  # h over the core from the tip ...
+    assert (dz[1:] / dz[:-1]).max() <= GROWTH * (1 + 1e-6) and dz.max() == pytest.approx(sc.axial_size, rel=1e-3)
+    assert dz.size == rm.n_axial[1] < 0.4 * sub["fe.submodel_length"] / h  # ... then growing to the global's size
 
 
 # ----------------------------------------------------------------------------------------------
