@@ -60,16 +60,17 @@ def submodel_grading(scene: Scene) -> str:
     at most GRADED_SHARE of the uniform elements across) grades a rod at the auto levels' start
     (:attr:`~rods.scene.Scene.submodel_start_size`), else uniform; 3D: uniform (an O-grid).
 
-    A graded level keeps its size h in a core of CORE_RADII Hertz radii a_P around the axis (the patch and the
-    stresses that vary on its scale) and along the whole cut length, and grows outward across by at most GROWTH per
-    element to its global's bar size (:attr:`~rods.scene.Scene.bar_axial_size`): nowhere coarser than the global.
-    Its levels halve h where the patch is; outside, their elements grow to the same bar size. Where the patch is
-    small against a rod's section a uniform level spends nearly all of its elements there: a 10 mm tungsten rod with
-    a 6 mm tip onto a 34.4 mm brass rod at 0.362 m/s, fine level (0.0625 mm), 454k DOFs uniform against 102k graded,
-    peak force -0.07%, p0 against Hertz at its own force -3.08% / -2.48%; the paper scene forced graded, fine
-    level, 93k against 60k DOFs, force -0.009%, area and p0 against Hertz -0.12 / -0.20% and -0.76 / -0.57%
-    (2026-12-06). The paper scene's and every scene's whose rods grading saves less than half of stays uniform,
-    as the paper's submodel."""
+    A graded level keeps its size h in a core of CORE_RADII Hertz radii a_P around the axis and as deep from each
+    tip (at least rods.fe.mesh.CAP_HEIGHTS cap heights: the patch and the stresses that vary on its scale), and grows
+    outward by at most GROWTH per element to its global's sizes (across its bar size,
+    :attr:`~rods.scene.Scene.bar_axial_size`; along its axial size, :attr:`~rods.scene.Scene.axial_core`): nowhere
+    coarser than the global. Its levels halve h where the patch is; outside, their elements grow to the same sizes.
+    Where the patch is small against a rod's section a uniform level spends nearly all of its elements far from
+    it: a 10 mm tungsten rod with a 6 mm tip onto a 34.4 mm brass rod at 0.362 m/s, fine level (0.0625 mm), 454k
+    DOFs uniform against 42k graded, peak force -0.06%, p0 against Hertz at its own force -3.08% / -2.48%; the paper
+    scene forced graded, fine level, 93k against 25k DOFs, force +0.011%, area and p0 against Hertz -0.12 / -0.21%
+    and -0.76 / -0.53% (2026-12-06, docs/run-log.md). The paper scene's and every scene's whose rods grading saves
+    less than half of across stays uniform, as the paper's submodel."""
     grading = scene["fe.radial_grading"]
     if scene["fe.kind"] == "3d" or grading != "auto":
         return "uniform" if scene["fe.kind"] == "3d" else grading
