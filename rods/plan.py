@@ -183,6 +183,11 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
                 mesh += f" ({graded_words(graded)} graded across outside r = {core * 1e3:.3g} mm)"
     else:
         mesh = f"mesh {size * 1e3:.4g} mm at the contact"
+        if scene["fe.kind"] == "axisymmetric":
+            from rods.fe.submodel import submodel_grading
+
+            if submodel_grading(scene) == "graded":  # rods.fe.submodel.submodel_scene: its global's sizes outside
+                mesh += f", graded beyond {scene.graded_core * 1e3:.3g} mm from the patch to the global's sizes"
     law = scene["fe.contact"]
     if law == "penalty":
         law += f" ({scene['fe.penalty']:g} x element stiffness)"

@@ -349,9 +349,12 @@ def test_submodel_grading_follows_the_patch_against_the_section(extra, grading):
     the global's rule at the auto levels' start)."""
     from rods.fe.submodel import submodel_grading
 
+    from rods.plan import fe_stage
+
     sc = load_scene(PAPER, extra)
     assert submodel_grading(sc) == grading
     assert submodel_scene(sc, 0.125e-3)["fe.radial_grading"] == grading
+    assert ("graded beyond" in fe_stage(sc, "the submodel fine", size=0.0625e-3)) == (grading == "graded")
 
 
 def test_a_graded_submodel_keeps_its_size_at_the_patch_and_its_globals_across_the_rest():
