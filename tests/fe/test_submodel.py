@@ -348,7 +348,6 @@ def test_submodel_grading_follows_the_patch_against_the_section(extra, grading):
     """rods.fe.submodel.submodel_grading: one grading for all of a scene's levels, from fe.radial_grading ("auto":
     the global's rule at the auto levels' start)."""
     from rods.fe.submodel import submodel_grading
-
     from rods.plan import fe_stage
 
     sc = load_scene(PAPER, extra)
