@@ -367,10 +367,10 @@ def fe_cost(
     dt: float | str = "auto",
     remedy: str = "",
 ) -> Cost:
-    """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] (across, uniform or
-    graded as rods.fe.submodel.submodel_grading, ``axial_size`` along, no tip grading, rods cut to
-    fe.submodel_length) to ``end_time`` [s] at its own
-    step ``dt`` [s] ("auto": the stable one; the global's is fe.dt). ``remedy``: :attr:`Cost.remedy`."""
+    """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] across and
+    ``axial_size`` along (uniform, or graded outside the patch as rods.fe.submodel.submodel_grading), rods cut to
+    fe.submodel_length, to ``end_time`` [s] at its own step ``dt`` [s] ("auto": the stable one; the global's is
+    fe.dt). ``remedy``: :attr:`Cost.remedy`."""
     kind = scene["fe.kind"]
     if size is None:
         h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading

@@ -3,8 +3,8 @@
 The submodel is the same :class:`rods.fe.model.ExplicitModel` machinery on a shorter region: the first
 L_s = ``fe.submodel_length`` of each rod (cut planes z = -L_s for Rod 1 and z = +L_s for Rod 2,
 measured from the apexes), meshed with a size h across and along (aspect 1:1, as the paper), uniform or,
-where the patch is small against a rod's section, h in a core around it and graded outward across
-(:func:`submodel_grading`).
+where the patch is small against a rod's section, h in a core around it and graded outward, across and along, to
+its global's sizes (:func:`submodel_grading`).
 It is built by :func:`submodel_scene`: a copy of the scene with both rod lengths set to L_s, so the
 "far ends" (facet tags ``rod1_end``/``rod2_end``) *are* the cut planes and no mesher change is needed.
 
@@ -88,11 +88,11 @@ def submodel_scene(
     end_time: float | None = None,
     dt: float | str = "auto",
 ) -> Scene:
-    """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], size h [m] across (uniform or
-    graded outward: :func:`submodel_grading`) and ``h_axial`` (default h) along, no tip grading, the scene's contact
-    law (under the
-    penalty law its own layer ε = ``submodel.penalty`` x E*/h), the default mid station only
-    (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step ``dt``."""
+    """The submodel region as a scene: rods cut to L_s = ``fe.submodel_length`` [m], size h [m] across and
+    ``h_axial`` (default h) along (uniform, or at the patch and graded outward: :func:`submodel_grading`), no tip
+    grading, the scene's contact law (under the penalty law its own layer ε = ``submodel.penalty`` x E*/h), the
+    default mid station only (at L_s/2 of Rod 2), end time ``end_time`` [s] (default the scene's), time step
+    ``dt``."""
     L_s = scene["fe.submodel_length"]
     check_submodel_length(L_s, scene.rods)
     d = scene.as_dict(json_safe=False)
@@ -123,7 +123,7 @@ def submodel_scene(
         rod2=dataclasses.replace(sub.rod2, length=L_s),
         stations=(Station(2, L_s / 2, "rod2_mid"),),
         values=values,
-        global_axial_size=scene.bar_axial_size,  # a graded level's bar size: its global's
+        global_axial_size=scene.bar_axial_size,  # a graded level's sizes outside the patch: its global's
         overrides=scene.overrides,  # named as the scene it cuts (Scene.label)
         settings=(  # what the region changed of it (its summary's stage_settings)
             *scene.settings,
