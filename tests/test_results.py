@@ -40,6 +40,9 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe-random-2026.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-2026.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
+    "submodel-probe-random-1206.md": lambda: benchmark("submodel_probe").render(
+        _data("submodel-probe-random-1206.json")
+    ),
     "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
     "rod-end-compliance.md": lambda: benchmark("rod_end_compliance").render(_data("rod-end-compliance.json")),
 }
