@@ -79,8 +79,9 @@ class ModelRun:
 def model_name(run: ModelRun) -> str:
     """The table's model name, from the run's own settings (e.g. "Global (uniform 1 mm)")."""
     s = run.summary
-    if run.role == "submodel":
-        return f"Submodel {s['level']} (h = {s['element_size'] * 1e3:g} mm)"
+    if run.role == "submodel":  # a graded level (rods.fe.submodel.submodel_grading) says so
+        graded = ", graded outside the patch" if any(s.get("mesh", {}).get("graded", ())) else ""
+        return f"Submodel {s['level']} (h = {s['element_size'] * 1e3:g} mm{graded})"
     sc = scene_from_summary(s["scene_values"])
     h, g = sc["fe.axial_size"], sc.tip_grading
     mesh = f"uniform {h * 1e3:.3g} mm" if g == 1.0 else f"tips graded to {g * h * 1e3:.3g} mm"

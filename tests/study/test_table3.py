@@ -212,3 +212,15 @@ def test_an_order_outside_the_credible_range_is_marked_in_its_row(runs):
     rows = {line.split(" |")[0]: line for line in render_markdown(data).splitlines() if line.startswith("| ")}
     assert "| 0.13 (not credible) |" in rows["| peak pressure [GPa]"]
     assert "| 1.60 |" in rows["| contact area [mm²]"] and "not credible" not in rows["| contact area [mm²]"]
+
+
+def test_a_graded_submodel_level_is_named_so():
+    """A level graded outside the patch (rods.fe.submodel.submodel_grading; its summary's mesh.graded) says so in
+    its row's name; a uniform one, the paper's, does not."""
+    from rods.study.table3 import model_name
+
+    base = {"level": "fine", "element_size": 0.0625e-3}
+    graded = ModelRun("submodel", {**base, "mesh": {"graded": [True, True]}}, {})
+    uniform = ModelRun("submodel", {**base, "mesh": {"graded": [False, False]}}, {})
+    assert model_name(graded) == "Submodel fine (h = 0.0625 mm, graded outside the patch)"
+    assert model_name(uniform) == "Submodel fine (h = 0.0625 mm)"
