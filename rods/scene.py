@@ -843,7 +843,10 @@ class Scene:
         """A new, validated scene: this one with ``KEY=VALUE`` overrides applied (its :attr:`label` kept: the
         library's own overrides are a stage's settings, not another scene)."""
         new = scene_from_dict(self.as_dict(json_safe=False), overrides, source=self.source)
-        return dataclasses.replace(new, overrides=self.overrides, settings=_last_per_key((*self.settings, *overrides)))
+        settings = _last_per_key((*self.settings, *overrides))
+        return dataclasses.replace(
+            new, overrides=self.overrides, settings=settings, global_axial_size=self.global_axial_size
+        )
 
 
 def _station_name(rod: int, pos: float) -> str:
