@@ -5,7 +5,9 @@
 
 Scene: the global run's unless --scene/--set are given. Levels: rods.scene.SUBMODEL_LEVEL_SIZES (--size
 overrides; --phase K runs member K of the level's phase-averaged study, rods.scene.submodel_phase_size); end: the
-driver's contact phase unless --end-time. Writes DIR/summary.json, history.csv,
+driver's contact phase unless --end-time. A level is uniform at its size or, where the patch is small against a
+rod's section, graded outside it to the global's sizes (fe.radial_grading "auto", rods.fe.submodel.submodel_grading;
+--set "fe.radial_grading='uniform'" keeps it uniform, 'graded' grades it). Writes DIR/summary.json, history.csv,
 pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR output/submodel/<level>/<scene>.
 With fe.checkpoint_interval > 0 it checkpoints into DIR; --restart resumes there (same scene, level, rank count and
 cut record).

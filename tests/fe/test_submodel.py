@@ -273,6 +273,10 @@ def test_end_to_end_cli(global_dirs, tmp_path):
     # missing checkpoint: clean exit 2
     p = run_workflow("submodel.py", ["--global", str(tmp_path), "--out", str(tmp_path / "x")])
     assert p.returncode == 2 and "cut.h5" in p.stderr
+    # the level's grading is the submodel's own key (rods.fe.submodel.submodel_grading): accepted, planned
+    args = ["--global", str(g), "--level", "coarse", "--set", "fe.radial_grading='graded'", "--dry-run"]
+    p = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "g")])
+    assert p.returncode == 0 and "plan: the submodel coarse" in p.stdout, p.stderr
 
 
 def test_phase_member_cli(global_dirs, tmp_path):
