@@ -299,30 +299,24 @@ def _duration(s: float) -> str:
     return f"{s:.3g} s" if s < 120 else (f"{s / 60:.3g} min" if s < 7200 else f"{s / 3600:.3g} h")
 
 
-def _mesh_axisymmetric(
-    scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float], radial: str, submodel: bool
-) -> tuple[float, float]:
-    """(cells, DOFs) of the axisymmetric mesh: the mesh module's own counts of both rods (``radial``:
-    fe.radial_grading, the global's or a ``submodel``'s, rods.fe.submodel.submodel_grading; the bar's size bounded
-    by the global's axial size; a graded submodel's core along, rods.scene.Scene.axial_core), 2 DOFs per node."""
+def _mesh_axisymmetric(scene: Scene, h_r: float, h: float, g: float) -> tuple[float, float]:
+    """(cells, DOFs) of ``scene``'s axisymmetric mesh (a global's, or a submodel's region, :func:`_submodel_region`)
+    at sizes ``h_r``, ``h`` [m] and tip grading ``g``: the mesh module's own counts of both rods, as the mesher reads
+    the scene (fe.radial_grading, its bar size and core along: rods.scene.Scene.bar_axial_size, axial_core), 2 DOFs
+    per node."""
     from rods.fe.mesh import mesh_counts
 
-    core, h_bar = scene.graded_core, scene.bar_axial_size
-    along = _submodel_core(scene) if submodel else scene.axial_core
-    counts = [
-        mesh_counts(_with_length(rod, L), h_r, h, g, core, radial, h_bar, along)
-        for rod, L in zip(scene.rods, lengths, strict=True)
-    ]
+    radial, core, h_bar, along = scene["fe.radial_grading"], scene.graded_core, scene.bar_axial_size, scene.axial_core
+    counts = [mesh_counts(rod, h_r, h, g, core, radial, h_bar, along) for rod in scene.rods]
     return float(sum(c for c, _ in counts)), 2.0 * sum(n for _, n in counts)
 
 
-def _submodel_core(scene: Scene) -> tuple[float, float]:
-    """(core [m], far size [m]) along the submodels of the global ``scene``: what rods.scene.Scene.axial_core gives
-    their scenes (rods.fe.submodel.submodel_scene)."""
-    from rods.fe.submodel import submodel_grading
+def _submodel_region(scene: Scene, size: float, axial_size: float | None) -> Scene:
+    """The submodel's own scene at ``size`` across and ``axial_size`` along [m] (rods.fe.submodel.submodel_scene:
+    rods cut to fe.submodel_length, its grading): what its mesh and step are counted on, as the mesher builds them."""
+    from rods.fe.submodel import submodel_scene
 
-    graded = scene["fe.kind"] == "axisymmetric" and submodel_grading(scene) == "graded"
-    return (scene.graded_core, scene.bar_axial_size) if graded else (0.0, 0.0)
+    return submodel_scene(scene, size, axial_size)
 
 
 def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> tuple[float, float]:
@@ -372,6 +366,7 @@ def fe_cost(
     fe.submodel_length, to ``end_time`` [s] at its own step ``dt`` [s] ("auto": the stable one; the global's is
     fe.dt). ``remedy``: :attr:`Cost.remedy`."""
     kind = scene["fe.kind"]
+    region = None  # a submodel's own scene (axisymmetric: its mesh and step are counted on it)
     if size is None:
         h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
         lengths = (scene.rod1.length, scene.rod2.length)
@@ -381,12 +376,10 @@ def fe_cost(
     if kind == "3d":
         cells, dofs = _mesh_3d(scene, h_r, h, g, lengths)
     else:
-        from rods.fe.submodel import submodel_grading
-
-        radial = scene["fe.radial_grading"] if size is None else submodel_grading(scene)
-        cells, dofs = _mesh_axisymmetric(scene, h_r, h, g, lengths, radial, size is not None)
+        region = scene if size is None else _submodel_region(scene, size, axial_size)
+        cells, dofs = _mesh_axisymmetric(region, h_r, h, g)
     end = scene.end_time if end_time is None else end_time
-    dt = _march_step(scene, h_r, h, g, size, dt)
+    dt = _march_step(scene, h_r, h, g, size, dt, region)
     steps = math.ceil(end / dt)
     # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
@@ -434,11 +427,13 @@ def _field_frames(scene: Scene, dt: float, steps: int) -> int:
     return frame_count(scene.field_interval, dt, steps)
 
 
-def _march_step(scene: Scene, h_r: float, h: float, g: float, size: float | None, dt: float | str) -> float:
+def _march_step(
+    scene: Scene, h_r: float, h: float, g: float, size: float | None, dt: float | str, region: Scene | None
+) -> float:
     """The step [s] the model will march at, as rods.fe.timestep: fe.dt_fraction of the estimated stable step, at
     most the switching limit, or the given one (the global's fe.dt, a submodel's ``dt``), refused (exit 2) when it
-    is far above the estimated limit."""
-    stable, switching = _step_limits(scene, h_r, h, g, size)
+    is far above the estimated limit (``region``: :func:`_step_limits`)."""
+    stable, switching = _step_limits(scene, h_r, h, g, size, region)
     limit = min(stable, switching)
     key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
     if given == "auto":
@@ -461,18 +456,24 @@ def _on_gpu(scene: Scene, ranks: int) -> bool:
     return resolve(scene["fe.backend"], ranks) == "cupy"
 
 
-def _step_limits(scene: Scene, h_r: float, h: float, g: float, size: float | None) -> tuple[float, float]:
+def _step_limits(
+    scene: Scene, h_r: float, h: float, g: float, size: float | None, region: Scene | None = None
+) -> tuple[float, float]:
     """(stable step, contact switching limit) [s] estimated: the first from the smallest element
     (:data:`DT_PER_ELEMENT_STEP`, :data:`H_MIN_FRACTION`, the cap factor of a curved axisymmetric global's tips;
     within 0.87 to 1 of the set-up's exact limit on the paper rods with 35 mm and 50 mm tips and a hemisphere),
-    the second under the penalty law only (inf for the kinematic contact)."""
+    the second under the penalty law only (inf for the kinematic contact). An axisymmetric submodel's cap factors
+    are read off its ``region`` (:func:`_submodel_region`; built here where not given)."""
     c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
     stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d * damped_step_factor(scene)
     if scene["fe.kind"] == "3d":
         stable *= _third_dimension(h_r, g * h)
     else:
-        stable *= _cap_step_factor(scene, None if size is None else h_r)
-        stable *= _rim_factor(scene, h, g) if size is None else _submodel_rim_factor(scene, h)
+        if size is None:
+            stable *= _cap_step_factor(scene, submodel=False) * _rim_factor(scene, h, g)
+        else:
+            region = region or _submodel_region(scene, h_r, h)
+            stable *= _cap_step_factor(region, submodel=True) * _submodel_rim_factor(region)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
     factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
@@ -515,39 +516,35 @@ def _rim_factor(scene: Scene, h: float, g: float) -> float:
     return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
 
 
-def _submodel_rim_factor(scene: Scene, h: float) -> float:
-    """A submodel's step at axial size ``h`` [m] over the same region's uniform along (where the cap tables were
-    measured), as far as the rim cells set it: a graded submodel's core block (rods.fe.mesh.axial_spacing) is the
-    cap's block, its rim cells (L_c - c)/L_c of the axis's against (L_s - c)/L_s; the smaller over both tips, 1 where
-    the region is uniform along, a tip flat or a butterfly."""
+def _submodel_rim_factor(region: Scene) -> float:
+    """A submodel's step over the same region's uniform along (where the cap tables were measured), as far as the
+    rim cells set it: a graded submodel's core block (rods.fe.mesh.axial_spacing) is the cap's block, its rim cells
+    (L_c - c)/L_c of the axis's against (L_s - c)/L_s; the smaller over both tips, 1 where the region is uniform
+    along, a tip flat or a butterfly. ``region``: the submodel's own scene (:func:`_submodel_region`)."""
     from rods.fe.mesh import axial_spacing, butterfly
 
-    L_s, along = scene["fe.submodel_length"], _submodel_core(scene)
+    L_s, h = region["fe.submodel_length"], region["fe.axial_size"]
     factors = [1.0]
-    for rod in scene.rods:
-        c, cut = rod.cap_height, _with_length(rod, L_s)
-        sp = axial_spacing(cut, h, 1.0, *along)
+    for rod in region.rods:  # cut to L_s
+        c, sp = rod.cap_height, axial_spacing(rod, h, 1.0, *region.axial_core)
         if sp.n_core and c > 0 and butterfly(rod) is None:
             factors.append((sp.core_length - c) / sp.core_length / ((L_s - c) / L_s))
     return min(factors)
 
 
-def _cap_step_factor(scene: Scene, size: float | None) -> float:
-    """The cap factor of the more limiting tip (1 for flat tips), interpolated linearly in its rim angle: a submodel's
-    (of ``size`` [m] across) from :data:`SUBMODEL_CAP_STEP_FACTOR` or, on a graded rod,
-    :data:`GRADED_SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially graded rod,
-    :data:`GRADED_CAP_STEP_FACTOR`."""
-    from rods.fe.mesh import radial_columns, scene_columns
+def _cap_step_factor(scene: Scene, submodel: bool) -> float:
+    """The cap factor of the more limiting tip (1 for flat tips), interpolated linearly in its rim angle: a
+    ``submodel``'s (``scene`` its region, :func:`_submodel_region`) from :data:`SUBMODEL_CAP_STEP_FACTOR` or, on a
+    graded rod, :data:`GRADED_SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially
+    graded rod, :data:`GRADED_CAP_STEP_FACTOR`."""
+    from rods.fe.mesh import scene_columns
 
-    if size is None:
-        graded = tuple(len(c) > 1 for c in scene_columns(scene))
-        tables = (CAP_STEP_FACTOR, GRADED_CAP_STEP_FACTOR)
-    else:
-        from rods.fe.submodel import submodel_grading
-
-        radial, h_bar, core = submodel_grading(scene), scene.bar_axial_size, scene.graded_core
-        graded = tuple(len(radial_columns(r, size, h_bar, core, radial)) > 1 for r in scene.rods)
-        tables = (SUBMODEL_CAP_STEP_FACTOR, GRADED_SUBMODEL_CAP_STEP_FACTOR)
+    graded = tuple(len(c) > 1 for c in scene_columns(scene))
+    tables = (
+        (SUBMODEL_CAP_STEP_FACTOR, GRADED_SUBMODEL_CAP_STEP_FACTOR)
+        if submodel
+        else (CAP_STEP_FACTOR, GRADED_CAP_STEP_FACTOR)
+    )
     factors = []
     for rod, g in zip(scene.rods, graded, strict=True):
         table = tables[g]
