@@ -38,12 +38,17 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe.md": lambda: benchmark("scene_probe").render(_data("scene-probe.json")),
     "scene-probe-random.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random.json")),
     "scene-probe-random-2026.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-2026.json")),
+    "scene-probe-random-61206.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61206.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
     "submodel-probe-random-1206.md": lambda: benchmark("submodel_probe").render(
         _data("submodel-probe-random-1206.json")
     ),
+    "submodel-probe-random-61206.md": lambda: benchmark("submodel_probe").render(
+        _data("submodel-probe-random-61206.json")
+    ),
     "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
+    "wave-probe-random-61206.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61206.json")),
     "rod-end-compliance.md": lambda: benchmark("rod_end_compliance").render(_data("rod-end-compliance.json")),
 }
 
