@@ -65,9 +65,11 @@ __all__ = [
     "Cost",
     "analytical_cost",
     "analytical_steps",
+    "available_disk",
     "available_memory",
     "calibrated",
     "check",
+    "check_disk",
     "fe_cost",
     "machine_speed",
     "total",
@@ -136,11 +138,29 @@ CUT_SECONDS_PER_NODE = {"axisymmetric": 1e-3, "3d": 1e-3}
 CHECKPOINT_SECONDS = 1e-3  # [s]
 CHECKPOINT_SECONDS_PER_DOF = 3.5e-8  # [s]
 FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
-# a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes) and its time
-# (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs, 2 ranks):
-# 221 MB, 0.82 s more than the same run without fields
-FIELD_BYTES_PER_DOF = 80.0  # [B] (axisymmetric: 2 DOFs per node; 3D nodes carry 3, so it errs high there)
+# a frame's time (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs,
+# 2 ranks): 0.82 s more than the same run without fields [s per DOF]
 FIELD_SECONDS_PER_DOF = 3e-7  # [s]
+# a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes), measured 2026-12-06
+# on the paper mesh (48k DOFs, serial: 25.1 MB for 5 frames, 51.8 MB for 11, both formats): 93 B per DOF a frame
+# and 60 B per DOF once (the mesh, written with the first frame); 2026-11-24's contact picture run read 80 a frame
+# (221 MB for 52 frames of 52.9k DOFs). Axisymmetric: 2 DOFs per node; 3D nodes carry 3, so it errs high there.
+# Each frame also writes about 16 kB whatever the mesh (HDF5 headers, the XDMF and VTX indices: 387 kB a frame at
+# the coarse paper mesh's 4.0k DOFs, 97 B per DOF)
+FIELD_BYTES_PER_DOF = 93.0  # [B]
+FIELD_MESH_BYTES_PER_DOF = 60.0  # [B]
+FIELD_FRAME_BYTES = 16e3  # [B]
+CSV_BYTES_PER_VALUE = 25.0  # [B] a history value as CSV text (BYTES_PER_VALUE's file part)
+# a checkpoint's file (u and v_{n+1/2} in float64 with the histories so far; two on disk while the newer replaces the
+# older, rods.fe.checkpoint): measured 790 kB at the paper mesh's 48k DOFs [B per DOF]
+CHECKPOINT_BYTES_PER_DOF = 16.5  # [B]
+# the submodels' cut record (rods.fe.cut.CutRecorder: u and v in float64 of every entry of the band, 2 BAND_ELEMENTS
+# + 1 node rows around each cut plane, at every recorded step), held by the ranks through the run and written to
+# cut.h5 by rank 0 (measured: 224 MB for 316 band nodes x 2 components x 22,160 records, the file's size exactly)
+CUT_BYTES_PER_ENTRY_RECORD = 16.0  # [B]
+# ... whose write gathers it on rank 0, then orders and trims it: the record, its gathered parts and one ordered copy
+# at once [-]
+CUT_RECORD_COPIES = 3.0
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to
@@ -252,6 +272,7 @@ class Cost:
     remedy: str = ""
     memory_bound_time: float = 0.0  # [s] the part of wall_time that scales with the machine's memory bandwidth
     speed: float | None = None  # [-] the machine_speed it was scaled by (None: the reference rates)
+    file_bytes: float = 0.0  # [B] what the run writes: histories, field frames, checkpoints, the cut record
 
     def describe(self) -> str:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
@@ -360,11 +381,14 @@ def fe_cost(
     end_time: float | None = None,
     dt: float | str = "auto",
     remedy: str = "",
+    record_until: float | None = None,
+    record_every: int = 1,
 ) -> Cost:
     """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] across and
     ``axial_size`` along (uniform, or graded outside the patch as rods.fe.submodel.submodel_grading), rods cut to
     fe.submodel_length, to ``end_time`` [s] at its own step ``dt`` [s] ("auto": the stable one; the global's is
-    fe.dt). ``remedy``: :attr:`Cost.remedy`."""
+    fe.dt). ``remedy``: :attr:`Cost.remedy`. ``record_until`` [s]: a global recording the submodels' cut band to
+    that time every ``record_every`` steps (its memory and its file, :func:`_cut_record_bytes`)."""
     kind = scene["fe.kind"]
     region = None  # a submodel's own scene (axisymmetric: its mesh and step are counted on it)
     if size is None:
@@ -400,16 +424,45 @@ def fe_cost(
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
     frames = _field_frames(scene, dt, steps) if size is None else 0  # the submodel writes none
-    field_bytes = frames * dofs * FIELD_BYTES_PER_DOF
+    field_bytes = frames * FIELD_FRAME_BYTES + (frames * FIELD_BYTES_PER_DOF + FIELD_MESH_BYTES_PER_DOF) * dofs
+    field_bytes = field_bytes if frames else 0.0
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
+    files = field_bytes + CSV_BYTES_PER_VALUE * values
     if size is None and scene["fe.checkpoint_interval"] > 0:  # the model's stride (rods.fe.checkpoint.stride)
         from rods.fe.checkpoint import stride
 
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
+        files += 2 * (CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * values)  # the newer and the older
+    if record_until is not None:
+        cut = _cut_record_bytes(scene, dt, steps, record_until, record_every)
+        memory, files = memory + CUT_RECORD_COPIES * cut, files + cut
     return Cost(
-        what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound
-    )
+        what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,
+        file_bytes=files,
+    )  # fmt: skip
+
+
+def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: int) -> float:
+    """The cut record's size [B] (:data:`CUT_BYTES_PER_ENTRY_RECORD`): the band's entries, at most 2 BAND_ELEMENTS + 1
+    node rows across each rod at its cut plane (2 BAND_ELEMENTS where the plane falls inside an element, as on five
+    drivers measured: 316, 272, 252, 464 and 132 nodes, 4/5 of this count) of the global's columns
+    (rods.fe.mesh.scene_columns; 3D: the O-grid section's nodes), times the records to ``until`` [s] every ``every``
+    steps (rods.fe.cut.CutRecorder)."""
+    from rods.fe.cut import BAND_ELEMENTS
+
+    rows = 2 * BAND_ELEMENTS + 1
+    if scene["fe.kind"] == "3d":
+        from rods.fe.mesh3d import section_size
+
+        sym = scene["fe.symmetry"]
+        entries = 3 * rows * sum(section_size(r.diameter / 2, scene["fe.radial_size"], sym)[1] for r in scene.rods)
+    else:
+        from rods.fe.mesh import scene_columns
+
+        entries = 2 * rows * sum(sum(c.n for c in columns) + 1 for columns in scene_columns(scene))
+    records = min(math.ceil(min(until, scene.end_time) / (dt * every) - 1e-9), steps // every) + 1
+    return CUT_BYTES_PER_ENTRY_RECORD * entries * records
 
 
 def _field_frames(scene: Scene, dt: float, steps: int) -> int:
@@ -573,7 +626,7 @@ def analytical_cost(scene: Scene) -> Cost:
     steps = analytical_steps(scene)
     wall = SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values + SECONDS_PER_STEP * steps
     memory = 60e6 + 3 * BYTES_PER_VALUE * values + BYTES_PER_SOLVER_STEP * steps
-    return Cost("analytical model", 0, 0, steps, samples, values, memory, wall)
+    return Cost("analytical model", 0, 0, steps, samples, values, memory, wall, file_bytes=CSV_BYTES_PER_VALUE * values)
 
 
 def analytical_steps(scene: Scene) -> float:
@@ -595,6 +648,36 @@ def available_memory() -> float:
     except OSError:
         pass
     return math.inf
+
+
+def available_disk(folder: str | Path) -> float:
+    """Free space [B] of the file system that ``folder`` (or its nearest existing parent) is on; inf where unknown."""
+    import shutil
+
+    p = Path(folder).absolute()
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    try:
+        return float(shutil.disk_usage(p).free)
+    except OSError:
+        return math.inf
+
+
+def check_disk(costs: Sequence[Cost], out: str | Path, comm: Any = None) -> None:
+    """Refuse (always: --force does not make room) runs whose files (:attr:`Cost.file_bytes`, all ``costs``
+    together) exceed the free space where ``out`` is: a full disk stopped a run part-way, its files half-written.
+    Under MPI rank 0 of ``comm`` looks and every rank takes its figure, so all refuse alike."""
+    need = sum(c.file_bytes for c in costs)  # [B]
+    free = available_disk(out) if comm is None or comm.rank == 0 else None
+    free = free if comm is None else comm.bcast(free, root=0)
+    if need > free:
+        fields = sum(c.field_bytes for c in costs)
+        said = f"{fields / 1e9:.3g} GB of it field frames" if fields else "histories, checkpoints and cut records"
+        raise InputError(
+            "--out", str(out), f"the run writes about {need / 1e9:.3g} GB of files ({said}) where {free / 1e9:.3g} GB"
+            " are free", "a larger fe.field_interval or simulation.output_interval, a shorter end_time, or an --out "
+            "on a larger disk",
+        )  # fmt: skip
 
 
 _probes: dict[int, tuple[float, float]] = {}  # rows -> (_clock() of the probe, its speed)

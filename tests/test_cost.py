@@ -498,3 +498,68 @@ def test_the_total_names_the_stage_that_is_most_of_a_study(scene_with):
     cheap = [c for c in costs if c is not finest]
     assert "of it" not in cost.total([*cheap, replace(finest, remedy="")])  # no setting to name
     assert cost.total(costs[:1]) is None
+
+
+def _written(folder) -> int:
+    """Bytes of every file under ``folder``."""
+    from pathlib import Path
+
+    return sum(f.stat().st_size for f in Path(folder).rglob("*") if f.is_file())
+
+
+@pytest.mark.parametrize(
+    "extra, flags",
+    [
+        (("fe.field_interval=5e-6", "fe.checkpoint_interval=2e-5"), ()),  # frames and checkpoints
+        ((), ("--record-cut",)),  # the submodels' cut record
+    ],
+    ids=["fields-checkpoints", "cut-record"],
+)
+def test_planned_files_bound_what_a_run_writes(tmp_path, scene_with, extra, flags):
+    """Cost.file_bytes, what rods.cost.check_disk holds against the free disk, is what the run writes, erring high
+    by the cut band's fifth row and the step estimate's margin (measured on the coarse paper mesh: frames and
+    checkpoints 1.03x, the cut record 1.05x the files written): never below it (a disk the plan passed would fill),
+    and within 1.3x (a plan that refuses what fits is a wrong plan too)."""
+    args = (*TINY[:2], "simulation.end_time=4e-5", *extra)
+    sc = scene_with(*args)
+    until = sc.end_time if flags else None
+    planned = cost.fe_cost(sc, record_until=until).file_bytes
+    out = tmp_path / "run"
+    p = run_workflow("global.py", [*(a for o in args for a in ("--set", o)), *flags, "--out", str(out)])
+    assert p.returncode == 0, p.stderr[-2000:]
+    written = _written(out)
+    if extra:  # one checkpoint is left at the end; the plan counts the two on disk while the newer replaces the older
+        written += max(f.stat().st_size for f in out.glob("checkpoint-*.npz"))
+    else:
+        assert (out / "cut.h5").stat().st_size > 0.5 * written  # the record is what this case sizes
+    assert written <= planned <= 1.3 * written
+
+
+def test_a_run_whose_files_overflow_the_disk_is_refused_before_anything_is_written(tmp_path, monkeypatch):
+    """rods.cost.check_disk at the entry points (workflows/_cli.afford): the files planned against the free space of
+    --out's file system, refused with exit 2 and one line naming --out, the sizes and the remedy, nothing written,
+    and --force does not lift it (it lifts budgets, not the disk's room); where they fit, the run goes on."""
+    frames = ["--set", "fe.field_interval=1e-5", "--set", "simulation.end_time=4e-5", *(a for o in TINY[:2] for a in
+              ("--set", o))]  # fmt: skip
+    out = tmp_path / "deep" / "run"
+    planned = cost.fe_cost(_scene(frames)).file_bytes  # [B]
+    monkeypatch.setattr(cost, "available_disk", lambda folder: 0.5 * planned)
+    for force in ([], ["--force"]):
+        p = in_process("global.py", *frames, *force, "--out", str(out), cwd=tmp_path)
+        lines = p.stderr.strip().splitlines()
+        assert p.returncode == 2 and len(lines) == 1, p.stderr[-2000:]
+        assert lines[0].startswith("error: --out = ") and "GB of files" in lines[0] and "field frames" in lines[0]
+        assert "a larger fe.field_interval" in lines[0]
+        assert not (tmp_path / "deep").exists()
+    monkeypatch.setattr(cost, "available_disk", lambda folder: 2.0 * planned)
+    assert in_process("global.py", *frames, "--out", str(out), cwd=tmp_path).returncode == 0
+    for script in ("analytical.py", "run.py"):  # every entry point holds its files to the disk
+        monkeypatch.setattr(cost, "available_disk", lambda folder: 0.0)
+        p = in_process(script, "--out", str(tmp_path / script), cwd=tmp_path)
+        assert p.returncode == 2 and "--out" in p.stderr and "GB of files" in p.stderr, p.stderr[-2000:]
+
+
+def _scene(args: list[str]):
+    from rods.scene import load_scene
+
+    return load_scene(SCENES / "paper.toml", [a for a in args if a != "--set"])

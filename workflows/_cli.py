@@ -121,15 +121,20 @@ def outlook(scene: Scene, log: Callable[..., None] = print) -> None:
         log(f"outlook: {line}")
 
 
-def afford(args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print, comm: Any = None) -> None:
-    """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory or, without
-    --force, above the step/history budgets; before anything heavy is allocated. A long run's time is this
-    machine's (rods.cost.calibrated: measured by every rank of ``comm`` at once, the slowest taken by all).
-    With --dry-run, stop here: exit 0, nothing run, nothing written (every rank alike)."""
+def afford(
+    args: argparse.Namespace, *costs: Any, log: Callable[..., None] = print, comm: Any = None, out: Path | None = None
+) -> None:
+    """Print each estimated cost (rods.cost) and refuse, exit 2, one above the free memory, all of them above the
+    free disk where ``out`` is (rods.cost.check_disk) or, without --force, one above the step/history budgets;
+    before anything heavy is allocated. A long run's time is this machine's (rods.cost.calibrated: measured by every
+    rank of ``comm`` at once, the slowest taken by all). With --dry-run, stop here: exit 0, nothing run, nothing
+    written (every rank alike)."""
     from rods import cost
 
     for c in costs:  # the memory first (--force never lifts it): no probe for a run that cannot start
         cost.check(c, force=True)
+    if out is not None:  # nor the disk's room (rank 0's view: the ranks write into one folder)
+        cost.check_disk(costs, out, comm)
     calibrated = cost.calibrated(costs, comm)
     for c in calibrated:
         cost.check(c, args.force)

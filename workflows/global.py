@@ -59,14 +59,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     what = "the driving global" if args.driver else "the global"
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
-    c = cost.fe_cost(sc, comm.size, what=what)
+    until = sc.end_time if args.driver else (args.record_until or sc.end_time) if args.record_cut else None
+    c = cost.fe_cost(sc, comm.size, what=what, record_until=until, record_every=args.record_every)
     step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's stable step (the set-up solves it exactly)
     if args.record_until is not None and args.record_until < step:
         _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
                   f"record would hold t = 0 alone; give --record-until {10 * step:.3g} or more")  # fmt: skip
     log(f"{plan.fe_stage(sc, what)} -> {out}")
     _cli.outlook(scene, log)
-    _cli.afford(args, c, log=log, comm=comm)
+    _cli.afford(args, c, log=log, comm=comm, out=out)
     if args.driver:
         s = stages.driver(scene, out, comm, phase, progress=progress, log=log).summary
     else:

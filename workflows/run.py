@@ -49,7 +49,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _cli.outlook(scene, log)
     if args.restart:
         log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
-    _cli.afford(args, analytical, *stage_costs(scene, p, comm.size), log=log, comm=comm)
+    _cli.afford(args, analytical, *stage_costs(scene, p, comm.size), log=log, comm=comm, out=out)
     s = run_study(scene, out, comm, progress, log, restart=args.restart).summary  # a guard's stop: exit 1 (_cli)
     shown = ("sources", *io.SUMMARY_KEYS)  # the contract keys, each from its most refined model (sources)
     log(json.dumps({k: s[k] for k in shown if k in s}, indent=1))

@@ -165,7 +165,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
     log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
     _cli.outlook(scene, log)
-    _cli.afford(args, c, log=log, comm=comm)
+    _cli.afford(args, c, log=log, comm=comm, out=out)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
         scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end, dt=dt,

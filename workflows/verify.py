@@ -39,7 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for name in cases:
         _cli.backend(verification.case_scene(base, name, args.overrides), comm.size)
     log(f"plan: verification matrix, {len(cases)} case(s) of scene '{base.name}' ({', '.join(cases)}) -> {out}")
-    _cli.afford(args, *costs, log=log, comm=comm)  # every case's runs, before the first is started
+    _cli.afford(args, *costs, log=log, comm=comm, out=out)  # every case's runs, before the first is started
     data = verification.run_matrix(base, out, comm, cases, args.overrides, log, progress, args.tables)
     if comm.rank == 0:
         log(verification.render_markdown(data))

@@ -36,11 +36,17 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
     """The estimated costs (rods.cost.fe_cost) of the FE stages :func:`run_study` runs for plan ``p`` of ``scene``
     on ``ranks`` ranks: the global to the planned end time, a separate driving global only where the global does
     not record the cut (rods.plan.global_drives), each submodel level on the driver's scene."""
-    costs = [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time)] if p.global_model else []
+    drives = bool(p.submodel_levels) and plan.global_drives(p)  # the global records the cut to the contact phase
+    until = p.contact_phase if drives else None
+    costs = (
+        [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time, record_until=until)]
+        if p.global_model
+        else []
+    )
     if p.submodel_levels:
         driver = plan.submodel_driver(scene, p.contact_phase)
-        if not plan.global_drives(p):
-            costs.append(cost.fe_cost(driver, ranks, what="the driving global"))
+        if not drives:
+            costs.append(cost.fe_cost(driver, ranks, what="the driving global", record_until=driver.end_time))
         for lv in p.submodel_levels:
             # the user set no size for a level: submodel.levels (or its "auto") chose it, so a refusal names that
             remedy = f"submodel.levels without '{lv}' (the plan's: {', '.join(p.submodel_levels)})"
