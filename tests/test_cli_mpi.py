@@ -99,3 +99,19 @@ def test_a_ctrl_c_in_the_teardown_after_the_run_is_no_error(tmp_path):
     )
     assert p.returncode == 0, p.stderr[-2000:]
     assert p.stdout.count("status: ok") == 2 and "KeyboardInterrupt" not in p.stderr
+
+
+@pytest.mark.mpi
+def test_files_beyond_any_disk_are_refused_once_by_every_rank(tmp_path):
+    """rods.cost.check_disk under mpirun: rank 0 looks at the disk and every rank takes its figure, so both refuse
+    (exit 2, one line, nothing written), never one rank alone in a collective. Field frames every 40 ns for 1 s of
+    the paper scene plan ~10^14 B, more than any disk."""
+    out = tmp_path / "run"
+    sets = ["fe.field_interval=4e-8", "simulation.end_time=1.0", "simulation.output_interval=1e-6"]
+    args = [a for s in sets for a in ("--set", s)]
+    cmd = [str(MPIRUN), "-n", "2", sys.executable, str(ROOT / "workflows" / "global.py"), *args, "--out", str(out)]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120, stdin=subprocess.DEVNULL)
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1, p.stderr[-2000:]
+    assert lines[0].startswith("error: --out = ") and "GB of files" in lines[0] and "GB are free" in lines[0]
+    assert not out.exists()
