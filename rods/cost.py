@@ -158,11 +158,12 @@ CHECKPOINT_BYTES_PER_DOF = 16.5  # [B]
 # + 1 node rows around each cut plane, at every recorded step), held by the ranks through the run and written to
 # cut.h5 by rank 0 (measured: 224 MB for 316 band nodes x 2 components x 22,160 records, the file's size exactly)
 CUT_BYTES_PER_ENTRY_RECORD = 16.0  # [B]
-# ... whose write gathers it on rank 0 (pickled copies), concatenates, orders and trims it: copies of the record held
-# at once at the write's peak [-] (measured 2026-12-06 with tracemalloc, the paper scene's driver at 0.1 mm across,
-# serial: 1,322 MB at the write's peak against 56 MB before the record was allocated, 3.8 x its 331 MB file; the
-# record counted here errs high, by the band's fifth row and the step estimate's margin, so this bounds the peak)
-CUT_RECORD_COPIES = 4.0
+# ... and rank 0 writes it from one ordered copy of u, then of v, each rank's part received in turn: copies of the
+# record held at once at the write's peak [-] (measured 2026-12-06 with tracemalloc, the paper scene's driver at
+# 0.1 mm across, serial: 690 MB at the write's peak against 56 MB before the record was allocated, 1.9 x its 331 MB
+# file; 3.8 x while the write gathered u and v whole, concatenated and reordered them). The record counted here errs
+# high, by the band's fifth row and the step estimate's margin, so this bounds the peak
+CUT_RECORD_COPIES = 2.0
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to

@@ -156,37 +156,35 @@ class CutRecorder:
         self.n += 1
 
     def write(self, path: str | Path) -> None:
-        """Gather the band to rank 0 and write ``path`` (HDF5; layout in the module docstring)."""
-        comm = self.model.comm
-        n = self.n
-        parts = comm.gather((self.keys, self.coords, self.cell_keys, self.U[:n], self.Vv[:n]), root=0)
+        """Write ``path`` on rank 0 (HDF5; layout in the module docstring): the band's nodes and cells gathered, then
+        u and v one at a time, each rank's part received and placed in turn, so rank 0 holds one ordered copy of one
+        of them beside its own record and one part (gathering both whole, concatenating and reordering them held
+        3.8 copies of the record at once: rods.cost.CUT_RECORD_COPIES)."""
+        comm, n, gd = self.model.comm, self.n, self.gdim
+        meta = comm.gather((self.keys, self.coords, self.cell_keys), root=0)
+        records = (("u", self.U), ("v", self.Vv))
         if comm.rank != 0:
+            for tag, (_, record) in enumerate(records):
+                comm.send(record[:n], dest=0, tag=tag)
             comm.barrier()
             return
         import h5py
 
-        keys = np.concatenate([p[0] for p in parts])
-        coords = np.vstack([p[1] for p in parts])
-        cells = np.vstack([p[2] for p in parts if len(p[2])])
-        gd = self.gdim
-        U = np.concatenate([p[3].reshape(n, -1, gd) for p in parts], axis=1)
-        Vv = np.concatenate([p[4].reshape(n, -1, gd) for p in parts], axis=1)
-        used = np.unique(cells)
-        order = np.argsort(keys)
-        keys, coords, U, Vv = keys[order], coords[order], U[:, order], Vv[:, order]
-        keep = np.isin(keys, used)
-        keys, coords, U, Vv = keys[keep], coords[keep], U[:, keep], Vv[:, keep]
-        if not np.array_equal(keys, used):
-            raise RuntimeError("cut band: a band cell node was not recorded")
-        cells_local = np.searchsorted(keys, cells)
+        keys, coords, cells_local, places = _band_layout(meta)
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".h5.tmp")
         m = self.model
         with h5py.File(tmp, "w") as f:
             f["times"] = self.times[:n]
-            f["u"] = U
-            f["v"] = Vv
+            for tag, (name, record) in enumerate(records):
+                ordered = np.empty((n, keys.size, gd))
+                for r, (to, rows) in enumerate(places):
+                    part = record[:n] if r == 0 else comm.recv(source=r, tag=tag)
+                    ordered[:, to] = part.reshape(n, -1, gd)[:, rows]
+                    del part
+                f[name] = ordered
+                del ordered
             f["nodes"] = coords
             f["cells"] = cells_local.astype(np.int64)
             f.attrs["cell_type"] = self.cell_type
@@ -202,6 +200,30 @@ class CutRecorder:
             f.attrs["record_id"] = uuid.uuid4().hex  # this recording's identity, wherever the file is copied
         tmp.replace(path)
         comm.barrier()
+
+
+def _band_layout(
+    meta: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple[np.ndarray, np.ndarray]]]:
+    """The cut file's node order from every rank's (owned node keys, coordinates, band cells' node keys): the band
+    cells' nodes by key (a recorded node of no band cell left out), their coordinates, the cells in that numbering,
+    and per rank (its nodes' places in that order, which of its recorded nodes they are)."""
+    keys = np.concatenate([m[0] for m in meta])
+    cells = np.vstack([m[2] for m in meta if len(m[2])])
+    used = np.unique(cells)
+    first = np.full(used.size, -1)  # each used node's record in the concatenated order (owned nodes: one each)
+    where = np.searchsorted(used, keys)
+    hit = np.flatnonzero((where < used.size) & (used[np.minimum(where, used.size - 1)] == keys))
+    first[where[hit]] = hit
+    if np.any(first < 0):
+        raise RuntimeError("cut band: a band cell node was not recorded")
+    coords = np.vstack([m[1] for m in meta])[first]
+    offsets = np.cumsum([0, *(len(m[0]) for m in meta)])
+    places = []
+    for r in range(len(meta)):
+        mine = (first >= offsets[r]) & (first < offsets[r + 1])
+        places.append((np.flatnonzero(mine), first[mine] - offsets[r]))
+    return used, coords, np.searchsorted(used, cells), places
 
 
 # ----------------------------------------------------------------------------------------------
