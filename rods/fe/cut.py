@@ -158,8 +158,8 @@ class CutRecorder:
     def write(self, path: str | Path) -> None:
         """Write ``path`` on rank 0 (HDF5; layout in the module docstring): the band's nodes and cells gathered, then
         u and v one at a time, each rank's part received and placed in turn, so rank 0 holds one ordered copy of one
-        of them beside its own record and one part (gathering both whole, concatenating and reordering them held
-        3.8 copies of the record at once: rods.cost.CUT_RECORD_COPIES)."""
+        of them beside its own record and one part: 1.9 copies of the record at the peak, which the plan counts
+        (rods.cost.CUT_RECORD_COPIES; gathering both whole, concatenating and reordering them held 3.8)."""
         comm, n, gd = self.model.comm, self.n, self.gdim
         meta = comm.gather((self.keys, self.coords, self.cell_keys), root=0)
         records = (("u", self.U), ("v", self.Vv))
