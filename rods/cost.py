@@ -455,11 +455,8 @@ def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: 
     from rods.fe.cut import BAND_ELEMENTS
 
     rows = 2 * BAND_ELEMENTS + 1
-    if scene["fe.kind"] == "3d":
-        from rods.fe.mesh3d import section_size
-
-        sym = scene["fe.symmetry"]
-        entries = 3 * rows * sum(section_size(r.diameter / 2, scene["fe.radial_size"], sym)[1] for r in scene.rods)
+    if scene["fe.kind"] == "3d":  # the O-grid sections at the global's size, as a submodel's cut planes
+        entries = 3 * rows * _cut_nodes(scene, scene["fe.radial_size"])
     else:
         from rods.fe.mesh import scene_columns
 

@@ -535,14 +535,14 @@ def test_planned_files_bound_what_a_run_writes(tmp_path, scene_with, extra, flag
     assert written <= planned <= 1.3 * written
 
 
-def test_a_run_whose_files_overflow_the_disk_is_refused_before_anything_is_written(tmp_path, monkeypatch):
+def test_a_run_whose_files_overflow_the_disk_is_refused_before_anything_is_written(tmp_path, monkeypatch, scene_with):
     """rods.cost.check_disk at the entry points (workflows/_cli.afford): the files planned against the free space of
     --out's file system, refused with exit 2 and one line naming --out, the sizes and the remedy, nothing written,
     and --force does not lift it (it lifts budgets, not the disk's room); where they fit, the run goes on."""
-    frames = ["--set", "fe.field_interval=1e-5", "--set", "simulation.end_time=4e-5", *(a for o in TINY[:2] for a in
-              ("--set", o))]  # fmt: skip
+    overrides = ("fe.field_interval=1e-5", "simulation.end_time=4e-5", *TINY[:2])
+    frames = [a for o in overrides for a in ("--set", o)]
     out = tmp_path / "deep" / "run"
-    planned = cost.fe_cost(_scene(frames)).file_bytes  # [B]
+    planned = cost.fe_cost(scene_with(*overrides)).file_bytes  # [B]
     monkeypatch.setattr(cost, "available_disk", lambda folder: 0.5 * planned)
     for force in ([], ["--force"]):
         p = in_process("global.py", *frames, *force, "--out", str(out), cwd=tmp_path)
@@ -553,13 +553,7 @@ def test_a_run_whose_files_overflow_the_disk_is_refused_before_anything_is_writt
         assert not (tmp_path / "deep").exists()
     monkeypatch.setattr(cost, "available_disk", lambda folder: 2.0 * planned)
     assert in_process("global.py", *frames, "--out", str(out), cwd=tmp_path).returncode == 0
+    monkeypatch.setattr(cost, "available_disk", lambda folder: 0.0)
     for script in ("analytical.py", "run.py"):  # every entry point holds its files to the disk
-        monkeypatch.setattr(cost, "available_disk", lambda folder: 0.0)
         p = in_process(script, "--out", str(tmp_path / script), cwd=tmp_path)
         assert p.returncode == 2 and "--out" in p.stderr and "GB of files" in p.stderr, p.stderr[-2000:]
-
-
-def _scene(args: list[str]):
-    from rods.scene import load_scene
-
-    return load_scene(SCENES / "paper.toml", [a for a in args if a != "--set"])

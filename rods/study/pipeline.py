@@ -36,7 +36,7 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
     """The estimated costs (rods.cost.fe_cost) of the FE stages :func:`run_study` runs for plan ``p`` of ``scene``
     on ``ranks`` ranks: the global to the planned end time, a separate driving global only where the global does
     not record the cut (rods.plan.global_drives), each submodel level on the driver's scene."""
-    drives = bool(p.submodel_levels) and plan.global_drives(p)  # the global records the cut to the contact phase
+    drives = plan.global_drives(p)  # the global records the cut to the contact phase
     until = p.contact_phase if drives else None
     costs = (
         [cost.fe_cost(scene, ranks, what="the global", end_time=p.global_end_time, record_until=until)]
