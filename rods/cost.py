@@ -393,18 +393,7 @@ def fe_cost(
     fe.dt). ``remedy``: :attr:`Cost.remedy`. ``record_until`` [s]: a global recording the submodels' cut band to
     that time every ``record_every`` steps (its memory and its file, :func:`_cut_record_bytes`)."""
     kind = scene["fe.kind"]
-    region = None  # a submodel's own scene (axisymmetric: its mesh and step are counted on it)
-    if size is None:
-        h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
-        lengths = (scene.rod1.length, scene.rod2.length)
-    else:
-        h_r, h, g = size, axial_size or size, 1.0
-        lengths = (scene["fe.submodel_length"],) * 2
-    if kind == "3d":
-        cells, dofs = _mesh_3d(scene, h_r, h, g, lengths)
-    else:
-        region = scene if size is None else _submodel_region(scene, size, axial_size)
-        cells, dofs = _mesh_axisymmetric(region, h_r, h, g)
+    (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size)
     end = scene.end_time if end_time is None else end_time
     dt = _march_step(scene, h_r, h, g, size, dt, region)
     steps = math.ceil(end / dt)
@@ -415,15 +404,7 @@ def fe_cost(
     memory = (
         ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
     )
-    if _on_gpu(scene, ranks):
-        setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]  # [s]
-        loop = steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND)  # [s]
-        bound = 0.0  # the device's rate is its own (not the host's probe)
-    else:
-        setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks  # [s]
-        rate = MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND if scene["fe.operator"] == "matrix-free" else DOF_STEPS_PER_SECOND
-        bound = steps * dofs / (rate[kind] * ranks)  # [s] the memory-bound part
-        loop = steps * STEP_OVERHEAD + bound  # [s]
+    setup, loop, bound = _fe_time(scene, ranks, steps, dofs)
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
     frames = _field_frames(scene, dt, steps) if size is None else 0  # the submodel writes none
@@ -444,6 +425,35 @@ def fe_cost(
         what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,
         file_bytes=files,
     )  # fmt: skip
+
+
+def _fe_mesh(
+    scene: Scene, size: float | None, axial_size: float | None
+) -> tuple[tuple[float, float, float], Scene | None, float, float]:
+    """The sizes (across, along [m], tip grading), the region (an axisymmetric submodel's own scene, on which its
+    mesh and step are counted; else ``scene`` or, in 3D, None), cells and DOFs of :func:`fe_cost`'s mesh."""
+    if size is None:
+        h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
+        lengths = (scene.rod1.length, scene.rod2.length)
+    else:
+        h_r, h, g = size, axial_size or size, 1.0
+        lengths = (scene["fe.submodel_length"],) * 2
+    if scene["fe.kind"] == "3d":
+        return (h_r, h, g), None, *_mesh_3d(scene, h_r, h, g, lengths)
+    region = scene if size is None else _submodel_region(scene, size, axial_size)
+    return (h_r, h, g), region, *_mesh_axisymmetric(region, h_r, h, g)
+
+
+def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float) -> tuple[float, float, float]:
+    """The set-up, the time loop and the loop's memory-bound part [s] of ``steps`` steps on ``dofs`` DOFs: on a
+    device its own rate (not the host's probe, so no bound), else the CPU's per rank (assembled or matrix-free)."""
+    kind = scene["fe.kind"]
+    if _on_gpu(scene, ranks):
+        setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]
+        return setup, steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND), 0.0
+    rate = MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND if scene["fe.operator"] == "matrix-free" else DOF_STEPS_PER_SECOND
+    bound = steps * dofs / (rate[kind] * ranks)
+    return dofs * SETUP_SECONDS_PER_DOF[kind] / ranks, steps * STEP_OVERHEAD + bound, bound
 
 
 def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: int) -> float:

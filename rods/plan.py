@@ -159,6 +159,13 @@ def _phase(contact_end: float | None, end_time: float) -> float:
     return end_time if contact_end is None else min(end_time, CONTACT_MARGIN * contact_end)
 
 
+def cut_record_end(scene: Scene, record_until: float | None = None) -> float:
+    """The last time [s] a global of ``scene`` records the submodels' cut band: ``record_until`` (a global with
+    --record-cut), never past the run's end, default the end time (a driver records its whole run, the contact
+    phase). The recorder (rods.fe.cut.CutRecorder), the plan's cost and a restart's check of a kept record read it."""
+    return scene.end_time if record_until is None else min(record_until, scene.end_time)
+
+
 def submodel_driver(scene: Scene, end_time: float | None = None) -> Scene:
     """The global run that drives the submodels: ``scene`` with :data:`DRIVER_OVERRIDES`, run to
     ``end_time`` [s] (the contact phase; default the scene's end time)."""

@@ -59,7 +59,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     what = "the driving global" if args.driver else "the global"
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
-    until = sc.end_time if args.driver else (args.record_until or sc.end_time) if args.record_cut else None
+    until = plan.cut_record_end(sc, args.record_until) if args.driver or args.record_cut else None
     c = cost.fe_cost(sc, comm.size, what=what, record_until=until, record_every=args.record_every)
     step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's stable step (the set-up solves it exactly)
     if args.record_until is not None and args.record_until < step:

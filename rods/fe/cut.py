@@ -55,6 +55,7 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe.model import ExplicitModel
+from rods.plan import cut_record_end
 from rods.scene import Scene, SceneError
 
 __all__ = [
@@ -137,7 +138,7 @@ class CutRecorder:
         cells = np.flatnonzero(in_band(zc).all(axis=1))
         self.cell_keys = np.asarray(gidx, dtype=np.int64)[gdm[cells]]
         self.cell_type = msh.topology.cell_name()
-        until = sc.end_time if record_until is None else min(record_until, sc.end_time)
+        until = cut_record_end(sc, record_until)
         # records cover [0, until]: one past it (capped at the run's last step N)
         n_rec = min(int(math.ceil(until / (model.dt * self.every) - 1e-9)), model.steps // self.every) + 1
         self.last = (n_rec - 1) * self.every  # last recorded step

@@ -46,7 +46,9 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
     if p.submodel_levels:
         driver = plan.submodel_driver(scene, p.contact_phase)
         if not drives:
-            costs.append(cost.fe_cost(driver, ranks, what="the driving global", record_until=driver.end_time))
+            costs.append(
+                cost.fe_cost(driver, ranks, what="the driving global", record_until=plan.cut_record_end(driver))
+            )
         for lv in p.submodel_levels:
             # the user set no size for a level: submodel.levels (or its "auto") chose it, so a refusal names that
             remedy = f"submodel.levels without '{lv}' (the plan's: {', '.join(p.submodel_levels)})"
