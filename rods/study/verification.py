@@ -18,10 +18,12 @@ scene's defaults (no per-case tuning). Per case the matrix reports
   quasi-static Hertz between half-spaces), not the FE's discretisation, for any order p >= log2(8/7) = 0.19;
   so is a gap that the refinement widens (Δ of the opposite sign: a monotone sequence's limit lies further out
   still) (:func:`gap_is_model_form`).
-  A coarser check would mislead: on the paper scene a 2 x coarser mesh (2 tip elements across the patch
-  radius) lasts 1.22 µs longer, where the default and a 2 x finer mesh agree to 0.02 µs (202.74, 202.76 µs);
-  two equal 0.35 m rods converge slowly (2/1/0.5 mm: 160.96, 161.08, 161.17 µs) against the analytical 165.18 µs
-  (161.21 µs with the rods' end correction, the second table);
+  A coarser check would mislead: on the paper scene (measured before the analytical bars held the caps' mass) a
+  2 x coarser mesh (2 tip elements across the patch radius) lasted 1.22 µs longer, where the default and a 2 x
+  finer mesh agreed to 0.02 µs (202.74, 202.76 µs); two equal 0.35 m rods converged slowly (2/1/0.5 mm: 160.96,
+  161.08, 161.17 µs) against the paper's law's 165.18 µs (161.21 µs with the rods' end correction). The committed
+  ``results/verification.json`` (2026-11-30) has the paper scene's check at -0.13 µs (FE 203.49 µs) and the equal
+  rods' FE 161.55 µs against the analytical 161.52 µs;
 * wall time of the FE run (set-up + time loop) [s].
 
 A case *passes* when every targeted column is inside its target. The targets are issue 13's acceptance
