@@ -90,3 +90,24 @@ def test_command_passes_its_dry_run_as_typed(where, script, args, tmp_path):
     r = in_process(script, *argv, cwd=ROOT)
     assert r.returncode == 0, f"{where}: {shlex.join([script, *argv])}\n{r.stderr[-2000:]}"
     assert "dry run" in r.stdout and not any(tmp_path.iterdir())
+
+
+def test_inline_commands_name_their_interpreter():
+    """A script with arguments in the README's prose is typed as a newcomer would run it, `python script ...`: the
+    scripts are not executable (`workflows/run.py --set ...` typed as written fails with 'Permission denied')."""
+    text = (ROOT / "README.md").read_text()
+    bare = re.findall(r"`((?:workflows|benchmarks)/\w+\.py \S[^`]*)`", text)
+    assert not bare, bare
+
+
+def test_the_readme_names_the_folder_an_override_gets():
+    """The README's example of a default output folder under --set is the digest the library computes
+    (rods.preflight.scene_folder), so a change to the schema's defaults cannot leave a stale name there."""
+    from rods.preflight import scene_folder
+    from rods.scene import load_scene
+
+    text = " ".join((ROOT / "README.md").read_text().split())
+    m = re.search(r"`output/global/([\w-]+)` for `--set ([^`]+)`", text)
+    assert m, "the README's folder example moved: update this test"
+    scene = load_scene(ROOT / "workflows" / "scenes" / "paper.toml", [m.group(2)])
+    assert m.group(1) == scene_folder(scene, True)

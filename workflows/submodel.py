@@ -115,7 +115,7 @@ def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float |
     except SceneError as e:
         if e.key not in flags:
             raise
-        raise InputError(flags[e.key], e.value, e.allowed, e.hint or "a smaller value") from None
+        raise InputError(flags[e.key], e.value, e.allowed, e.hint or f"a smaller {flags[e.key]}") from None
 
 
 def main(argv: Sequence[str] | None = None) -> int:
