@@ -1,5 +1,5 @@
-"""The commands a newcomer copies: every whole entry-point command in README.md and in the entry points' own
-docstrings names options the script has, and those that need no earlier run's folder pass their dry run
+"""The commands a newcomer copies: every whole entry-point command in README.md, docs/models.md and the entry points'
+own docstrings names options the script has, and those that need no earlier run's folder pass their dry run
 as typed (scene, overrides, costs; nothing runs, nothing is written)."""
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ DRY_RUN = {"analytical.py", "global.py", "submodel.py", "run.py"}  # the entry p
 NEEDS_A_RUN = {"--global", "--submodel", "--fields", "--run", "--fe", "--restart"}  # a folder an earlier run wrote
 COMMAND = re.compile(r"^(?:\S*mpirun\s+-n\s+\d+\s+)?(?:\S*/)?python3?\s+workflows/(\w+\.py)(\s.*)?$")
 PLACEHOLDERS = {"S", "DIR", "GDIR"}  # folders and scenes a usage line leaves to the reader
+REFERENCE = [ROOT / "docs" / "models.md"]  # the README's reference pages (docs/run-log.md is a dated log, not checked)
 
 
 def _candidates(text: str) -> list[str]:
@@ -34,7 +35,7 @@ def _candidates(text: str) -> list[str]:
 def commands() -> list[tuple[str, str, list[str]]]:
     """(where, script, arguments) of every command but those with '...' or optional '[--x]' parts; a usage line
     continued with a backslash counts with its first line's arguments."""
-    sources = {"README.md": (ROOT / "README.md").read_text()}
+    sources = {"README.md": (ROOT / "README.md").read_text()} | {f"docs/{p.name}": p.read_text() for p in REFERENCE}
     sources |= {f"workflows/{p.name}": p.read_text() for p in sorted(WORKFLOWS.glob("*.py"))}
     found: dict[str, tuple[str, str, list[str]]] = {}
     for where, text in sources.items():
@@ -95,7 +96,7 @@ def test_command_passes_its_dry_run_as_typed(where, script, args, tmp_path):
 def test_inline_commands_name_their_interpreter():
     """A script with arguments in the README's prose is typed as a newcomer would run it, `python script ...`: the
     scripts are not executable (`workflows/run.py --set ...` typed as written fails with 'Permission denied')."""
-    text = (ROOT / "README.md").read_text()
+    text = "\n".join(p.read_text() for p in [ROOT / "README.md", *REFERENCE])
     bare = re.findall(r"`((?:workflows|benchmarks)/\w+\.py \S[^`]*)`", text)
     assert not bare, bare
 
