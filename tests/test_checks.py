@@ -261,15 +261,16 @@ def test_a_soft_or_undamped_penalty_layer_is_not_ok(scene_with):
 
 
 def test_the_duration_is_the_analytical_release(scene_with):
-    """The analytical model's contact duration (rods.metrics on its force trace) is its solver's release event to
-    0.05 µs, on the paper scene and on two that end in a low tail (a 1 m tip; 5 mm rods), where a threshold at
-    1e-3 of the peak read 19-20 µs short; none is called open, the two tails are warned as ill-conditioned."""
+    """The analytical model's contact duration and its summary's episodes (rods.metrics on its force trace, the FE's
+    definition) are its solver's touch and release events (``model.contacts``) to 0.05 µs, on the paper scene and on
+    two that end in a low tail (a 1 m tip; 5 mm rods), where a threshold at 1e-3 of the peak read 19-20 µs short;
+    none is called open, the two tails are warned as ill-conditioned."""
     for overrides in ((), ("rod1.tip_radius=1.0",), ("rod1.diameter=0.005", "rod2.diameter=0.005")):
         sc = scene_with("simulation.end_time=3e-4", *overrides)
         r = simulate(sc)
         s = checks.apply(dict(r.summary), r.history, sc, sc.end_time, force=r.force_trace)
-        start, release = s["contact_episodes"][0]
-        assert start == 0.0
+        start, release = r.model.contacts[0]  # the solver's events
+        assert start == 0.0 and s["contact_episodes"][0] == pytest.approx([start, release], abs=0.05e-6)
         assert s["contact_duration"] == pytest.approx(release, abs=0.05e-6)
         at_1e3 = metrics.contact_duration(r.force_trace["time"], r.force_trace["contact_force"], threshold=1e-3)
         gap = s["contact_duration"] - at_1e3  # [s] measured 0.81 µs (paper), 20.1 and 19.4 µs (the tails)
