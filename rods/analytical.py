@@ -486,6 +486,7 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         "max_compression": float(model.compression(t_peak)[0]),
         "hertz": {"E_star": model.E_star, "R_star": model.R_star, "K": model.K},
         "contact_law": law,
+        "round_trip_times": list(model.T),  # [s] each bar's 2 L/c at the law it ran (its first reflection's return)
         "contact_law_warnings": law_warnings,
         "contact_compliance": c,
         "rtol": model.rtol,

@@ -394,14 +394,15 @@ def front_spread(rod: Any) -> float:
 def reflection_warning(summary: Mapping[str, Any], history: Mapping[str, np.ndarray], scene: Any) -> str | None:
     """A warning when the analytical model's force rises by more than :data:`REFLECTION_RISE` of its peak over
     :func:`front_spread` before a rod's first far-end reflection returns to the contact, that reflection
-    arriving before the peak (module docstring)."""
+    arriving before the peak (module docstring). The return is the model's own: its bars' 2 L/c at the contact law
+    it ran (``round_trip_times``: under the paper's law the whole rod, under "hertz-rod" the bar of its mass)."""
     if (force := _analytical_force(summary, history)) is None:
         return None
     t, F = force
     t0, t_peak = t[np.argmax(F > 0)], t[np.argmax(F)]  # [s] first contact, peak
     found = []  # (rise [-], rod, return after first contact [s], spread [s]) of each reflection before the peak
-    for n, rod in enumerate(scene.rods, 1):
-        back, tau = t0 + rod.transit_time, front_spread(rod)  # [s]
+    for n, (rod, T) in enumerate(zip(scene.rods, summary["round_trip_times"], strict=True), 1):
+        back, tau = t0 + T, front_spread(rod)  # [s]
         if back <= t_peak:
             rise = float(np.interp(back, t, F) - np.interp(back - tau, t, F)) / F.max()
             found.append((rise, n, back - t0, tau))
