@@ -262,7 +262,7 @@ class WaveModel:
         root = math.sqrt(max(y[0], 0.0))
         P = self.K * root**3
         # dδ/dδ_H, 1 for the paper's law; floored for the integrator's trial stages only (checked after)
-        stiffening = max(1.0 + 1.5 * self.compliance * self.K * root, 0.1)
+        stiffening = max(self.stiffening(y[0]), 0.1)
         Zs = 1.0 / self.Z[0] + 1.0 / self.Z[1]
         return np.array([(self.speed - self._delayed_force(t) - P * Zs) / stiffening, P])
 

@@ -199,7 +199,7 @@ RATTLE = 0.05  # largest excess of the raw peak force over its smoothed value in
 # transits of the longer-transit rod (the ringing's overshoot, see the module docstring) in an "ok" run [-]
 RINGING = 0.005
 RING_TRANSITS = 2.0  # the window of that fit, in diameter transits d/c [-]
-PATCH_ELEMENTS_OK = 2.0  # fewest elements across the contact radius of an "ok" FE run [-]
+PATCH_ELEMENTS_OK = metrics.PATCH_ELEMENTS_MIN  # fewest elements across the contact radius of an "ok" FE run [-]
 # largest ratio of a set fe.radial_size or fe.axial_size to the scene's "auto" size in an "ok" global FE run [-]:
 # auto is the resolution the verification matrix checks; beyond one halving coarser nothing is verified
 COARSE_OK = 2.0

@@ -68,6 +68,7 @@ __all__ = [
 CONTACT_THRESHOLD = 1e-6  # fraction of the peak force below which it is zero (round-off guard) [-]
 MIN_GAP = 1e-6  # gaps shorter than this do not separate contact episodes [s]
 SMOOTHING = 2e-6  # sliding-average window of the smoothed peak force [s]
+PATCH_ELEMENTS_MIN = 2.0  # fewest elements across the contact radius that resolve a patch [-]
 PLATEAU_FRACTION = 0.9  # fraction of the largest midpoint speed that marks a plateau [-]
 PLATEAU_COUNT = 5  # plateaus averaged for the average peak speed [-]
 # a probe speed below this fraction of the impact speed is no arrival of the wave: the explicit FE's dispersive
@@ -144,7 +145,7 @@ def edge_period_radius(
         return nan
     ip = int(np.argmax(F))
     a_pk = a[ip]
-    if not a_pk >= 2 * spacing:
+    if not a_pk >= PATCH_ELEMENTS_MIN * spacing:
         return nan
     below = np.flatnonzero(a[: ip + 1] < a_pk - spacing)
     if below.size == 0:

@@ -11,7 +11,8 @@ into exit code 2 and one line on stderr that names the argument or file, the val
 * :func:`safe_name` — a scene name as a folder name: no separators, no leading dots (``../../x`` stays
   under ``output/``), at most :data:`MAX_FOLDER_NAME` characters;
 * :func:`scene_folder` — the default folder name of a run: the safe scene name, and where ``--set`` changed the
-  scene a digest of its resolved values, so a run with other values never overwrites the plain scene's.
+  scene a digest of its resolved values, so a run with other values never overwrites the plain scene's;
+* :func:`default_folder` — a run's folder without ``--out``: ``output/<stage>/<scene folder>``.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ __all__ = [
     "output_file",
     "output_names",
     "safe_name",
+    "default_folder",
     "scene_folder",
     "short",
 ]
@@ -183,6 +185,15 @@ def safe_name(name: str) -> str:
     if len(text) > MAX_FOLDER_NAME:  # a long name is cut, its hash keeps it apart from others cut alike
         text = f"{text[: MAX_FOLDER_NAME - 9]}-{hashlib.sha1(name.encode()).hexdigest()[:8]}"
     return text or "scene"
+
+
+OUTPUT = Path("output")  # where a run without --out writes, under the folder it runs from (ignored by git)
+
+
+def default_folder(stage: str, scene: Any, overridden: bool) -> Path:
+    """A run's folder without --out: output/<stage>/<:func:`scene_folder`> (``stage``: analytical, global, driver,
+    run, submodel/<level>, compare, ...), relative to the folder the command runs from."""
+    return OUTPUT / stage / scene_folder(scene, overridden)
 
 
 def scene_folder(scene: Any, overridden: bool) -> str:

@@ -19,7 +19,16 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from rods import interrupt
-from rods.preflight import InputError, one_line, output_dir, output_file, safe_name, scene_folder, short  # noqa: F401  (for scripts)
+from rods.preflight import (  # noqa: F401  (for scripts)
+    InputError,
+    default_folder,
+    one_line,
+    output_dir,
+    output_file,
+    safe_name,
+    scene_folder,
+    short,
+)
 from rods.scene import Scene, SceneError, load_scene, parse_override
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
@@ -196,7 +205,7 @@ def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
     not holding another kind of run's (rods.paper.data.check_reuse)."""
     from rods.paper.data import check_reuse
 
-    default = Path("output") / model / scene_folder(scene, _overridden(args, scene))
+    default = default_folder(model, scene, _overridden(args, scene))
     out = output_dir(args.out if args.out is not None else default)
     kind = {"analytical": "analytical", "global": "global", "driver": "global", "run": "study"}.get(model.split("/")[0])
     if kind is not None or model.startswith("submodel/"):

@@ -37,7 +37,7 @@ import numpy as np
 
 from rods import hertz, io
 from rods.compare import cell, percent
-from rods.convergence import estimate
+from rods.convergence import FS_GOOD, estimate
 from rods.io import write_data
 from rods.study.figures import pyplot
 
@@ -374,7 +374,7 @@ def _member_rows(fam: Mapping[str, Any]) -> list[str]:
 
 def _gci(t: Mapping[str, Any]) -> str:
     """U/|f1| of the three finest where it is Roache's GCI (credible order, Fs = 1.25), else '–'."""
-    ok = t["branch"] == "observed order" and t["safety_factor"] == 1.25
+    ok = t["branch"] == "observed order" and t["safety_factor"] == FS_GOOD
     return f"{100 * _num(t['relative_uncertainty']):.2f}%" if ok else "–"
 
 
