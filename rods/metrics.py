@@ -233,6 +233,16 @@ def rms_difference(t: ArrayLike, a: ArrayLike, t_b: ArrayLike, b: ArrayLike, win
     return float(np.sqrt(np.mean((a[m] - bi) ** 2)))
 
 
+def window_rms_difference(
+    t: ArrayLike, a: ArrayLike, t_b: ArrayLike, b: ArrayLike, window: tuple[float, float]
+) -> float:
+    """:func:`rms_difference` over the whole ``window``, NaN where either history ends before it does (to 1e-3 of
+    it): a history cut short would be compared over less than the window, or against its last value held."""
+    if min(float(np.asarray(t)[-1]), float(np.asarray(t_b)[-1])) < 0.999 * window[1]:
+        return float("nan")
+    return rms_difference(t, a, t_b, b, window)
+
+
 def time_lag(
     t: ArrayLike, a: ArrayLike, t_b: ArrayLike, b: ArrayLike, window: tuple[float, float], max_lag: float
 ) -> tuple[float, float]:

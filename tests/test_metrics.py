@@ -205,3 +205,17 @@ def test_a_precursor_ahead_of_the_wave_is_no_plateau():
     assert np.isnan(metrics.midpoint_peak_speed(t, noise, floor=floor))
     arrived = np.where(t > 1e-5, 0.5 * speed, noise)
     assert metrics.midpoint_peak_speed(t, arrived, floor=floor) == pytest.approx(0.5 * speed)
+
+
+def test_a_strain_rms_over_a_window_needs_both_histories_through_it():
+    """window_rms_difference: the RMS of the difference over the whole window (a sine against its shift: the closed
+    form sqrt(2) sin(φ/2) / sqrt(2) over whole periods), NaN where either history ends before the window does, not
+    a value over the part they share."""
+    t = np.linspace(0.0, 1.0, 20001)
+    a, b = np.sin(2 * np.pi * 4 * t), np.sin(2 * np.pi * 4 * t - 0.3)
+    rms = metrics.window_rms_difference(t, a, t, b, (0.0, 1.0))
+    assert rms == pytest.approx(2 * np.sin(0.15) / np.sqrt(2), rel=1e-3)
+    short = t <= 0.9
+    assert np.isnan(metrics.window_rms_difference(t[short], a[short], t, b, (0.0, 1.0)))
+    assert np.isnan(metrics.window_rms_difference(t, a, t[short], b[short], (0.0, 1.0)))
+    assert metrics.window_rms_difference(t[short], a[short], t, b, (0.0, 0.9)) == pytest.approx(rms, rel=2e-2)
