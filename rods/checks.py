@@ -655,7 +655,7 @@ def contact_warning(
         episodes, last = metrics.contact_episodes(t, F), min(end_time, float(t[-1]))
     else:
         episodes = summary.get("contact_episodes") or []
-    if episodes and episodes[0][1] >= last * (1 - 1e-9):
+    if metrics.first_contact_open(episodes, last):
         return (
             f"contact_duration: the first contact has not ended by end_time = {end_time:g} s (duration unknown, "
             "written as null); lengthen simulation.end_time"

@@ -43,6 +43,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -120,6 +121,12 @@ def contact_episodes(
         else:
             merged.append((a, b))
     return merged
+
+
+def first_contact_open(episodes: Sequence[Sequence[float]], last: float) -> bool:
+    """Whether the first of ``episodes`` (:func:`contact_episodes`) is still open at ``last`` [s], the record's last
+    sample: it ends there (to 1e-9 of it), so its duration is unknown."""
+    return bool(episodes) and episodes[0][1] >= last * (1 - 1e-9)
 
 
 def contact_duration(t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_THRESHOLD) -> float:

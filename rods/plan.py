@@ -31,6 +31,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from rods import metrics
 from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, Scene, SceneError, submodel_phase_size
 
 __all__ = [
@@ -108,7 +109,7 @@ def first_contact_summary(scene: Scene) -> dict[str, Any]:
     if window < scene.end_time:
         over = (f"simulation.end_time={window!r}", f"simulation.output_interval={min(scene.output_interval, window)!r}")
         s = planning_summary(scene.with_overrides(*over))
-        if s["contact_episodes"] and s["contact_episodes"][0][1] < window:
+        if s["contact_episodes"] and not metrics.first_contact_open(s["contact_episodes"], window):
             return s
     return planning_summary(scene)
 
