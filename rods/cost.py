@@ -56,6 +56,7 @@ import numpy as np
 from rods import hertz
 from rods.preflight import InputError
 from rods.scene import Scene, SceneError
+from rods.stability import damping_factor, march_step, switching_step
 
 __all__ = [
     "FRAME_BUDGET",
@@ -500,7 +501,7 @@ def _march_step(
     limit = min(stable, switching)
     key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
     if given == "auto":
-        return min(scene["fe.dt_fraction"] * stable, switching)
+        return march_step(scene["fe.dt_fraction"], stable, switching)
     if given > DT_REFUSE_FACTOR * limit:
         raise (SceneError if size is None else InputError)(  # a scene key, or the submodel's --dt
             key,
@@ -544,11 +545,10 @@ def _step_limits(
 
 
 def damped_step_factor(scene: Scene) -> float:
-    """The stable step with the bulk viscosity ξ = fe.bulk_viscosity over the undamped one: sqrt(1 + ξ²) - ξ, the
-    factor of rods.fe.explicit.stable_step (not imported here: it loads PETSc; tests/test_cost.py ties the two).
-    Without it a run at ξ = 0.99 marched 2.4x the steps estimated (17822 against 7.4e3, paper driver)."""
-    ξ = scene["fe.bulk_viscosity"]
-    return math.sqrt(1.0 + ξ * ξ) - ξ
+    """The stable step with the bulk viscosity ξ = fe.bulk_viscosity over the undamped one (the scheme's
+    rods.stability.damping_factor). Without it a run at ξ = 0.99 marched 2.4x the steps estimated (17822 against
+    7.4e3, paper driver)."""
+    return damping_factor(scene["fe.bulk_viscosity"])
 
 
 def _third_dimension(a: float, b: float) -> float:
@@ -618,11 +618,12 @@ def _cap_step_factor(scene: Scene, submodel: bool) -> float:
 
 
 def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
-    """The penalty pair's switching limit 1/ω_c [s] estimated from the tip element h_n [m] (module docstring)."""
+    """The penalty pair's switching limit (rods.stability.switching_step) at ω_c estimated from the tip element h_n
+    [m] (module docstring)."""
     m1, m2 = scene.rod1.material, scene.rod2.material
     E_star = hertz.effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
     inv_ρ = 1.0 / m1.density + 1.0 / m2.density  # [m^3/kg]
-    return h_n / math.sqrt(2.0 * factor * E_star * inv_ρ)
+    return switching_step(math.sqrt(2.0 * factor * E_star * inv_ρ) / h_n)
 
 
 def analytical_cost(scene: Scene) -> Cost:

@@ -29,7 +29,7 @@ by a fraction of order (ω_c Δt)²/4, ω_c the frequency of an isolated contact
 and pump energy into the rods: measured on a 2 x 0.5 mm mesh at 200 x E*/h, ω_c Δt = 1.58 (0.8 of the
 linear limit) grew the energy tenfold and 1.18 by 1.6%, while ω_c Δt <= 1 kept the energy error at or
 below 1.5e-3 for penalties from 20 to 1000 x E*/h. The step is
-therefore also limited to Δt <= :data:`SWITCHING` / ω_c (:func:`switching_step`); for penalties that
+therefore also limited to Δt <= :data:`rods.stability.SWITCHING` / ω_c (:func:`switching_step`); for penalties that
 do not control the spectrum (ω_c Δt ~ 0.25-0.45 at the paper mesh) this limit is inactive.
 
 Safe lower bound (Gershgorin): ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i, reported with the step as
@@ -47,7 +47,6 @@ records (:mod:`rods.fe.recorder`, :mod:`rods.fe.observers`). One class for every
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 import numpy as np
@@ -55,10 +54,10 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from rods.fe.backend import PETSC, Backend
+from rods.stability import SWITCHING, stable_step, switching_step  # the closed forms (no PETSc)
 
 __all__ = ["EIGEN_TOL", "SWITCHING", "CentralDifference", "largest_eigenvalue", "stable_step", "switching_step"]
 
-SWITCHING = 1.0  # largest ω_c Δt of an isolated contact pair [-] (see the module docstring)
 EIGEN_TOL = 1e-4  # relative residual of the ω_max² Ritz pair [-] (see the module docstring, "Stability")
 
 
@@ -112,16 +111,6 @@ def largest_eigenvalue(
     if not converged:
         raise RuntimeError(f"Krylov-Schur: largest eigenvalue not converged to {tol:g} in {its} restarts")
     return float(λ)
-
-
-def stable_step(ω_max: float, ξ: float = 0.0) -> float:
-    """Δt_crit = 2/ω_max (sqrt(1 + ξ²) - ξ) [s] for central differences with damping ratio ξ at ω_max."""
-    return 2.0 / ω_max * (math.sqrt(1.0 + ξ * ξ) - ξ)
-
-
-def switching_step(ω_contact: float) -> float:
-    """Δt_switch = SWITCHING / ω_c [s]: the contact-switching limit (module docstring); inf without contact."""
-    return SWITCHING / ω_contact if ω_contact > 0 else math.inf
 
 
 class CentralDifference:

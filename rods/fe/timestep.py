@@ -33,11 +33,12 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from rods.fe.backend import Backend
-from rods.fe.explicit import EIGEN_TOL, largest_eigenvalue, stable_step, switching_step
+from rods.fe.explicit import EIGEN_TOL, largest_eigenvalue
 from rods.fe.forms import assemble_csr
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
 from rods.scene import SceneError
+from rods.stability import march_step, stable_step, switching_step
 
 __all__ = [
     "TimeStep",
@@ -269,7 +270,7 @@ def time_step(model: SetUpModel) -> TimeStep:
     c_d = max(r.material.dilatational_wave_speed for r in sc.rods)  # [m/s]
     req = sc["fe.dt"]
     if req == "auto":
-        dt = min(sc["fe.dt_fraction"] * dt_critical, dt_switching)
+        dt = march_step(sc["fe.dt_fraction"], dt_critical, dt_switching)
     elif req > dt_critical:
         remedy = "fe.dt = 'auto' picks a stable step, fe.dt_fraction of it"
         raise SceneError("fe.dt", req, f"must be <= stable limit {dt_critical:g} s", remedy)
