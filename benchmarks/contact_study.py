@@ -36,6 +36,7 @@ from rods.analytical import simulate  # noqa: E402
 from rods.compare import cell, measured  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
+from rods.paper import report  # noqa: E402  (the record's name in results/)
 from rods.scene import SCHEMA, load_scene  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
 
@@ -227,7 +228,7 @@ def main() -> None:
         default=[ζ0, 0.0],
         help="fe.contact_damping values of the penalty rows over --factors (the Hertz rows: the first)",
     )
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "contact-study")
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / report.CONTACT_STUDY)
     args = ap.parse_args()
     _cli.output_file(args.out)  # before the runs: an unwritable --out was found at the last write
     for f in args.factors:  # each penalty row's settings, before the kinematic rows run

@@ -37,6 +37,7 @@ import _cli  # noqa: E402
 from rods import io, metrics, plan  # noqa: E402
 from rods.analytical import simulate  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
+from rods.paper import report  # noqa: E402  (the record's name in results/)
 from rods.scene import SUBMODEL_DRIVINGS, SUBMODEL_LEVELS, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
@@ -122,7 +123,7 @@ def main() -> None:
     ap.add_argument(
         "--drivings", nargs="+", choices=SUBMODEL_DRIVINGS, default=None, help="run only these, merged into --out"
     )
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "driver-study")
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / report.DRIVER_STUDY)
     args = ap.parse_args()
     _cli.output_file(args.out)  # before the runs: an unwritable --out was found at the last write
     cases = [c for c in CASES if args.drivings is None or c[2] in args.drivings]

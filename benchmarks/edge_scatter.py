@@ -30,6 +30,7 @@ from mpi4py import MPI  # noqa: E402
 import _cli  # noqa: E402
 from rods import hertz, io  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
+from rods.paper import report  # noqa: E402  (the record's name in results/)
 from rods.scene import SUBMODEL_LEVEL_SIZES, load_scene  # noqa: E402
 from rods.study import stages  # noqa: E402
 
@@ -86,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = _cli.bare_parser(__doc__.splitlines()[0])
     ap.add_argument("--levels", nargs="+", default=["mid", "fine"], choices=list(SUBMODEL_LEVEL_SIZES))
     ap.add_argument("--work", type=Path, default=ROOT / "output" / "edge-scatter", help="run folders")
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "edge-scatter")
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / report.EDGE_SCATTER)
     args = ap.parse_args(argv)
     comm = MPI.COMM_WORLD
     scene = load_scene(PAPER)

@@ -17,7 +17,7 @@ from rods.paper import report
 from rods.preflight import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_STUDY = ROOT / "results" / "contact-study.json"  # benchmarks/contact_study.py's record
+DEFAULT_STUDY = ROOT / "results" / f"{report.CONTACT_STUDY}.json"  # benchmarks/contact_study.py's record
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -58,16 +58,29 @@ def _read(path: Path, flag: str, required: bool) -> dict[str, Any] | None:
     return data
 
 
+# the records in results/ that benchmarks write (--out's default) and this report reads (.json; .md beside it)
+CONTACT_STUDY = "contact-study"  # benchmarks/contact_study.py
+DRIVER_STUDY = "driver-study"  # benchmarks/driver_study.py
+EDGE_SCATTER = "edge-scatter"  # benchmarks/edge_scatter.py
+OPTIONAL_SOURCES = {  # ReportData field: the file it was read from, named in the header where it was read
+    "convergence": "convergence.json",
+    "verification": "verification.json",
+    "contact_fields": "contact-fields.json",
+    "driver_study": f"{DRIVER_STUDY}.json",
+    "edge_scatter": f"{EDGE_SCATTER}.json",
+}
+
+
 def read(results: Path, contact_study: Path | None = None) -> ReportData:
     """The stage files in ``results``; the contact study from its own path (a benchmark, optional)."""
     results = Path(results)
     files = ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json")
     penalty = _read(Path(contact_study), "--contact-study", False) if contact_study is not None else None
-    fields = _read(results / "contact-fields.json", "--results", False)
-    verify = _read(results / "verification.json", "--results", False)
-    conv = _read(results / "convergence.json", "--results", False)
-    drivers = _read(results / "driver-study.json", "--results", False)
-    scatter = _read(results / "edge-scatter.json", "--results", False)
+    fields = _read(results / OPTIONAL_SOURCES["contact_fields"], "--results", False)
+    verify = _read(results / OPTIONAL_SOURCES["verification"], "--results", False)
+    conv = _read(results / OPTIONAL_SOURCES["convergence"], "--results", False)
+    drivers = _read(results / OPTIONAL_SOURCES["driver_study"], "--results", False)
+    scatter = _read(results / OPTIONAL_SOURCES["edge_scatter"], "--results", False)
     return ReportData(
         *(_read(results / f, "--results", True) for f in files),
         contact_study=penalty,
@@ -81,15 +94,6 @@ def read(results: Path, contact_study: Path | None = None) -> ReportData:
 
 def _signed_range(values: list[float], digits: int = 1) -> str:
     return f"{min(values):+.{digits}f}% to {max(values):+.{digits}f}%"
-
-
-OPTIONAL_SOURCES = {  # ReportData field: the file it was read from, named in the header where it was read
-    "convergence": "convergence.json",
-    "verification": "verification.json",
-    "contact_fields": "contact-fields.json",
-    "driver_study": "driver-study.json",
-    "edge_scatter": "edge-scatter.json",
-}
 
 
 def header(data: ReportData) -> list[str]:
