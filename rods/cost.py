@@ -644,9 +644,9 @@ def analytical_steps(scene: Scene) -> float:
     """Steps of the explicit DOP853 where the contact is stiff against the rods' impedance (thin rods: the rate
     grows as d^(-4/3)): :data:`STEPS_PER_STIFFNESS` x λ x end_time (constants above; at most a few hundred on
     centimetre rods, where accuracy, not stability, sets the step)."""
-    K = hertz.contact_stiffness(*hertz.contact_constants(scene.rod1, scene.rod2))  # [N/m^1.5]
     P = scene.impedance_force  # [N]
-    λ = 1.5 * K ** (2 / 3) * P ** (1 / 3) * scene.speed / P  # [1/s] d(K δ^1.5 (1/Z1 + 1/Z2))/dδ at K δ^1.5 = P
+    k = hertz.tangent_stiffness(P, *hertz.contact_constants(scene.rod1, scene.rod2))  # [N/m] dF/dδ at P
+    λ = k * scene.speed / P  # [1/s] d(K δ^1.5 (1/Z1 + 1/Z2))/dδ at K δ^1.5 = P, as (1/Z1 + 1/Z2) = s1/P
     return STEPS_PER_STIFFNESS * λ * scene.end_time
 
 

@@ -253,6 +253,13 @@ def approach(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
     return _out((_force(F) / K) ** (2.0 / 3.0))
 
 
+def tangent_stiffness(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:
+    """dF/dδ = (3/2) K^{2/3} F^{1/3} = 2 E* a [N/m]: the contact's tangent stiffness at the force F >= 0 [N]
+    (paper Eq. 8 differentiated). Vectorised. Assumes frictionless, elastic half-spaces and a << R*."""
+    K = contact_stiffness(E_star, R_star)
+    return _out(1.5 * K ** (2.0 / 3.0) * np.cbrt(_force(F)))
+
+
 def _rise_time(u: float) -> float:
     """τ(u) = ∫_0^u 2w/(1 - w³) dw [-]: the time of :func:`bar_rise`'s y' = 1 - y^(3/2) to reach y = u²."""
     return (

@@ -271,3 +271,15 @@ def test_bar_rise_limits():
     assert hertz.bar_rise(0.0) == (0.0, 1.0) and hertz.bar_rise(40.0) == (1.0, 0.0)
     rises = [hertz.bar_rise(t) for t in np.linspace(0.1, 20.0, 60)]
     assert all(a[0] < b[0] and a[1] > b[1] for a, b in zip(rises, rises[1:], strict=False))
+
+
+def test_tangent_stiffness_is_the_derivative_of_the_force_approach_law():
+    """dF/dδ of F = K δ^{3/2} by central differences, and Johnson's 2 E* a, at the paper's constants."""
+    E_star, R_star = 112e9, 0.0175  # [Pa], [m]
+    F = np.array([10.0, 5.5e3])  # [N]
+    δ = hertz.approach(F, E_star, R_star)
+    K, e = hertz.contact_stiffness(E_star, R_star), 1e-6
+    fd = K * ((δ * (1 + e)) ** 1.5 - (δ * (1 - e)) ** 1.5) / (2 * e * δ)
+    k = hertz.tangent_stiffness(F, E_star, R_star)
+    np.testing.assert_allclose(k, fd, rtol=1e-8)
+    np.testing.assert_allclose(k, 2 * E_star * hertz.contact_radius(F, E_star, R_star), rtol=1e-12)
