@@ -48,6 +48,7 @@ __all__ = [
     "subsurface_stresses",
     "surface_hoop_stress",
     "surface_radial_stress",
+    "tangent_stiffness",
     "yield_check",
 ]
 

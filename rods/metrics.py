@@ -56,6 +56,7 @@ __all__ = [
     "contact_episodes",
     "contact_duration",
     "edge_period_radius",
+    "first_contact_open",
     "midpoint_peak_speed",
     "plateau_gap",
     "plateau_level",
@@ -64,6 +65,7 @@ __all__ = [
     "smoothed_peak",
     "strain_window",
     "time_lag",
+    "window_rms_difference",
 ]
 
 CONTACT_THRESHOLD = 1e-6  # fraction of the peak force below which it is zero (round-off guard) [-]

@@ -43,6 +43,22 @@ def run_kind(summary: Mapping[str, Any]) -> str:
     return {"analytical": "analytical", "workflow": "study"}.get(model, "unknown")
 
 
+# the kind of run (run_kind) each entry point's stage writes, by the stage's folder name under output/ (a submodel's:
+# submodel/<level>); a stage not listed writes no summary.json of its own
+STAGE_KINDS = {
+    "analytical": "analytical",
+    "global": "global",
+    "driver": "global",
+    "run": "study",
+    "submodel": "submodel",
+}
+
+
+def stage_kind(stage: str) -> str | None:
+    """The run kind of an entry point's stage (:data:`STAGE_KINDS`), None for one without a summary.json."""
+    return STAGE_KINDS.get(stage.split("/")[0])
+
+
 def check_reuse(out: str | Path, kind: str, flag: str = "--out") -> None:
     """Refuse (:class:`InputError`) an output folder that holds another kind of run's summary.json: rerunning a
     stage into its own folder replaces it, but a global written over a study's folder (or a study over a
