@@ -30,3 +30,21 @@ def test_names_callers_imported_before_the_move_still_work(tmp_path):
     assert old_fig4 is fig4 and (Run, dump, load, write_json) == (io.Run, io.dumps, io.read_data, io.write_data)
     write_json(tmp_path / "x.json", {"a": math.nan})
     assert math.isnan(load(tmp_path / "x.json")["a"])
+
+
+def test_each_stage_writes_the_run_kind_its_folder_is_kept_for(tmp_path):
+    """An entry point's stage name gives the kind of run it writes (a driver is a global, a submodel level a submodel,
+    run.py a study; compare writes none), and check_reuse refuses a folder that holds another kind's summary."""
+    import json
+
+    import pytest
+
+    from rods.preflight import InputError
+
+    kinds = {s: data.stage_kind(s) for s in ("analytical", "global", "driver", "run", "submodel/fine", "compare")}
+    assert kinds == {"analytical": "analytical", "global": "global", "driver": "global", "run": "study",
+                     "submodel/fine": "submodel", "compare": None}  # fmt: skip
+    (tmp_path / "summary.json").write_text(json.dumps({"model": "fe-submodel-fine"}))
+    data.check_reuse(tmp_path, data.stage_kind("submodel/mid"))  # a submodel over a submodel: its own kind
+    with pytest.raises(InputError, match="another kind of run"):
+        data.check_reuse(tmp_path, data.stage_kind("driver"))
