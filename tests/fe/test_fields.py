@@ -245,3 +245,17 @@ def test_contact_picture_of_a_half_3d_model_with_an_offset(tmp_path):
     assert (tmp_path / "contact.png").stat().st_size > 20_000
     p = run_workflow("contact_picture.py", ["--fields", str(tmp_path), "--out", str(tmp_path / "cf")])
     assert p.returncode == 0, p.stderr[-2000:]
+
+
+def test_the_paraview_script_names_the_fields_the_model_writes():
+    """workflows/view.py runs under ParaView's own Python, without this project's packages, so it keeps its own list
+    of the field names; it must be the writer's (rods.fe.fields.FIELD_NAMES), or pvpython would colour by a field
+    the files do not hold. Read from the script's text: importing it needs nothing but the standard library."""
+    import ast
+    from pathlib import Path
+
+    from rods.fe.fields import FIELD_NAMES
+
+    tree = ast.parse((Path(__file__).resolve().parents[2] / "workflows" / "view.py").read_text())
+    (fields,) = [n.value for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "FIELDS"]
+    assert ast.literal_eval(fields) == FIELD_NAMES
