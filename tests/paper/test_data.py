@@ -48,3 +48,11 @@ def test_each_stage_writes_the_run_kind_its_folder_is_kept_for(tmp_path):
     data.check_reuse(tmp_path, data.stage_kind("submodel/mid"))  # a submodel over a submodel: its own kind
     with pytest.raises(InputError, match="another kind of run"):
         data.check_reuse(tmp_path, data.stage_kind("driver"))
+
+
+def test_a_stopped_run_is_named_by_the_statuses_the_guards_write():
+    """rods.paper.data.STOPPED (the statuses a reading stage refuses; a literal, as rods.fe.guards loads PETSc) is
+    exactly the statuses a guard's and an interrupt's stop write."""
+    from rods.fe.guards import Interrupted, SimulationError
+
+    assert set(data.STOPPED) == {SimulationError.status, Interrupted.status}
