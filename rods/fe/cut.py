@@ -76,6 +76,7 @@ __all__ = [
 ]
 
 BAND_ELEMENTS = 2  # band half-width in global axial elements [-]
+INTERPOLATION_TOL = 1e-6  # the cut weights' non-matching interpolation tolerance (DOLFINx interpolate_nonmatching)
 # most negative interpolation weight accepted [-]: a cut node at most ~this fraction of a band cell outside it
 # (3D: a finer submodel's circle bulges past the band's polygonal section by its sagitta, 0.03 mm on 1 mm cells)
 MAX_EXTRAPOLATION = 0.1
@@ -379,7 +380,7 @@ class CutDriver:
 
     reads_band = False  # a subclass that builds more record products keeps ``band_u`` after this set-up
 
-    def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6):
+    def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = INTERPOLATION_TOL):
         comm = model.comm
         d = read_cut(Path(cut_file))  # every rank reads (small, read-only)
         self.times, self.band_u = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim): the set-up's only

@@ -52,7 +52,16 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe import forms
-from rods.fe.cut import CutDriver, band_adjacency, band_space, cut_space, cut_weights, node_colouring, record_products
+from rods.fe.cut import (
+    INTERPOLATION_TOL,
+    CutDriver,
+    band_adjacency,
+    band_space,
+    cut_space,
+    cut_weights,
+    node_colouring,
+    record_products,
+)
 from rods.fe.model import ExplicitModel
 
 __all__ = ["TractionDriver", "cut_force_operator"]
@@ -98,7 +107,7 @@ class _BandTraction:
 
 
 def cut_force_operator(
-    model: ExplicitModel, d: dict, tol: float = 1e-6
+    model: ExplicitModel, d: dict, tol: float = INTERPOLATION_TOL
 ) -> tuple[scipy.sparse.csr_matrix, np.ndarray, np.ndarray]:
     """T (owned cut entries x band entries) with f_cut = T U_band.ravel() [N], the cut nodes (parents) and their
     tributary areas A_i [m^2], for the band record ``d`` (:func:`rods.fe.cut.read_cut`)."""
@@ -169,7 +178,9 @@ class TractionDriver(CutDriver):
 
     reads_band = True  # its traction history is a record product too
 
-    def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = 1e-6, absorbing: bool = False):
+    def __init__(
+        self, model: ExplicitModel, cut_file: str | Path, tol: float = INTERPOLATION_TOL, absorbing: bool = False
+    ):
         super().__init__(model, cut_file, tol)  # the band history, the cut's coverage checks, the backend
         t0 = time.perf_counter()
         T, area = _force_operator(model, *self.band, self.cut_nodes, self.W)  # the band, cut and weights built once
