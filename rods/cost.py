@@ -7,8 +7,8 @@ the wall time; :func:`analytical_cost` the samples and memory of the analytical 
 (:class:`rods.preflight.InputError`, exit 2) a run whose memory exceeds the machine's available memory
 (always) or whose steps, DOF-steps or history values exceed the budgets below (``--force`` overrides those only).
 
-Rates and sizes measured on this machine (2 cores, DOLFINx 0.11, the paper scene; README "When something
-goes wrong"):
+Rates and sizes measured on this machine (2 cores, DOLFINx 0.11, the paper scene; docs/models.md, "Cost
+estimates"):
 
 * memory of one rank: 170 MB base (Python, DOLFINx, PETSc, gmsh) + 0.85 kB per DOF axisymmetric (3.9k, 51.5k
   and 198k DOFs: 176, 215, 334 MB peak RSS), 2.2 kB per DOF in 3D (128k DOFs: 448 MB) + 9 bytes per step
