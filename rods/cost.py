@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 
 from rods import hertz
+from rods.plan import cut_records
 from rods.preflight import InputError
 from rods.scene import Scene, SceneError
 from rods.stability import damping_factor, march_step, switching_step
@@ -462,7 +463,7 @@ def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: 
     node rows across each rod at its cut plane (2 BAND_ELEMENTS where the plane falls inside an element, as on five
     drivers measured: 316, 272, 252, 464 and 132 nodes, 4/5 of this count) of the global's columns
     (rods.fe.mesh.scene_columns; 3D: the O-grid section's nodes), times the records to ``until`` [s] every ``every``
-    steps (rods.fe.cut.CutRecorder)."""
+    steps (rods.plan.cut_records)."""
     from rods.fe.cut import BAND_ELEMENTS
 
     rows = 2 * BAND_ELEMENTS + 1
@@ -472,7 +473,7 @@ def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: 
         from rods.fe.mesh import scene_columns
 
         entries = 2 * rows * sum(sum(c.n for c in columns) + 1 for columns in scene_columns(scene))
-    records = min(math.ceil(min(until, scene.end_time) / (dt * every) - 1e-9), steps // every) + 1
+    records = cut_records(scene, dt, steps, until, every)
     return CUT_BYTES_PER_ENTRY_RECORD * entries * records
 
 

@@ -40,7 +40,6 @@ run (balance closes to O(Δt): ~1e-3 on the tests' meshes).
 from __future__ import annotations
 
 import json
-import math
 import time
 import uuid
 from pathlib import Path
@@ -55,7 +54,7 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe.model import ExplicitModel
-from rods.plan import cut_record_end
+from rods.plan import cut_records
 from rods.scene import Scene, SceneError
 
 __all__ = [
@@ -139,9 +138,7 @@ class CutRecorder:
         cells = np.flatnonzero(in_band(zc).all(axis=1))
         self.cell_keys = np.asarray(gidx, dtype=np.int64)[gdm[cells]]
         self.cell_type = msh.topology.cell_name()
-        until = cut_record_end(sc, record_until)
-        # records cover [0, until]: one past it (capped at the run's last step N)
-        n_rec = min(int(math.ceil(until / (model.dt * self.every) - 1e-9)), model.steps // self.every) + 1
+        n_rec = cut_records(sc, model.dt, model.steps, record_until, self.every)
         self.last = (n_rec - 1) * self.every  # last recorded step
         self.times = np.arange(n_rec) * self.every * model.dt
         self.U = np.zeros((n_rec, self.idx.size))

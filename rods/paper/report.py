@@ -99,8 +99,8 @@ def _signed_range(values: list[float], digits: int = 1) -> str:
 def header(data: ReportData) -> list[str]:
     """The report's opening: what generated it and the files every number is read from (the optional ones only
     where they were read)."""
-    read = [f for k, f in OPTIONAL_SOURCES.items() if getattr(data, k)]
-    sources = ", ".join(["table2.json", "table3.json", "fig4.json", "accuracy-cost.json", *read])
+    present = [f for k, f in OPTIONAL_SOURCES.items() if getattr(data, k)]
+    sources = ", ".join(["table2.json", "table3.json", "fig4.json", "accuracy-cost.json", *present])
     return [
         "# Report: the paper reproduced",
         "",
