@@ -18,3 +18,34 @@ try:  # wheel-specific, optional
     import dolfinx_solver  # noqa: F401
 except ImportError:  # pragma: no cover
     pass
+
+DOLFINX_SERIES = (0, 11)  # the DOLFINx release series this package is written against (its API: forms, CSR, io)
+STACK_REMEDY = (
+    "install the pinned stack (./.ci/ensure-venv, requirements.txt), or a DOLFINx 0.11 built on real, double-precision "
+    "PETSc (DOLFINx containers: source /usr/local/bin/dolfinx-real-mode)"
+)
+
+
+def check_stack() -> None:
+    """Refuse a DOLFINx install the models cannot run on, before any set-up: another release series than
+    :data:`DOLFINX_SERIES` (the API differs), or PETSc built with complex or single-precision scalars (K, the lumped
+    mass and the contact's arrays are real float64; a complex build would make every form complex), or no slepc4py
+    (the stable step's eigenvalue solve, rods.fe.explicit.largest_eigenvalue). :class:`rods.preflight.InputError`
+    naming what was found (an entry point: one line, exit 2)."""
+    import importlib.util
+
+    import dolfinx
+    import numpy as np
+    from petsc4py import PETSc
+
+    from rods.preflight import InputError
+
+    found = tuple(int(p) for p in dolfinx.__version__.split(".")[:2] if p.isdigit())
+    if found != DOLFINX_SERIES:
+        need = ".".join(map(str, DOLFINX_SERIES))
+        raise InputError("DOLFINx", dolfinx.__version__, f"rods needs DOLFINx {need}.x", STACK_REMEDY)
+    scalar = np.dtype(PETSc.ScalarType)
+    if scalar != np.float64:
+        raise InputError("PETSc scalar type", scalar.name, "rods needs real float64 PETSc", STACK_REMEDY)
+    if importlib.util.find_spec("slepc4py") is None:
+        raise InputError("slepc4py", "not importable", "the stable step's eigenvalue solve needs SLEPc", STACK_REMEDY)

@@ -176,7 +176,11 @@ def resolve(name: str, ranks: int) -> str:
 
 def select(name: str, ranks: int, operator: str = "assembled") -> Backend:
     """The backend a scene's ``fe.backend`` names, on ``ranks`` MPI ranks, for its ``fe.operator`` (SceneError if
-    it cannot run; "auto" with the element kernel is "cupy" on a GPU, else "numpy")."""
+    it cannot run; "auto" with the element kernel is "cupy" on a GPU, else "numpy"). First the DOLFINx install
+    itself (:func:`rods.fe.check_stack`: InputError)."""
+    from rods.fe import check_stack
+
+    check_stack()
     if name not in FE_BACKENDS:
         raise SceneError("fe.backend", name, f"must be one of {FE_BACKENDS}")
     asked, name = name, resolve(name, ranks)

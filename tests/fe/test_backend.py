@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import re
 import shutil
 from collections.abc import Iterator
 from pathlib import Path
@@ -413,3 +414,43 @@ def test_product_is_scipys_product_to_the_bit(index):
     X = rng.normal(size=(3000, 2))  # a block of vectors: A @ X, not the vector kernel
     for other, v in ((A.toarray(), x), (A.tocsc(), x), (A, np.arange(3000)), (A, x + 1j * x), (A, X)):
         np.testing.assert_array_equal(backend.product(other, v), other @ v)
+
+
+@pytest.mark.parametrize(
+    ("attribute", "value", "words"),
+    [
+        ("version", "0.10.0", ("DOLFINx = '0.10.0'", "rods needs DOLFINx 0.11.x")),
+        ("version", "0.12.1", ("DOLFINx = '0.12.1'", "rods needs DOLFINx 0.11.x")),
+        ("scalar", np.complex128, ("PETSc scalar type = 'complex128'", "real float64")),
+        ("scalar", np.float32, ("PETSc scalar type = 'float32'", "real float64")),
+        ("slepc4py", None, ("slepc4py = 'not importable'", "eigenvalue solve needs SLEPc")),
+    ],
+)
+def test_a_stack_the_models_cannot_run_on_is_refused_before_the_set_up(monkeypatch, tmp_path, attribute, value, words):
+    """Another DOLFINx series, a complex / single-precision PETSc or no slepc4py: the backend's selection (every FE
+    entry point and ExplicitModel ask it first) refuses with one line naming what it found and the remedy; the entry
+    point exits 2 before its plan, nothing written. This install passes (the rest of this file runs on it)."""
+    import dolfinx
+    from petsc4py import PETSc
+
+    from rods.preflight import InputError
+
+    from ..conftest import in_process
+    from ..test_cli_errors import refused
+
+    backend.select("petsc", 1)  # the pinned stack passes
+    if attribute == "version":
+        monkeypatch.setattr(dolfinx, "__version__", value)
+    elif attribute == "scalar":
+        monkeypatch.setattr(PETSc, "ScalarType", value)
+    else:  # an environment without slepc4py
+        import importlib.util
+
+        find = importlib.util.find_spec
+        monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == attribute else find(name, *a))
+    with pytest.raises(InputError, match="ensure-venv"):
+        backend.select("petsc", 1)
+    with pytest.raises(InputError, match=re.escape(words[0])):
+        ExplicitModel(load_scene(PAPER, ["simulation.end_time=1e-6"]), MPI.COMM_SELF)
+    line = refused(in_process("global.py", "--out", str(tmp_path / "g"), cwd=tmp_path), *words)
+    assert "dolfinx-real-mode" in line and not (tmp_path / "g").exists()
