@@ -236,6 +236,11 @@ def test_fields_only_when_asked(tmp_path):
     times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', xdmf.read_text())]
     requested = [t for t in times if abs(t / DEFAULT_FIELD_INTERVAL - round(t / DEFAULT_FIELD_INTERVAL)) < 1e-6]
     assert len(requested) == round(3e-4 / DEFAULT_FIELD_INTERVAL) + 1 and len(times) - len(requested) <= 1
+    # and the picture of them people would rather look at: the contact region at the peak-pressure frame
+    compare = Path(s["stages"]["compare"])
+    picture = json.loads((compare / "contact-fields.json").read_text())
+    assert (compare / "contact-fields.png").stat().st_size > 20_000 and picture["time"] in times
+    assert picture["peak_contact_pressure"] > 0 and picture["scene"] == s["scene"]
 
 
 def test_unknown_effect_is_exit_2(tmp_path):

@@ -10,10 +10,7 @@ version that kept it) is refused, exit 2 (rods.fe.fields.check_run).
 
 from __future__ import annotations
 
-import json
-
 import _cli
-from rods import io
 from rods.preflight import input_dir
 
 
@@ -24,29 +21,12 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     remedy = "give the folder of a run with fields (the 'fields' effect or fe.field_interval > 0)"
     run = input_dir(args.fields, ("fields.xdmf", "summary.json"), "--fields", remedy)  # before any folder is made
-    from rods.fe.fields import check_run, read_fields, render_contact
+    from rods.fe.fields import check_run, contact_picture
 
     check_run(run, "--fields")  # the series is the run's of summary.json (else its scene would label another's)
     out = _cli.output_file(args.out, "--out")  # a prefix: OUT.png, OUT.json
     out.parent.mkdir(parents=True, exist_ok=True)
-
-    t = render_contact(run / "fields.xdmf", out.with_suffix(".png"))
-    _, _, frames = read_fields(run / "fields.xdmf")
-    d = next(f for tf, f in frames if tf == t)
-    s = json.loads((run / "summary.json").read_text())
-    io.write_data(
-        out.with_suffix(".json"),
-        {
-            "png": out.with_suffix(".png").name,
-            "time": t,
-            "peak_contact_pressure": float(d["contact_pressure"].max()),
-            "von_mises_max": float(d["von_mises"].max()),
-            "model": s["model"],
-            "scene": s["scene"],
-            "mesh": s["mesh"],
-            "field_interval": s["scene_values"]["fe"]["field_interval"],
-        },
-    )
+    t = contact_picture(run, out)["time"]
     print(f"wrote {out.with_suffix('.png')} and {out.with_suffix('.json')} (t = {t:.6g} s)")
     return 0
 

@@ -57,6 +57,7 @@ __all__ = [
     "FieldOutput",
     "XdmfSeries",
     "check_run",
+    "contact_picture",
     "discard",
     "frame_count",
     "frame_schedule",
@@ -397,12 +398,30 @@ def section_y0(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:
     return np.take_along_axis(quads, np.argsort(angle, axis=1), axis=1)
 
 
-def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) -> float:
+# the contact picture's half-width in contact radii [-]: the patch and the stress under it (Hertz's largest von Mises
+# stress lies 0.48 a deep, its field fades over a few a); on the paper scene (a = 1.09 mm) 2.7 mm
+PICTURE_PATCHES = 2.5
+
+
+def picture_window(points: np.ndarray, p: np.ndarray, three_d: bool) -> float:
+    """The contact picture's half-width [m]: :data:`PICTURE_PATCHES` x the frame's contact radius, the farthest
+    loaded node (``p`` > 0) from the patch's centre across the rods (axisymmetric: r, the centre on the axis; 3D:
+    in the x-y plane, from the loaded nodes' mean); where no node is loaded, the mesh's half-width (the whole tip)."""
+    loaded = p > 0
+    across = points[:, :1] if not three_d else points[:, :2] - (points[loaded, :2].mean(axis=0) if loaded.any() else 0)
+    if not loaded.any():
+        return float(np.abs(across).max())
+    return PICTURE_PATCHES * float(np.linalg.norm(across[loaded], axis=1).max())
+
+
+def render_contact(xdmf: str | Path, png: str | Path, window: float | None = None) -> float:
     """Off-screen picture (pyvista on EGL: no X server) of the contact region at the frame of the largest
     contact pressure: von Mises on the deformed mesh (left), the contact pressure on the tip nodes (right),
-    in the (r, z) plane (3D: the section y = 0). Displacements relative to the contact centre are scaled so
-    that the largest within ``window`` [m] of it is 5% of the window (said in the title). The frame's time [s].
-    A series that is not the run's of the summary.json beside it is refused first (:func:`check_run`)."""
+    in the (r, z) plane (3D: the section y = 0), ``window`` [m] either side of the patch's centre (default
+    :func:`picture_window`: a few contact radii, whatever the scene's patch). Displacements relative to the
+    contact centre are scaled so that the largest within the window is 5% of it (said in the title). The
+    frame's time [s]. A series that is not the run's of the summary.json beside it is refused first
+    (:func:`check_run`)."""
     from rods.io import offscreen_pyvista
 
     check_run(Path(xdmf).parent)
@@ -414,6 +433,7 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     p = d["contact_pressure"][:, 0]
     u_c = d["displacement"][p > 0].mean(axis=0) if (p > 0).any() else np.zeros(3)
     du, x_c = d["displacement"] - u_c, 0.0  # x_c: the contact centre (axisymmetric: on the axis, r = 0)
+    window = picture_window(points, p, cells.shape[1] == 8) if window is None else window
     if cells.shape[1] == 8:  # 3D: the section y = 0 drawn as the (x, z) plane
         cells = section_y0(points, cells)
         points, du = points[:, [0, 2, 1]] * [1, 1, 0], du[:, [0, 2, 1]] * [1, 1, 0]
@@ -427,7 +447,8 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800))
     for col, (name, title) in enumerate((("von Mises [MPa]", "von Mises"), ("p [MPa]", "contact pressure"))):
         pl.subplot(0, col)
-        bar = dict(title=name, vertical=True, position_x=0.84, position_y=0.15, width=0.06, height=0.7, fmt="%.0f")
+        fmt = _bar_format(float(np.abs(grid.point_data[name]).max(initial=0.0)))
+        bar = dict(title=name, vertical=True, position_x=0.84, position_y=0.15, width=0.06, height=0.7, fmt=fmt)
         pl.add_mesh(grid, scalars=name, cmap="turbo", show_edges=col == 0, edge_color="gray", scalar_bar_args=bar)
         pl.add_text(f"{title}, t = {t * 1e6:.2f} µs, deformation x {factor:.3g}", font_size=10)
         pl.view_xy()
@@ -436,3 +457,33 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float = 2.5e-3) ->
     pl.screenshot(str(png))
     pl.close()
     return float(t)
+
+
+def _bar_format(largest: float) -> str:
+    """A colour bar's label format for values up to ``largest``: three significant digits at the top (MPa of a
+    steel patch, fractions of one of a soft scene's), no more decimals than that."""
+    digits = 0 if largest <= 0 else max(0, 2 - math.floor(math.log10(largest)))
+    return f"%.{digits}f"
+
+
+def contact_picture(run: str | Path, out: str | Path) -> dict:
+    """The contact picture of ``run``'s fields (:func:`render_contact`) as ``out``.png, and its data as ``out``.json
+    (the frame: time, peak contact pressure and von Mises, the run's model, scene and mesh; REPORT.md renders it):
+    workflows/contact_picture.py and a study's ``fields`` effect (rods.study.pipeline). The data."""
+    run, out = Path(run), Path(out)
+    t = render_contact(run / "fields.xdmf", out.with_suffix(".png"))
+    _, _, frames = read_fields(run / "fields.xdmf")
+    d = next(f for tf, f in frames if tf == t)
+    s = json.loads((run / "summary.json").read_text(encoding="utf-8"))
+    data = {
+        "png": out.with_suffix(".png").name,
+        "time": t,
+        "peak_contact_pressure": float(d["contact_pressure"].max()),
+        "von_mises_max": float(d["von_mises"].max()),
+        "model": s["model"],
+        "scene": s["scene"],
+        "mesh": s["mesh"],
+        "field_interval": s["scene_values"]["fe"]["field_interval"],
+    }
+    io.write_data(out.with_suffix(".json"), data)
+    return data

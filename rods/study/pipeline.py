@@ -6,8 +6,9 @@ Folders under ``out``: ``analytical/`` (always), ``global/`` (the scene's global
 time; with cut.h5 when it drives the submodels), ``driver/`` (a separate driving global over the contact phase, only
 when the driver's settings differ from the scene's: rods.plan.DRIVER_OVERRIDES, empty), ``submodel/LEVEL/``
 per planned level, ``compare/`` (Table 3, Figs. 5c/6 for contact effects; Fig. 4, the global over the analytical
-model, for the wave response), and ``summary.json``: the plan, the stage folders and
-the contract keys, each from the most refined stage that computed it (rods.plan.most_refined).
+model, for the wave response; contact-fields.png, the contact region at peak pressure, for fields), and
+``summary.json``: the plan, the stage folders and the contract keys, each from the most refined stage that computed
+it (rods.plan.most_refined).
 """
 
 from __future__ import annotations
@@ -77,6 +78,22 @@ def _wave_figure(done: dict[str, stages.Stage], out: Path) -> None:
     fig4.write(analytical, [fe], out / "fig4.png", out / "fig4.md")
 
 
+def _contact_picture(global_stage: stages.Stage, out: Path, log: Any) -> None:
+    """The contact region at its peak pressure from the global's fields (rods.fe.fields.contact_picture:
+    ``out``/contact-fields.png and .json), where people would rather look than read. A picture VTK cannot render
+    here (no off-screen OpenGL) is said on the log, not raised: the numbers and the fields (ParaView) stand."""
+    from rods.fe.fields import contact_picture
+
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        contact_picture(global_stage.folder, out / "contact-fields")
+    except Exception as e:  # VTK's rendering failures surface as several types; the study's results are written
+        if log is not None:
+            log(
+                f"contact picture not rendered ({type(e).__name__}: {e}); the fields: {global_stage.folder}/fields.xdmf"
+            )
+
+
 def run_study(
     scene: Scene, out: Path, comm: Any = None, progress: Any = None, log: Any = None, restart: bool = False
 ) -> Study:
@@ -123,6 +140,8 @@ def run_study(
     waves = "wave_response" in p.effects and p.global_model
     if waves and root:
         _wave_figure(done, out / "compare")
+    if p.fields and p.global_model and root:
+        _contact_picture(done["global"], out / "compare", log)
     summary = _study_summary(scene, p, done, comparison, waves, out, comm, t0)
     if root:
         io.write_summary(out / "summary.json", summary)
@@ -159,7 +178,7 @@ def _study_summary(
     """The study's summary: the most refined stage's values with their sources, the status, plan and folders."""
     values, sources = plan.most_refined(p, {k: s.summary for k, s in done.items()})
     folders = {k: str(s.folder) for k, s in done.items()}
-    folders |= {"compare": str(out / "compare")} if (waves or p.submodel_levels) else {}
+    folders |= {"compare": str(out / "compare")} if (waves or p.submodel_levels or p.fields) else {}
     return {
         "model": "workflow",
         **scene.identity,

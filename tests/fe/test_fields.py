@@ -259,3 +259,26 @@ def test_the_paraview_script_names_the_fields_the_model_writes():
     tree = ast.parse((Path(__file__).resolve().parents[2] / "workflows" / "view.py").read_text())
     (fields,) = [n.value for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "FIELDS"]
     assert ast.literal_eval(fields) == FIELD_NAMES
+
+
+@pytest.mark.parametrize("a", [0.1e-3, 1.09e-3, 6e-3])  # [m] a small rod's patch, the paper's, a 100 mm rod's
+def test_the_contact_picture_frames_the_patch_whatever_its_size(a):
+    """The picture's half-width is PICTURE_PATCHES contact radii of the frame it draws (it was 2.5 mm on every
+    scene: the paper's patch, where a 6 mm patch fell outside and a 0.1 mm one was a few pixels): axisymmetric from
+    the axis, 3D from the loaded nodes' centre (an offset patch); no node loaded: the mesh's half-width."""
+    from rods.fe.fields import PICTURE_PATCHES, _bar_format, picture_window
+
+    r = np.linspace(0.0, 20 * a, 401)
+    axi = np.column_stack([r, np.zeros_like(r), np.zeros_like(r)])
+    p = np.where(r <= a, 1e9 * np.sqrt(np.clip(1 - (r / a) ** 2, 0, None)) + 1.0, 0.0)
+    assert picture_window(axi, p, three_d=False) == pytest.approx(PICTURE_PATCHES * a)
+    e = 3 * a  # an offset patch in 3D: measured from its own centre, not the axis
+    xy = np.array(
+        [[e + a * np.cos(t), a * np.sin(t), 0.0] for t in np.linspace(0, 2 * np.pi, 16, endpoint=False)] + [[e, 0, 0]]
+    )
+    hexes_pts = np.vstack([xy, [[-20 * a, 0, 0], [20 * a, 0, 0]]])
+    p3 = np.r_[np.ones(len(xy)), 0.0, 0.0]
+    assert picture_window(hexes_pts, p3, three_d=True) == pytest.approx(PICTURE_PATCHES * a)
+    assert picture_window(axi, np.zeros_like(p), three_d=False) == pytest.approx(20 * a)
+    # colour bars keep three significant digits at any pressure: GPa of steel, a soft scene's fractions of a MPa
+    assert [_bar_format(v) for v in (2228.0, 45.0, 3.2, 0.047, 0.0)] == ["%.0f", "%.1f", "%.2f", "%.4f", "%.0f"]
