@@ -49,6 +49,7 @@ import ufl
 from rods import io
 from rods.fe import forms
 from rods.fe.explicit import CentralDifference
+from rods.metrics import PICTURE_PATCHES
 from rods.preflight import InputError
 from rods.scene import value_differences
 
@@ -396,11 +397,6 @@ def section_y0(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:
     xz = points[quads][:, :, [0, 2]]
     angle = np.arctan2(*(xz - xz.mean(axis=1, keepdims=True)).transpose(2, 0, 1)[::-1])
     return np.take_along_axis(quads, np.argsort(angle, axis=1), axis=1)
-
-
-# the contact picture's half-width in contact radii [-]: the patch and the stress under it (Hertz's largest von Mises
-# stress lies 0.48 a deep, its field fades over a few a); on the paper scene (a = 1.09 mm) 2.7 mm
-PICTURE_PATCHES = 2.5
 
 
 def picture_window(points: np.ndarray, p: np.ndarray, three_d: bool) -> float:

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from rods import hertz, io
+from rods.metrics import PICTURE_PATCHES
 
 __all__ = ["fig5c", "fig6", "pyplot"]
 
@@ -27,7 +28,8 @@ def pyplot():
 
 
 def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
-    """σ_r against r at the Gauss points nearest the surface: FE levels and the closed form."""
+    """σ_r against r at the Gauss points nearest the surface: FE levels and the closed form, out to PICTURE_PATCHES
+    Hertz radii at the finest level's force."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for s in subs:
@@ -56,7 +58,7 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
             lw=0.8,
             label=f"Hertz at the Gauss depth ({np.median(z) * 1e6:.1f} µm)",
         )
-    ax.set_xlim(0, 3.0)
+        ax.set_xlim(0, PICTURE_PATCHES * H["contact_radius"] * 1e3)  # a few patch radii (was 3 mm on every scene)
     ax.set_xlabel("r [mm]")
     ax.set_ylabel("σ_r [MPa]")
     ax.set_title("Fig. 6: σ_r at the integration points nearest the surface, peak force", fontsize=10)
@@ -73,17 +75,19 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
 
 def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None:
     """Contact pressure on the Rod-1 tip at peak force: the axisymmetric p(r) revolved into a disc (pyvista,
-    off-screen), and p(r) against Hertz at the same force (matplotlib)."""
+    off-screen), and p(r) against Hertz at the same force (matplotlib), both out to PICTURE_PATCHES Hertz radii
+    at that force (they showed 2.5 mm, the paper's patch, on every scene)."""
     plt = pyplot()
     r, p = np.asarray(s["pressure_profile"]["r"]), np.asarray(s["pressure_profile"]["p"])
     H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
+    R_disc = PICTURE_PATCHES * H["contact_radius"]  # [m] shown radius: a few patch radii, whatever the scene's
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(r * 1e3, p / 1e9, "o-", ms=2, label=f"FE {s.get('level', 'global')}")
     rr = np.linspace(0, r.max(), 500)
     ax.plot(
         rr * 1e3, hertz.pressure(rr, H["contact_radius"], H["peak_pressure"]) / 1e9, "k--", label="Hertz, same force"
     )
-    ax.set_xlim(0, 2.5)
+    ax.set_xlim(0, R_disc * 1e3)
     ax.set_xlabel("r [mm]")
     ax.set_ylabel("p [GPa]")
     ax.legend()
@@ -91,7 +95,6 @@ def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None
     fig.tight_layout()
     fig.savefig(out / "fig5c-profile.png", dpi=150)
     plt.close(fig)
-    R_disc = 2.5e-3  # [m] shown radius (Fig. 5b scale: patch ~2.2 mm across)
     th = np.linspace(0, 2 * np.pi, 181)
     keep = r <= R_disc
     rk, pk = r[keep], p[keep]

@@ -54,6 +54,21 @@ def test_window_follows_the_runs_scene(analytical):
     assert fig4.compute(b, [])["strain_window"][1] == pytest.approx(0.5 * fig4.compute(a, [])["strain_window"][1])
 
 
+def test_force_panel_follows_the_runs_contact(analytical):
+    """The force panel shows the first contact and as long after it (FORCE_PANEL_CONTACTS), from the analytical
+    run's own contact (it was 400 µs on every scene: a 50 µs contact was a sliver, a 1 ms one cut off); a contact
+    that has not ended by the run's end: the whole run."""
+    from rods.metrics import FORCE_PANEL_CONTACTS
+
+    _, a = analytical
+    duration = a.summary["contact_duration"]  # [s] the paper scene's 204 µs: 409 µs where 400 µs was written
+    assert fig4.compute(a, [])["force_panel_end"] == pytest.approx(FORCE_PANEL_CONTACTS * duration)
+    short = Run(a.label, a.history, copy.deepcopy(a.summary) | {"contact_duration": 25e-6})
+    assert fig4.compute(short, [])["force_panel_end"] == pytest.approx(FORCE_PANEL_CONTACTS * 25e-6)
+    open_ = Run(a.label, a.history, copy.deepcopy(a.summary) | {"contact_duration": None})
+    assert fig4.compute(open_, [])["force_panel_end"] == pytest.approx(float(a.history["time"][-1]))
+
+
 def test_table_renders_the_committed_rows():
     """The committed record: fig4.md's table is the rendering of fig4.json (the main job wrote both)."""
     committed = (ROOT / "results" / "fig4.md").read_text()

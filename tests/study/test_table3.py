@@ -224,3 +224,28 @@ def test_a_graded_submodel_level_is_named_so():
     uniform = ModelRun("submodel", {**base, "mesh": {"graded": [False, False]}}, {})
     assert model_name(graded) == "Submodel fine (h = 0.0625 mm, graded outside the patch)"
     assert model_name(uniform) == "Submodel fine (h = 0.0625 mm)"
+
+
+@pytest.mark.parametrize("force", [50.0, 5560.0, 5e5])  # [N] patches of 0.24, 1.09 and 5.1 mm on the paper's tip
+def test_the_pressure_figures_show_the_patch_whatever_its_size(scene_with, tmp_path, monkeypatch, force):
+    """Fig. 5c's profile and disc and Fig. 6's σ_r reach PICTURE_PATCHES Hertz radii at the run's own force (they
+    showed 2.5 and 3 mm, the paper's patch, on every scene: a 5 mm patch was cut, a 0.2 mm one a corner of the plot)."""
+    import matplotlib.axes
+
+    from rods.metrics import PICTURE_PATCHES
+    from rods.study import figures
+
+    sc = scene_with()
+    s = _hertz_model(sc, force)
+    s["pressure_profile"] = {k: v * 4.0 if k == "r" else v for k, v in s["pressure_profile"].items()}  # to 10 a
+    s["pressure_profile"]["p"] = hertz.pressure(s["pressure_profile"]["r"], s["contact_radius"], 1e9)
+    limits = []
+    original = matplotlib.axes.Axes.set_xlim
+    monkeypatch.setattr(matplotlib.axes.Axes, "set_xlim", lambda ax, *a, **k: limits.append(a) or original(ax, *a, **k))
+    figures.fig5c(tmp_path, s, *hertz.contact_constants(sc.rod1, sc.rod2))
+    assert limits[0] == (0, pytest.approx(PICTURE_PATCHES * s["contact_radius"] * 1e3, rel=1e-9))  # the profile
+    assert (tmp_path / "fig5c-profile.png").stat().st_size and (tmp_path / "fig5c-pressure.png").stat().st_size
+    # Fig. 6 (σ_r near the surface) alike, from the finest level's Hertz radius at its own force
+    limits.clear()
+    figures.fig6(tmp_path, [s | {"level": "fine", "element_size": 6.25e-5}], 0.3)
+    assert limits[0] == (0, pytest.approx(PICTURE_PATCHES * s["hertz_at_own_force"]["contact_radius"] * 1e3))
