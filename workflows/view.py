@@ -5,14 +5,16 @@
 
 RUN is a run folder with ``fields.xdmf`` (written by the FE models when the scene asks for fields, see
 ``rods.fe.fields``) or the file itself. Without ``--time`` the frame with the largest contact pressure is
-shown (the peak-force frame of the field series). ``--reader legacy`` uses ParaView's XDMF (2) reader
-instead of the Xdmf3 one; both read the file. ``--check`` exits 1 unless every frame has every field.
+shown (the peak-force frame of the field series), 2.5 contact radii of the run (its summary.json) either
+side. ``--reader legacy`` uses ParaView's XDMF (2) reader instead of the Xdmf3 one; both read the file.
+``--check`` exits 1 unless every frame has every field.
 Runs under ParaView's own Python (Debian: ``apt-get install paraview python3-paraview``), not the venv.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -20,7 +22,20 @@ from pathlib import Path
 from typing import NoReturn
 
 FIELDS = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
-WINDOW = 3e-3  # [m] half-width of the view around the contact point (the tips touch at the origin)
+# half-width of the view around the contact point (the tips touch at the origin) in contact radii [-]: the run's
+# (rods.metrics.PICTURE_PATCHES, kept here as this runs without the project's packages; a test ties the two)
+PICTURE_PATCHES = 2.5
+
+
+def window(run: Path, bounds: tuple[float, ...]) -> float:
+    """Half-width of the view [m]: PICTURE_PATCHES x the run's contact radius (its summary.json beside the fields),
+    else (a run stopped before its summary) the mesh's half-width across, the whole tip (``bounds``: the data's)."""
+    folder = run if run.is_dir() else run.parent
+    try:
+        a = float(json.loads((folder / "summary.json").read_text(encoding="utf-8"))["contact_radius"])
+    except (OSError, ValueError, KeyError, TypeError):
+        a = math.nan
+    return PICTURE_PATCHES * a if math.isfinite(a) and a > 0 else max(abs(bounds[0]), abs(bounds[1]))
 
 
 def open_fields(path: Path, legacy: bool):
@@ -43,9 +58,9 @@ def frames(reader) -> list[tuple[float, list[str], float]]:
     return out
 
 
-def render(reader, t: float, scale: float, png: str) -> None:
+def render(reader, t: float, scale: float, png: str, run: Path) -> None:
     """Warp by ``scale`` x displacement, colour by von Mises at time ``t``, camera on the contact (3D: the
-    section y = 0, seen from -y; axisymmetric: the (r, z) plane)."""
+    section y = 0, seen from -y; axisymmetric: the (r, z) plane), :func:`window` either side of it."""
     from paraview import simple as pv
 
     bounds = reader.GetDataInformation().GetBounds()
@@ -66,7 +81,7 @@ def render(reader, t: float, scale: float, png: str) -> None:
     view.CameraPosition = [0, -1, 0] if three_d else [0, 0, 1]
     view.CameraFocalPoint, view.CameraViewUp = [0, 0, 0], [0, 0, 1] if three_d else [0, 1, 0]
     view.CameraParallelProjection = 1
-    view.CameraParallelScale = WINDOW
+    view.CameraParallelScale = window(run, bounds)
     pv.SaveScreenshot(png, view, ImageResolution=[1200, 800])
 
 
@@ -121,7 +136,7 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     if a.png:
         t = a.time if a.time is not None else max(series, key=lambda f: f[2])[0]
-        render(reader, t, a.scale, a.png)
+        render(reader, t, a.scale, a.png, a.run)
         print(f"wrote {a.png} (t = {t:.6g} s)")
     return 0
 

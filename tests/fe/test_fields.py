@@ -255,10 +255,31 @@ def test_the_paraview_script_names_the_fields_the_model_writes():
     from pathlib import Path
 
     from rods.fe.fields import FIELD_NAMES
+    from rods.metrics import PICTURE_PATCHES
 
     tree = ast.parse((Path(__file__).resolve().parents[2] / "workflows" / "view.py").read_text())
-    (fields,) = [n.value for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "FIELDS"]
-    assert ast.literal_eval(fields) == FIELD_NAMES
+    names = {n.targets[0].id: n.value for n in tree.body if isinstance(n, ast.Assign)}
+    assert ast.literal_eval(names["FIELDS"]) == FIELD_NAMES
+    assert ast.literal_eval(names["PICTURE_PATCHES"]) == PICTURE_PATCHES  # and frames the patch as the library
+
+
+def test_the_paraview_view_frames_the_runs_patch(tmp_path):
+    """view.py's half-width: PICTURE_PATCHES contact radii of the run (summary.json beside fields.xdmf; it was 3 mm
+    on every scene); a folder or file whose run has no summary (stopped before it) or no contact: the mesh's
+    half-width across."""
+    import importlib
+    import json
+
+    from rods.metrics import PICTURE_PATCHES
+
+    view = importlib.import_module("view")  # stdlib only at import: ParaView is imported where it renders
+    bounds = (0.0, 6.35e-3, -0.1, 0.2, 0.0, 0.0)  # [m] an axisymmetric mesh's data bounds: r, z
+    assert view.window(tmp_path, bounds) == 6.35e-3
+    (tmp_path / "summary.json").write_text(json.dumps({"contact_radius": 4e-3}))
+    assert view.window(tmp_path, bounds) == pytest.approx(PICTURE_PATCHES * 4e-3)
+    assert view.window(tmp_path / "fields.xdmf", bounds) == pytest.approx(PICTURE_PATCHES * 4e-3)
+    (tmp_path / "summary.json").write_text(json.dumps({"contact_radius": None}))
+    assert view.window(tmp_path, bounds) == 6.35e-3
 
 
 @pytest.mark.parametrize("a", [0.1e-3, 1.09e-3, 6e-3])  # [m] a small rod's patch, the paper's, a 100 mm rod's
