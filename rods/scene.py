@@ -242,7 +242,11 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
     }
 
 
-DEFAULT_FIELD_INTERVAL = 10e-6  # [s] field frames when the "fields" effect asks without fe.field_interval
+# field frames when the "fields" effect asks without fe.field_interval: this many a round trip 2 L/c of the rod whose
+# is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs; a 5 cm rod's
+# waves, crossing it in 10 µs, were one frame a transit at the 10 µs it was on every scene) [-] ...
+FIELD_FRAMES_PER_ROUND_TRIP = 10
+FIELD_FRAMES_DEFAULT_MAX = 400  # ... and at most this many over the run (a short rod's long run: its files) [-]
 PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected contact radius [-] (Scene.radial_size)
 # ... where the first contact's peak rests on the contact stiffness (Scene.stiffness_sensitivity S at or above the
 # ramp's top), and linearly in S between the ramp's ends: the patch's discretisation error in the contact's
@@ -632,11 +636,15 @@ class Scene:
 
     @property
     def field_interval(self) -> float:
-        """Interval of the field frames [s]: ``fe.field_interval``, :data:`DEFAULT_FIELD_INTERVAL` where the
-        "fields" effect asks without one, 0 where no fields are written."""
+        """Interval of the field frames [s]: ``fe.field_interval``; where the "fields" effect asks without one,
+        :data:`FIELD_FRAMES_PER_ROUND_TRIP` frames a round trip of the rod with the shortest (the waves, whatever the
+        rods' size), at most :data:`FIELD_FRAMES_DEFAULT_MAX` over the end time; 0 where no fields are written."""
         if self.values["fe.field_interval"] > 0:
             return float(self.values["fe.field_interval"])
-        return DEFAULT_FIELD_INTERVAL if "fields" in self.effects else 0.0
+        if "fields" not in self.effects:
+            return 0.0
+        round_trip = min(rod.transit_time for rod in self.rods)  # [s]
+        return max(round_trip / FIELD_FRAMES_PER_ROUND_TRIP, self.end_time / FIELD_FRAMES_DEFAULT_MAX)
 
     @property
     def impedance_force(self) -> float:

@@ -225,17 +225,19 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
 
 
 def test_fields_only_when_asked(tmp_path):
-    """effects = ["fields"] alone (no fe.field_interval) writes the series at the default interval: a frame every
-    DEFAULT_FIELD_INTERVAL over the 0.3 ms run, plus the final state where it is a step or more past the last;
-    the wave-response run (test above) writes none."""
-    from rods.scene import DEFAULT_FIELD_INTERVAL
+    """effects = ["fields"] alone (no fe.field_interval) writes the series at the default interval: ten frames a
+    round trip of Rod 1 (the shorter: 97.7 µs, a frame every 9.77 µs) over the 0.3 ms run, plus the final state where
+    it is a step or more past the last; the wave-response run (test above) writes none."""
+    from rods.scene import FIELD_FRAMES_PER_ROUND_TRIP, scene_from_summary
 
     _, s = run(tmp_path, "['fields']")
     xdmf = tmp_path / "run" / "global" / "fields.xdmf"
     assert s["plan"]["fields"] and xdmf.exists()
+    interval = scene_from_summary(s["scene_values"]).rod1.transit_time / FIELD_FRAMES_PER_ROUND_TRIP  # [s]
+    assert interval == pytest.approx(9.764e-6, rel=1e-3)
     times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', xdmf.read_text())]
-    requested = [t for t in times if abs(t / DEFAULT_FIELD_INTERVAL - round(t / DEFAULT_FIELD_INTERVAL)) < 1e-6]
-    assert len(requested) == round(3e-4 / DEFAULT_FIELD_INTERVAL) + 1 and len(times) - len(requested) <= 1
+    requested = [t for t in times if abs(t / interval - round(t / interval)) < 1e-6]
+    assert len(requested) == int(3e-4 / interval) + 1 and len(times) - len(requested) <= 1
     # and the picture of them people would rather look at: the contact region at the peak-pressure frame
     compare = Path(s["stages"]["compare"])
     picture = json.loads((compare / "contact-fields.json").read_text())

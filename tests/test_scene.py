@@ -596,3 +596,21 @@ def test_the_1d_bar_holds_the_rods_mass(scene_with, R_over_b):
     elif R_over_b >= 1e4:
         assert rod.bar_offset == pytest.approx(h / 2, rel=1e-3, abs=0.0)
         assert (rod.bar_offset == 0.0) == (R_over_b == math.inf)
+
+
+def test_the_default_field_interval_follows_the_rods_waves(scene_with):
+    """effects = ["fields"] without fe.field_interval: FIELD_FRAMES_PER_ROUND_TRIP frames a round trip 2 L/c of the
+    rod with the shortest (it was 10 µs on every scene: one frame a transit of a 5 cm rod's waves), at most
+    FIELD_FRAMES_DEFAULT_MAX over the end time; a given interval is kept, and no fields ask for none."""
+    from rods.scene import FIELD_FRAMES_DEFAULT_MAX, FIELD_FRAMES_PER_ROUND_TRIP
+
+    fields = 'effects=["fields"]'
+    paper = scene_with(fields)
+    assert paper.field_interval == pytest.approx(paper.rod1.transit_time / FIELD_FRAMES_PER_ROUND_TRIP)
+    assert 9.7e-6 < paper.field_interval < 9.8e-6  # [s] the paper's Rod 1 (97.6 µs a round trip)
+    short = scene_with(fields, "rod2.length=0.05", "simulation.end_time=2e-4")  # Rod 2 the shorter now
+    assert short.field_interval == pytest.approx(short.rod2.transit_time / FIELD_FRAMES_PER_ROUND_TRIP)
+    long_run = scene_with(fields, "rod2.length=0.05", "simulation.end_time=1e-2")  # 10 ms: the frame count bounds it
+    assert long_run.field_interval == pytest.approx(1e-2 / FIELD_FRAMES_DEFAULT_MAX)
+    assert scene_with(fields, "fe.field_interval=2e-6").field_interval == 2e-6
+    assert scene_with().field_interval == 0.0
