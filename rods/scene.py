@@ -35,6 +35,7 @@ __all__ = [
     "SUBMODEL_EFFECTS",
     "SceneError",
     "Station",
+    "auto_end_time",
     "check_submodel_length",
     "impedance_force",
     "load_scene",
@@ -107,6 +108,7 @@ SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that ru
 
 # keys whose "auto" a Scene resolves -> the property that does ([] reads the resolved value)
 _RESOLVED = {
+    "simulation.end_time": "end_time",
     "fe.radial_size": "radial_size",
     "fe.axial_size": "axial_size",
     "submodel.levels": "submodel_levels",
@@ -242,6 +244,15 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
     }
 
 
+# simulation.end_time = "auto" (auto_end_time): the time the effects need, END_MARGIN x the longer of the Rod-2
+# midpoint's END_PERIODS periods 2 L2/c2 (the strain window and the plateaus the wave response compares,
+# rods.metrics.STRAIN_PERIODS and PLATEAU_COUNT; a test ties them) and END_CONTACT_ROUND_TRIPS round trips of the
+# slower rod (a first contact ends within them: the striker's wave returns after one). The paper's rods: 1.507 ms, the
+# 1.5 ms its Fig. 4 spans; it was 1.5 ms on every scene (a 2 m rod showed one of its five plateaus, 1 cm rods ran 40
+# times what they needed).
+END_PERIODS = 5
+END_CONTACT_ROUND_TRIPS = 2
+END_MARGIN = 1.1  # [-]
 # field frames when the "fields" effect asks without fe.field_interval: this many a round trip 2 L/c of the rod whose
 # is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs; a 5 cm rod's
 # waves, crossing it in 10 µs, were one frame a transit at the 10 µs it was on every scene) [-] ...
@@ -286,7 +297,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "impact.speed": ("float", REQUIRED, _positive("m/s", hi=100.0, hint_hi="low-speed impact model", lo=TINY["speed"])),
     "impact.offset": ("float", 0.0, _interval(0.0, 1.0, "m", closed_lo=True)),
     "impact.tilt": ("float", 0.0, _interval(0.0, 0.1, "rad", closed_lo=True)),
-    "simulation.end_time": ("float", 1.5e-3, _positive("s", hi=1.0, lo=TINY["time"])),
+    "simulation.end_time": ("float|auto", "auto", _positive("s", hi=1.0, lo=TINY["time"])),  # auto: auto_end_time
     "simulation.output_interval": ("float", 0.25e-6, _positive("s", hi=1e-3, lo=TINY["time"])),
     # below 2.2e-14 SciPy's integrator raises it itself, with a warning
     "analytical.rtol": ("float", 1e-10, _interval(1e-13, 1e-2, closed_lo=True, closed_hi=True)),
@@ -844,7 +855,7 @@ class Scene:
             *parents, leaf = k.split(".")
             for p in parents:
                 node = node.setdefault(p, {})
-            if json_safe and k in ("fe.radial_size", "fe.axial_size", "fe.submodel_length"):
+            if json_safe and k in ("fe.radial_size", "fe.axial_size", "fe.submodel_length", "simulation.end_time"):
                 v = self[k]  # a record holds the size the run used ("auto" resolved)
             node[leaf] = "inf" if json_safe and isinstance(v, float) and math.isinf(v) else v
         out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations[1:]]
@@ -942,6 +953,14 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         return Rod(values[f"{p}.length"], values[f"{p}.diameter"], values[f"{p}.tip_radius"], mat)
 
     rods = (rod(1), rod(2))
+    end = auto_end_time(rods) if values["simulation.end_time"] == "auto" else values["simulation.end_time"]  # [s]
+    if values["simulation.output_interval"] > end:
+        given = "" if values["simulation.end_time"] != "auto" else " (simulation.end_time 'auto': these rods' waves)"
+        raise SceneError(
+            "simulation.output_interval",
+            values["simulation.output_interval"],
+            f"must be <= end_time = {end:g} s{given}",
+        )
     L_s = resolve_submodel_length(values["fe.submodel_length"], rods)
     check_submodel_length(L_s, rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
     return Scene(
@@ -949,7 +968,7 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         rod1=rods[0],
         rod2=rods[1],
         speed=values["impact.speed"],
-        end_time=values["simulation.end_time"],
+        end_time=end,
         output_interval=values["simulation.output_interval"],
         effects=tuple(values["effects"]),
         stations=_stations(stations_raw, rods),
@@ -957,6 +976,14 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         source=source,
         overrides=_last_per_key(overrides),
     )
+
+
+def auto_end_time(rods: tuple[Rod, Rod]) -> float:
+    """``simulation.end_time = "auto"`` [s]: END_MARGIN x max(END_PERIODS x Rod 2's round trip 2 L2/c2,
+    END_CONTACT_ROUND_TRIPS x the slower rod's), within the schema's 1 s (module constants' comment)."""
+    periods = END_PERIODS * rods[1].transit_time
+    contact = END_CONTACT_ROUND_TRIPS * max(r.transit_time for r in rods)
+    return min(END_MARGIN * max(periods, contact), 1.0)
 
 
 def _last_per_key(overrides: Iterable[str]) -> tuple[str, ...]:
@@ -1046,12 +1073,6 @@ def _cross_checks(v: dict[str, Any]) -> None:
     if math.isinf(v["rod1.tip_radius"]) and math.isinf(v["rod2.tip_radius"]):
         raise SceneError(
             "rod1.tip_radius", math.inf, "at least one tip must be curved (Hertz contact of two flats is undefined)"
-        )
-    if v["simulation.output_interval"] > v["simulation.end_time"]:
-        raise SceneError(
-            "simulation.output_interval",
-            v["simulation.output_interval"],
-            f"must be <= end_time = {v['simulation.end_time']:g} s",
         )
     _mesh_fits_rods(v)
     if "misalignment" in v["effects"] and v["fe.kind"] != "3d":
