@@ -36,6 +36,7 @@ __all__ = [
     "SceneError",
     "Station",
     "auto_end_time",
+    "auto_output_interval",
     "check_submodel_length",
     "impedance_force",
     "load_scene",
@@ -109,6 +110,7 @@ SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that ru
 # keys whose "auto" a Scene resolves -> the property that does ([] reads the resolved value)
 _RESOLVED = {
     "simulation.end_time": "end_time",
+    "simulation.output_interval": "output_interval",
     "fe.radial_size": "radial_size",
     "fe.axial_size": "axial_size",
     "submodel.levels": "submodel_levels",
@@ -253,6 +255,13 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
 END_PERIODS = 5
 END_CONTACT_ROUND_TRIPS = 2
 END_MARGIN = 1.1  # [-]
+# simulation.output_interval = "auto" (auto_output_interval): this many samples a diameter's transit d/c of the thinner
+# rod's (the period scale of the lateral ringing that shapes the force's rise and the midpoint's plateau fronts,
+# rods.checks): the paper's rods 0.248 µs, the 0.25 µs it states; it was 0.25 µs on every scene (a 2 mm rod's d/c,
+# 0.4 µs, got under two samples) ...
+SAMPLES_PER_DIAMETER_TRANSIT = 10
+AUTO_SAMPLES_MAX = 2e5  # ... and at most this many over the run (a soft rod's long run: its histories) [-]
+_SIMULATION_TIMES = ("simulation.end_time", "simulation.output_interval")  # "auto" resolved from the rods
 # field frames when the "fields" effect asks without fe.field_interval: this many a round trip 2 L/c of the rod whose
 # is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs; a 5 cm rod's
 # waves, crossing it in 10 µs, were one frame a transit at the 10 µs it was on every scene) [-] ...
@@ -298,7 +307,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "impact.offset": ("float", 0.0, _interval(0.0, 1.0, "m", closed_lo=True)),
     "impact.tilt": ("float", 0.0, _interval(0.0, 0.1, "rad", closed_lo=True)),
     "simulation.end_time": ("float|auto", "auto", _positive("s", hi=1.0, lo=TINY["time"])),  # auto: auto_end_time
-    "simulation.output_interval": ("float", 0.25e-6, _positive("s", hi=1e-3, lo=TINY["time"])),
+    # auto: auto_output_interval
+    "simulation.output_interval": ("float|auto", "auto", _positive("s", hi=1e-3, lo=TINY["time"])),
     # below 2.2e-14 SciPy's integrator raises it itself, with a warning
     "analytical.rtol": ("float", 1e-10, _interval(1e-13, 1e-2, closed_lo=True, closed_hi=True)),
     # hertz-rod: Hertz's half-space approach less the rods' end correction, which the 1D bars already carry
@@ -855,7 +865,8 @@ class Scene:
             *parents, leaf = k.split(".")
             for p in parents:
                 node = node.setdefault(p, {})
-            if json_safe and k in ("fe.radial_size", "fe.axial_size", "fe.submodel_length", "simulation.end_time"):
+            resolved = ("fe.radial_size", "fe.axial_size", "fe.submodel_length", *_SIMULATION_TIMES)
+            if json_safe and k in resolved:
                 v = self[k]  # a record holds the size the run used ("auto" resolved)
             node[leaf] = "inf" if json_safe and isinstance(v, float) and math.isinf(v) else v
         out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations[1:]]
@@ -954,13 +965,11 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
 
     rods = (rod(1), rod(2))
     end = auto_end_time(rods) if values["simulation.end_time"] == "auto" else values["simulation.end_time"]  # [s]
-    if values["simulation.output_interval"] > end:
+    dt_out = values["simulation.output_interval"]
+    dt_out = auto_output_interval(rods, end) if dt_out == "auto" else dt_out  # [s]
+    if dt_out > end:
         given = "" if values["simulation.end_time"] != "auto" else " (simulation.end_time 'auto': these rods' waves)"
-        raise SceneError(
-            "simulation.output_interval",
-            values["simulation.output_interval"],
-            f"must be <= end_time = {end:g} s{given}",
-        )
+        raise SceneError("simulation.output_interval", dt_out, f"must be <= end_time = {end:g} s{given}")
     L_s = resolve_submodel_length(values["fe.submodel_length"], rods)
     check_submodel_length(L_s, rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
     return Scene(
@@ -969,7 +978,7 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         rod2=rods[1],
         speed=values["impact.speed"],
         end_time=end,
-        output_interval=values["simulation.output_interval"],
+        output_interval=dt_out,
         effects=tuple(values["effects"]),
         stations=_stations(stations_raw, rods),
         values=values,
@@ -984,6 +993,12 @@ def auto_end_time(rods: tuple[Rod, Rod]) -> float:
     periods = END_PERIODS * rods[1].transit_time
     contact = END_CONTACT_ROUND_TRIPS * max(r.transit_time for r in rods)
     return min(END_MARGIN * max(periods, contact), 1.0)
+
+
+def auto_output_interval(rods: tuple[Rod, Rod], end_time: float) -> float:
+    """``simulation.output_interval = "auto"`` [s]: the thinner rod's diameter transit d/c over
+    SAMPLES_PER_DIAMETER_TRANSIT, at least ``end_time`` [s] / AUTO_SAMPLES_MAX (module constants' comment)."""
+    return max(min(r.diameter_transit for r in rods) / SAMPLES_PER_DIAMETER_TRANSIT, end_time / AUTO_SAMPLES_MAX)
 
 
 def _last_per_key(overrides: Iterable[str]) -> tuple[str, ...]:
