@@ -228,6 +228,8 @@ NU_LOCKING = 0.49  # largest Poisson ratio of an "ok" FE run (Q1 locking beyond)
 # (steel rods at the schema's 100 m/s: 0.98%; a 1 MPa rod struck at 2.2 m/s: 20%, where the FE and analytical
 # forces differed 700x with status "ok") [-]
 SMALL_STRAIN = 1e-2
+# the remedy of a run too short for its contact or plateaus: the end time these rods need (rods.scene.auto_end_time)
+AUTO_END = "simulation.end_time = 'auto' runs the first contact and five periods 2 L2/c2 of these rods"
 TAIL_FRACTION = 0.01  # the level, of the peak force, below which the end of a contact is its tail [-]
 TAIL_OK = 40e-6  # longest tail of the first contact of an "ok" run (2% of it: 0.8 µs, inside AGREE_DURATION) [s]
 # a study's agreement, global FE against analytical (issue 13's verification targets, rods.study.verification)
@@ -658,7 +660,7 @@ def contact_warning(
     if metrics.first_contact_open(episodes, last):
         return (
             f"contact_duration: the first contact has not ended by end_time = {end_time:g} s (duration unknown, "
-            "written as null); lengthen simulation.end_time"
+            f"written as null); lengthen simulation.end_time ({AUTO_END})"
         )
     return None
 
@@ -699,7 +701,8 @@ def plateau_warning(
     runs = metrics.plateaus(t, v, floor=floor, gap=gap)
     if not runs:  # at a relative threshold only when it never moves forward: a slow Rod 2 or a short end_time
         return (
-            "midpoint_peak_speed: the midpoint does not move forward by end_time (null); lengthen simulation.end_time"
+            "midpoint_peak_speed: the midpoint does not move forward by end_time (null); lengthen simulation.end_time "
+            f"({AUTO_END})"
         )
     problems = []
     if len(runs) < metrics.PLATEAU_COUNT and t[-1] - t[0] >= metrics.PLATEAU_COUNT * period:
@@ -708,7 +711,7 @@ def plateau_warning(
             "the midpoint's motion has no flat plateaus here (short or stubby rods), a longer run will not help"
         )
     elif len(runs) < metrics.PLATEAU_COUNT:
-        problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time")
+        problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time ({AUTO_END})")
     shortest = min(r.stop - r.start for r in runs)
     level = metrics.plateau_level(np.asarray(v, float))
     fill = min(float(np.mean(v[r] >= level)) for r in runs)

@@ -9,7 +9,9 @@ the rise time δ_P/s1 it implies (rods.scene.Scene.estimated_rise):
   (:func:`rods.checks.rim_edge`, offset and tilt counted);
 * **yield**: Hertz's peak pressure at P against the paper's 1.1 S_y (rods.hertz.yield_check), per yield strength;
 * **bar theory**: the estimated rise against :data:`rods.checks.RISE_TRANSITS` diameter transits d/c of the
-  longer-transit rod.
+  longer-transit rod;
+* **end time**: a wave response whose end time holds fewer than :data:`rods.scene.END_PERIODS` periods 2 L2/c2
+  (the plateaus and the strain window: fewer plateaus than averaged, the run's warning).
 
 P bounds the analytical force from above and that force reaches it where it rises before a reflection returns
 (the paper scene's peak 1.3e-5 below it; a 6.5 mm tip at 0.5 m/s, rising longer, 5.3% below), so a rim or yield
@@ -25,6 +27,7 @@ from __future__ import annotations
 from typing import Any
 
 from rods import checks, hertz
+from rods.scene import END_PERIODS, auto_end_time
 
 __all__ = ["outlook"]
 
@@ -58,5 +61,12 @@ def outlook(scene: Any) -> list[str]:
             f"transits d/c (the bar-theory check: {checks.RISE_TRANSITS:g}): the 1D bars will miss the rods' ringing; "
             "expect the FE's peak above the analytical one by ~0.5% or more (the auto fe.axial_size is refined to "
             "follow the rise)"
+        )
+    periods = scene.end_time / scene.rod2.transit_time  # Rod 2's round trips 2 L2/c2 the run holds [-]
+    if "wave_response" in scene.effects and periods < END_PERIODS:
+        lines.append(
+            f"midpoint_peak_speed: end_time = {scene.end_time:g} s holds {periods:.2g} of the {END_PERIODS} periods "
+            "2 L2/c2 the wave response compares (the midpoint's plateaus, the strain window): simulation.end_time = "
+            f"'auto' runs {auto_end_time(scene.rods):.3g} s"
         )
     return lines

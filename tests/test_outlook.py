@@ -38,6 +38,24 @@ def test_a_near_flat_tip_foresees_the_rim_and_a_fast_rise(scene_with):
     assert "0.95 diameter transits" in lines[1]
 
 
+def test_a_run_too_short_for_the_wave_response_is_foreseen(scene_with):
+    """2 m rods at the paper's 1.5 ms: 1.9 of Rod 2's five periods, and the run warns of 3 of 5 plateaus; the line
+    names the auto end time (4.3 ms), which holds them (no line, no plateau warning); a contact-only scene is not
+    told (its global stops at the contact phase)."""
+    from rods.analytical import simulate
+
+    short = scene_with("rod1.length=2.0", "rod2.length=2.0")
+    (line,) = outlook(short)
+    assert line.startswith("midpoint_peak_speed: end_time = 0.0015 s holds 1.9 of the 5 periods") and "'auto'" in line
+    run = simulate(short)
+    s = dict(run.summary)
+    checks.apply(s, run.history, short, short.end_time)
+    assert any("of 5 plateaus within end_time" in w for w in s["warnings"])
+    auto = short.with_overrides("simulation.end_time='auto'")
+    assert outlook(auto) == [] and f"runs {auto.end_time:.3g} s" in line
+    assert outlook(short.with_overrides("effects=['contact_patch']")) == []
+
+
 def test_the_rim_line_is_the_rim_check_at_the_bound_force(scene_with):
     """The line appears exactly where checks.rim_edge of Hertz's radius at P passes checks.RIM_FRACTION: the tip
     radius that puts a_P at the threshold, 2% either side."""
