@@ -420,6 +420,7 @@ def fe_cost(
         every = stride(scene["fe.checkpoint_interval"], dt)
         wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
         files += 2 * (CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * values)  # the newer and the older
+    # (without the interval a run writes one checkpoint only when stopped, Ctrl-C or SIGTERM: a finished run none)
     if record_until is not None:
         cut = _cut_record_bytes(scene, dt, steps, record_until, record_every)
         memory, files = memory + CUT_RECORD_COPIES * cut, files + cut

@@ -646,7 +646,8 @@ def _wait_for(path: Path, text: str, timeout: float) -> None:
 )
 def test_interrupt_stops_every_rank_with_partial_histories(tmp_path, signum, group, ranks):
     """Ctrl-C at mpirun (hydra forwards SIGINT to the ranks), Ctrl-C at a terminal (the whole process group)
-    and SIGTERM to a serial run: every rank stops within 5 s, exit 130, the partial histories written.
+    and SIGTERM to a serial run: every rank stops within 5 s, exit 130, the partial histories and a checkpoint
+    written.
     (SIGTERM to hydra's mpirun itself ends the job by hydra's own cleanup: exit 15, nothing partial.)"""
     out, err = tmp_path / "out", tmp_path / "stderr"
     cmd = [str(PY), str(W / "global.py"), *TINY, "--set", "simulation.end_time=0.1"]
@@ -672,16 +673,18 @@ def test_interrupt_stops_every_rank_with_partial_histories(tmp_path, signum, gro
     assert "Traceback" not in err.read_text() and "interrupted" in err.read_text()
     assert (out / "history.csv").stat().st_size > 0
     assert not os.path.exists(out / "cut.h5")
+    # and a checkpoint at the stop itself, with no fe.checkpoint_interval: --restart resumes (the slow case below)
+    assert json.loads((out / "checkpoint.json").read_text())["step"] == s["failed_step"]
 
 
 @pytest.mark.mpi
 @pytest.mark.slow  # 25 s; the serial killed run's resume and the 2-rank interrupt are in the default suite
 def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(tmp_path):
-    """Ctrl-C under mpirun -n 2 with checkpoints on: a checkpoint at the stop; --restart completes the run
-    with the histories of an uninterrupted one."""
+    """Ctrl-C under mpirun -n 2, no periodic checkpoints (fe.checkpoint_interval 0, the default): a checkpoint at
+    the stop; --restart completes the run with the histories of an uninterrupted one."""
     from rods.io import read_history
 
-    args = [*TINY, "--set", "simulation.end_time=1e-3", "--set", "fe.checkpoint_interval=2.5e-4"]
+    args = [*TINY, "--set", "simulation.end_time=1e-3"]
     cmd = [str(MPIRUN), "-n", "2", str(PY), str(W / "global.py"), *args]
     ref, cut, err = tmp_path / "ref", tmp_path / "cut", tmp_path / "stderr"
     subprocess.run([*cmd, "--out", str(ref)], cwd=tmp_path, check=True, capture_output=True, timeout=300)

@@ -318,9 +318,10 @@ class ExplicitModel:
         if self.wants_fields() and out is not None and sc["fe.degree"] == 1:
             view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
             own.append(FieldOutput(self, out, sc.field_interval, view, step0))
-        stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together (a checkpoint first, if on)
-        if sc["fe.checkpoint_interval"] > 0 and out is not None:
-            every = checkpoint.stride(sc["fe.checkpoint_interval"], dt)
+        stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together, a checkpoint first
+        if out is not None:  # periodic checkpoints where fe.checkpoint_interval > 0; one at a stop in any case
+            interval = sc["fe.checkpoint_interval"]
+            every = checkpoint.stride(interval, dt) if interval > 0 else self.steps + 1  # [steps]
             if step0 == 0:  # afresh: an earlier run's checkpoint here is stale from now on
                 checkpoint.discard(out, self.comm)
             h = checkpoint.scene_hash(sc)  # the restart's pre-set-up check

@@ -102,8 +102,8 @@ def run_study(
     A guard's stop in an FE stage raises rods.fe.guards.SimulationError after writing that stage's partial
     histories. ``restart`` (a stopped study resumed): an FE stage finished in its folder for the same scene is
     kept (rods.study.stages.finished; the submodels only behind a kept driver, whose cut drove them), an
-    unfinished one resumes from its checkpoint where it has one (fe.checkpoint_interval > 0; not a global that
-    records the cut), the rest run; the analytical model and the comparison always run (seconds). Nothing is
+    unfinished one resumes from its checkpoint where it has one (its stop's, or fe.checkpoint_interval's; not a
+    global that records the cut), the rest run; the analytical model and the comparison always run (seconds). Nothing is
     written before the global's set-up has accepted the scene (:func:`_set_up_global`): a refused input leaves no
     half study and deletes nothing."""
     t0 = time.perf_counter()
