@@ -250,8 +250,8 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
 # midpoint's END_PERIODS periods 2 L2/c2 (the strain window and the plateaus the wave response compares,
 # rods.metrics.STRAIN_PERIODS and PLATEAU_COUNT; a test ties them) and END_CONTACT_ROUND_TRIPS round trips of the
 # slower rod (a first contact ends within them: the striker's wave returns after one). The paper's rods: 1.507 ms, the
-# 1.5 ms its Fig. 4 spans; it was 1.5 ms on every scene (a 2 m rod showed one of its five plateaus, 1 cm rods ran 40
-# times what they needed).
+# 1.5 ms its Fig. 4 spans; it was 1.5 ms on every scene (2 m rods: 1.9 of their five periods, 3 of 5 plateaus;
+# 3 cm rods ran 23 times the 64 µs they need).
 END_PERIODS = 5
 END_CONTACT_ROUND_TRIPS = 2
 END_MARGIN = 1.1  # [-]
@@ -263,8 +263,8 @@ SAMPLES_PER_DIAMETER_TRANSIT = 10
 AUTO_SAMPLES_MAX = 2e5  # ... and at most this many over the run (a soft rod's long run: its histories) [-]
 _SIMULATION_TIMES = ("simulation.end_time", "simulation.output_interval")  # "auto" resolved from the rods
 # field frames when the "fields" effect asks without fe.field_interval: this many a round trip 2 L/c of the rod whose
-# is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs; a 5 cm rod's
-# waves, crossing it in 10 µs, were one frame a transit at the 10 µs it was on every scene) [-] ...
+# round trip is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs;
+# a 5 cm rod's waves, crossing it in 10 µs, were one frame a transit at the 10 µs it was on every scene) [-] ...
 FIELD_FRAMES_PER_ROUND_TRIP = 10
 FIELD_FRAMES_DEFAULT_MAX = 400  # ... and at most this many over the run (a short rod's long run: its files) [-]
 PATCH_ELEMENTS = 4  # fe.radial_size = "auto": elements across the expected contact radius [-] (Scene.radial_size)
@@ -997,8 +997,10 @@ def auto_end_time(rods: tuple[Rod, Rod]) -> float:
 
 def auto_output_interval(rods: tuple[Rod, Rod], end_time: float) -> float:
     """``simulation.output_interval = "auto"`` [s]: the thinner rod's diameter transit d/c over
-    SAMPLES_PER_DIAMETER_TRANSIT, at least ``end_time`` [s] / AUTO_SAMPLES_MAX (module constants' comment)."""
-    return max(min(r.diameter_transit for r in rods) / SAMPLES_PER_DIAMETER_TRANSIT, end_time / AUTO_SAMPLES_MAX)
+    SAMPLES_PER_DIAMETER_TRANSIT, at least ``end_time`` [s] / AUTO_SAMPLES_MAX and at most the end time itself (a
+    run shorter than one sample: its start and end) (module constants' comment)."""
+    dt = max(min(r.diameter_transit for r in rods) / SAMPLES_PER_DIAMETER_TRANSIT, end_time / AUTO_SAMPLES_MAX)
+    return min(dt, end_time)
 
 
 def _last_per_key(overrides: Iterable[str]) -> tuple[str, ...]:

@@ -681,6 +681,7 @@ def test_the_auto_output_interval_samples_the_rods_ringing(scene_with):
     assert thin.output_interval == pytest.approx(thin.rod2.diameter_transit / SAMPLES_PER_DIAMETER_TRANSIT)
     long_run = auto.with_overrides("simulation.end_time=0.5")
     assert long_run.output_interval == pytest.approx(0.5 / AUTO_SAMPLES_MAX)
+    assert auto.with_overrides("simulation.end_time=1e-8").output_interval == 1e-8  # a run under one sample
     small = (
         "rod1.diameter=0.002",
         "rod2.diameter=0.002",
