@@ -243,6 +243,7 @@ def test_fields_only_when_asked(tmp_path):
     picture = json.loads((compare / "contact-fields.json").read_text())
     assert (compare / "contact-fields.png").stat().st_size > 20_000 and picture["time"] in times
     assert picture["peak_contact_pressure"] > 0 and picture["scene"] == s["scene"]
+    assert picture["field_interval"] == pytest.approx(interval)  # the effect's default (fe.field_interval is 0)
 
 
 def test_unknown_effect_is_exit_2(tmp_path):

@@ -51,7 +51,7 @@ from rods.fe import forms
 from rods.fe.explicit import CentralDifference
 from rods.metrics import PICTURE_PATCHES
 from rods.preflight import InputError
-from rods.scene import value_differences
+from rods.scene import scene_from_summary, value_differences
 
 __all__ = [
     "FIELD_NAMES",
@@ -479,7 +479,7 @@ def contact_picture(run: str | Path, out: str | Path) -> dict:
         "model": s["model"],
         "scene": s["scene"],
         "mesh": s["mesh"],
-        "field_interval": s["scene_values"]["fe"]["field_interval"],
+        "field_interval": scene_from_summary(s["scene_values"]).field_interval,  # [s] the fields effect's default too
     }
     io.write_data(out.with_suffix(".json"), data)
     return data
