@@ -40,8 +40,8 @@ def test_a_near_flat_tip_foresees_the_rim_and_a_fast_rise(scene_with):
 
 def test_a_run_too_short_for_the_wave_response_is_foreseen(scene_with):
     """2 m rods at the paper's 1.5 ms: 1.9 of Rod 2's five periods, and the run warns of 3 of 5 plateaus; the line
-    names the auto end time (4.3 ms), which holds them (no line, no plateau warning); a contact-only scene is not
-    told (its global stops at the contact phase)."""
+    names the auto end time (4.3 ms), which holds them (no line; tests/test_scene.py runs it); a contact-only scene
+    is not told (its global stops at the contact phase)."""
     from rods.analytical import simulate
 
     short = scene_with("rod1.length=2.0", "rod2.length=2.0")
