@@ -67,6 +67,6 @@ def outlook(scene: Any) -> list[str]:
         lines.append(
             f"midpoint_peak_speed: end_time = {scene.end_time:g} s holds {periods:.2g} of the {END_PERIODS} periods "
             "2 L2/c2 the wave response compares (the midpoint's plateaus, the strain window): simulation.end_time = "
-            f"'auto' runs {auto_end_time(scene.rods):.3g} s"
+            f"'auto' runs {auto_end_time(scene.rods, scene.speed):.3g} s"
         )
     return lines

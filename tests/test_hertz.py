@@ -283,3 +283,26 @@ def test_tangent_stiffness_is_the_derivative_of_the_force_approach_law():
     k = hertz.tangent_stiffness(F, E_star, R_star)
     np.testing.assert_allclose(k, fd, rtol=1e-8)
     np.testing.assert_allclose(k, 2 * E_star * hertz.contact_radius(F, E_star, R_star), rtol=1e-12)
+
+
+@pytest.mark.parametrize(("m", "v"), [(0.18, 2.197), (1e-3, 0.05), (20.0, 10.0)])  # [kg], [m/s]
+def test_rigid_impact_duration_is_the_hertz_oscillators_half_period(m, v):
+    """Johnson's t = 2.94 δ_m/v against the integrated rigid-body impact m δ'' = -K δ^{3/2}, δ(0) = 0, δ'(0) = v
+    (paper Eq. 8's force on two masses): the time δ returns to 0, to 1e-4."""
+    from scipy.integrate import solve_ivp
+
+    from rods.hertz import contact_stiffness, rigid_impact_duration
+
+    E_star, R_star = 110e9, 0.035  # [Pa], [m] the paper's steel on a flat, its 35 mm tip
+    K = contact_stiffness(E_star, R_star)
+
+    def rhs(_, y):
+        return [y[1], -K * max(y[0], 0.0) ** 1.5 / m]
+
+    def released(_, y):
+        return y[0]
+
+    released.terminal, released.direction = True, -1
+    t = rigid_impact_duration(m, v, E_star, R_star)
+    sol = solve_ivp(rhs, (0.0, 3 * t), [0.0, v], events=released, rtol=1e-11, atol=1e-18, max_step=t / 200)
+    assert sol.t_events[0][0] == pytest.approx(t, rel=1e-4)

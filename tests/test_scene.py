@@ -633,12 +633,29 @@ def test_the_auto_end_time_is_what_the_effects_need(scene_with):
     assert longer.end_time == pytest.approx(END_MARGIN * END_PERIODS * longer.rod2.transit_time)
     striker = auto.with_overrides("rod1.length=1.0", "rod2.length=0.1")  # the striker's round trips bound it
     assert striker.end_time == pytest.approx(END_MARGIN * END_CONTACT_ROUND_TRIPS * striker.rod1.transit_time)
-    assert auto_end_time((striker.rod1, striker.rod2)) == striker.end_time
+    assert auto_end_time((striker.rod1, striker.rod2), striker.speed) == striker.end_time
     with pytest.raises(SceneError, match="simulation.end_time 'auto'"):
         auto.with_overrides("rod1.length=0.01", "rod2.length=0.01", "rod1.diameter=0.004", "rod2.diameter=0.004",
                             "simulation.output_interval=1e-3")  # fmt: skip
     bare = {k: v for k, v in scene_with().as_dict(json_safe=False).items() if k != "simulation"}
     assert scene_from_dict(bare).end_time == auto.end_time  # a scene file without end_time: the default is auto
+
+
+def _material(n: int, rho: float, E: float, nu: float) -> tuple[str, ...]:
+    return (f"rod{n}.material.density={rho}", f"rod{n}.material.youngs_modulus={E}",
+            f"rod{n}.material.poisson_ratio={nu}", f"rod{n}.material.yield_strength=none")  # fmt: skip
+
+
+STUBBY_TUNGSTEN_ON_GLASS = (
+    "rod1.diameter=0.005672", "rod1.length=0.03608", "rod1.tip_radius=0.004478", *_material(1, 19300, 4e11, 0.28),
+    "rod2.diameter=0.02813", "rod2.length=0.06188", "rod2.tip_radius=0.1339", *_material(2, 2500, 7e10, 0.22),
+    "impact.speed=0.06099",
+)  # fmt: skip
+STUBBY_BRASS_ON_TUNGSTEN = (
+    "rod1.diameter=0.04291", "rod1.length=0.09499", "rod1.tip_radius=0.04671", *_material(1, 8500, 1e11, 0.34),
+    "rod2.diameter=0.01716", "rod2.length=0.04799", "rod2.tip_radius=0.109", *_material(2, 19300, 4e11, 0.28),
+    "impact.speed=0.3015",
+)  # fmt: skip
 
 
 @pytest.mark.parametrize(
@@ -648,11 +665,16 @@ def test_the_auto_end_time_is_what_the_effects_need(scene_with):
         ("rod1.length=1.0", "rod2.length=0.1"),  # a long striker onto a short rod: its round trips
         ("rod1.diameter=0.04", "rod1.tip_radius=0.05", "rod2.diameter=0.005", "rod2.length=0.5"),  # heavy striker
         ("rod1.material.youngs_modulus=70e9", "rod1.material.density=2700", "rod1.material.yield_strength=none"),
+        # two stubby pairs drawn at random whose slow Hertz contact (132 and 151 µs) outlasts the rods' round trips
+        # (16 to 54 µs): Hertz's rigid-body impact bounds it
+        STUBBY_TUNGSTEN_ON_GLASS,
+        STUBBY_BRASS_ON_TUNGSTEN,
     ],
 )
 def test_the_auto_end_time_holds_the_first_contact_and_the_strain_window(scene_with, overrides):
     """On scenes of other sizes and materials the analytical model run to the auto end time ends its first contact
-    and holds the midpoint's strain window: no warning asks for a longer end time."""
+    and holds the midpoint's strain window: no warning asks for a longer end time (on 260 more drawn pairs of six
+    materials, 2-50 mm thick, 0.05-10 m/s, /tmp script: none either)."""
     from rods import checks, metrics
     from rods.analytical import simulate
 
