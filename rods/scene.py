@@ -116,6 +116,9 @@ _RESOLVED = {
     "submodel.levels": "submodel_levels",
     "fe.submodel_length": "submodel_length",
 }
+# the keys whose value a record (Scene.as_dict, json_safe) holds resolved: the times and sizes the run used
+_RECORDED_RESOLVED = ("simulation.end_time", "simulation.output_interval", "fe.radial_size", "fe.axial_size",
+                      "fe.submodel_length")  # fmt: skip
 RESOLVED_KEYS = (*_RESOLVED, "fe.tip_grading")  # the keys whose "auto" follows from others (as_dict resolves them)
 
 
@@ -261,7 +264,6 @@ END_MARGIN = 1.1  # [-]
 # 0.4 µs, got under two samples) ...
 SAMPLES_PER_DIAMETER_TRANSIT = 10
 AUTO_SAMPLES_MAX = 2e5  # ... and at most this many over the run (a soft rod's long run: its histories) [-]
-_SIMULATION_TIMES = ("simulation.end_time", "simulation.output_interval")  # "auto" resolved from the rods
 # field frames when the "fields" effect asks without fe.field_interval: this many a round trip 2 L/c of the rod whose
 # round trip is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs;
 # a 5 cm rod's waves, crossing it in 10 µs, were one frame a transit at the 10 µs it was on every scene) [-] ...
@@ -865,9 +867,8 @@ class Scene:
             *parents, leaf = k.split(".")
             for p in parents:
                 node = node.setdefault(p, {})
-            resolved = ("fe.radial_size", "fe.axial_size", "fe.submodel_length", *_SIMULATION_TIMES)
-            if json_safe and k in resolved:
-                v = self[k]  # a record holds the size the run used ("auto" resolved)
+            if json_safe and k in _RECORDED_RESOLVED:
+                v = self[k]  # a record holds the time or size the run used ("auto" resolved)
             node[leaf] = "inf" if json_safe and isinstance(v, float) and math.isinf(v) else v
         out["station"] = [{"rod": s.rod, "position": s.position, "name": s.name} for s in self.stations[1:]]
         return out

@@ -404,9 +404,9 @@ def picture_window(points: np.ndarray, p: np.ndarray, three_d: bool) -> float:
     loaded node (``p`` > 0) from the patch's centre across the rods (axisymmetric: r, the centre on the axis; 3D:
     in the x-y plane, from the loaded nodes' mean); where no node is loaded, the mesh's half-width (the whole tip)."""
     loaded = p > 0
-    across = points[:, :1] if not three_d else points[:, :2] - (points[loaded, :2].mean(axis=0) if loaded.any() else 0)
     if not loaded.any():
-        return float(np.abs(across).max())
+        return float(np.abs(points[:, :1]).max())
+    across = points[:, :2] - points[loaded, :2].mean(axis=0) if three_d else points[:, :1]  # [m] from the centre
     return PICTURE_PATCHES * float(np.linalg.norm(across[loaded], axis=1).max())
 
 
@@ -418,14 +418,23 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float | None = Non
     contact centre are scaled so that the largest within the window is 5% of it (said in the title). The
     frame's time [s]. A series that is not the run's of the summary.json beside it is refused first
     (:func:`check_run`)."""
+    check_run(Path(xdmf).parent)
+    points, cells, frames = read_fields(xdmf)
+    t, d = _peak_frame(frames)
+    _draw(points, cells, t, d, png, window)
+    return float(t)
+
+
+def _peak_frame(frames: list[tuple[float, dict[str, np.ndarray]]]) -> tuple[float, dict[str, np.ndarray]]:
+    """The frame (time [s], fields) of the largest contact pressure."""
+    return max(frames, key=lambda f: f[1]["contact_pressure"].max())
+
+
+def _draw(points: np.ndarray, cells: np.ndarray, t: float, d: dict, png: str | Path, window: float | None) -> None:
+    """:func:`render_contact`'s picture of the frame ``d`` at time ``t`` [s] on the series' ``points`` and ``cells``."""
     from rods.io import offscreen_pyvista
 
-    check_run(Path(xdmf).parent)
-
     pv = offscreen_pyvista()
-
-    points, cells, frames = read_fields(xdmf)
-    t, d = max(frames, key=lambda f: f[1]["contact_pressure"].max())
     p = d["contact_pressure"][:, 0]
     u_c = d["displacement"][p > 0].mean(axis=0) if (p > 0).any() else np.zeros(3)
     du, x_c = d["displacement"] - u_c, 0.0  # x_c: the contact centre (axisymmetric: on the axis, r = 0)
@@ -452,7 +461,6 @@ def render_contact(xdmf: str | Path, png: str | Path, window: float | None = Non
     pl.link_views()
     pl.screenshot(str(png))
     pl.close()
-    return float(t)
 
 
 def _bar_format(largest: float) -> str:
@@ -467,13 +475,14 @@ def contact_picture(run: str | Path, out: str | Path) -> dict:
     (the frame: time, peak contact pressure and von Mises, the run's model, scene and mesh; REPORT.md renders it):
     workflows/contact_picture.py and a study's ``fields`` effect (rods.study.pipeline). The data."""
     run, out = Path(run), Path(out)
-    t = render_contact(run / "fields.xdmf", out.with_suffix(".png"))
-    _, _, frames = read_fields(run / "fields.xdmf")
-    d = next(f for tf, f in frames if tf == t)
+    check_run(run)
+    points, cells, frames = read_fields(run / "fields.xdmf")  # once: the picture and its data
+    t, d = _peak_frame(frames)
+    _draw(points, cells, t, d, out.with_suffix(".png"), None)
     s = json.loads((run / "summary.json").read_text(encoding="utf-8"))
     data = {
         "png": out.with_suffix(".png").name,
-        "time": t,
+        "time": float(t),
         "peak_contact_pressure": float(d["contact_pressure"].max()),
         "von_mises_max": float(d["von_mises"].max()),
         "model": s["model"],
