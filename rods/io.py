@@ -201,6 +201,13 @@ def read_history(path: str | Path) -> dict[str, np.ndarray]:
     return {h.split(" [")[0]: data[:, i] for i, h in enumerate(header)}
 
 
+def bar_format(largest: float) -> str:
+    """A colour bar's label format for values up to ``largest``: three significant digits at the top (MPa of a
+    steel patch, fractions of one of a soft scene's), no more decimals than that."""
+    digits = 0 if largest <= 0 else max(0, 2 - math.floor(math.log10(largest)))
+    return f"%.{digits}f"
+
+
 def offscreen_pyvista() -> Any:
     """pyvista set up for off-screen pictures on EGL (no X server): the one place that says so. Without the EGL
     default VTK probes X first and prints "bad X server connection" on every picture of a headless run."""

@@ -119,3 +119,10 @@ def test_the_commit_is_read_from_loose_and_packed_refs_and_a_detached_head(tmp_p
     (git / "HEAD").write_text("c" * 40 + "\n")  # detached
     assert _git_commit(git) == "c" * 40
     assert _git_commit(tmp_path / "none") is None
+
+
+def test_colour_bars_keep_three_significant_digits_at_any_magnitude():
+    """Field pictures' bars (the contact picture, Fig. 5c's disc): GPa of a steel patch, MPa of a soft scene's,
+    fractions of one; a bar of zeros (nothing loaded) without decimals."""
+    assert [io.bar_format(v) for v in (2228.0, 45.0, 3.2, 0.047, 0.0)] == ["%.0f", "%.1f", "%.2f", "%.4f", "%.0f"]
+    assert (io.bar_format(2.23) % 2.2284) == "2.23" and (io.bar_format(0.463) % 0.4629) == "0.463"

@@ -432,7 +432,7 @@ def _peak_frame(frames: list[tuple[float, dict[str, np.ndarray]]]) -> tuple[floa
 
 def _draw(points: np.ndarray, cells: np.ndarray, t: float, d: dict, png: str | Path, window: float | None) -> None:
     """:func:`render_contact`'s picture of the frame ``d`` at time ``t`` [s] on the series' ``points`` and ``cells``."""
-    from rods.io import offscreen_pyvista
+    from rods.io import bar_format, offscreen_pyvista
 
     pv = offscreen_pyvista()
     p = d["contact_pressure"][:, 0]
@@ -452,7 +452,7 @@ def _draw(points: np.ndarray, cells: np.ndarray, t: float, d: dict, png: str | P
     pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800))
     for col, (name, title) in enumerate((("von Mises [MPa]", "von Mises"), ("p [MPa]", "contact pressure"))):
         pl.subplot(0, col)
-        fmt = _bar_format(float(np.abs(grid.point_data[name]).max(initial=0.0)))
+        fmt = bar_format(float(np.abs(grid.point_data[name]).max(initial=0.0)))
         bar = dict(title=name, vertical=True, position_x=0.84, position_y=0.15, width=0.06, height=0.7, fmt=fmt)
         pl.add_mesh(grid, scalars=name, cmap="turbo", show_edges=col == 0, edge_color="gray", scalar_bar_args=bar)
         pl.add_text(f"{title}, t = {t * 1e6:.2f} µs, deformation x {factor:.3g}", font_size=10)
@@ -461,13 +461,6 @@ def _draw(points: np.ndarray, cells: np.ndarray, t: float, d: dict, png: str | P
     pl.link_views()
     pl.screenshot(str(png))
     pl.close()
-
-
-def _bar_format(largest: float) -> str:
-    """A colour bar's label format for values up to ``largest``: three significant digits at the top (MPa of a
-    steel patch, fractions of one of a soft scene's), no more decimals than that."""
-    digits = 0 if largest <= 0 else max(0, 2 - math.floor(math.log10(largest)))
-    return f"%.{digits}f"
 
 
 def contact_picture(run: str | Path, out: str | Path) -> dict:

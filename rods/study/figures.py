@@ -98,17 +98,23 @@ def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None
     th = np.linspace(0, 2 * np.pi, 181)
     keep = r <= R_disc
     rk, pk = r[keep], p[keep]
+    title = f"Fig. 5c: contact pressure on the Rod-1 tip at peak force ({s['peak_contact_force']:.0f} N)"
+    fmt = io.bar_format(float(np.abs(pk).max(initial=0.0)) / 1e9)
     try:
         pv = io.offscreen_pyvista()
         X = np.outer(rk, np.cos(th)) * 1e3
         Y = np.outer(rk, np.sin(th)) * 1e3
         grid = pv.StructuredGrid(X, Y, np.zeros_like(X))
         grid.point_data["p [GPa]"] = np.tile(pk / 1e9, th.size)  # points in Fortran order: r fastest
-        pl = pv.Plotter(off_screen=True, window_size=(800, 700))
-        pl.add_mesh(grid, scalars="p [GPa]", cmap="jet", show_edges=False)
+        pl = pv.Plotter(off_screen=True, window_size=(900, 760))
+        # the bar stands at the right, clear of the axes' labels (at the bottom it sat on the x labels)
+        bar = dict(title="p [GPa]\n", vertical=True, position_x=0.85, position_y=0.2, width=0.06, height=0.55)
+        pl.add_mesh(grid, scalars="p [GPa]", cmap="jet", show_edges=False, scalar_bar_args=bar | {"fmt": fmt})
+        pl.show_bounds(xtitle="x [mm]", ytitle="y [mm]", font_size=12, location="outer")
         pl.view_xy()
-        pl.add_text("Contact pressure on the Rod-1 tip at peak force (mm)", font_size=10)
-        pl.show_bounds(xtitle="x [mm]", ytitle="y [mm]", font_size=8)
+        pl.camera.parallel_projection = True
+        pl.camera.zoom(0.8)  # room for the axes' titles and the bar
+        pl.add_text(title, font_size=10)
         pl.screenshot(str(out / "fig5c-pressure.png"))
         pl.close()
     except Exception as e:  # no GL here: matplotlib fallback
@@ -126,6 +132,6 @@ def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
-        ax.set_title("Contact pressure on the Rod-1 tip at peak force (matplotlib fallback)")
+        ax.set_title(f"{title}, matplotlib fallback", fontsize=9)
         fig.savefig(out / "fig5c-pressure.png", dpi=150)
         plt.close(fig)
