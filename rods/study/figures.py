@@ -95,43 +95,42 @@ def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None
     fig.tight_layout()
     fig.savefig(out / "fig5c-profile.png", dpi=150)
     plt.close(fig)
-    th = np.linspace(0, 2 * np.pi, 181)
     keep = r <= R_disc
-    rk, pk = r[keep], p[keep]
-    title = f"Fig. 5c: contact pressure on the Rod-1 tip at peak force ({s['peak_contact_force']:.0f} N)"
-    fmt = io.bar_format(float(np.abs(pk).max(initial=0.0)) / 1e9)
+    _pressure_disc(out / "fig5c-pressure.png", r[keep], p[keep], s["peak_contact_force"])
+
+
+def _pressure_disc(png: Path, r: np.ndarray, p: np.ndarray, force: float) -> None:
+    """Fig. 5c's disc: the axisymmetric p(r) [Pa] at radii ``r`` [m] revolved about the axis (pyvista, off-screen;
+    matplotlib where VTK cannot render), titled with the ``force`` [N] it was taken at."""
+    th = np.linspace(0, 2 * np.pi, 181)
+    title = f"Fig. 5c: contact pressure on the Rod-1 tip at peak force ({force:.0f} N)"
+    fmt = io.bar_format(float(np.abs(p).max(initial=0.0)) / 1e9)
     try:
         pv = io.offscreen_pyvista()
-        X = np.outer(rk, np.cos(th)) * 1e3
-        Y = np.outer(rk, np.sin(th)) * 1e3
+        X, Y = np.outer(r, np.cos(th)) * 1e3, np.outer(r, np.sin(th)) * 1e3
         grid = pv.StructuredGrid(X, Y, np.zeros_like(X))
-        grid.point_data["p [GPa]"] = np.tile(pk / 1e9, th.size)  # points in Fortran order: r fastest
+        grid.point_data["p [GPa]"] = np.tile(p / 1e9, th.size)  # points in Fortran order: r fastest
         pl = pv.Plotter(off_screen=True, window_size=(900, 760))
         # the bar stands at the right, clear of the axes' labels (at the bottom it sat on the x labels)
-        bar = dict(title="p [GPa]\n", vertical=True, position_x=0.85, position_y=0.2, width=0.06, height=0.55)
-        pl.add_mesh(grid, scalars="p [GPa]", cmap="jet", show_edges=False, scalar_bar_args=bar | {"fmt": fmt})
+        bar = dict(title="p [GPa]\n", vertical=True, position_x=0.85, position_y=0.2, width=0.06, height=0.55, fmt=fmt)
+        pl.add_mesh(grid, scalars="p [GPa]", cmap="jet", show_edges=False, scalar_bar_args=bar)
         pl.show_bounds(xtitle="x [mm]", ytitle="y [mm]", font_size=12, location="outer")
         pl.view_xy()
         pl.camera.parallel_projection = True
         pl.camera.zoom(0.8)  # room for the axes' titles and the bar
         pl.add_text(title, font_size=10)
-        pl.screenshot(str(out / "fig5c-pressure.png"))
+        pl.screenshot(str(png))
         pl.close()
     except Exception as e:  # no GL here: matplotlib fallback
         print(f"fig5c: pyvista rendering failed ({type(e).__name__}: {e}); matplotlib fallback", file=sys.stderr)
-        T, Rg = np.meshgrid(th, rk)
+        plt = pyplot()
+        T, Rg = np.meshgrid(th, r)
         fig, ax = plt.subplots(figsize=(6, 5.5))
-        pc = ax.pcolormesh(
-            Rg * np.cos(T) * 1e3,
-            Rg * np.sin(T) * 1e3,
-            np.repeat(pk[:, None] / 1e9, th.size, 1),
-            cmap="jet",
-            shading="gouraud",
-        )
+        P = np.repeat(p[:, None] / 1e9, th.size, 1)
+        pc = ax.pcolormesh(Rg * np.cos(T) * 1e3, Rg * np.sin(T) * 1e3, P, cmap="jet", shading="gouraud")
         fig.colorbar(pc, label="p [GPa]")
-        ax.set_aspect("equal")
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("y [mm]")
-        ax.set_title(f"{title}, matplotlib fallback", fontsize=9)
-        fig.savefig(out / "fig5c-pressure.png", dpi=150)
+        ax.set(aspect="equal", xlabel="x [mm]", ylabel="y [mm]")
+        fig.suptitle(f"{title}\n(matplotlib: VTK could not render)", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(png, dpi=150)
         plt.close(fig)

@@ -249,3 +249,18 @@ def test_the_pressure_figures_show_the_patch_whatever_its_size(scene_with, tmp_p
     limits.clear()
     figures.fig6(tmp_path, [s | {"level": "fine", "element_size": 6.25e-5}], 0.3)
     assert limits[0] == (0, pytest.approx(PICTURE_PATCHES * s["hertz_at_own_force"]["contact_radius"] * 1e3))
+
+
+def test_fig5c_disc_is_drawn_by_matplotlib_where_vtk_cannot_render(scene_with, tmp_path, monkeypatch, capsys):
+    """A headless machine without EGL still gets Fig. 5c's disc (matplotlib), and says why on stderr."""
+    from rods import io
+    from rods.study import figures
+
+    def no_gl():
+        raise RuntimeError("no EGL device")
+
+    monkeypatch.setattr(io, "offscreen_pyvista", no_gl)
+    sc = scene_with()
+    figures.fig5c(tmp_path, _hertz_model(sc, 5560.0), *hertz.contact_constants(sc.rod1, sc.rod2))
+    assert (tmp_path / "fig5c-pressure.png").stat().st_size > 10_000
+    assert "matplotlib fallback" in capsys.readouterr().err
