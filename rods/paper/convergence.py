@@ -435,51 +435,72 @@ def _positive(x: Sequence[float], y: Sequence[float]) -> tuple[np.ndarray, np.nd
     return x[keep], y[keep]
 
 
+PLOT_COLUMNS = 3  # quantities a row of the figure: each has its error panel above its |e - e0| panel
+
+
 def plot(data: Mapping[str, Any], path: str | Path) -> None:
-    """Log-log, per quantity: |error| [%] against h with the least-squares fit |e0 + α h^p| (top), and the
-    discretisation error |e - e0| with α h^p, a line of slope p (bottom); one colour per model family."""
+    """Log-log, per quantity: |error| [%] against h with the least-squares fit |e0 + α h^p| (upper panel), and the
+    discretisation error |e - e0| with α h^p, a line of slope p (lower panel; where no family has a fit, the panel
+    says why instead); one colour per model family, h ticks at the levels' sizes."""
     plt = pyplot()
-    fig, axes = plt.subplots(2, len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 7.5), squeeze=False)
+    rows = 2 * -(-len(QUANTITIES) // PLOT_COLUMNS)
+    fig, grid = plt.subplots(rows, PLOT_COLUMNS, figsize=(5.2 * PLOT_COLUMNS, 3.4 * rows), squeeze=False)
+    panels = [
+        (grid[2 * (j // PLOT_COLUMNS), j % PLOT_COLUMNS], grid[2 * (j // PLOT_COLUMNS) + 1, j % PLOT_COLUMNS])
+        for j in range(len(QUANTITIES))
+    ]
+    for a in grid.flat[2 * len(QUANTITIES) :]:
+        a.set_axis_off()
+    notes: list[list[tuple[str, str]]] = [[] for _ in QUANTITIES]
     for c, (m, fam) in enumerate(data["models"].items()):
         colour, h = f"C{c}", np.array([lv["h"] for lv in fam["levels"]])
         hh = np.geomspace(h.min(), h.max(), 60)
         for j, q in enumerate(QUANTITIES):
+            top, bottom = panels[j]
             err = [lv["error_pct"][q] for lv in fam["levels"]]
-            axes[0, j].loglog(*_positive(h * 1e3, err), "o-", color=colour, lw=0.8, label=m)
+            top.loglog(*_positive(h * 1e3, err), "o-", color=colour, lw=0.8, label=m)
             e = fam["estimates"][q]["error_pct"] if fam["estimates"] and q in fam["estimates"] else None
             line = _fit_line(e, hh) if e else None
             if line is None:
-                why = e["branch"] if e else "under 3 levels"
-                axes[1, j].text(
-                    0.03,
-                    0.97 - 0.07 * c,
-                    f"{m}: {why}, no fit",
-                    color=colour,
-                    fontsize=8,
-                    transform=axes[1, j].transAxes,
-                    va="top",
-                )
+                notes[j].append((f"{m}: {e['branch'] if e else 'under 3 levels'}, no fit", colour))
                 continue
-            axes[0, j].loglog(*_positive(hh * 1e3, line), "--", color=colour, lw=1, label=f"{m} fit")
+            top.loglog(*_positive(hh * 1e3, line), "--", color=colour, lw=1, label=f"{m} fit")
             e0, p = _num(e["extrapolated"]), _num(e["order"])
-            axes[1, j].loglog(*_positive(h * 1e3, np.asarray(err) - e0), "o", color=colour)
-            axes[1, j].loglog(*_positive(hh * 1e3, line - e0), "--", color=colour, lw=1, label=f"{m}: p = {p:.2f}")
-    for a in axes[0]:  # where a fitted error crosses zero its |.| dips: keep the axis on the data
-        ys = [y for line in a.get_lines() if line.get_marker() == "o" for y in line.get_ydata()]
-        if ys:
-            a.set_ylim(bottom=min(ys) / 3)
-    for j, (label, *_rest, hk) in enumerate(QUANTITIES.values()):
-        vs = "analytical" if hk is None else "Hertz at own force"
-        axes[0, j].set(title=f"{label} vs {vs}", ylabel="|error| [%]")
-        axes[1, j].set(xlabel="element size at the contact h [mm]", ylabel="|e − e0| [%]")
-        for a in axes[:, j]:
-            a.grid(alpha=0.3, which="both")
-            if a.has_data():
-                a.legend(fontsize=7)
+            bottom.loglog(*_positive(h * 1e3, np.asarray(err) - e0), "o", color=colour)
+            bottom.loglog(*_positive(hh * 1e3, line - e0), "--", color=colour, lw=1, label=f"{m}: p = {p:.2f}")
+    sizes = sorted({lv["h"] * 1e3 for fam in data["models"].values() for lv in fam["levels"]})
+    for (top, bottom), (label, *_rest, hk), note in zip(panels, QUANTITIES.values(), notes, strict=True):
+        _dress(top, bottom, f"{label}\nvs {'analytical' if hk is None else 'Hertz at own force'}", sizes, note)
     fig.suptitle("Mesh convergence of the contact (least-squares fit e0 + α h^p over all levels)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _dress(top: Any, bottom: Any, title: str, sizes: Sequence[float], notes: Sequence[tuple[str, str]]) -> None:
+    """A quantity's two panels: title, labels, h ticks at the levels' ``sizes`` [mm] (minor log labels crowded a
+    sub-decade axis), the error axis kept on the data, the families without a fit listed on the lower panel."""
+    from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator
+
+    ys = [y for line in top.get_lines() if line.get_marker() == "o" for y in line.get_ydata()]
+    if ys:  # where a fitted error crosses zero its |.| dips: keep the axis on the data
+        top.set_ylim(bottom=min(ys) / 3)
+    top.set(title=title, ylabel="|error| [%]")
+    bottom.set(xlabel="element size at the contact h [mm]", ylabel="|e − e0| [%]")
+    for a in (top, bottom):
+        a.grid(alpha=0.3, which="both")
+        if a.has_data():
+            a.legend(fontsize=7)
+            a.xaxis.set_major_locator(FixedLocator(sizes))
+            a.xaxis.set_major_formatter(lambda x, _pos: f"{x:.3g}")
+            a.xaxis.set_minor_locator(NullLocator())
+            a.xaxis.set_minor_formatter(NullFormatter())
+            a.tick_params(axis="x", labelrotation=45, labelsize=7)
+    if not bottom.has_data():  # no family fitted this quantity: the reasons instead of empty axes
+        bottom.set_xticks([]), bottom.set_yticks([])
+        bottom.set(xlabel="", ylabel="")
+    for k, (text, colour) in enumerate(notes):
+        bottom.text(0.03, 0.95 - 0.09 * k, text, color=colour, fontsize=8, transform=bottom.transAxes, va="top")
 
 
 FILES = ("convergence.json", "convergence.md", "convergence.png")  # what write puts in its folder
