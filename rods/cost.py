@@ -54,9 +54,8 @@ from typing import Any
 import numpy as np
 
 from rods import hertz
-from rods.plan import cut_records
 from rods.preflight import InputError
-from rods.scene import Scene, SceneError
+from rods.scene import Scene, SceneError, cut_records
 from rods.stability import damping_factor, march_step, switching_step
 
 __all__ = [
@@ -464,7 +463,7 @@ def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: 
     node rows across each rod at its cut plane (2 BAND_ELEMENTS where the plane falls inside an element, as on five
     drivers measured: 316, 272, 252, 464 and 132 nodes, 4/5 of this count) of the global's columns
     (rods.fe.mesh.scene_columns; 3D: the O-grid section's nodes), times the records to ``until`` [s] every ``every``
-    steps (rods.plan.cut_records)."""
+    steps (rods.scene.cut_records)."""
     from rods.fe.cut import BAND_ELEMENTS
 
     rows = 2 * BAND_ELEMENTS + 1

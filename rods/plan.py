@@ -27,7 +27,6 @@ The recipe, defined once here and used by every door (``workflows/run.py``, ``gl
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -159,21 +158,6 @@ def submodel_size(
 
 def _phase(contact_end: float | None, end_time: float) -> float:
     return end_time if contact_end is None else min(end_time, CONTACT_MARGIN * contact_end)
-
-
-def cut_record_end(scene: Scene, record_until: float | None = None) -> float:
-    """The last time [s] a global of ``scene`` records the submodels' cut band: ``record_until`` (a global with
-    --record-cut), never past the run's end, default the end time (a driver records its whole run, the contact
-    phase). The recorder (rods.fe.cut.CutRecorder), the plan's cost and a restart's check of a kept record read it."""
-    return scene.end_time if record_until is None else min(record_until, scene.end_time)
-
-
-def cut_records(scene: Scene, dt: float, steps: int, record_until: float | None = None, every: int = 1) -> int:
-    """How many records of the cut band a global of ``scene`` marching ``steps`` steps of ``dt`` [s] keeps, one every
-    ``every`` steps from step 0: they cover [0, :func:`cut_record_end`], one past it, capped at the run's last step.
-    The recorder allocates this many (rods.fe.cut.CutRecorder) and the plan counts them (rods.cost)."""
-    until = cut_record_end(scene, record_until)
-    return min(int(math.ceil(until / (dt * every) - 1e-9)), steps // every) + 1
 
 
 def submodel_driver(scene: Scene, end_time: float | None = None) -> Scene:

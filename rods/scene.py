@@ -38,6 +38,8 @@ __all__ = [
     "auto_end_time",
     "auto_output_interval",
     "check_submodel_length",
+    "cut_record_end",
+    "cut_records",
     "impedance_force",
     "load_scene",
     "nearest_key",
@@ -1050,6 +1052,22 @@ def resolve_submodel_length(value: float | str, rods: Iterable[Rod]) -> float:
         return float(value)
     rods = tuple(rods)
     return min(SUBMODEL_DIAMETERS * max(rod.diameter for rod in rods), 0.5 * min(rod.length for rod in rods))
+
+
+def cut_record_end(scene: Scene, record_until: float | None = None) -> float:
+    """The last time [s] a global of ``scene`` records the submodels' cut band: ``record_until`` (a global with
+    --record-cut), never past the run's end, default the end time (a driver records its whole run, the contact
+    phase). The recorder (rods.fe.cut.CutRecorder), the plan's cost and a restart's check of a kept record read it."""
+    return scene.end_time if record_until is None else min(record_until, scene.end_time)
+
+
+def cut_records(scene: Scene, dt: float, steps: int, record_until: float | None = None, every: int = 1) -> int:
+    """How many records of the cut band a global of ``scene`` marching ``steps`` steps of ``dt`` [s] keeps, one every
+    ``every`` steps from step 0: they cover [0, :func:`cut_record_end`], one past it, capped at the run's last step.
+    The recorder allocates this many (rods.fe.cut.CutRecorder) and the plan counts them (rods.cost): beside the
+    scene, which both read, so that the FE recorder imports no planner."""
+    until = cut_record_end(scene, record_until)
+    return min(int(math.ceil(until / (dt * every) - 1e-9)), steps // every) + 1
 
 
 def check_submodel_length(L_s: float, rods: Iterable[Rod], caps: bool = True) -> None:

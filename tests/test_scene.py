@@ -719,3 +719,20 @@ def test_the_auto_output_interval_samples_the_rods_ringing(scene_with):
     }
     assert strain["'auto'"] == pytest.approx(strain["5e-9"], rel=1e-3)
     assert abs(strain["0.25e-6"] / strain["5e-9"] - 1) > 5e-3  # the paper's interval on these rods
+
+
+@pytest.mark.parametrize("every", [1, 3, 7])
+def test_the_cut_band_records_cover_the_recorded_time_and_no_step_past_the_run(every):
+    """rods.scene.cut_records (the recorder allocates, the plan prices): one record every ``every`` steps from step 0
+    over [0, the record's end], one past it so that a submodel's last step interpolates, never past the last step."""
+    from rods.scene import cut_record_end, cut_records
+
+    sc = load_scene(PAPER)
+    dt = 1e-7  # [s]
+    steps = int(sc.end_time / dt)
+    until = 2.5e-4  # [s] a driver's contact phase
+    n = cut_records(sc, dt, steps, until, every)
+    assert cut_record_end(sc, until) == until and cut_record_end(sc) == sc.end_time
+    assert (n - 1) * every * dt >= until - 1e-15 and (n - 2) * every * dt < until  # covers it, one record past
+    assert cut_records(sc, dt, steps, 1.0, every) == steps // every + 1  # past the end: capped at the run's steps
+    assert cut_record_end(sc, 1.0) == sc.end_time

@@ -54,8 +54,7 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe.model import ExplicitModel
-from rods.plan import cut_records
-from rods.scene import Scene, SceneError
+from rods.scene import Scene, SceneError, cut_records
 
 __all__ = [
     "BAND_ELEMENTS",

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from rods import checks, cost, io, plan
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, cut_record_end
 from rods.study import stages
 
 __all__ = ["Study", "run_study", "stage_costs"]
@@ -47,9 +47,7 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
     if p.submodel_levels:
         driver = plan.submodel_driver(scene, p.contact_phase)
         if not drives:
-            costs.append(
-                cost.fe_cost(driver, ranks, what="the driving global", record_until=plan.cut_record_end(driver))
-            )
+            costs.append(cost.fe_cost(driver, ranks, what="the driving global", record_until=cut_record_end(driver)))
         for lv in p.submodel_levels:
             # the user set no size for a level: submodel.levels (or its "auto") chose it, so a refusal names that
             remedy = f"submodel.levels without '{lv}' (the plan's: {', '.join(p.submodel_levels)})"

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from rods import checks, io, plan
-from rods.scene import SUBMODEL_PHASES, Scene
+from rods.scene import SUBMODEL_PHASES, Scene, cut_record_end
 
 __all__ = [
     "Comparison",
@@ -247,7 +247,7 @@ def kept_global(
 ) -> Stage | None:
     """The global stage of ``scene`` finished in ``out`` that a study's restart keeps (:func:`finished`; one that
     records the cut: with its record to ``record_until`` [s], default the end time), else None: it runs."""
-    cut_until = plan.cut_record_end(scene, record_until) if record_cut else None
+    cut_until = cut_record_end(scene, record_until) if record_cut else None
     return finished(name, out, scene, world(comm), cut_until, GLOBAL_IGNORES)
 
 
