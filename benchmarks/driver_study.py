@@ -111,7 +111,7 @@ def plot(curves: dict, analytical: dict, path: Path) -> None:
     for name, c in curves.items():
         ax.plot(np.asarray(c["time"]) * 1e6, np.asarray(c["force"]) / 1e3, lw=1, label=name)
     ax.set(xlim=(0, 230), xlabel="t [µs]", ylabel="contact force [kN]", title="submodel force, finest level")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="center right")  # beside the release, off the plateau the curves are compared on
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
