@@ -11,9 +11,9 @@ and DIR/compare/ (Table 3, Figs. 5c/6). DIR/summary.json holds the plan, the sta
 keys, each from the most refined model that computed it. Default DIR: output/run/<scene>.
 
 --restart resumes a study stopped by Ctrl-C, a guard or a lost job: the FE stages that finished in DIR for the
-same scene are kept, an unfinished one resumes from its checkpoint where it wrote one (fe.checkpoint_interval >
-0; not a global recording the cut), the rest run. Exit codes (workflows/_cli.py): 2 bad input, 1 when a guard
-stops a stage, 130 on Ctrl-C/SIGTERM.
+same scene are kept, an unfinished one resumes from its checkpoint (one at a Ctrl-C/SIGTERM stop, others every
+fe.checkpoint_interval > 0; not a global recording the cut), the rest run. Exit codes (workflows/_cli.py): 2 bad
+input, 1 when a guard stops a stage, 130 on Ctrl-C/SIGTERM.
 """
 
 from __future__ import annotations

@@ -9,8 +9,8 @@ driver's contact phase unless --end-time. A level is uniform at its size or, whe
 rod's section, graded outside it to the global's sizes (fe.radial_grading "auto", rods.fe.submodel.submodel_grading;
 --set "fe.radial_grading='uniform'" keeps it uniform, 'graded' grades it). Writes DIR/summary.json, history.csv,
 pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR output/submodel/<level>/<scene>.
-With fe.checkpoint_interval > 0 it checkpoints into DIR; --restart resumes there (same scene, level, rank count and
-cut record).
+A Ctrl-C/SIGTERM stop leaves a checkpoint in DIR (fe.checkpoint_interval > 0: one every interval too); --restart
+resumes there (same scene, level, rank count and cut record).
 """
 
 from __future__ import annotations

@@ -96,7 +96,7 @@ def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
             "--restart",
             str(out),
             f"no {MANIFEST} in this folder",
-            "run without --restart, with fe.checkpoint_interval > 0",
+            "run without --restart (a Ctrl-C/SIGTERM stop leaves a checkpoint; fe.checkpoint_interval > 0 for a kill)",
         )
     if int(meta["ranks"]) != ranks:
         raise CheckpointError(

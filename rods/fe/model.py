@@ -248,8 +248,8 @@ class ExplicitModel:
         Each step: the stepper (:class:`rods.fe.explicit.CentralDifference`), then the observers:
         ``observers`` first (they see u_n and v_{n+1/2} and may prescribe v, a driven submodel cut; one with
         ``external_work()`` enters the energy balance, history ``external_work``), then the recorder, the
-        guards (a SimulationError carrying the histories so far), checkpoints into ``out`` when
-        ``fe.checkpoint_interval`` > 0 (``restart=True`` resumes from the last one), fields into ``out``
+        guards (a SimulationError carrying the histories so far), checkpoints into ``out`` (one at a Ctrl-C/SIGTERM
+        stop, one every ``fe.checkpoint_interval`` > 0; ``restart=True`` resumes from the last one), fields into ``out``
         when the scene asks (a run afresh first removes an earlier run's there, :func:`rods.fe.fields.discard`;
         a restart appends to them), and ``progress(step, total, elapsed)``. An observer with ``state(step)`` and
         ``restore(state)`` (a submodel's cut driver) is checkpointed with the stepper and the recorder, and one with
