@@ -27,15 +27,39 @@ FIELDS = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_m
 PICTURE_PATCHES = 2.5
 
 
+def _summary(run: Path) -> dict:
+    """The run's summary.json beside its fields; {} where there is none (a run stopped before it) or unreadable."""
+    folder = run if run.is_dir() else run.parent
+    try:
+        s = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return s if isinstance(s, dict) else {}
+
+
+def _number(s: dict, key: str) -> float:
+    """``s[key]`` as a finite float, else NaN (absent, null)."""
+    try:
+        v = float(s[key])
+    except (KeyError, TypeError, ValueError):
+        return math.nan
+    return v if math.isfinite(v) else math.nan
+
+
 def window(run: Path, bounds: tuple[float, ...]) -> float:
     """Half-width of the view [m]: PICTURE_PATCHES x the run's contact radius (its summary.json beside the fields),
     else (a run stopped before its summary) the mesh's half-width across, the whole tip (``bounds``: the data's)."""
-    folder = run if run.is_dir() else run.parent
-    try:
-        a = float(json.loads((folder / "summary.json").read_text(encoding="utf-8"))["contact_radius"])
-    except (OSError, ValueError, KeyError, TypeError):
-        a = math.nan
-    return PICTURE_PATCHES * a if math.isfinite(a) and a > 0 else max(abs(bounds[0]), abs(bounds[1]))
+    a = _number(_summary(run), "contact_radius")
+    return PICTURE_PATCHES * a if a > 0 else max(abs(bounds[0]), abs(bounds[1]))
+
+
+def centre(run: Path) -> float:
+    """x [m] of the patch's centre on the section y = 0, where the view is centred: a 3D run's force-weighted contact
+    centroid at peak force (summary.json's contact_centroid_x, rods.fe.contact.PATCH_KEYS; an offset or tilted
+    impact's patch lies off the axis, beyond a few contact radii of it for an offset of a few radii), else 0: on the
+    axis (axisymmetric runs, centric impacts, a run stopped before its summary)."""
+    x = _number(_summary(run), "contact_centroid_x")
+    return x if math.isfinite(x) else 0.0
 
 
 def open_fields(path: Path, legacy: bool):
@@ -60,7 +84,7 @@ def frames(reader) -> list[tuple[float, list[str], float]]:
 
 def render(reader, t: float, scale: float, png: str, run: Path) -> None:
     """Warp by ``scale`` x displacement, colour by von Mises at time ``t``, camera on the contact (3D: the
-    section y = 0, seen from -y; axisymmetric: the (r, z) plane), :func:`window` either side of it."""
+    section y = 0, seen from -y, on :func:`centre`; axisymmetric: the (r, z) plane), :func:`window` either side."""
     from paraview import simple as pv
 
     bounds = reader.GetDataInformation().GetBounds()
@@ -78,8 +102,9 @@ def render(reader, t: float, scale: float, png: str, run: Path) -> None:
     shown.RescaleTransferFunctionToDataRange(False, True)
     shown.SetScalarBarVisibility(view, True)
     pv.GetScalarBar(pv.GetColorTransferFunction("von_mises"), view).Title = "von Mises [Pa]"
-    view.CameraPosition = [0, -1, 0] if three_d else [0, 0, 1]
-    view.CameraFocalPoint, view.CameraViewUp = [0, 0, 0], [0, 0, 1] if three_d else [0, 1, 0]
+    x_c = centre(run) if three_d else 0.0  # [m] the patch's centre (axisymmetric: r = 0, on the axis)
+    view.CameraPosition = [x_c, -1, 0] if three_d else [0, 0, 1]
+    view.CameraFocalPoint, view.CameraViewUp = [x_c, 0, 0], [0, 0, 1] if three_d else [0, 1, 0]
     view.CameraParallelProjection = 1
     view.CameraParallelScale = window(run, bounds)
     pv.SaveScreenshot(png, view, ImageResolution=[1200, 800])

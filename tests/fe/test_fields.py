@@ -301,3 +301,23 @@ def test_the_contact_picture_frames_the_patch_whatever_its_size(a):
     p3 = np.r_[np.ones(len(xy)), 0.0, 0.0]
     assert picture_window(hexes_pts, p3, three_d=True) == pytest.approx(PICTURE_PATCHES * a)
     assert picture_window(axi, np.zeros_like(p), three_d=False) == pytest.approx(20 * a)
+
+
+def test_the_paraview_view_is_centred_on_an_off_axis_patch(tmp_path):
+    """view.py centres a 3D run's section on the patch (it looked at the axis: a 3 mm offset's 1 mm patch fell
+    outside the 2.5 mm window): the run's force-weighted contact centroid at peak force, the summary key the
+    library writes (rods.fe.contact.PATCH_KEYS); on the axis without a summary or a centroid."""
+    import importlib
+    import json
+
+    from rods.fe.contact import PATCH_KEYS
+
+    view = importlib.import_module("view")
+    assert view.centre(tmp_path) == 0.0
+    (tmp_path / "summary.json").write_text(json.dumps({PATCH_KEYS[0]: 3.1e-3, "contact_radius": 1e-3}))
+    assert view.centre(tmp_path) == 3.1e-3 and view.centre(tmp_path / "fields.xdmf") == 3.1e-3
+    assert view.window(tmp_path, (0.0, 1.0)) == pytest.approx(view.PICTURE_PATCHES * 1e-3)
+    (tmp_path / "summary.json").write_text(json.dumps({PATCH_KEYS[0]: None}))
+    assert view.centre(tmp_path) == 0.0
+    (tmp_path / "summary.json").write_text("[1, 2]")  # not a summary: on the axis, the mesh's width
+    assert view.centre(tmp_path) == 0.0 and view.window(tmp_path, (-2e-3, 5e-3)) == 5e-3
