@@ -74,21 +74,28 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
 
 
 def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None:
-    """Contact pressure on the Rod-1 tip at peak force: the axisymmetric p(r) revolved into a disc (pyvista,
-    off-screen), and p(r) against Hertz at the same force (matplotlib), both out to PICTURE_PATCHES Hertz radii
-    at that force (they showed 2.5 mm, the paper's patch, on every scene)."""
-    plt = pyplot()
-    r, p = np.asarray(s["pressure_profile"]["r"]), np.asarray(s["pressure_profile"]["p"])
+    """Contact pressure on the Rod-1 tip at peak force: a map of it on the tip (pyvista, off-screen; the
+    axisymmetric p(r) revolved, a 3D run's nodes as they lie, its symmetry model mirrored whole) and p against
+    the distance from the patch's centre with Hertz at the same force (matplotlib), both out to PICTURE_PATCHES
+    Hertz radii at that force (they showed 2.5 mm, the paper's patch, on every scene). A 3D run's centre is its
+    contact centroid (an offset or tilted impact's patch lies off Rod 1's axis, from which its profile's r runs)."""
+    x, y, p = tip_pressure(s)
+    c = (float(s.get("contact_centroid_x") or 0.0), float(s.get("contact_centroid_y") or 0.0))  # [m] axisymmetric: 0
+    r = np.hypot(x - c[0], y - c[1])  # [m] from the patch's centre
     H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
     R_disc = PICTURE_PATCHES * H["contact_radius"]  # [m] shown radius: a few patch radii, whatever the scene's
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(r * 1e3, p / 1e9, "o-", ms=2, label=f"FE {s.get('level', 'global')}")
-    rr = np.linspace(0, r.max(), 500)
+    order = np.argsort(r)
+    three_d = "x" in s["pressure_profile"]
+    style = dict(marker="o", ms=2, ls="none" if three_d else "-")  # 3D: nodes at every angle, no line through them
+    ax.plot(r[order] * 1e3, p[order] / 1e9, **style, label=f"FE {s.get('level', 'global')}")
+    rr = np.linspace(0, R_disc, 500)
     ax.plot(
         rr * 1e3, hertz.pressure(rr, H["contact_radius"], H["peak_pressure"]) / 1e9, "k--", label="Hertz, same force"
     )
     ax.set_xlim(0, R_disc * 1e3)
-    ax.set_xlabel("r [mm]")
+    ax.set_xlabel("distance from the patch's centre [mm]" if three_d else "r [mm]")
     ax.set_ylabel("p [GPa]")
     ax.legend()
     ax.grid(alpha=0.3)
@@ -96,24 +103,43 @@ def fig5c(out: Path, s: Mapping[str, Any], E_star: float, R_star: float) -> None
     fig.savefig(out / "fig5c-profile.png", dpi=150)
     plt.close(fig)
     keep = r <= R_disc
-    _pressure_disc(out / "fig5c-pressure.png", r[keep], p[keep], s["peak_contact_force"])
+    _pressure_map(out / "fig5c-pressure.png", x[keep] * 1e3, y[keep] * 1e3, p[keep], s["peak_contact_force"])
 
 
-def _pressure_disc(png: Path, r: np.ndarray, p: np.ndarray, force: float) -> None:
-    """Fig. 5c's disc: the axisymmetric p(r) [Pa] at radii ``r`` [m] revolved about the axis (pyvista, off-screen;
-    matplotlib where VTK cannot render), titled with the ``force`` [N] it was taken at."""
-    th = np.linspace(0, 2 * np.pi, 181)
+def tip_pressure(s: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x [m], y [m], p [Pa]) on the Rod-1 tip at peak force, from a summary's ``pressure_profile``: the
+    axisymmetric p(r) revolved (every 2°, the axis once), a 3D run's nodes with its symmetry model mirrored whole
+    (half: about y = 0; quarter: about x = 0 and y = 0; rods.fe.mesh3d.QUADRANTS)."""
+    prof = s["pressure_profile"]
+    r, p = np.asarray(prof["r"], dtype=float), np.asarray(prof["p"], dtype=float)
+    if "x" not in prof:
+        th = np.linspace(0, 2 * np.pi, 180, endpoint=False)
+        on_axis = r == 0
+        x = np.r_[r[on_axis], np.outer(r[~on_axis], np.cos(th)).ravel()]
+        y = np.r_[r[on_axis] * 0, np.outer(r[~on_axis], np.sin(th)).ravel()]
+        return x, y, np.r_[p[on_axis], np.repeat(p[~on_axis], th.size)]
+    x, y = np.asarray(prof["x"], dtype=float), np.asarray(prof["y"], dtype=float)
+    symmetry = s.get("symmetry", "full")
+    for flip, planes in (((1, -1), ("half", "quarter")), ((-1, 1), ("quarter",))):
+        if symmetry in planes:
+            x, y, p = np.r_[x, flip[0] * x], np.r_[y, flip[1] * y], np.r_[p, p]
+    _, first = np.unique(np.round(np.c_[x, y], 12), axis=0, return_index=True)  # nodes on a plane once
+    return x[first], y[first], p[first]
+
+
+def _pressure_map(png: Path, x: np.ndarray, y: np.ndarray, p: np.ndarray, force: float) -> None:
+    """Fig. 5c's map: p [Pa] at points (``x``, ``y``) [mm] on the tip, triangulated (pyvista, off-screen; matplotlib
+    where VTK cannot render), titled with the ``force`` [N] it was taken at."""
     title = f"Fig. 5c: contact pressure on the Rod-1 tip at peak force ({force:.0f} N)"
     fmt = io.bar_format(float(np.abs(p).max(initial=0.0)) / 1e9)
     try:
         pv = io.offscreen_pyvista()
-        X, Y = np.outer(r, np.cos(th)) * 1e3, np.outer(r, np.sin(th)) * 1e3
-        grid = pv.StructuredGrid(X, Y, np.zeros_like(X))
-        grid.point_data["p [GPa]"] = np.tile(p / 1e9, th.size)  # points in Fortran order: r fastest
+        surface = pv.PolyData(np.c_[x, y, np.zeros_like(x)]).delaunay_2d()
+        surface.point_data["p [GPa]"] = p / 1e9  # delaunay_2d keeps the points and their order
         pl = pv.Plotter(off_screen=True, window_size=(900, 760))
         # the bar stands at the right, clear of the axes' labels (at the bottom it sat on the x labels)
         bar = dict(title="p [GPa]\n", vertical=True, position_x=0.85, position_y=0.2, width=0.06, height=0.55, fmt=fmt)
-        pl.add_mesh(grid, scalars="p [GPa]", cmap="jet", show_edges=False, scalar_bar_args=bar)
+        pl.add_mesh(surface, scalars="p [GPa]", cmap="jet", show_edges=False, scalar_bar_args=bar)
         pl.show_bounds(xtitle="x [mm]", ytitle="y [mm]", font_size=12, location="outer")
         pl.view_xy()
         pl.camera.parallel_projection = True
@@ -124,10 +150,8 @@ def _pressure_disc(png: Path, r: np.ndarray, p: np.ndarray, force: float) -> Non
     except Exception as e:  # no GL here: matplotlib fallback
         print(f"fig5c: pyvista rendering failed ({type(e).__name__}: {e}); matplotlib fallback", file=sys.stderr)
         plt = pyplot()
-        T, Rg = np.meshgrid(th, r)
         fig, ax = plt.subplots(figsize=(6, 5.5))
-        P = np.repeat(p[:, None] / 1e9, th.size, 1)
-        pc = ax.pcolormesh(Rg * np.cos(T) * 1e3, Rg * np.sin(T) * 1e3, P, cmap="jet", shading="gouraud")
+        pc = ax.tripcolor(x, y, p / 1e9, cmap="jet", shading="gouraud")
         fig.colorbar(pc, label="p [GPa]")
         ax.set(aspect="equal", xlabel="x [mm]", ylabel="y [mm]")
         fig.suptitle(f"{title}\n(matplotlib: VTK could not render)", fontsize=9)

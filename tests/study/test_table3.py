@@ -264,3 +264,48 @@ def test_fig5c_disc_is_drawn_by_matplotlib_where_vtk_cannot_render(scene_with, t
     figures.fig5c(tmp_path, _hertz_model(sc, 5560.0), *hertz.contact_constants(sc.rod1, sc.rod2))
     assert (tmp_path / "fig5c-pressure.png").stat().st_size > 10_000
     assert "matplotlib fallback" in capsys.readouterr().err
+
+
+def test_the_tip_pressure_map_revolves_an_axisymmetric_profile_and_mirrors_a_symmetry_model():
+    """rods.study.figures.tip_pressure: p(r) revolved every 2° with the axis node once; a 3D quarter model's nodes
+    mirrored about x = 0 and y = 0 and a half model's about y = 0 (rods.fe.mesh3d.QUADRANTS), a node on a
+    symmetry plane once; a full model's nodes as they lie."""
+    from rods.study.figures import tip_pressure
+
+    x, y, p = tip_pressure({"pressure_profile": {"r": [0.0, 1e-3, 2e-3], "p": [3.0, 2.0, 0.0]}})
+    assert x.size == 1 + 2 * 180 and np.allclose(np.hypot(x, y), np.r_[0.0, np.repeat([1e-3, 2e-3], 180)])
+    assert p[0] == 3.0 and set(p[1:181]) == {2.0}
+    quarter = {"x": [0.0, 1e-3, 0.0, 1e-3], "y": [0.0, 0.0, 1e-3, 1e-3], "p": [4.0, 3.0, 2.0, 1.0]}
+    prof = quarter | {"r": np.hypot(quarter["x"], quarter["y"]).tolist()}
+    x, y, p = tip_pressure({"pressure_profile": prof, "symmetry": "quarter"})
+    assert x.size == 9  # the axis node once, the plane nodes twice, the corner node four times
+    assert dict(zip(zip(x.round(6), y.round(6), strict=True), p, strict=True))[(-0.001, -0.001)] == 1.0
+    x, y, p = tip_pressure({"pressure_profile": prof, "symmetry": "half"})
+    assert x.size == 6 and y.min() == -1e-3 and x.min() == 0.0
+    assert tip_pressure({"pressure_profile": prof, "symmetry": "full"})[0].size == 4
+
+
+def test_fig5c_of_a_tilted_3d_run_is_centred_on_its_patch(scene_with, tmp_path, monkeypatch):
+    """A 3D run's Fig. 5c: p against the distance from the run's contact centroid (a tilted impact's patch lies
+    R1 sin θ off Rod 1's axis, from which the profile's r runs: against that r the Hertz comparison was off by the
+    offset), the map drawn around it."""
+    import matplotlib.axes
+
+    from rods.study import figures
+
+    sc = scene_with()
+    s = _hertz_model(sc, 5560.0)
+    a, p0 = s["contact_radius"], s["hertz_at_own_force"]["peak_pressure"]
+    xc = -0.35e-3  # [m] the patch's centre, off Rod 1's axis
+    g = np.linspace(-3 * a, 3 * a, 41)
+    X, Y = np.meshgrid(g + xc, g[g >= 0])  # a half model's nodes, y >= 0
+    P = hertz.pressure(np.hypot(X - xc, Y), a, p0)
+    s["pressure_profile"] = {"r": np.hypot(X, Y).ravel(), "x": X.ravel(), "y": Y.ravel(), "p": P.ravel()}
+    s |= {"symmetry": "half", "contact_centroid_x": xc, "contact_centroid_y": 0.0}
+    lines = []
+    original = matplotlib.axes.Axes.plot
+    monkeypatch.setattr(matplotlib.axes.Axes, "plot", lambda ax, *a_, **k: lines.append(a_) or original(ax, *a_, **k))
+    figures.fig5c(tmp_path, s, *hertz.contact_constants(sc.rod1, sc.rod2))
+    r_fe, p_fe = np.asarray(lines[0][0]) / 1e3, np.asarray(lines[0][1]) * 1e9  # [m], [Pa]
+    assert np.allclose(p_fe, hertz.pressure(r_fe, a, p0), atol=1e-6 * p0)  # on Hertz's curve about the centroid
+    assert (tmp_path / "fig5c-pressure.png").stat().st_size > 10_000
