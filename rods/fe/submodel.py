@@ -44,6 +44,7 @@ __all__ = [
     "submodel_grading",
     "submodel_name",
     "submodel_scene",
+    "contact_axis",
     "surface_gauss_stress",
 ]
 
@@ -164,17 +165,35 @@ def _rod1_frame(model: ExplicitModel, x: np.ndarray) -> tuple[np.ndarray, np.nda
     return np.hypot(c * dx - s * dz, x[..., 1]), s * dx + c * dz  # R_y(θ)^T (x - (e, 0, δz))
 
 
+def contact_axis(model: ExplicitModel) -> tuple[np.ndarray, np.ndarray]:
+    """(C, n) [m, -]: the 3D contact's axis, the line through C along the unit n that Hertz's radial coordinate
+    runs from: the line of the two tips' sphere centres (the common normal, through Rod 1's centre C1 =
+    R_y(θ)(0, 0, -R1) + (e, 0, δz); Rod 2's at (0, 0, R2)); a flat Rod 2: its face normal e_z through C1; a flat
+    Rod 1: its face normal R_y(θ) e_z through Rod 2's centre. A centric impact: the rods' axis. A tilted tip's patch
+    lies R1 sin θ off Rod 1's own axis (rods.scene.first_contact_offsets), about which σ_r was taken before."""
+    p = model.rm.placement
+    a1 = np.array([math.sin(p.tilt), 0.0, math.cos(p.tilt)])  # Rod 1's axis, towards Rod 2
+    apex = np.array([p.offset, 0.0, p.dz])
+    R1, R2 = model.scene.rod1.tip_radius, model.scene.rod2.tip_radius
+    C2 = np.array([0.0, 0.0, R2])
+    if math.isinf(R1):
+        return (apex, a1) if math.isinf(R2) else (C2, a1)  # two flat faces: Rod 1's axis (no Hertz)
+    C1 = apex - R1 * a1
+    n = np.array([0.0, 0.0, 1.0]) if math.isinf(R2) else (C2 - C1) / np.linalg.norm(C2 - C1)
+    return C1, n
+
+
 def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
     """σ_rr [Pa] at the Gauss points of the Rod-1 tip cells nearest the tip surface.
 
     For each cell on the Rod-1 tip face, σ_rr of the displacement ``u_owned`` is evaluated at the
     2^tdim Gauss points (reference coordinates ½ ± ½/√3 in each direction: 2x2 quadrilateral, 2x2x2
     hexahedron); the half closest to the surface z_s(r) = -(r_k - sqrt(r_k² - r²)) is kept (one layer:
-    the cells' reference axis normal to the tip runs along z on both meshes). σ_rr is σ[0, 0] in the
-    axisymmetric (r, θ, z) ordering and e_r·σ·e_r in 3D, e_r the unit radial vector from Rod 1's axis
-    (centric: e_r = (x, y, 0)/sqrt(x² + y²), radial in the x-y plane); r, z in Rod 1's own frame
-    (:func:`_rod1_frame`). Returns, on every rank, sorted by r: r [m], depth below the surface [m],
-    sigma_r [Pa].
+    the cells' reference axis normal to the tip runs along z on both meshes; r, z in Rod 1's own frame,
+    :func:`_rod1_frame`). σ_rr is σ[0, 0] in the axisymmetric (r, θ, z) ordering and e_r·σ·e_r in 3D, e_r the
+    unit radial vector from the contact's axis and r the distance from it (:func:`contact_axis`; centric:
+    e_r = (x, y, 0)/sqrt(x² + y²), radial in the x-y plane). Returns, on every rank, sorted by r: r [m], depth
+    below the surface [m], sigma_r [Pa].
     """
     msh, rm = model.V.mesh, model.rm
     fdim, tdim, gdim = msh.topology.dim - 1, msh.topology.dim, msh.geometry.dim
@@ -191,10 +210,10 @@ def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str,
     σ = forms.stress(forms.strain(uf, x, model.kind), model.mat.λ, model.mat.μ)
     if model.kind == "axisymmetric":
         s_rr = σ[0, 0]
-    else:  # radial about Rod 1's axis a = R_y(θ) e_z through its apex (e, 0, δz): the z axis if centric
-        p = model.rm.placement
-        a = ufl.as_vector([math.sin(p.tilt), 0.0, math.cos(p.tilt)])
-        d = x - ufl.as_vector([p.offset, 0.0, p.dz])
+    else:  # radial about the contact's axis (:func:`contact_axis`): the z axis if centric
+        C, n = contact_axis(model)
+        a = ufl.as_vector([float(v) for v in n])
+        d = x - ufl.as_vector([float(v) for v in C])
         ρ = d - ufl.dot(d, a) * a
         e_r = ρ / ufl.sqrt(ufl.dot(ρ, ρ))
         s_rr = ufl.dot(e_r, ufl.dot(σ, e_r))
@@ -206,9 +225,15 @@ def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str,
     else:
         S, P = np.zeros((0, n_g)), np.zeros((0, n_g, gdim))
     rk = model.scene.rod1.tip_radius
-    r, z = _rod1_frame(model, P)
-    zs = np.zeros_like(r) if math.isinf(rk) else -(rk - np.sqrt(rk * rk - r * r))
+    r1, z = _rod1_frame(model, P)  # the depth below the tip's surface, in Rod 1's own frame
+    zs = np.zeros_like(r1) if math.isinf(rk) else -(rk - np.sqrt(rk * rk - r1 * r1))
     depth = zs - z
+    if model.kind == "axisymmetric":
+        r = r1
+    else:  # [m] from the contact's axis, as e_r
+        C, n = contact_axis(model)
+        d = P - C
+        r = np.linalg.norm(d - (d @ n)[..., None] * n, axis=-1)
     near = np.argsort(depth, axis=1)[:, : n_g // 2]
     take = np.take_along_axis
     out = np.column_stack([take(r, near, 1).ravel(), take(depth, near, 1).ravel(), take(S, near, 1).ravel()])

@@ -172,6 +172,33 @@ def test_surface_gauss_stress_linear_field(kind):
     assert np.all((out["depth"] > 0.9 * g * 4e-3) & (out["depth"] < 1.02 * g * 4e-3))
 
 
+@pytest.mark.parametrize(("tilt", "R2"), [(0.0, math.inf), (0.02, math.inf), (0.02, 0.05)])
+def test_surface_gauss_stress_is_radial_about_the_contact_axis(tilt, R2):
+    """A tilted 3D impact: σ_r and r about the contact's axis (the line of the tips' sphere centres; a flat Rod 2:
+    its normal through Rod 1's centre), not about Rod 1's axis, which the patch lies R1 sin θ off (0.7 mm at
+    0.02 rad on the paper's tip, its patch 1.1 mm). u = a ρ + b (d·n) n about that axis gives σ_rr = 2(λ + μ) a + λ b
+    at every Gauss point (about Rod 1's axis it would not, for θ > 0); centric: Rod 1's axis, as before."""
+    from rods.fe.submodel import contact_axis
+
+    sets = [s for s in TINY["3d"] if "symmetry" not in s] + ["fe.symmetry='half'", f"impact.tilt={tilt}"]
+    m = ExplicitModel(submodel_scene(load_scene(PAPER, [*sets, f"rod2.tip_radius={R2}"]), 1e-3, 4e-3, end_time=1e-6))
+    C, n = contact_axis(m)
+    R1, p = m.scene.rod1.tip_radius, m.rm.placement
+    assert C == pytest.approx([p.offset - R1 * math.sin(tilt), 0.0, p.dz - R1 * math.cos(tilt)], abs=1e-12)
+    if math.isinf(R2):
+        assert n == pytest.approx([0.0, 0.0, 1.0])
+    else:  # the common normal leans back towards Rod 2's axis
+        assert n[0] > 0 and n == pytest.approx(([0, 0, R2] - C) / np.linalg.norm([0, 0, R2] - C))
+    a, b = 1e-4, -3e-4  # [-]
+    d = m.V.tabulate_dof_coordinates()[: m.n_local // m.bs] - C
+    along = d @ n
+    u = a * (d - along[:, None] * n) + b * along[:, None] * n
+    out = surface_gauss_stress(m, u.ravel())
+    λ, μ = m.scene.rod1.material.lame
+    assert out["r"].size > 0
+    assert np.allclose(out["sigma_r"], 2 * (λ + μ) * a + λ * b, rtol=1e-9)
+
+
 @pytest.fixture(scope="module")
 def global_dirs(tmp_path_factory):
     """kind -> output folder of `workflows/global.py --record-cut` on the tiny scene (run once per kind)."""
