@@ -110,8 +110,10 @@ def plot(curves: dict, analytical: dict, path: Path) -> None:
     ax.plot(analytical["time"] * 1e6, analytical["contact_force"] / 1e3, "k-", lw=2, label="analytical")
     for name, c in curves.items():
         ax.plot(np.asarray(c["time"]) * 1e6, np.asarray(c["force"]) / 1e3, lw=1, label=name)
-    ax.set(xlim=(0, 230), xlabel="t [µs]", ylabel="contact force [kN]", title="submodel force, finest level")
-    ax.legend(fontsize=7, loc="center right")  # beside the release, off the plateau the curves are compared on
+    top = float(np.max(analytical["contact_force"])) / 1e3  # [kN]
+    ax.set(xlim=(0, 230), ylim=(-0.05 * top, 1.55 * top), xlabel="t [µs]", ylabel="contact force [kN]")
+    ax.set_title("submodel force, finest level")
+    ax.legend(fontsize=6.5, ncol=2, loc="upper center")  # above the curves: the plateau and release stay in sight
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
