@@ -201,7 +201,7 @@ RELEASE = (150e-6, 220e-6)  # [s] the window of the release panels: the contact'
 def plot(data: dict, curves: list[dict], path: Path) -> None:
     scenes = list(SCENES)
     plt = pyplot()
-    fig, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4))
+    fig, axes = plt.subplots(1, len(scenes), figsize=(5.5 * len(scenes), 5.2))
     for ax, sc in zip(axes, scenes, strict=True):
         pairs = [(r, c) for r, c in zip(data["rows"], curves, strict=True) if r["scene"] == sc]
         ax.plot(pairs[0][1]["ta"] * 1e6, pairs[0][1]["Fa"] / 1e3, "k-", lw=2, label="analytical")
@@ -210,10 +210,11 @@ def plot(data: dict, curves: list[dict], path: Path) -> None:
         # the axis on the release (150-220 µs), not on the whole contact's 6 kN: the tails' differences are the point
         within = [c["F"][(c["t"] >= RELEASE[0]) & (c["t"] <= RELEASE[1])] for _r, c in pairs]
         top = max(float(np.max(F, initial=0.0)) for F in within)  # [N]
-        ax.set(xlim=np.multiply(RELEASE, 1e6), ylim=(-0.05 * top / 1e3, 1.6 * top / 1e3), xlabel="t [µs]")
+        ax.set(xlim=np.multiply(RELEASE, 1e6), ylim=(-0.05 * top / 1e3, 1.1 * top / 1e3), xlabel="t [µs]")
         ax.set(ylabel="contact force [kN]", title=f"release: {sc}")
-        ax.legend(fontsize=6.5, ncol=2, loc="upper right")
-    fig.tight_layout()
+    # one legend under both panels (the same settings in each): inside, eleven long labels hid the tails
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.22, 1, 1))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
