@@ -884,11 +884,12 @@ def _finer(row: Mapping[str, Any]) -> str:
 
 
 def _midpoint_check(
-    summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any, sampled: bool
+    summary: dict[str, Any], history: Mapping[str, np.ndarray], scene: Any, sampled: bool, driver: bool = False
 ) -> str | None:
     """The plateau check of ``midpoint_peak_speed`` (:func:`plateau_warning`; null when no plateau is found). Where
     the output interval samples the pulse (``sampled``, :func:`sampling_warning`) the plateaus' shape is the
-    sampling's, so the warning says that instead of blaming spikes or short rods."""
+    sampling's, so the warning says that instead of blaming spikes or short rods. A ``driver`` (the submodels'
+    driving global, run to the contact phase by the library) is told so: the end_time remedy was not its own."""
     mid = f"{scene.stations[0].name}_velocity"
     if mid not in history or "midpoint_peak_speed" not in summary:
         return None
@@ -899,6 +900,12 @@ def _midpoint_check(
         return None
     if not metrics.plateaus(history["time"], history[mid], floor=arrival, gap=gap):
         summary["midpoint_peak_speed"] = None
+    if driver:
+        return (
+            f"midpoint_peak_speed: a driving global runs the contact phase only (to {scene.end_time * 1e6:.4g} µs), "
+            "before most of the midpoint's plateaus, so its average is not the wave response's: that is the scene's "
+            "own global's (workflows/global.py without --driver, or a study whose effects have wave_response)"
+        )
     if sampled:
         why = "its plateaus are sampled, not resolved (simulation.output_interval, below)"
         return f"midpoint_peak_speed: {why}; the average is unreliable"
@@ -911,12 +918,14 @@ def apply(
     scene: Any,
     end_time: float,
     force: Mapping[str, np.ndarray] | None = None,
+    driver: bool = False,
 ) -> dict[str, Any]:
     """Run the checks on a finished run's ``summary`` (in place) and set ``status`` and ``warnings``;
     ``history`` holds time and the Rod-2 midpoint velocity (the plateaus); ``force`` (time, contact_force) the
     force the contact, duration, rise, reflection and rattle checks read, ``history``'s when None or empty: the
     analytical model passes its fine trace (rods.analytical.force_trace), its output grid may be coarser than the
-    contact (a 50 µs output interval read a 0 µs rise on the paper scene)."""
+    contact (a 50 µs output interval read a 0 µs rise on the paper scene). ``driver``: the run is the submodels'
+    driving global, stopped by the library after the contact phase (:func:`_midpoint_check`)."""
     found: list[str] = []
     force = force if force else history  # an empty trace: the history
     if (w := contact_warning(summary, end_time, force)) is not None:
@@ -925,7 +934,7 @@ def apply(
     elif (w := tail_warning(force)) is not None:
         found.append(w)
     sampled = sampling_warning(summary, scene)
-    if (w := _midpoint_check(summary, history, scene, sampled is not None)) is not None:
+    if (w := _midpoint_check(summary, history, scene, sampled is not None, driver)) is not None:
         found.append(w)
     for w in (
         bar_theory_warning(summary, force, scene),

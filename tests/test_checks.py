@@ -688,3 +688,18 @@ def test_local_quadratic_refuses_a_window_it_cannot_fit():
     for bad_n, size in ((4, 10), (1, 10), (11, 10)):  # even, too short a window, more than the samples
         with pytest.raises(ValueError, match="window"):
             checks.local_quadratic(np.zeros(size), bad_n)
+
+
+def test_a_driving_globals_plateau_warning_says_why_it_has_few(scene_with):
+    """A driver runs to the contact phase, which the library chose: its plateau warning says the wave response is
+    the scene's own global's (it named simulation.end_time = 'auto', a remedy the driver's user never had); a run
+    the user ended that early keeps the end_time remedy."""
+    sc = scene_with("simulation.end_time=2.5e-4")  # the paper scene's contact phase: 2 of 5 plateaus
+    r = simulate(sc)
+    own = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
+    driver = checks.apply(dict(r.summary), r.history, sc, sc.end_time, driver=True)
+    [mine] = [w for w in own["warnings"] if w.startswith("midpoint_peak_speed")]
+    [theirs] = [w for w in driver["warnings"] if w.startswith("midpoint_peak_speed")]
+    assert "simulation.end_time = 'auto'" in mine and "end_time" not in theirs
+    assert "contact phase only (to 250 µs)" in theirs and "without --driver" in theirs
+    assert driver["midpoint_peak_speed"] == own["midpoint_peak_speed"]  # the value stays, said for what it is
