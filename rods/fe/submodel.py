@@ -230,8 +230,7 @@ def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str,
     depth = zs - z
     if model.kind == "axisymmetric":
         r = r1
-    else:  # [m] from the contact's axis, as e_r
-        C, n = contact_axis(model)
+    else:  # [m] from the contact's axis (C, n above), as e_r
         d = P - C
         r = np.linalg.norm(d - (d @ n)[..., None] * n, axis=-1)
     near = np.argsort(depth, axis=1)[:, : n_g // 2]

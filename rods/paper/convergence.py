@@ -497,8 +497,7 @@ def _dress(top: Any, bottom: Any, title: str, sizes: Sequence[float], notes: Seq
             a.xaxis.set_minor_formatter(NullFormatter())
             a.tick_params(axis="x", labelrotation=45, labelsize=7)
     if not bottom.has_data():  # no family fitted this quantity: the reasons instead of empty axes
-        bottom.set_xticks([]), bottom.set_yticks([])
-        bottom.set(xlabel="", ylabel="")
+        bottom.set(xticks=[], yticks=[], xlabel="", ylabel="")
     for k, (text, colour) in enumerate(notes):
         bottom.text(0.03, 0.95 - 0.09 * k, text, color=colour, fontsize=8, transform=bottom.transAxes, va="top")
 
