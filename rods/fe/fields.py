@@ -63,6 +63,7 @@ __all__ = [
     "frame_count",
     "frame_schedule",
     "series_scene",
+    "surface_edges",
 ]
 
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
@@ -412,7 +413,7 @@ def picture_window(points: np.ndarray, p: np.ndarray, three_d: bool) -> float:
 
 def render_contact(xdmf: str | Path, png: str | Path, window: float | None = None) -> float:
     """Off-screen picture (pyvista on EGL: no X server) of the contact region at the frame of the largest
-    contact pressure: von Mises on the deformed mesh (left), the contact pressure on the tip nodes (right),
+    contact pressure: von Mises on the deformed mesh (left), the contact pressure along the tip faces (right),
     in the (r, z) plane (3D: the section y = 0), ``window`` [m] either side of the patch's centre (default
     :func:`picture_window`: a few contact radii, whatever the scene's patch). Displacements relative to the
     contact centre are scaled so that the largest within the window is 5% of it (said in the title). The
@@ -430,8 +431,21 @@ def _peak_frame(frames: list[tuple[float, dict[str, np.ndarray]]]) -> tuple[floa
     return max(frames, key=lambda f: f[1]["contact_pressure"].max())
 
 
+def surface_edges(points: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """The edges (node pairs) of a quadrilateral section's boundary, each once, without the axis r = 0 (an
+    axisymmetric mesh's boundary that is no surface): within the contact picture's window, the two tips' faces,
+    where the contact pressure, a surface traction, lives. ``quads``: nodes in order around each cell."""
+    edges = np.sort(np.stack([quads, np.roll(quads, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    pairs, count = np.unique(edges, axis=0, return_counts=True)
+    pairs = pairs[count == 1]  # an interior edge borders two cells
+    on_axis = np.abs(points[:, 0]) <= 1e-9 * (float(np.abs(points).max()) or 1.0)
+    return pairs[~on_axis[pairs].all(axis=1)]
+
+
 def _draw(points: np.ndarray, cells: np.ndarray, t: float, d: dict, png: str | Path, window: float | None) -> None:
-    """:func:`render_contact`'s picture of the frame ``d`` at time ``t`` [s] on the series' ``points`` and ``cells``."""
+    """:func:`render_contact`'s picture of the frame ``d`` at time ``t`` [s] on the series' ``points`` and ``cells``:
+    von Mises on the section's cells; the contact pressure, a nodal traction on the tip faces, along those faces
+    (:func:`surface_edges`) over the grey mesh, not smeared into the cells beside them."""
     from rods.io import bar_format, offscreen_pyvista
 
     pv = offscreen_pyvista()
@@ -445,22 +459,47 @@ def _draw(points: np.ndarray, cells: np.ndarray, t: float, d: dict, png: str | P
         x_c = float(points[p > 0, 0].mean()) if (p > 0).any() else 0.0  # an offset impact's patch is off the axis
     near = np.linalg.norm(points - [x_c, 0.0, 0.0], axis=1) < window
     factor = 0.05 * window / max(np.linalg.norm(du[near], axis=1).max(initial=0.0), 1e-300)
+    box = (x_c - window, x_c + window, -window, window, -1.0, 1.0)
     grid = pv.UnstructuredGrid({pv.CellType.QUAD: cells}, points + factor * du)
     grid.point_data["von Mises [MPa]"] = d["von_mises"][:, 0] / 1e6
-    grid.point_data["p [MPa]"] = p / 1e6
-    grid = grid.clip_box((x_c - window, x_c + window, -window, window, -1.0, 1.0), invert=False)
+    grid = grid.clip_box(box, invert=False)
+    faces = pv.UnstructuredGrid({pv.CellType.LINE: surface_edges(points, cells)}, points + factor * du)
+    faces.point_data["p [MPa]"] = p / 1e6
+    faces = faces.clip_box(box, invert=False)
     pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1600, 800))
-    for col, (name, title) in enumerate((("von Mises [MPa]", "von Mises"), ("p [MPa]", "contact pressure"))):
+    for col, (name, title, field) in enumerate(
+        (("von Mises [MPa]", "von Mises", grid), ("p [MPa]", "contact pressure on the tip faces", faces))
+    ):
         pl.subplot(0, col)
-        fmt = bar_format(float(np.abs(grid.point_data[name]).max(initial=0.0)))
+        fmt = bar_format(float(np.abs(field.point_data[name]).max(initial=0.0)))
         bar = dict(title=name, vertical=True, position_x=0.84, position_y=0.15, width=0.06, height=0.7, fmt=fmt)
-        pl.add_mesh(grid, scalars=name, cmap="turbo", show_edges=col == 0, edge_color="gray", scalar_bar_args=bar)
+        if col == 1:  # the section in grey under the faces' pressure
+            pl.add_mesh(grid, color="lightgray", show_edges=True, edge_color="gray")
+        pl.add_mesh(
+            field,
+            scalars=name,
+            cmap="turbo",
+            show_edges=col == 0,
+            edge_color="gray",
+            line_width=8 if col == 1 else None,  # [px] the faces as thick lines; the mesh edges thin
+            scalar_bar_args=bar,
+        )
         pl.add_text(f"{title}, t = {t * 1e6:.2f} µs, deformation x {factor:.3g}", font_size=10)
         pl.view_xy()
         pl.camera.parallel_projection = True
+        _clear_of_the_bar(pl.camera)
     pl.link_views()
     pl.screenshot(str(png))
     pl.close()
+
+
+def _clear_of_the_bar(camera) -> None:
+    """Zoom out to 80% and move the picture left by a tenth of the panel: a 3D section's square window filled the
+    panel and ran under the colour bar at its right (from 84% of the width on)."""
+    camera.zoom(0.8)
+    shift = 0.2 * camera.parallel_scale  # [m] a tenth of the visible width (square panels: 2 x the half-height)
+    camera.focal_point = np.add(camera.focal_point, (shift, 0.0, 0.0))
+    camera.position = np.add(camera.position, (shift, 0.0, 0.0))
 
 
 def contact_picture(run: str | Path, out: str | Path) -> dict:

@@ -321,3 +321,17 @@ def test_the_paraview_view_is_centred_on_an_off_axis_patch(tmp_path):
     assert view.centre(tmp_path) == 0.0
     (tmp_path / "summary.json").write_text("[1, 2]")  # not a summary: on the axis, the mesh's width
     assert view.centre(tmp_path) == 0.0 and view.window(tmp_path, (-2e-3, 5e-3)) == 5e-3
+
+
+def test_the_pressure_is_drawn_on_the_section_boundary_without_the_axis():
+    """rods.fe.fields.surface_edges: the contact picture draws the nodal contact pressure (a surface traction) along
+    the section's boundary edges, not interpolated into the cells beside the faces. A 2 x 2 block of quadrilaterals
+    at 0 <= r <= 2: 8 boundary edges, 2 of them on the axis r = 0 (no surface of an axisymmetric model)."""
+    from rods.fe.fields import surface_edges
+
+    r, z = np.meshgrid([0.0, 1.0, 2.0], [0.0, 1.0, 2.0])
+    points = np.stack([r.ravel(), z.ravel(), np.zeros(9)], axis=1)
+    quads = np.array([[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]])  # counter-clockwise
+    edges = {tuple(e) for e in surface_edges(points, quads).tolist()}
+    assert edges == {(0, 1), (1, 2), (2, 5), (5, 8), (7, 8), (6, 7)}  # bottom, right, top; not (0, 3), (3, 6)
+    assert {tuple(e) for e in surface_edges(points + [1.0, 0.0, 0.0], quads).tolist()} >= {(0, 3), (3, 6)}
