@@ -53,8 +53,8 @@ bench: venv
 	.venv/bin/mpirun -n $(NPROC) $(PY) benchmarks/submodel_probe.py
 
 lint: venv
-	.venv/bin/ruff format --check rods workflows tests benchmarks
-	.venv/bin/ruff check rods workflows tests benchmarks
+	.venv/bin/ruff format --check rods workflows tests benchmarks demos
+	.venv/bin/ruff check rods workflows tests benchmarks demos
 
 clean:
 	rm -rf output .pytest_cache
