@@ -128,6 +128,7 @@ from rods.scene import PEAK_FORCE_TARGET, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
 
 __all__ = [
     "AGREE_DURATION",
+    "PAPER_LAW_REMEDY",
     "AGREE_FORCE",
     "COARSE_OK",
     "VERIFY_ENERGY",
@@ -759,6 +760,16 @@ def average_unreliable(summary: Mapping[str, Any]) -> bool:
     return any(w.startswith("midpoint_peak_speed") for w in summary.get("warnings", []))
 
 
+# the agreement's remedy where the analytical model ran the paper's law by choice: the verification matrix's bands are
+# the default law's (a PEEK striker onto steel at 1.53 m/s: +1.70% / -9.5 µs against "hertz", +0.16% / -0.09 µs against
+# "hertz-rod", the same FE run; measured 2026-12-06)
+PAPER_LAW_REMEDY = (
+    "the analytical model ran the paper's half-space law (analytical.contact = 'hertz'), which leaves out the rods' "
+    "end correction the FE's rods carry, so its contact is softer; the bands are the default law's: compare with "
+    "analytical.contact = 'hertz-rod'"
+)
+
+
 def agreement_warnings(analytical: Mapping[str, Any], fe: Mapping[str, Any], waves: bool = False) -> list[str]:
     """Warnings when the global FE model's (``fe``, a summary) peak contact force or first contact duration is
     further from the analytical model's (``analytical``) than :data:`AGREE_FORCE` / :data:`AGREE_DURATION`; with
@@ -770,6 +781,8 @@ def agreement_warnings(analytical: Mapping[str, Any], fe: Mapping[str, Any], wav
         "one model is outside its range on this scene (the FE's mesh: compare a finer fe.radial_size/fe.axial_size; "
         "the analytical model's 1D bars and quasi-static Hertz: its own warnings); trust neither number alone"
     )
+    if analytical.get("contact_law") == "hertz" and not analytical.get("contact_law_warnings"):
+        remedy = PAPER_LAW_REMEDY  # chosen, not fallen back to (a patch as wide as the rods: its own warning)
     if Fa and Ff and abs(Ff / Fa - 1.0) > AGREE_FORCE:
         found.append(
             f"peak_contact_force: the global FE model's {Ff:.5g} N is {Ff / Fa - 1:+.2%} from the analytical model's "
