@@ -693,12 +693,18 @@ def tail_warning(history: Mapping[str, np.ndarray] | None) -> str | None:
 
 
 def plateau_warning(
-    t: np.ndarray, v: np.ndarray, period: float = math.inf, floor: float = 0.0, gap: float = 0.0
+    t: np.ndarray,
+    v: np.ndarray,
+    period: float = math.inf,
+    floor: float = 0.0,
+    gap: float = 0.0,
+    contact: float | None = None,
 ) -> str | None:
     """A warning when the plateaus behind ``midpoint_peak_speed`` are missing, too few or not flat; ``period`` [s]:
     Rod 2's round trip 2 L2/c2 (a run that spans enough of them and still has too few has no plateaus to find);
     ``floor`` [m/s]: the speed of the wave's arrival, ``gap`` [s]: the shortest dip between two plateaus
-    (rods.metrics.plateaus)."""
+    (rods.metrics.plateaus); ``contact`` [s]: the first contact's duration, which names the cause where it outlasts
+    the round trip (the pulse meets its own reflection at the midpoint: a soft Rod 2 struck by a stiffer rod)."""
     runs = metrics.plateaus(t, v, floor=floor, gap=gap)
     if not runs:  # at a relative threshold only when it never moves forward: a slow Rod 2 or a short end_time
         return (
@@ -707,9 +713,15 @@ def plateau_warning(
         )
     problems = []
     if len(runs) < metrics.PLATEAU_COUNT and t[-1] - t[0] >= metrics.PLATEAU_COUNT * period:
+        why = "short or stubby rods"
+        if contact is not None and contact >= period:
+            why = (
+                f"the first contact, {contact * 1e6:.4g} µs, outlasts Rod 2's round trip 2 L2/c2 = "
+                f"{period * 1e6:.4g} µs: its pulse meets its own reflection at the midpoint"
+            )
         problems.append(
             f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus in {(t[-1] - t[0]) / period:.0f} periods 2 L2/c2: "
-            "the midpoint's motion has no flat plateaus here (short or stubby rods), a longer run will not help"
+            f"the midpoint's motion has no flat plateaus here ({why}), a longer run will not help"
         )
     elif len(runs) < metrics.PLATEAU_COUNT:
         problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time ({AUTO_END})")
@@ -908,7 +920,7 @@ def _midpoint_check(
         return None
     period = scene.rod2.transit_time  # [s] 2 L2/c2
     arrival, gap = metrics.ARRIVAL * scene.speed, metrics.plateau_gap(scene.rod2)  # [m/s], [s]
-    w = plateau_warning(history["time"], history[mid], period, arrival, gap)
+    w = plateau_warning(history["time"], history[mid], period, arrival, gap, summary.get("contact_duration"))
     if w is None:
         return None
     if not metrics.plateaus(history["time"], history[mid], floor=arrival, gap=gap):

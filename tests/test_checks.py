@@ -57,6 +57,21 @@ def test_plateau_assumptions():
     assert "end_time" in checks.plateau_warning(t, np.zeros_like(t))  # the wave has not arrived
 
 
+def test_too_few_plateaus_name_a_contact_that_outlasts_rod_2s_round_trip():
+    """Past five periods with too few plateaus, a longer run cannot help; why: short or stubby rods, or (drawn by a
+    fuzz run: an aluminium striker onto a PEEK Rod 2 at 0.36 m/s, contact 347 µs against a 287 µs round trip) a
+    first contact longer than the round trip, whose pulse meets its own reflection at the midpoint."""
+    t = np.linspace(0, 1, 2001)
+    merged = np.minimum(t / 0.1, 1.0) * (1 + 0.02 * np.sin(2 * np.pi * 11 * t))  # one long, unbroken motion
+    period = 0.15  # [s] the round trip: the run spans 6.7 of them
+    w = checks.plateau_warning(t, merged, period)
+    assert "only 1 of 5 plateaus in 7 periods" in w and "(short or stubby rods)" in w
+    assert checks.plateau_warning(t, merged, period, contact=0.1) == w  # a contact shorter than the round trip
+    w = checks.plateau_warning(t, merged, period, contact=0.2)
+    assert "the first contact, 2e+05 µs, outlasts Rod 2's round trip 2 L2/c2 = 1.5e+05 µs" in w
+    assert "its pulse meets its own reflection at the midpoint" in w and "stubby" not in w
+
+
 def test_ringing_spikes_longer_than_a_few_samples_are_caught():
     """Plateaus at 1.0 whose fronts ring up to +18% for several samples (as an FE midpoint at 20 m/s: runs of
     6-23 samples above 0.9 x its largest speed): the relative threshold averages the spikes (+12%), so the run
