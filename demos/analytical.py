@@ -12,7 +12,7 @@ Two closed forms bound the peak force. The bars' stiff-contact limit, the impeda
 P = s1 Z1 Z2/(Z1 + Z2) (``rods.scene.impedance_force``), is reached where the contact is stiff next to the rods;
 Hertz's contact (K δ^3/2, paper Eq. 8) only lowers it, the more the softer the contact is against the rods, which
 ``Scene.stiffness_sensitivity`` S = ∂ln F/∂ln K measures before anything runs. On the paper's rods the peak force is
-P to 1e-5 at the paper's 2.197 m/s (S = 0.001) and 10% under it at 0.05 m/s (S = 0.27): a slow impact's peak rests
+P to 1.4e-5 at the paper's 2.197 m/s (S = 0.001) and 10% under it at 0.05 m/s (S = 0.27): a slow impact's peak rests
 on the contact (and needs a finer FE patch, ``rods.scene.Scene.radial_size``), a fast one's on the bars.
 """
 
