@@ -28,6 +28,7 @@ Sign conventions of the outputs: velocity along +z (the impact direction) positi
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
 import time
@@ -62,6 +63,16 @@ from rods.scene import Scene, SceneError
 
 __all__ = ["FEResult", "ExplicitModel"]
 
+# BLAS threads in the time loop: its dense work is the kinematic contact's LCP (a Cholesky of the active block, up to
+# hundreds of pairs on a 3D patch), too small to gain from threads; under mpirun each rank's OpenBLAS started as many
+# threads as the node has cores, and the oversubscribed threads made that factorisation ~300x slower: a 3D tilted
+# submodel (897k DOFs, blocks of 1-291 pairs) spent 23 s of a 3 µs run in 232 factorisations on each of 2 ranks,
+# 0.07 s serially; its loop ran ~2x slower on 2 ranks than on one, the study 9 min 6 s, now 2 min 36 s (2026-12-06)
+LOOP_BLAS_THREADS = 1
+try:  # pinned in requirements.txt; a bare install without it (a GPU machine's own Python) keeps the BLAS default
+    from threadpoolctl import threadpool_limits
+except ImportError:  # pragma: no cover
+    threadpool_limits = None
 CHECKPOINT_FORMAT = 2  # 2: the state after a step is (u_n, v_{n+1/2}) (deferred drift); 1 held u_{n+1}
 
 
@@ -265,7 +276,9 @@ class ExplicitModel:
             fields.discard(out, self.comm)
         own = self._observers(stepper, recorder, out, progress, step0, parts, key)
         recorder.start()
-        failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)
+        one_thread = threadpool_limits(LOOP_BLAS_THREADS, "blas") if threadpool_limits else contextlib.nullcontext()
+        with one_thread:  # the caller's setting is restored after the loop
+            failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)
         wall_loop = recorder.wall_before + self.comm.allreduce(time.perf_counter() - recorder.t_start, op=MPI.MAX)
         stepper.destroy()
         if failure is not None:  # keep what was recorded up to the failure, readable

@@ -634,3 +634,28 @@ def test_a_hemispherical_striker_converges_to_the_analytical_model_with_its_cap(
     F, limit = a["peak_contact_force"], 2 * fine - coarse
     assert abs(fine - F) < abs(coarse - F)
     assert abs(limit / F - 1) < 5e-3 and abs(limit / before.peak()[1] - 1) > 1e-2
+
+
+def test_the_time_loop_runs_on_one_blas_thread_and_gives_the_threads_back():
+    """rods.fe.model.LOOP_BLAS_THREADS: inside the loop every BLAS library the process loaded (NumPy's and SciPy's
+    OpenBLAS here) runs one thread, where the kinematic contact's dense LCP solves ran ~300x slower on oversubscribed
+    threads under mpirun (a 3D submodel: 23 s against 0.05 s in 232 factorisations); after the run, the caller's
+    setting again."""
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    seen = []
+
+    class BlasThreads:
+        def after_step(self, step, t, state):  # noqa: ARG002
+            if step == 1:
+                seen.extend(i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas")
+
+    def threads() -> list[int]:
+        return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+    with threadpool_limits(limits=2, user_api="blas"):  # a caller's own setting (this machine's 2 cores)
+        before = threads()
+        ExplicitModel(coarse("axisymmetric", "simulation.end_time=2e-6")).run(observers=[BlasThreads()])
+        after = threads()
+    assert seen and set(seen) == {1} and len(seen) == len(before)
+    assert after == before and max(before) > 1  # restored: the caller's setting
