@@ -50,7 +50,7 @@ sys.path.insert(0, str(ROOT / "workflows"))  # _cli: the entry points' one error
 import _cli  # noqa: E402
 from rods.fe import backend as backends  # noqa: E402
 from rods.fe import forms, matrixfree  # noqa: E402
-from rods.fe.model import ExplicitModel  # noqa: E402
+from rods.fe.model import ExplicitModel, loop_blas  # noqa: E402
 from rods.scene import Scene, load_scene  # noqa: E402
 
 SCENES = ROOT / "workflows" / "scenes"
@@ -89,14 +89,16 @@ def copy_rate(be: backends.Backend, mib: int = 256, reps: int = 5) -> float:
 
 
 def timed(be: backends.Backend, f, steps: int, warm: int = 5) -> float:
-    """Seconds per call of ``f()``, averaged over ``steps`` calls after ``warm`` calls (synchronised)."""
-    for _ in range(warm):
-        f()
-    be.synchronize()
-    t = time.perf_counter()
-    for _ in range(steps):
-        f()
-    be.synchronize()
+    """Seconds per call of ``f()``, averaged over ``steps`` calls after ``warm`` calls (synchronised), on the BLAS
+    threads of a run's loop (rods.fe.model.loop_blas: the host's LCP solves as a run makes them)."""
+    with loop_blas():
+        for _ in range(warm):
+            f()
+        be.synchronize()
+        t = time.perf_counter()
+        for _ in range(steps):
+            f()
+        be.synchronize()
     return (time.perf_counter() - t) / steps
 
 

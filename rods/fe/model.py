@@ -61,7 +61,7 @@ from rods.fe.recorder import Recorder, output_steps
 from rods.fe.timestep import time_step
 from rods.scene import Scene, SceneError
 
-__all__ = ["FEResult", "ExplicitModel"]
+__all__ = ["LOOP_BLAS_THREADS", "ExplicitModel", "FEResult", "loop_blas"]
 
 # BLAS threads in the time loop: its dense work is the kinematic contact's LCP (a Cholesky of the active block, up to
 # hundreds of pairs on a 3D patch), too small to gain from threads; under mpirun each rank's OpenBLAS started as many
@@ -73,6 +73,14 @@ try:  # pinned in requirements.txt; a bare install without it (a GPU machine's o
     from threadpoolctl import threadpool_limits
 except ImportError:  # pragma: no cover
     threadpool_limits = None
+
+
+def loop_blas() -> contextlib.AbstractContextManager:
+    """The time loop's BLAS threads (:data:`LOOP_BLAS_THREADS`) while the context lasts, the caller's after it: a
+    run's loop, and a benchmark's timed steps so that they time what a run does; a no-op without threadpoolctl."""
+    return threadpool_limits(LOOP_BLAS_THREADS, "blas") if threadpool_limits else contextlib.nullcontext()
+
+
 CHECKPOINT_FORMAT = 2  # 2: the state after a step is (u_n, v_{n+1/2}) (deferred drift); 1 held u_{n+1}
 
 
@@ -276,8 +284,7 @@ class ExplicitModel:
             fields.discard(out, self.comm)
         own = self._observers(stepper, recorder, out, progress, step0, parts, key)
         recorder.start()
-        one_thread = threadpool_limits(LOOP_BLAS_THREADS, "blas") if threadpool_limits else contextlib.nullcontext()
-        with one_thread:  # the caller's setting is restored after the loop
+        with loop_blas():  # the caller's setting is restored after the loop
             failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)
         wall_loop = recorder.wall_before + self.comm.allreduce(time.perf_counter() - recorder.t_start, op=MPI.MAX)
         stepper.destroy()
