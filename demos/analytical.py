@@ -23,6 +23,7 @@ from pathlib import Path
 
 from rods import analytical, hertz
 from rods.scene import PAPER_SCENE, impedance_force, load_scene
+from rods.study.figures import pyplot
 
 ROOT = Path(__file__).resolve().parents[1]
 SPEEDS = (0.05, 0.2, 1.0, 2.197, 5.0)  # [m/s] the paper's 2.197 among them
@@ -41,17 +42,14 @@ def main(out: Path = ROOT / "output" / "demos" / "analytical") -> dict:
     for s1, F, P, S, a in rows:
         print(f"{s1:8.4g}  {F:14.1f}  {P:21.1f}  {F / P:.5f}  {S:13.3g}  {a * 1e3:17.4f}")
     out.mkdir(parents=True, exist_ok=True)
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()  # matplotlib on Agg (files, no screen)
     fig, ax = plt.subplots(figsize=(5, 3.5))
     ax.semilogx([r[0] for r in rows], [r[1] / r[2] for r in rows], "o-")
     ax.set(xlabel="impact speed s1 [m/s]", ylabel="peak force / impedance bound P [-]", title="paper's rods")
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(out / "peak-force-bound.png", dpi=120)
+    plt.close(fig)
     print(f"wrote {out / 'peak-force-bound.png'}")
     paper = next(r for r in rows if r[0] == 2.197)
     return {"peak_contact_force": paper[1], "impedance_bound": paper[2], "slow_ratio": rows[0][1] / rows[0][2]}

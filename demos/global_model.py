@@ -29,6 +29,7 @@ from rods import analytical
 from rods.fe.model import ExplicitModel
 from rods.fe.probes import PointProbes
 from rods.scene import PAPER_SCENE, impedance_force, load_scene
+from rods.study.figures import pyplot
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -84,11 +85,7 @@ def main(out: Path = ROOT / "output" / "demos" / "global_model") -> dict:
             f"{numbers['free_end_rms_vs_bar']:.2%} RMS of it from 2 F(t - L2/c2)/Z2 on the FE's own force"
         )
         out.mkdir(parents=True, exist_ok=True)
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+        plt = pyplot()  # matplotlib on Agg (files, no screen)
         fig, ax = plt.subplots(figsize=(6, 3.5))
         ax.plot(t * 1e6, v, label="FE, Rod 2's free end (this observer)")
         ax.plot(t * 1e6, v_bar, "k--", lw=1, label="1D bars on the FE's force, 2 F(t - L2/c2)/Z2")
@@ -97,6 +94,7 @@ def main(out: Path = ROOT / "output" / "demos" / "global_model") -> dict:
         ax.legend(loc="center left", fontsize=8)
         fig.tight_layout()
         fig.savefig(out / "free-end-velocity.png", dpi=120)
+        plt.close(fig)
         print(f"wrote {out / 'free-end-velocity.png'}")
     return numbers
 
