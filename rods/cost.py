@@ -327,12 +327,14 @@ def _duration(s: float) -> str:
 def _mesh_axisymmetric(scene: Scene, h_r: float, h: float, g: float) -> tuple[float, float]:
     """(cells, DOFs) of ``scene``'s axisymmetric mesh (a global's, or a submodel's region, :func:`_submodel_region`)
     at sizes ``h_r``, ``h`` [m] and tip grading ``g``: the mesh module's own counts of both rods, as the mesher reads
-    the scene (fe.radial_grading, its bar size and core along: rods.scene.Scene.bar_axial_size, axial_core), 2 DOFs
+    the scene (fe.radial_grading, its bar size and core along: rods.scene.Scene.bar_axial_size, axial_core;
+    fe.radial_coarsening: rods.fe.mesh.coarsening_start), 2 DOFs
     per node."""
-    from rods.fe.mesh import mesh_counts
+    from rods.fe.mesh import coarsening_start, mesh_counts
 
     radial, core, h_bar, along = scene["fe.radial_grading"], scene.graded_core, scene.bar_axial_size, scene.axial_core
-    counts = [mesh_counts(rod, h_r, h, g, core, radial, h_bar, along) for rod in scene.rods]
+    start = coarsening_start(scene)
+    counts = [mesh_counts(rod, h_r, h, g, core, radial, h_bar, along, start) for rod in scene.rods]
     return float(sum(c for c, _ in counts)), 2.0 * sum(n for _, n in counts)
 
 

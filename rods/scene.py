@@ -58,6 +58,7 @@ FE_OPERATORS = ("assembled", "matrix-free")
 # the axisymmetric mesh across a rod (rods.fe.mesh.radial_columns): uniform at fe.radial_size, or that size in a core
 # around the patch (CORE_RADII x a_P) growing outward to the bar's size; auto grades where that halves a rod's elements
 RADIAL_GRADINGS = ("auto", "uniform", "graded")
+RADIAL_COARSENINGS = ("auto", "none")  # fe.radial_coarsening: rods.fe.mesh.coarsening
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
 # ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
@@ -332,6 +333,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # axisymmetric only (the 3D section is an O-grid at fe.radial_size): rods.fe.mesh.radial_columns; the submodels'
     # too, one for all levels (rods.fe.submodel.submodel_grading)
     "fe.radial_grading": ("str", "auto", _choice(RADIAL_GRADINGS)),
+    # axisymmetric global only: "auto" merges a rod's columns 3:1 along it, past its contact's zone and any submodel
+    # cut, down to the bar's size across (rods.fe.mesh.coarsening); "none": the columns run the rod's whole length
+    "fe.radial_coarsening": ("str", "auto", _choice(RADIAL_COARSENINGS)),
     # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
     # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
     "fe.degree": ("int", 1, _only(1, "the explicit model is Q1: row-sum lumped Q2 masses vanish on the axis")),

@@ -45,6 +45,9 @@ __all__ = [
     "element_sizes",
     "mesh_counts",
     "radial_columns",
+    "Coarsening",
+    "coarsening",
+    "coarsening_start",
 ]
 
 # Physical-group tags: cells by rod, facets by role.
@@ -83,6 +86,7 @@ class RodsMesh:
     graded: tuple[bool, bool]  # rod 1, rod 2 graded across (fe.radial_grading) [-]
     core_radius: float  # radius out to which the tip faces have h_radial [m] (inf: the whole face)
     h_rim: float  # the largest element size across, at the rims of graded rods [m] (0: uniform)
+    coarsened: tuple[Coarsening | None, Coarsening | None]  # rod 1, rod 2 (fe.radial_coarsening; None: none)
 
 
 @dataclass(frozen=True)
@@ -418,6 +422,93 @@ def _outside_columns(hr: float, H: float, core: float, R: float) -> tuple[Column
     return None
 
 
+# fe.radial_coarsening = "auto" (:func:`coarsening`): a rod's columns merge 3:1 from this many diameters of the thicker
+# rod from the tips [-], past the contact's Saint-Venant zone (about a diameter: there the tip's columns resolve the
+# patch's stresses) and, whichever is farther, a submodel's cut band (:func:`coarsening_start`)
+COARSEN_DIAMETERS = 2.0
+# three elements merge where their width is at most the bar's size H (:func:`bar_size`, at least BAR_ELEMENTS across
+# the radius), up to this round-off [-]: the paper rods' 24 elements of R/24 merge into 8 of R/8 = H
+MERGE_SLACK = 1e-6
+# a 3:1 template's inner nodes m1, m2 this many side elements' widths below its top (at most half way) [-]: its
+# slanted sides then meet the columns' at 45°; half way up, a 1 mm layer over 0.024 mm elements had 2.8° corners.
+# Either way the step stays the tip's (paper rods at 0.1 and 2.197 m/s, a hemispherical tip at 0.1: Δt_crit within
+# 3e-6 of the uncoarsened mesh's at 0.5, 1, 2 and 100, 2026-12-06)
+SLANT = 1.0
+
+
+@dataclass(frozen=True)
+class Coarsening:
+    """A rod's columns merged 3:1 along it (``fe.radial_coarsening``, :func:`coarsening`): after ``rows`` elements of
+    the uniform block, one layer an element long per entry of ``layers``, each the groups across it, axis to rim (3:
+    three elements merge into one in the 3:1 template of four quadrilaterals, :func:`_coarsening_layers`; 1: one
+    passes through), then the rest of the uniform block on the last layer's elements. ``radii``: the nodes across at
+    each station [m], the columns' own first; ``z``: the first layer's distance from the tip [m]."""
+
+    rows: int
+    layers: tuple[tuple[int, ...], ...]
+    radii: tuple[tuple[float, ...], ...]
+    z: float
+
+    @property
+    def cells(self) -> int:
+        """Quadrilaterals in the layers [-]."""
+        return sum(4 * g.count(3) + g.count(1) for g in self.layers)
+
+    @property
+    def n_far(self) -> int:
+        """Elements across past the layers [-]."""
+        return len(self.radii[-1]) - 1
+
+
+def _merged(sizes: np.ndarray, H: float) -> tuple[int, ...]:
+    """One layer's groups over elements of ``sizes`` [m], axis to rim: each next three whose width is at most ``H``
+    [m] (:data:`MERGE_SLACK`) merge, else one passes through."""
+    groups, i = [], 0
+    while i < len(sizes):
+        g = 3 if i + 3 <= len(sizes) and sizes[i : i + 3].sum() <= H * (1.0 + MERGE_SLACK) else 1
+        groups.append(g)
+        i += g
+    return tuple(groups)
+
+
+def coarsening(
+    rod: Rod, columns: tuple[Column, ...], h: float, spacing: AxialSpacing, start: float
+) -> Coarsening | None:
+    """The 3:1 merges (:class:`Coarsening`) of ``rod``'s ``columns`` from ``start`` [m] from its tip (inf: none) at
+    bar axial size ``h`` [m] (:func:`bar_size`) along its axial ``spacing``: layers until no three elements fit the
+    bar's size, starting in the uniform block at the first row boundary past ``start``. Why: the columns resolve the
+    patch at the tip, and a structured mesh runs them the rod's whole length; past the contact's zone a bar wave needs
+    only the bar's size across (what a graded rod's rim has, :func:`radial_columns`), so the paper rods' 24 columns
+    run 8 wide there (a 0.1 m/s patch's 36: 12). The step stays the tip's (the layers' elements are no narrower than
+    the columns they merge). None where nothing merges or the rod ends before the layers and a row past them."""
+    if not math.isfinite(start):
+        return None
+    radii = [np.concatenate(([0.0], np.cumsum(element_sizes(columns))[:-1], [rod.diameter / 2]))]
+    layers: list[tuple[int, ...]] = []
+    while 3 in (groups := _merged(np.diff(radii[-1]), bar_size(rod, h))):
+        layers.append(groups)
+        radii.append(radii[-1][np.concatenate(([0], np.cumsum(groups)))])
+    h_u = (rod.length - spacing.core_length - spacing.graded_length) / spacing.n_uniform  # [m]
+    rows = max(1, math.ceil((start - spacing.core_length - spacing.graded_length) / h_u - 1e-9))
+    if not layers or rows + len(layers) >= spacing.n_uniform:
+        return None
+    z = spacing.core_length + spacing.graded_length + rows * h_u  # [m]
+    return Coarsening(rows, tuple(layers), tuple(tuple(float(x) for x in r) for r in radii), z)
+
+
+def coarsening_start(scene: Scene) -> float:
+    """Where ``scene``'s axisymmetric global coarsens across (``fe.radial_coarsening`` "auto", :func:`coarsening`)
+    [m from each tip]: :data:`COARSEN_DIAMETERS` of the thicker rod, or past a submodel's cut band (fe.submodel_length
+    and the band's BAND_ELEMENTS axial elements, one more for margin) where that is farther, so a driving global's
+    cut sees the tip's columns; inf for "none" and the 3D model (an O-grid: no columns)."""
+    from rods.fe.cut import BAND_ELEMENTS  # lazy: the cut module builds on the model, which builds on this one
+
+    if scene["fe.radial_coarsening"] == "none" or scene["fe.kind"] != "axisymmetric":
+        return math.inf
+    band = scene.submodel_length + (BAND_ELEMENTS + 1) * scene["fe.axial_size"]
+    return max(COARSEN_DIAMETERS * max(r.diameter for r in scene.rods), band)
+
+
 def scene_columns(scene: Scene) -> tuple[tuple[Column, ...], tuple[Column, ...]]:
     """Both rods' columns (:func:`radial_columns`) on ``scene``'s global axisymmetric mesh."""
     hr, h, core, grading = (
@@ -461,24 +552,32 @@ def mesh_counts(
     radial: str = "uniform",
     h_bar: float | None = None,
     core_along: tuple[float, float] = (0.0, 0.0),
+    coarsen_from: float = math.inf,
 ) -> tuple[int, int]:
     """(cells, nodes) of one rod's mesh at radial size ``hr``, axial ``h`` [m], tip grading and radial grading
     ``radial`` around a core of radius ``core`` [m] (:func:`radial_columns`, its bar's size bounded by ``h_bar``,
     default ``h``: :attr:`rods.scene.Scene.bar_axial_size`; along, a graded submodel's ``core_along``,
-    :attr:`rods.scene.Scene.axial_core`; what the mesher makes). Nodes: a simply
-    connected quadrilateral mesh has V = F + E_b/2 + 1 (Euler's V - E + F = 1 with 4F = 2E - E_b), E_b its boundary
-    edges: the tip, the axis, the outer surface and the far end; with a butterfly cap the tip's arcs A-P-E, the axis
-    A-D-O and the shaft, the far end n_a + m wide."""
-    n_z = axial_spacing(rod, h, grading, *core_along).n
-    b, h_bar = butterfly(rod), h if h_bar is None else h_bar
+    :attr:`rods.scene.Scene.axial_core`), coarsened across from ``coarsen_from`` [m] (:func:`coarsening`); what the
+    mesher makes. Nodes: a simply connected quadrilateral mesh has V = F + E_b/2 + 1 (Euler's V - E + F = 1 with
+    4F = 2E - E_b), E_b its boundary edges: the tip, the axis, the outer surface and the far end; with a butterfly
+    cap the tip's arcs A-P-E, the axis A-D-O and the shaft, the far end as wide as the body's last station."""
+    sp = axial_spacing(rod, h, grading, *core_along)
+    n_z, b, h_bar = sp.n, butterfly(rod), h if h_bar is None else h_bar
+    columns = radial_columns(rod, hr, h_bar, core, radial)
+    n = sum(c.n for c in columns)
+    co = coarsening(rod, columns, h_bar, sp, coarsen_from)
+    # the body: n across over n_z rows, or n over the rows to the coarsening, its layers, n_far over the rest
+    body, far = n * n_z, n
+    if co is not None:
+        rest = sp.n_uniform - co.rows - len(co.layers)
+        body, far = n * (n_z - len(co.layers) - rest) + co.cells + co.n_far * rest, co.n_far
     if b is None:
-        n = sum(c.n for c in radial_columns(rod, hr, h_bar, core, radial))
-        cells, half_boundary = n * n_z, n + n_z
+        cells, boundary = body, n + far + 2 * n_z
     else:
         gb = graded_butterfly(rod, hr, h_bar, core, radial)
         n_a, n_b, m = butterfly_counts(b, hr) if gb is None else (gb.n_core + gb.n_g, gb.n_b, gb.m)
-        cells, half_boundary = (n_a + n_b) * m + n_a * n_b + (n_a + m) * n_z, n_a + n_b + m + n_z
-    return cells, cells + half_boundary + 1
+        cells, boundary = (n_a + n_b) * m + n_a * n_b + body, 2 * (n_a + n_b + m + n_z) - n + far
+    return cells, cells + boundary // 2 + 1
 
 
 def _butterfly_cap(geo, b: Butterfly, s: float, hr: float, gb: GradedButterfly | None) -> dict[str, Any]:
@@ -587,33 +686,124 @@ def _flat_block_cap(geo, rod: Rod, s: float, columns: tuple[Column, ...]) -> dic
     }  # the core's (the whole face's when uniform)
 
 
-def _column_block(geo, lower: list[list[int]], corners: list[int], columns, z_end: float, n: int, ratio: float):
+def _column_block(
+    geo, lower: list[list[int]], corners: list[int], columns, z_end: float, n: int, ratio: float, split: bool = False
+):
     """One axial block of a rod, from the station below (``lower``: each column's bottom curves; ``corners``: the
     points where the columns meet it, axis to rim) to ``z_end`` [m], ``n`` elements along by ``ratio``; returns its
-    surfaces, the axis and outer lines and the new station (tops, corners)."""
+    surfaces, the axis and outer lines and the new station (tops, corners). ``split``: the new station one line per
+    element (:func:`element_sizes`), where a coarsening's first layer (:func:`_coarsening_layers`) starts."""
     import gmsh
 
     radii = [0.0, *(c.r_end for c in columns)]
     upper = [geo.addPoint(r, z_end, 0.0) for r in radii]
     verticals = [geo.addLine(a, b) for a, b in zip(corners, upper, strict=True)]  # oriented away from the tip
-    tops = [geo.addLine(a, b) for a, b in zip(upper[:-1], upper[1:], strict=True)]
+    if split:  # each column's top as its elements' lines, their nodes where the column's progression puts them
+        nodes, tops = [upper[0]], []
+        for j, c in enumerate(columns):
+            inner = np.cumsum(element_sizes((Column(c.r_end - radii[j], c.n, c.ratio),)))[:-1] + radii[j]
+            column = [nodes[-1], *(geo.addPoint(float(r), z_end, 0.0) for r in inner), upper[j + 1]]
+            tops.append([geo.addLine(a, b) for a, b in zip(column[:-1], column[1:], strict=True)])
+            nodes += column[1:]
+    else:
+        tops = [[geo.addLine(a, b)] for a, b in zip(upper[:-1], upper[1:], strict=True)]
     surfaces = [
-        geo.addPlaneSurface([geo.addCurveLoop([*bottom, verticals[j + 1], -tops[j], -verticals[j]])])
+        geo.addPlaneSurface(
+            [geo.addCurveLoop([*bottom, verticals[j + 1], *(-t for t in tops[j][::-1]), -verticals[j]])]
+        )
         for j, bottom in enumerate(lower)
     ]
     geo.synchronize()
     for c in verticals:
         gmsh.model.geo.mesh.setTransfiniteCurve(c, n + 1, "Progression", ratio)
     for j, (surf, col) in enumerate(zip(surfaces, columns, strict=True)):
-        gmsh.model.geo.mesh.setTransfiniteCurve(tops[j], col.n + 1, "Progression", col.ratio)
-        if len(lower[j]) == 1:
+        for t in tops[j]:
+            gmsh.model.geo.mesh.setTransfiniteCurve(
+                t, 2 if split else col.n + 1, "Progression", 1.0 if split else col.ratio
+            )
+        if len(lower[j]) == 1 and not split:
             gmsh.model.geo.mesh.setTransfiniteSurface(surf)
-        else:  # a butterfly's rim line O-G-E is two curves: name the corners, G is none
+        else:  # a butterfly's rim line O-G-E or a split top is several curves: name the corners
             gmsh.model.geo.mesh.setTransfiniteSurface(
                 surf, "Left", [corners[j], corners[j + 1], upper[j + 1], upper[j]]
             )
         gmsh.model.geo.mesh.setRecombine(2, surf)
-    return surfaces, verticals[0], verticals[-1], [[t] for t in tops], upper
+    if split:
+        return surfaces, verticals[0], verticals[-1], [[t] for top in tops for t in top], nodes
+    return surfaces, verticals[0], verticals[-1], tops, upper
+
+
+def _coarsening_layers(geo, lower: list[list[int]], corners: list[int], co: Coarsening, z0: float, dz: float):
+    """The layers of a coarsening ``co`` (:class:`Coarsening`) from the split station ``lower``/``corners`` (one line
+    and point per element) at ``z0``, each ``dz`` long [m] (signed: away from the tip): a group of three elements
+    below meets one above in the 3:1 template of four quadrilaterals (nodes b0..b3 below, t0, t1 above, m1, m2 over
+    b1, b2 a side element's width below the top, :data:`SLANT`: b0 b1 m1 t0, b1 b2 m2 m1, b2 b3 t1 m2, m1 m2 t1
+    t0), a group of one passes through as one quadrilateral; every side between groups one line, so neighbours
+    conform. Returns the surfaces, the axis and
+    outer lines and the station above the last layer (one line and point per element)."""
+    import gmsh
+
+    surfaces, axis, outer, lines = [], [], [], []
+    for k, groups in enumerate(co.layers):
+        below, z1, zm = co.radii[k], z0 + (k + 1) * dz, z0 + (k + 0.5) * dz
+        top = [geo.addPoint(r, z1, 0.0) for r in co.radii[k + 1]]
+        starts = np.concatenate(([0], np.cumsum(groups)))  # each group's first element below
+        side = [geo.addLine(corners[i], t) for i, t in zip(starts, top, strict=True)]  # oriented away from the tip
+        roof = [geo.addLine(a, b) for a, b in zip(top[:-1], top[1:], strict=True)]
+        loops = []
+        for j, (i, g) in enumerate(zip(starts[:-1], groups, strict=True)):
+            if g == 1:
+                loops.append([lower[i][0], side[j + 1], -roof[j], -side[j]])
+                continue
+            m1, m2 = (geo.addPoint(below[i + q], z1 - math.copysign(min(abs(zm - z1), SLANT * w), dz), 0.0)
+                      for q, w in ((1, below[i + 1] - below[i]), (2, below[i + 3] - below[i + 2])))  # fmt: skip
+            b1m1, b2m2 = geo.addLine(corners[i + 1], m1), geo.addLine(corners[i + 2], m2)
+            m1m2, m1t0, m2t1 = geo.addLine(m1, m2), geo.addLine(m1, top[j]), geo.addLine(m2, top[j + 1])
+            lines += [b1m1, b2m2, m1m2, m1t0, m2t1]
+            loops += [
+                [lower[i][0], b1m1, m1t0, -side[j]],
+                [lower[i + 1][0], b2m2, -m1m2, -b1m1],
+                [lower[i + 2][0], side[j + 1], -m2t1, -b2m2],
+                [m1m2, m2t1, -roof[j], -m1t0],
+            ]
+        surfaces += [geo.addPlaneSurface([geo.addCurveLoop(loop)]) for loop in loops]
+        lines += side + roof
+        axis.append(side[0])
+        outer.append(side[-1])
+        lower, corners = [[r] for r in roof], top
+    geo.synchronize()
+    for c in lines:
+        gmsh.model.geo.mesh.setTransfiniteCurve(c, 2)
+    for surf in surfaces:
+        gmsh.model.geo.mesh.setTransfiniteSurface(surf)
+        gmsh.model.geo.mesh.setRecombine(2, surf)
+    return surfaces, axis, outer, lower, corners
+
+
+def _rod_body(geo, cap: dict[str, Any], columns, sp: AxialSpacing, co: Coarsening | None, z_far: float):
+    """A rod's body from its ``cap`` to its far end at ``z_far`` [m] (signed): the axial stations (a graded
+    submodel's core, the tip's graded block, then the uniform block), the uniform block in three where it coarsens
+    (``co``: to the first layer, split per element, the layers, the rest on the layers' last elements). Returns its
+    surfaces, axis and outer lines and the far end's station."""
+    s = math.copysign(1.0, z_far)
+    blocks = []  # (z_end [m], elements, ratio, split)
+    if sp.n_core:
+        blocks.append((s * sp.core_length, sp.n_core, 1.0, False))
+    if sp.n_graded:
+        blocks.append((s * (sp.core_length + sp.graded_length), sp.n_graded, sp.ratio, False))
+    z0, h_u = s * (sp.core_length + sp.graded_length), (abs(z_far) - sp.core_length - sp.graded_length) / sp.n_uniform
+    if co is not None:
+        blocks.append((z0 + s * co.rows * h_u, co.rows, 1.0, True))
+    blocks.append((z_far, sp.n_uniform - (0 if co is None else co.rows + len(co.layers)), 1.0, False))
+    lower, corners, surfaces, axis, outer = cap["rim"], cap["corners"], [], [], []
+    for i, (z_end, n, ratio, split) in enumerate(blocks):
+        if co is not None and i == len(blocks) - 1:  # the layers, then the rest on their last elements
+            surfs, a, o, lower, corners = _coarsening_layers(geo, lower, corners, co, z0 + s * co.rows * h_u, s * h_u)
+            surfaces, axis, outer = surfaces + surfs, axis + a, outer + o
+            columns = tuple(Column(r, 1) for r in co.radii[-1][1:])
+        surfs, a, o, lower, corners = _column_block(geo, lower, corners, columns, z_end, n, ratio, split)
+        surfaces, axis, outer = surfaces + surfs, axis + [a], outer + [o]
+    return surfaces, axis, outer, lower
 
 
 def _build_gmsh_model(scene: Scene):  # rank 0 only
@@ -625,7 +815,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     geo = gmsh.model.geo
     surfaces, tips, ends, axes, outers = {}, {}, {}, {}, {}
     info = {}
-    graded_columns = scene_columns(scene)
+    graded_columns, start = scene_columns(scene), coarsening_start(scene)
     for k, (rod, s) in enumerate(((scene.rod1, -1.0), (scene.rod2, 1.0)), start=1):
         sp = axial_spacing(rod, h, g, *scene.axial_core)
         b = butterfly(rod)
@@ -635,22 +825,16 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
             cap = _butterfly_cap(geo, b, s, hr, gb)
         else:
             cap = _flat_block_cap(geo, rod, s, columns)
-        lower, corners = cap["rim"], cap["corners"]
-        # axial stations: a graded submodel's core, optional graded block, then the uniform block to the far end
-        blocks = []
-        if sp.n_core:
-            blocks.append((s * sp.core_length, sp.n_core, 1.0))
-        if sp.n_graded:
-            blocks.append((s * (sp.core_length + sp.graded_length), sp.n_graded, sp.ratio))
-        blocks.append((s * rod.length, sp.n_uniform, 1.0))
-        surfaces[k], axis_curves, outer_curves = list(cap["surfaces"]), list(cap["axis"]), []
-        for z_end, n, ratio in blocks:
-            surfs, axis, outer, lower, corners = _column_block(geo, lower, corners, columns, z_end, n, ratio)
-            surfaces[k] += surfs
-            axis_curves.append(axis)
-            outer_curves.append(outer)
-        tips[k], ends[k], axes[k], outers[k] = cap["tip"], [c[0] for c in lower], axis_curves, outer_curves
-        info[k] = (sum(c.n for c in columns), sp, cap.get("h_tip", sp.h_tip), cap["h_face"], columns)
+        co = coarsening(rod, columns, scene.bar_axial_size, sp, start)
+        surfs, axis_curves, outer_curves, lower = _rod_body(geo, cap, columns, sp, co, s * rod.length)
+        surfaces[k] = list(cap["surfaces"]) + surfs
+        tips[k], ends[k], axes[k], outers[k] = (
+            cap["tip"],
+            [c[0] for c in lower],
+            cap["axis"] + axis_curves,
+            outer_curves,
+        )
+        info[k] = (sum(c.n for c in columns), sp, cap.get("h_tip", sp.h_tip), cap["h_face"], columns, co)
     geo.synchronize()
     for k in (1, 2):
         gmsh.model.addPhysicalGroup(2, surfaces[k], TAGS[f"rod{k}"], name=f"rod{k}")
@@ -706,6 +890,7 @@ def build_mesh(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh:
         graded=graded,  # type: ignore[arg-type]
         core_radius=min((info[k][4][0].r_end for k in (1, 2) if graded[k - 1]), default=math.inf),
         h_rim=max((float(element_sizes(info[k][4]).max()) for k in (1, 2) if graded[k - 1]), default=0.0),
+        coarsened=(info[1][5], info[2][5]),
     )
 
 

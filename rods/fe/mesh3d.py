@@ -280,6 +280,7 @@ def build_mesh_3d(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> RodsMesh3D:
         graded=(False, False),  # an O-grid at fe.radial_size (fe.radial_grading is axisymmetric only)
         core_radius=math.inf,
         h_rim=0.0,
+        coarsened=(None, None),  # fe.radial_coarsening is axisymmetric only (no columns in an O-grid)
         n_core=i1["n_c"],
         symmetry=symmetry,
         multiplicity=MULTIPLICITY[symmetry],

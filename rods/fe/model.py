@@ -452,13 +452,16 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
 
 
 def _grading_text(rm: RodsMesh) -> str:
-    """The plan's words for a radially graded mesh (rods.fe.mesh.radial_columns): which rods, core, largest size."""
-    if not any(rm.graded):
-        return ""
-    return (
-        f"; {graded_words(rm.graded)} graded across outside r = {rm.core_radius * 1e3:.4g} mm, up to "
-        f"{rm.h_rim * 1e3:.4g} mm at the rim"
-    )
+    """The plan's words for a radially graded mesh (rods.fe.mesh.radial_columns): which rods, core, largest size; and
+    for a coarsened one (rods.fe.mesh.coarsening) where its columns merge into how many."""
+    text = ""
+    if any(rm.graded):
+        text = (
+            f"; {graded_words(rm.graded)} graded across outside r = {rm.core_radius * 1e3:.4g} mm, up to "
+            f"{rm.h_rim * 1e3:.4g} mm at the rim"
+        )
+    merged = [f"rod {k} from {co.z * 1e3:.4g} mm: {co.n_far}" for k, co in enumerate(rm.coarsened, 1) if co]
+    return text + (f"; coarsened 3:1 across ({', '.join(merged)} across)" if merged else "")
 
 
 def pressure_profile(model: ExplicitModel, peak: dict[str, Any]) -> dict[str, np.ndarray]:
@@ -487,6 +490,10 @@ def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np
         "pressure_profile": {k: v.tolist() for k, v in pressure_profile(model, peak).items()},
         "scene_values": sc.as_dict(),
     }
+    if any(rm.coarsened):  # per rod: where its columns merge and how many run on (rods.fe.mesh.coarsening)
+        summary["mesh"]["coarsened"] = [
+            None if co is None else {"from": co.z, "across": co.n_far} for co in rm.coarsened
+        ]
     if any(summary["mesh"]["graded"]):  # the patch's uniform core and the largest size across (rods.fe.mesh)
         summary["mesh"] |= {"core_radius": rm.core_radius, "rim_radial_size": rm.h_rim}
     if model.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending

@@ -173,7 +173,10 @@ def test_paper_scene_histories(paper, name):
     model, ref = paper
     assert ref.history["contact_force"].max() > 1000  # the contact closed
     res = rerun(model, name)
-    assert_same_histories(ref.history, res.history)
+    # Rod 2's midpoint is round-off over 30 µs (the wave reaches it at 68 µs): against the scale it would have
+    s1 = model.scene.speed  # [m/s]
+    floors = {"rod2_mid_velocity": s1, "rod2_mid_strain": s1 / model.scene.rod2.material.wave_speed}
+    assert_same_histories(ref.history, res.history, floors=floors)
     assert res.summary["peak_contact_force"] == pytest.approx(ref.summary["peak_contact_force"], rel=TOL)
 
 

@@ -22,6 +22,8 @@ from rods.fe.mesh import (
     build_mesh,
     butterfly,
     butterfly_counts,
+    coarsening,
+    coarsening_start,
     element_sizes,
     face_count,
     graded_butterfly,
@@ -239,7 +241,9 @@ def test_a_graded_butterfly_is_built_as_its_layout_says():
     gb = graded_butterfly(sc.rod1, hr, sc["fe.axial_size"], sc.graded_core, "auto")
     assert gb is not None and gb.n_core + gb.n_g + gb.m <= GRADED_SHARE * face_count(sc.rod1, hr)
     rm = build_mesh(sc, MPI.COMM_SELF)
-    counts = [mesh_counts(r, hr, sc["fe.axial_size"], sc.tip_grading, sc.graded_core, "auto") for r in sc.rods]
+    start = coarsening_start(sc)
+    counts = [mesh_counts(r, hr, sc["fe.axial_size"], sc.tip_grading, sc.graded_core, "auto", None, (0, 0), start)
+              for r in sc.rods]  # fmt: skip
     assert rm.mesh.topology.index_map(2).size_local == sum(c for c, _ in counts)
     assert rm.mesh.geometry.x.shape[0] == sum(n for _, n in counts)
     assert rm.graded == (True, True) and scene_columns(sc)[0] == gb.columns
@@ -256,3 +260,99 @@ def test_a_graded_butterfly_is_built_as_its_layout_says():
     a, b = -np.roll(e, 1, axis=1), e
     cos = (a * b).sum(2) / (np.linalg.norm(a, axis=2) * np.linalg.norm(b, axis=2))
     assert np.degrees(np.arccos(np.clip(cos, -1, 1))).min() > 40.0
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    diameter=st.floats(5e-3, 30e-3),  # [m]
+    tip_radius=st.one_of(st.just(np.inf), st.floats(5e-3, 1.0)),  # [m]
+    hr=st.floats(0.02e-3, 0.5e-3),  # [m]
+    h_over_hr=st.floats(1.0, 40.0),
+    grading=st.sampled_from(["uniform", "auto", "graded"]),
+)
+def test_coarsening_merges_threes_up_to_the_bar_size(diameter, tip_radius, hr, h_over_hr, grading):
+    """rods.fe.mesh.coarsening on any columns: each layer's nodes are the last one's (a group of three merges, one
+    passes through), no merged element wider than the bar's size H (so at least BAR_ELEMENTS across where the
+    columns are no wider), merging until no three fit H; a layer's cells are 4 per merge and 1 per pass."""
+    from rods.scene import Material, Rod
+
+    steel = Material(density=7800.0, youngs_modulus=200e9, poisson_ratio=0.3)
+    rod = Rod(length=1.0, diameter=diameter, tip_radius=max(tip_radius, diameter / 2 * 1.0001), material=steel)
+    h = hr * h_over_hr
+    columns = radial_columns(rod, hr, h, 3 * hr, grading)
+    sp = axial_spacing(rod, h, 1.0)
+    co = coarsening(rod, columns, h, sp, 2 * diameter)
+    H = bar_size(rod, h)
+    widths = np.diff(np.concatenate([[0.0], np.cumsum(element_sizes(columns))]))
+    if co is None:
+        triples = widths[:-2] + widths[1:-1] + widths[2:]
+        assert widths.size < 3 or triples.min() > H * (1 + 1e-6)
+        return
+    assert co.radii[0][-1] == rod.diameter / 2 and co.z >= 2 * diameter * (1 - 1e-12)
+    for k, groups in enumerate(co.layers):
+        below, above = np.array(co.radii[k]), np.array(co.radii[k + 1])
+        assert sum(groups) == below.size - 1 and len(groups) == above.size - 1 and 3 in groups
+        np.testing.assert_array_equal(above, below[np.concatenate([[0], np.cumsum(groups)])])
+        merged = np.diff(above)[np.array(groups) == 3]
+        assert merged.max() <= H * (1 + 1e-6)
+    last, i = np.diff(co.radii[-1]), 0
+    while i + 3 <= last.size:  # the greedy scan that stopped finds no three to merge
+        assert last[i : i + 3].sum() > H * (1 + 1e-6)
+        i += 1
+    assert co.cells == sum(4 * g.count(3) + g.count(1) for g in co.layers) and co.n_far == last.size
+    assert co.n_far >= BAR_ELEMENTS or last.max() > H * (1 + 1e-6)  # all within H: at least R / H across
+
+
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        [],  # the paper scene: 24 across merge into 8 (one layer)
+        ["impact.speed=0.1"],  # graded columns (a 19-element core growing out): two layers, a few passing through
+        ["rod1.tip_radius=0.00635", "impact.speed=0.1"],  # a graded butterfly's three columns: three layers
+        ["impact.speed=0.5", "rod2.tip_radius=0.02"],  # two curved tips, uniform columns
+    ],
+)
+def test_a_coarsened_mesh_is_built_as_counted(overrides):
+    """fe.radial_coarsening "auto" (the default): the built mesh has the cells and nodes mesh_counts counts (what the
+    plan's cost says), its layers start past 2 diameters from the tips, its far ends are the layers' last elements,
+    no cell angle is under 40° (the 3:1 templates' slanted sides at 45° to the columns', rods.fe.mesh.SLANT; a graded
+    butterfly's own cells from 43.7°), and "none" keeps the columns the rod's whole length."""
+    sc = load_scene(PAPER, [*overrides, "simulation.end_time=1e-5"])
+    hr, start = sc["fe.radial_size"], coarsening_start(sc)
+    assert start == pytest.approx(2 * 12.7e-3)
+    rm = build_mesh(sc, MPI.COMM_SELF)
+    counts = [mesh_counts(r, hr, sc["fe.axial_size"], sc.tip_grading, sc.graded_core, sc["fe.radial_grading"],
+                          sc.bar_axial_size, sc.axial_core, start) for r in sc.rods]  # fmt: skip
+    assert rm.mesh.topology.index_map(2).size_local == sum(c for c, _ in counts)
+    assert rm.mesh.geometry.x.shape[0] == sum(n for _, n in counts)
+    assert all(co is not None and co.z >= start for co in rm.coarsened)
+    x = rm.mesh.geometry.x[:, :2]
+    for k, co in enumerate(rm.coarsened):
+        far = np.sort(x[np.isclose(np.abs(x[:, 1]), sc.rods[k].length, rtol=0, atol=1e-12), 0])
+        np.testing.assert_allclose(far, co.radii[-1], atol=1e-12)
+    cells = x[rm.mesh.geometry.dofmaps[0]][:, [0, 1, 3, 2]]  # counter-clockwise corners
+    e = np.roll(cells, -1, axis=1) - cells
+    a, b = -np.roll(e, 1, axis=1), e
+    cos = (a * b).sum(2) / (np.linalg.norm(a, axis=2) * np.linalg.norm(b, axis=2))
+    assert np.degrees(np.arccos(np.clip(cos, -1, 1))).min() > 40.0
+    none = build_mesh(sc.with_overrides("fe.radial_coarsening='none'"), MPI.COMM_SELF)
+    assert none.coarsened == (None, None) and none.mesh.topology.index_map(2).size_local > 1.5 * sum(
+        c for c, _ in counts
+    )
+
+
+def test_no_coarsening_where_it_cannot_help():
+    """No layers on a rod shorter than the start and a row past the layers (a submodel's region, rods cut to
+    fe.submodel_length), nor on the 3D model (an O-grid); a long submodel cut moves the start past its band."""
+    from rods.fe.submodel import submodel_scene
+
+    sc = load_scene(PAPER, [])
+    sub = submodel_scene(sc, 0.125e-3, None)
+    start = coarsening_start(sub)
+    for rod, columns in zip(sub.rods, scene_columns(sub), strict=True):
+        assert (
+            coarsening(rod, columns, sub.bar_axial_size, axial_spacing(rod, sub["fe.axial_size"], 1.0), start) is None
+        )
+    assert coarsening_start(sc.with_overrides("fe.kind='3d'")) == np.inf
+    assert coarsening_start(sc.with_overrides("fe.radial_coarsening='none'")) == np.inf
+    assert coarsening_start(sc.with_overrides("fe.submodel_length=0.05")) == pytest.approx(0.05 + 3 * 1e-3)
