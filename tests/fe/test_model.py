@@ -337,8 +337,8 @@ def test_a_graded_global_answers_as_the_uniform_one():
 
 def test_a_coarsened_global_answers_as_the_full_one():
     """fe.radial_coarsening "auto" (rods.fe.mesh.coarsening) against "none" on the same sizes (short paper rods at
-    1 m/s, 0.125 mm across, 1 mm along: 51 to 53 elements across merge into 17 and 18 from 25.4 mm past the tips): the same step
-    (the tip's, to 1e-6), the same first contact: peak force within 0.1%, duration within 0.1 µs, both conserving
+    1 m/s, 0.125 mm across, 1 mm along: 51 to 53 elements across merge into 17 and 18 from 25.4 mm past the
+    tips): the same step (the tip's, to 1e-6), the same first contact: peak force within 0.1%, duration within 0.1 µs, both conserving
     energy, and the midpoint's velocity history within 1.5% of its peak, on under 0.65 of the DOFs (these rods are
     short: a third of them keeps the columns). Measured 2026-12-06: the same step to 1e-13, force +0.0017%,
     duration +0.0035 µs, velocity 0.33% (halving the full mesh's size across moves it by 0.76%), 0.59 of the DOFs."""
