@@ -338,10 +338,11 @@ def test_a_graded_global_answers_as_the_uniform_one():
 def test_a_coarsened_global_answers_as_the_full_one():
     """fe.radial_coarsening "auto" (rods.fe.mesh.coarsening) against "none" on the same sizes (short paper rods at
     1 m/s, 0.125 mm across, 1 mm along: 51 to 53 elements across merge into 17 and 18 from 25.4 mm past the
-    tips): the same step (the tip's, to 1e-6), the same first contact: peak force within 0.1%, duration within 0.1 µs, both conserving
-    energy, and the midpoint's velocity history within 1.5% of its peak, on under 0.65 of the DOFs (these rods are
-    short: a third of them keeps the columns). Measured 2026-12-06: the same step to 1e-13, force +0.0017%,
-    duration +0.0035 µs, velocity 0.33% (halving the full mesh's size across moves it by 0.76%), 0.59 of the DOFs."""
+    tips): the same step (the tip's, to 1e-6), the same first contact: peak force within 0.1%, duration within
+    0.1 µs, both conserving energy, and the midpoint's velocity history within 1.5% of its peak, on under 0.65 of
+    the DOFs (these rods are short: a third of them keeps the columns). Measured 2026-12-06: the same step to 1e-13,
+    force +0.0017%, duration +0.0035 µs, velocity 0.33% (halving the full mesh's size across moves it by 0.76%),
+    0.59 of the DOFs."""
     base = ["rod1.length=0.07", "rod2.length=0.1", "impact.speed=1.0", "fe.axial_size=1e-3",
             "fe.radial_size=0.125e-3", "simulation.end_time=2e-4", "fe.radial_grading='uniform'"]  # fmt: skip
     runs = {}
