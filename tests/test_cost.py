@@ -69,19 +69,23 @@ def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
         ("fe.tip_grading=0.3",),
         ("fe.radial_grading='graded'", "fe.radial_size=0.1e-3"),  # a core and graded columns on both rods
         ("fe.radial_grading='graded'", "fe.radial_size=0.1e-3", "rod1.tip_radius=0.00635"),  # a graded butterfly
+        ("fe.radial_size=0.2e-3",),  # 32 across merge into 11 past 25.4 mm (fe.radial_coarsening)
+        ("fe.radial_size=0.2e-3", "fe.radial_coarsening='none'"),
     ],
-    ids=["paper-tip", "flat-rod1", "8mm-tip", "graded", "radially-graded", "graded-butterfly"],
+    ids=["paper-tip", "flat-rod1", "8mm-tip", "graded", "radially-graded", "graded-butterfly", "coarsened", "full"],
 )
 def test_the_axisymmetric_mesh_is_counted_node_by_node(scene_with, extra):
     """The plan's DOFs are the mesh's, 2 per node (rods.fe.mesh.mesh_counts: Euler's V = F + E_b/2 + 1 per rod), for
-    one-block and butterfly caps, flat or curved, graded along or across or not: 2.3 per cell before, 5.29e4 planned
-    on the paper mesh against 48,050 built."""
+    one-block and butterfly caps, flat or curved, graded along or across or not, coarsened along or not: 2.3 per
+    cell before, 5.29e4 planned on the paper mesh against 48,050 built."""
     from rods.fe.mesh import build_mesh
 
     sc = scene_with(*TINY, *extra)
     rm = build_mesh(sc)
     nodes = rm.mesh.geometry.index_map().size_global
     assert cost.fe_cost(sc).dofs == 2 * nodes
+    fine = any(e.startswith("fe.radial_size=0.") for e in extra)  # under a third of the bar's size: merges
+    assert any(rm.coarsened) == (fine and "fe.radial_coarsening='none'" not in extra)
 
 
 @pytest.mark.parametrize(
