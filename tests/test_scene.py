@@ -541,6 +541,16 @@ def test_radial_grading_is_refused_on_the_3d_model(scene_with):
         scene_with("fe.radial_grading='steep'")
 
 
+def test_radial_coarsening_takes_auto_or_none(scene_with):
+    """fe.radial_coarsening: "auto" (the default) or "none", on either model (the 3D O-grid has no columns to merge,
+    rods.fe.mesh.coarsening_start); anything else is refused naming both."""
+    assert scene_with()["fe.radial_coarsening"] == "auto"
+    for kind in ("axisymmetric", "3d"):
+        assert scene_with(f"fe.kind='{kind}'", "fe.radial_coarsening='none'")["fe.radial_coarsening"] == "none"
+    with pytest.raises(SceneError, match=r"'fe.radial_coarsening' = 'graded': must be one of auto, none"):
+        scene_with("fe.radial_coarsening='graded'")
+
+
 @pytest.mark.parametrize(
     ("override", "words"),
     [  # a second bad-input audit (2026-11-29): each message's range and remedy as the user needs them
