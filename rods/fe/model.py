@@ -222,7 +222,8 @@ class ExplicitModel:
         """What will run (printed by the workflow before the time loop)."""
         sc, rm = self.scene, self.rm
         mesh_text = getattr(rm, "description", None) or (
-            f"{rm.n_radial} radial x ({rm.n_axial[0]} + {rm.n_axial[1]}) axial Q{sc['fe.degree']} cells, "
+            f"{rm.n_radial} radial{' at the tips' if any(rm.coarsened) else ''} x ({rm.n_axial[0]} + {rm.n_axial[1]}) "
+            f"axial Q{sc['fe.degree']} cells, "
             f"h_r = {rm.h_radial * 1e3:.4g} mm, h_z = {rm.h_axial * 1e3:.4g} mm (tip {rm.h_tip * 1e3:.4g} mm)"
             + _grading_text(rm)
         )
@@ -460,8 +461,8 @@ def _grading_text(rm: RodsMesh) -> str:
             f"; {graded_words(rm.graded)} graded across outside r = {rm.core_radius * 1e3:.4g} mm, up to "
             f"{rm.h_rim * 1e3:.4g} mm at the rim"
         )
-    merged = [f"rod {k} from {co.z * 1e3:.4g} mm: {co.n_far}" for k, co in enumerate(rm.coarsened, 1) if co]
-    return text + (f"; coarsened 3:1 across ({', '.join(merged)} across)" if merged else "")
+    merged = [f"{co.n_far} on rod {k} from {co.z * 1e3:.4g} mm" for k, co in enumerate(rm.coarsened, 1) if co]
+    return text + (f"; merged 3:1 across away from the tips ({', '.join(merged)})" if merged else "")
 
 
 def pressure_profile(model: ExplicitModel, peak: dict[str, Any]) -> dict[str, np.ndarray]:
