@@ -191,6 +191,31 @@ def test_3d_globals_are_their_own_family():
     assert (three["model"], three["level"], three["h"]) == ("global 3d", "global 3d-c", 1e-3)
 
 
+def test_a_family_mixing_coarsened_and_full_far_fields_says_so():
+    """A global family whose finer meshes merge their elements across away from the tips (fe.radial_coarsening,
+    recorded as the summary's mesh.coarsened) and whose coarsest does not (its elements too wide to merge): the
+    flags and the report name both sets, as the main job's global coarse / paper / fine do; a family merged on every
+    level, or on none, carries no such note. The record reads the flag from a run's summary."""
+    base = {"peak_contact_force": 5555.0, "contact_radius": 1e-3, "contact_area": 3.1e-6, "peak_contact_pressure": 2e9}
+    fe = {"scene_values": {"fe": {"kind": "axisymmetric", "radial_size": 0.25e-3}}}
+    merged = {"mesh": {"coarsened": [{"from": 0.026, "across": 8}, {"from": 0.026, "across": 8}]}}
+    assert (
+        convergence.record({**base, **fe, **merged})["coarsened"]
+        and not convergence.record({**base, **fe})["coarsened"]
+    )
+    recs = power_records("global", n=3)
+    for coarsened, words in (((False, True, True), "global: mid, fine merged across 3:1"), ((True,) * 3, None),
+                             ((False,) * 3, None)):  # fmt: skip
+        d = convergence.compute([r | {"coarsened": c} for r, c in zip(recs, coarsened, strict=True)], F_AN, E_STAR,
+                                R_STAR)  # fmt: skip
+        notes = [f for f in d["models"]["global"]["flags"] if "merged across" in f]
+        if words is None:
+            assert notes == []
+        else:
+            assert len(notes) == 1 and notes[0].startswith(words) and "coarse not" in notes[0]
+            assert words in convergence.render_markdown(d)
+
+
 def test_a_two_level_family_renders_from_its_json(tmp_path):
     """Two levels get no estimate; the record read back (null -> NaN, rods.io.read_data) still renders."""
     d = convergence.write(power_records() + power_records("global 3d", n=2), F_AN, E_STAR, R_STAR, tmp_path)
