@@ -18,7 +18,9 @@ with their own points: they share no nodes and interact only through contact. An
 grading (``fe.tip_grading`` g < 1) inserts a graded block next to each tip whose first element is
 ``g x fe.axial_size`` long and grows by a constant ratio up to ``fe.axial_size``. Across a rod the mesh is one
 column at ``fe.radial_size`` or, graded (``fe.radial_grading``, :func:`radial_columns`), a core of that size around
-the patch and columns whose elements grow outward to the bar's size, each column running the rod's whole length.
+the patch and columns whose elements grow outward to the bar's size, each column running the rod's whole length or,
+coarsened (``fe.radial_coarsening``, :func:`coarsening`), to two diameters past the tip, where layers of 3:1
+templates merge them down to the bar's size for the rest of the rod.
 """
 
 from __future__ import annotations
@@ -479,7 +481,7 @@ def coarsening(
     bar's size, starting in the uniform block at the first row boundary past ``start``. Why: the columns resolve the
     patch at the tip, and a structured mesh runs them the rod's whole length; past the contact's zone a bar wave needs
     only the bar's size across (what a graded rod's rim has, :func:`radial_columns`), so the paper rods' 24 columns
-    run 8 wide there (a 0.1 m/s patch's 36: 12). The step stays the tip's (the layers' elements are no narrower than
+    run 8 wide there (the paper rods at 0.1 m/s: 36 graded, 14 and 13 there). The step stays the tip's (the layers' elements are no narrower than
     the columns they merge). None where nothing merges or the rod ends before the layers and a row past them."""
     if not math.isfinite(start):
         return None
@@ -739,8 +741,8 @@ def _coarsening_layers(geo, lower: list[list[int]], corners: list[int], co: Coar
     below meets one above in the 3:1 template of four quadrilaterals (nodes b0..b3 below, t0, t1 above, m1, m2 over
     b1, b2 a side element's width below the top, :data:`SLANT`: b0 b1 m1 t0, b1 b2 m2 m1, b2 b3 t1 m2, m1 m2 t1
     t0), a group of one passes through as one quadrilateral; every side between groups one line, so neighbours
-    conform. Returns the surfaces, the axis and
-    outer lines and the station above the last layer (one line and point per element)."""
+    conform. Returns the surfaces, the axis and outer lines and the station above the last layer (one line and point
+    per element)."""
     import gmsh
 
     surfaces, axis, outer, lines = [], [], [], []
