@@ -481,8 +481,9 @@ def coarsening(
     bar's size, starting in the uniform block at the first row boundary past ``start``. Why: the columns resolve the
     patch at the tip, and a structured mesh runs them the rod's whole length; past the contact's zone a bar wave needs
     only the bar's size across (what a graded rod's rim has, :func:`radial_columns`), so the paper rods' 24 columns
-    run 8 wide there (the paper rods at 0.1 m/s: 36 graded, 14 and 13 there). The step stays the tip's (the layers' elements are no narrower than
-    the columns they merge). None where nothing merges or the rod ends before the layers and a row past them."""
+    run 8 wide there (the paper rods at 0.1 m/s: 36 graded, 14 and 13 there). The step stays the tip's (the layers'
+    elements are no narrower than the columns they merge). None where nothing merges or the rod ends before the
+    layers and a row past them."""
     if not math.isfinite(start):
         return None
     radii = [np.concatenate(([0.0], np.cumsum(element_sizes(columns))[:-1], [rod.diameter / 2]))]
