@@ -26,7 +26,7 @@ templates merge them down to the bar's size for the rest of the rod.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -444,12 +444,14 @@ class Coarsening:
     the uniform block, one layer an element long per entry of ``layers``, each the groups across it, axis to rim (3:
     three elements merge into one in the 3:1 template of four quadrilaterals, :func:`_coarsening_layers`; 1: one
     passes through), then the rest of the uniform block on the last layer's elements. ``radii``: the nodes across at
-    each station [m], the columns' own first; ``z``: the first layer's distance from the tip [m]."""
+    each station [m], the columns' own first; ``z``: the first layer's distance from the tip [m]; ``dz``: a layer's
+    length, the uniform block's element [m]."""
 
     rows: int
     layers: tuple[tuple[int, ...], ...]
     radii: tuple[tuple[float, ...], ...]
     z: float
+    dz: float
 
     @property
     def cells(self) -> int:
@@ -496,7 +498,7 @@ def coarsening(
     if not layers or rows + len(layers) >= spacing.n_uniform:
         return None
     z = spacing.core_length + spacing.graded_length + rows * h_u  # [m]
-    return Coarsening(rows, tuple(layers), tuple(tuple(float(x) for x in r) for r in radii), z)
+    return Coarsening(rows, tuple(layers), tuple(tuple(float(x) for x in r) for r in radii), z, h_u)
 
 
 def coarsening_start(scene: Scene) -> float:
@@ -690,22 +692,31 @@ def _flat_block_cap(geo, rod: Rod, s: float, columns: tuple[Column, ...]) -> dic
 
 
 def _column_block(
-    geo, lower: list[list[int]], corners: list[int], columns, z_end: float, n: int, ratio: float, split: bool = False
+    geo,
+    lower: list[list[int]],
+    corners: list[int],
+    columns,
+    z_end: float,
+    n: int,
+    ratio: float,
+    split: Sequence[float] | None = None,
 ):
     """One axial block of a rod, from the station below (``lower``: each column's bottom curves; ``corners``: the
     points where the columns meet it, axis to rim) to ``z_end`` [m], ``n`` elements along by ``ratio``; returns its
-    surfaces, the axis and outer lines and the new station (tops, corners). ``split``: the new station one line per
-    element (:func:`element_sizes`), where a coarsening's first layer (:func:`_coarsening_layers`) starts."""
+    surfaces, the axis and outer lines and the new station (tops, corners). ``split``: the new station's node radii
+    [m], one line per element, where a coarsening's first layer starts (:attr:`Coarsening.radii`' first station,
+    whose nodes :func:`_coarsening_layers` builds on)."""
     import gmsh
 
     radii = [0.0, *(c.r_end for c in columns)]
     upper = [geo.addPoint(r, z_end, 0.0) for r in radii]
     verticals = [geo.addLine(a, b) for a, b in zip(corners, upper, strict=True)]  # oriented away from the tip
-    if split:  # each column's top as its elements' lines, their nodes where the column's progression puts them
+    if split is not None:  # each column's top as its elements' lines, the nodes between its ends at split's radii
+        first = np.concatenate(([0], np.cumsum([c.n for c in columns])))  # each column's first node in split
         nodes, tops = [upper[0]], []
-        for j, c in enumerate(columns):
-            inner = np.cumsum(element_sizes((Column(c.r_end - radii[j], c.n, c.ratio),)))[:-1] + radii[j]
-            column = [nodes[-1], *(geo.addPoint(float(r), z_end, 0.0) for r in inner), upper[j + 1]]
+        for j in range(len(columns)):
+            inner = split[first[j] + 1 : first[j + 1]]
+            column = [nodes[-1], *(geo.addPoint(r, z_end, 0.0) for r in inner), upper[j + 1]]
             tops.append([geo.addLine(a, b) for a, b in zip(column[:-1], column[1:], strict=True)])
             nodes += column[1:]
     else:
@@ -722,16 +733,16 @@ def _column_block(
     for j, (surf, col) in enumerate(zip(surfaces, columns, strict=True)):
         for t in tops[j]:
             gmsh.model.geo.mesh.setTransfiniteCurve(
-                t, 2 if split else col.n + 1, "Progression", 1.0 if split else col.ratio
+                t, col.n + 1 if split is None else 2, "Progression", col.ratio if split is None else 1.0
             )
-        if len(lower[j]) == 1 and not split:
+        if len(lower[j]) == 1 and split is None:
             gmsh.model.geo.mesh.setTransfiniteSurface(surf)
         else:  # a butterfly's rim line O-G-E or a split top is several curves: name the corners
             gmsh.model.geo.mesh.setTransfiniteSurface(
                 surf, "Left", [corners[j], corners[j + 1], upper[j + 1], upper[j]]
             )
         gmsh.model.geo.mesh.setRecombine(2, surf)
-    if split:
+    if split is not None:
         return surfaces, verticals[0], verticals[-1], [[t] for top in tops for t in top], nodes
     return surfaces, verticals[0], verticals[-1], tops, upper
 
@@ -791,17 +802,16 @@ def _rod_body(geo, cap: dict[str, Any], columns, sp: AxialSpacing, co: Coarsenin
     s = math.copysign(1.0, z_far)
     blocks = []  # (z_end [m], elements, ratio, split)
     if sp.n_core:
-        blocks.append((s * sp.core_length, sp.n_core, 1.0, False))
+        blocks.append((s * sp.core_length, sp.n_core, 1.0, None))
     if sp.n_graded:
-        blocks.append((s * (sp.core_length + sp.graded_length), sp.n_graded, sp.ratio, False))
-    z0, h_u = s * (sp.core_length + sp.graded_length), (abs(z_far) - sp.core_length - sp.graded_length) / sp.n_uniform
+        blocks.append((s * (sp.core_length + sp.graded_length), sp.n_graded, sp.ratio, None))
     if co is not None:
-        blocks.append((z0 + s * co.rows * h_u, co.rows, 1.0, True))
-    blocks.append((z_far, sp.n_uniform - (0 if co is None else co.rows + len(co.layers)), 1.0, False))
+        blocks.append((s * co.z, co.rows, 1.0, co.radii[0]))
+    blocks.append((z_far, sp.n_uniform - (0 if co is None else co.rows + len(co.layers)), 1.0, None))
     lower, corners, surfaces, axis, outer = cap["rim"], cap["corners"], [], [], []
     for i, (z_end, n, ratio, split) in enumerate(blocks):
         if co is not None and i == len(blocks) - 1:  # the layers, then the rest on their last elements
-            surfs, a, o, lower, corners = _coarsening_layers(geo, lower, corners, co, z0 + s * co.rows * h_u, s * h_u)
+            surfs, a, o, lower, corners = _coarsening_layers(geo, lower, corners, co, s * co.z, s * co.dz)
             surfaces, axis, outer = surfaces + surfs, axis + a, outer + o
             columns = tuple(Column(r, 1) for r in co.radii[-1][1:])
         surfs, a, o, lower, corners = _column_block(geo, lower, corners, columns, z_end, n, ratio, split)
