@@ -563,7 +563,7 @@ def locking_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
 
 
 def core_warning(summary: Mapping[str, Any]) -> str | None:
-    """A warning when a radially graded mesh's contact patch reached past the uniform core (rods.fe.mesh.
+    """A warning when a radially graded mesh's contact patch reached past the uniform core (rods.fe.layout.
     radial_columns): the core is sized by the first contact's force bound, a later contact may exceed it."""
     a, core = summary.get("contact_radius"), summary.get("mesh", {}).get("core_radius")
     if not a or not core or a <= core:

@@ -1,7 +1,7 @@
 """What a run will cost, estimated from the scene before anything heavy is allocated (no mesh is built).
 
 :func:`fe_cost` counts the cells and DOFs the mesher will make from the requested sizes (the mesh modules'
-own counting rules: :func:`rods.fe.mesh.axial_spacing`, :func:`rods.fe.mesh3d.section_counts`), the steps
+own counting rules: :func:`rods.fe.layout.axial_spacing`, :func:`rods.fe.mesh3d.section_counts`), the steps
 from the element step h_min/c_d, the recorded samples (one per output time, at most one per step), the memory and
 the wall time; :func:`analytical_cost` the samples and memory of the analytical model. :func:`check` refuses
 (:class:`rods.preflight.InputError`, exit 2) a run whose memory exceeds the machine's available memory
@@ -37,7 +37,7 @@ estimates"):
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells and DOFs: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene), 2 DOFs
-  per node axisymmetric (rods.fe.mesh.mesh_counts; 2.3 per cell before, 10% high on the paper mesh), 3 per node of
+  per node axisymmetric (rods.fe.layout.mesh_counts; 2.3 per cell before, 10% high on the paper mesh), 3 per node of
   the O-grid in 3D (exact: tests/test_cost.py); a 3D cell's step is :func:`_third_dimension` of the quadrilateral's (the
   estimate was 0.72 of the paper mesh's step without it, 0.88 with it; 3D coarse 1.05).
 """
@@ -55,7 +55,7 @@ import numpy as np
 
 from rods import hertz
 from rods.preflight import InputError
-from rods.scene import Scene, SceneError, cut_records
+from rods.scene import BAND_ELEMENTS, Scene, SceneError, cut_records
 from rods.stability import damping_factor, march_step, switching_step
 
 __all__ = [
@@ -174,7 +174,7 @@ DT_REFUSE_FACTOR = 2.0  # [-]
 # where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°), times 0.99.
 # Measured on the paper rods at the auto mesh, 2026-11-27 (tip radius 35, 25, 15, 12.5, 10, 9, 8, 7.5, 7.2, 7, 6.8,
 # 6.77, 6.75, 6.5, 6.35 mm); the table before, measured before a curved tip's face was divided along its arc
-# (rods.fe.mesh.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long (the butterflies' rows, remeasured
+# (rods.fe.layout.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long (the butterflies' rows, remeasured
 # 2026-11-29 at 0.1 m/s: 0.98x to 0.95x these, within the estimate's band)
 CAP_STEP_FACTOR = (
     (0.0, 1.0),
@@ -194,10 +194,10 @@ CAP_STEP_FACTOR = (
     (77.7, 0.56),
     (90.0, 0.68),
 )
-# the same for a radially graded tip (fe.radial_grading, rods.fe.mesh.radial_columns): its rim cells are wider, so its
+# the same for a radially graded tip (fe.radial_grading, rods.fe.layout.radial_columns): its rim cells are wider, so its
 # step is longer, 1.07x (10.5°) to 1.54x (69°) the uniform mesh's. Measured 2026-11-29 on the paper rods at 2.197
 # and 0.2 m/s (auto sizes, both rods graded), the lower of the two (within 5%) times 0.99, made monotone (44.9°: 0.627
-# measured); a graded butterfly (above 70°, rods.fe.mesh.graded_butterfly) at 0.1, 0.5 and 2.197 m/s (6.75, 6.5 and
+# measured); a graded butterfly (above 70°, rods.fe.layout.graded_butterfly) at 0.1, 0.5 and 2.197 m/s (6.75, 6.5 and
 # 6.35 mm tips, graded forced; the three speeds within 2%), 1.1x to 1.7x the uniform butterfly's
 GRADED_CAP_STEP_FACTOR = (
     (0.0, 1.0),
@@ -218,7 +218,7 @@ GRADED_CAP_STEP_FACTOR = (
 )
 # axisymmetric submodel (uniform size h, no grading, rods.fe.submodel.submodel_scene): Δt of its curved tip / the
 # estimate above, against the rim angle [deg, -]. Measured at h = 0.25 and 0.125 mm (the same to 2%; the lower kept)
-# on the paper rods, tips 50 to 6.35 mm; the butterfly cap (above 70°, rods.fe.mesh.BUTTERFLY_ANGLE) steps up. Flat
+# on the paper rods, tips 50 to 6.35 mm; the butterfly cap (above 70°, rods.fe.layout.BUTTERFLY_ANGLE) steps up. Flat
 # and flatter tips: 1.02-1.12 (kept at 1). Before, a submodel ran 1.3x (10 mm tip) to 3.4x (6.76 mm) the steps
 # estimated.
 SUBMODEL_CAP_STEP_FACTOR = (
@@ -328,9 +328,9 @@ def _mesh_axisymmetric(scene: Scene, h_r: float, h: float, g: float) -> tuple[fl
     """(cells, DOFs) of ``scene``'s axisymmetric mesh (a global's, or a submodel's region, :func:`_submodel_region`)
     at sizes ``h_r``, ``h`` [m] and tip grading ``g``: the mesh module's own counts of both rods, as the mesher reads
     the scene (fe.radial_grading, its bar size and core along: rods.scene.Scene.bar_axial_size, axial_core;
-    fe.radial_coarsening: rods.fe.mesh.coarsening_start), 2 DOFs
+    fe.radial_coarsening: rods.fe.layout.coarsening_start), 2 DOFs
     per node."""
-    from rods.fe.mesh import coarsening_start, mesh_counts
+    from rods.fe.layout import coarsening_start, mesh_counts
 
     radial, core, h_bar, along = scene["fe.radial_grading"], scene.graded_core, scene.bar_axial_size, scene.axial_core
     start = coarsening_start(scene)
@@ -349,7 +349,7 @@ def _submodel_region(scene: Scene, size: float, axial_size: float | None) -> Sce
 def _mesh_3d(scene: Scene, h_r: float, h: float, g: float, lengths: tuple[float, float]) -> tuple[float, float]:
     """(cells, DOFs) of the 3D mesh: each rod's O-grid section (rods.fe.mesh3d.section_size) extruded in its
     axial layers, 3 DOFs per node."""
-    from rods.fe.mesh import axial_spacing
+    from rods.fe.layout import axial_spacing
     from rods.fe.mesh3d import section_size
 
     cells = dofs = 0.0
@@ -464,15 +464,13 @@ def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: 
     """The cut record's size [B] (:data:`CUT_BYTES_PER_ENTRY_RECORD`): the band's entries, at most 2 BAND_ELEMENTS + 1
     node rows across each rod at its cut plane (2 BAND_ELEMENTS where the plane falls inside an element, as on five
     drivers measured: 316, 272, 252, 464 and 132 nodes, 4/5 of this count) of the global's columns
-    (rods.fe.mesh.scene_columns; 3D: the O-grid section's nodes), times the records to ``until`` [s] every ``every``
+    (rods.fe.layout.scene_columns; 3D: the O-grid section's nodes), times the records to ``until`` [s] every ``every``
     steps (rods.scene.cut_records)."""
-    from rods.fe.cut import BAND_ELEMENTS
-
     rows = 2 * BAND_ELEMENTS + 1
     if scene["fe.kind"] == "3d":  # the O-grid sections at the global's size, as a submodel's cut planes
         entries = 3 * rows * _cut_nodes(scene, scene["fe.radial_size"])
     else:
-        from rods.fe.mesh import scene_columns
+        from rods.fe.layout import scene_columns
 
         entries = 2 * rows * sum(sum(c.n for c in columns) + 1 for columns in scene_columns(scene))
     records = cut_records(scene, dt, steps, until, every)
@@ -562,9 +560,9 @@ def _third_dimension(a: float, b: float) -> float:
 
 def _rim_fraction(rod: Any, h: float, g: float) -> float:
     """The rim column's share of a curved tip's graded block, (L_g - c)/L_g for a block of length L_g over a cap of
-    height c (rods.fe.mesh.axial_spacing): the mesher grades every column of the block alike, so the rim's tip cell
+    height c (rods.fe.layout.axial_spacing): the mesher grades every column of the block alike, so the rim's tip cell
     is this fraction of the axis's (1 for a flat tip, an ungraded mesh or a butterfly cap)."""
-    from rods.fe.mesh import axial_spacing, butterfly
+    from rods.fe.layout import axial_spacing, butterfly
 
     sp = axial_spacing(rod, h, g)
     if sp.n_graded == 0 or rod.cap_height <= 0 or butterfly(rod) is not None:
@@ -584,10 +582,10 @@ def _rim_factor(scene: Scene, h: float, g: float) -> float:
 
 def _submodel_rim_factor(region: Scene) -> float:
     """A submodel's step over the same region's uniform along (where the cap tables were measured), as far as the
-    rim cells set it: a graded submodel's core block (rods.fe.mesh.axial_spacing) is the cap's block, its rim cells
+    rim cells set it: a graded submodel's core block (rods.fe.layout.axial_spacing) is the cap's block, its rim cells
     (L_c - c)/L_c of the axis's against (L_s - c)/L_s; the smaller over both tips, 1 where the region is uniform
     along, a tip flat or a butterfly. ``region``: the submodel's own scene (:func:`_submodel_region`)."""
-    from rods.fe.mesh import axial_spacing, butterfly
+    from rods.fe.layout import axial_spacing, butterfly
 
     L_s, h = region["fe.submodel_length"], region["fe.axial_size"]
     factors = [1.0]
@@ -603,7 +601,7 @@ def _cap_step_factor(scene: Scene, submodel: bool) -> float:
     ``submodel``'s (``scene`` its region, :func:`_submodel_region`) from :data:`SUBMODEL_CAP_STEP_FACTOR` or, on a
     graded rod, :data:`GRADED_SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially
     graded rod, :data:`GRADED_CAP_STEP_FACTOR`."""
-    from rods.fe.mesh import scene_columns
+    from rods.fe.layout import scene_columns
 
     graded = tuple(len(c) > 1 for c in scene_columns(scene))
     tables = (

@@ -175,7 +175,7 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
     if size is None:
         mesh = f"mesh {scene.axial_size * 1e3:.4g} mm axial x {scene.radial_size * 1e3:.4g} mm radial"
         if scene["fe.kind"] == "axisymmetric":
-            from rods.fe.mesh import graded_words, scene_columns
+            from rods.fe.layout import graded_words, scene_columns
 
             columns = scene_columns(scene)
             graded = tuple(len(c) > 1 for c in columns)

@@ -55,10 +55,10 @@ SYMMETRIES = ("full", "half", "quarter")
 FE_BACKENDS = ("petsc", "numpy", "cupy", "auto")
 # how the loop applies K (rods.fe.matrixfree): the assembled matrix, or element by element on an array backend
 FE_OPERATORS = ("assembled", "matrix-free")
-# the axisymmetric mesh across a rod (rods.fe.mesh.radial_columns): uniform at fe.radial_size, or that size in a core
+# the axisymmetric mesh across a rod (rods.fe.layout.radial_columns): uniform at fe.radial_size, or that size in a core
 # around the patch (CORE_RADII x a_P) growing outward to the bar's size; auto grades where that halves a rod's elements
 RADIAL_GRADINGS = ("auto", "uniform", "graded")
-RADIAL_COARSENINGS = ("auto", "none")  # fe.radial_coarsening: rods.fe.mesh.coarsening
+RADIAL_COARSENINGS = ("auto", "none")  # fe.radial_coarsening: rods.fe.layout.coarsening
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
 # mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
 # ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
@@ -290,7 +290,7 @@ PEAK_SHARE = PEAK_FORCE_TARGET / 2  # of it, the patch's stiffness ripple's shar
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
 # a graded mesh (fe.radial_grading) keeps fe.radial_size out to this many Hertz radii a_P from the axis [-]: the
 # patch (a <= a_P) and the ring around it where Hertz's stresses still vary on the patch's scale (their gradients
-# fall as (a/r)^3 outside it); the elements then grow by rods.fe.mesh.GROWTH per element to the bar's size
+# fall as (a/r)^3 outside it); the elements then grow by rods.fe.layout.GROWTH per element to the bar's size
 CORE_RADII = 3.0
 AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's diameter / this (the paper's 1 mm) [-]
 # fe.submodel_length = "auto": the cut planes this many diameters of the thicker rod from the tips [-]: past the
@@ -298,6 +298,9 @@ AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's d
 # on its 12.7 mm rods, so the paper scene's auto is its 14 mm exactly); > 2 cap heights by construction (a cap is
 # at most a radius high)
 SUBMODEL_DIAMETERS = 14e-3 / 12.7e-3
+# the submodel's cut band (rods.fe.cut: the global's recorded nodes around each cut plane, the driver's interpolation
+# and traction support) reaches this many global axial elements either side of the plane [-]
+BAND_ELEMENTS = 2
 # ... and at most the wavelength c t_rise of the contact force's rise / this [-] (Scene.axial_size: 50 left the
 # ringing overshoot of a force rising in 3-3.5 transits to the mesh, measured there)
 RISE_ELEMENTS = 75
@@ -330,11 +333,11 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
-    # axisymmetric only (the 3D section is an O-grid at fe.radial_size): rods.fe.mesh.radial_columns; the submodels'
+    # axisymmetric only (the 3D section is an O-grid at fe.radial_size): rods.fe.layout.radial_columns; the submodels'
     # too, one for all levels (rods.fe.submodel.submodel_grading)
     "fe.radial_grading": ("str", "auto", _choice(RADIAL_GRADINGS)),
     # axisymmetric global only: "auto" merges a rod's columns 3:1 along it, past its contact's zone and any submodel
-    # cut, down to the bar's size across (rods.fe.mesh.coarsening); "none": the columns run the rod's whole length
+    # cut, down to the bar's size across (rods.fe.layout.coarsening); "none": the columns run the rod's whole length
     "fe.radial_coarsening": ("str", "auto", _choice(RADIAL_COARSENINGS)),
     # the explicit model is Q1 only: row-sum lumped Q2 masses vanish on the axis (∫ N_0 r dr = 0 at the P2 axis
     # vertex) and the 3D contact pairs Q1 face quadrilaterals; refused here, not after the analytical stage ran
@@ -644,7 +647,7 @@ class Scene:
     # the two together replay the run (the label names the user's scene only)
     settings: tuple[str, ...] = ()
     # a submodel's driving global's resolved fe.axial_size [m], which bounds the elements a radially graded submodel
-    # grows to across (rods.fe.mesh.bar_size: nowhere coarser than its global); 0: this scene's own fe.axial_size
+    # grows to across (rods.fe.layout.bar_size: nowhere coarser than its global); 0: this scene's own fe.axial_size
     global_axial_size: float = 0.0
 
     @property
@@ -789,13 +792,13 @@ class Scene:
 
     @property
     def bar_axial_size(self) -> float:
-        """The axial size [m] that bounds a radially graded mesh's largest element across (rods.fe.mesh.bar_size):
+        """The axial size [m] that bounds a radially graded mesh's largest element across (rods.fe.layout.bar_size):
         the scene's own :attr:`axial_size`, a submodel's its driving global's (:attr:`global_axial_size`)."""
         return self.global_axial_size or self.axial_size
 
     @property
     def axial_core(self) -> tuple[float, float]:
-        """(core [m], far size [m]) along a graded submodel's rods (rods.fe.mesh.axial_spacing): its size over
+        """(core [m], far size [m]) along a graded submodel's rods (rods.fe.layout.axial_spacing): its size over
         :attr:`graded_core` from each tip, growing to its global's axial size (:attr:`global_axial_size`); (0, 0) on
         a global or a uniform submodel (no core: a global's tip grading grows from the tip)."""
         v = self.values

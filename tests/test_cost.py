@@ -50,7 +50,7 @@ def test_the_fe_records_at_most_one_sample_per_step(scene_with):
 
 
 def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
-    """The butterfly cap's cells exactly (rods.fe.mesh.mesh_counts) and the step of its distorted rim cells
+    """The butterfly cap's cells exactly (rods.fe.layout.mesh_counts) and the step of its distorted rim cells
     (CAP_STEP_FACTOR, 0.69 at 90°) within 15%: before, 1.45x too few steps (19x on the auto mesh with the
     single-block cap)."""
     from rods.fe.model import ExplicitModel
@@ -75,7 +75,7 @@ def test_a_hemispherical_tip_is_counted_and_its_step_estimated(scene_with):
     ids=["paper-tip", "flat-rod1", "8mm-tip", "graded", "radially-graded", "graded-butterfly", "coarsened", "full"],
 )
 def test_the_axisymmetric_mesh_is_counted_node_by_node(scene_with, extra):
-    """The plan's DOFs are the mesh's, 2 per node (rods.fe.mesh.mesh_counts: Euler's V = F + E_b/2 + 1 per rod), for
+    """The plan's DOFs are the mesh's, 2 per node (rods.fe.layout.mesh_counts: Euler's V = F + E_b/2 + 1 per rod), for
     one-block and butterfly caps, flat or curved, graded along or across or not, coarsened along or not: 2.3 per
     cell before, 5.29e4 planned on the paper mesh against 48,050 built."""
     from rods.fe.mesh import build_mesh

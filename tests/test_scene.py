@@ -543,7 +543,7 @@ def test_radial_grading_is_refused_on_the_3d_model(scene_with):
 
 def test_radial_coarsening_takes_auto_or_none(scene_with):
     """fe.radial_coarsening: "auto" (the default) or "none", on either model (the 3D O-grid has no columns to merge,
-    rods.fe.mesh.coarsening_start); anything else is refused naming both."""
+    rods.fe.layout.coarsening_start); anything else is refused naming both."""
     assert scene_with()["fe.radial_coarsening"] == "auto"
     for kind in ("axisymmetric", "3d"):
         assert scene_with(f"fe.kind='{kind}'", "fe.radial_coarsening='none'")["fe.radial_coarsening"] == "none"

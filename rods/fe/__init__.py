@@ -5,8 +5,9 @@ stable step, plan; its ``run`` is the loop), :mod:`~rods.fe.explicit` (the centr
 its stable step), :mod:`~rods.fe.observers` (the loop's observer protocol), :mod:`~rods.fe.recorder`
 (named histories, energy balance, peak), :mod:`~rods.fe.guards`, :mod:`~rods.fe.checkpoint`,
 :mod:`~rods.fe.fields` (observers), :mod:`~rods.fe.contact` (penalty contact), :mod:`~rods.fe.probes`,
-:mod:`~rods.fe.forms`, :mod:`~rods.fe.mesh` / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.submodel` (cut
-recording and driving, σ_r at the Gauss points, levels), :mod:`~rods.fe.backend` (the array backends of the
+:mod:`~rods.fe.forms`, :mod:`~rods.fe.layout` (the axisymmetric mesh laid out and counted), :mod:`~rods.fe.mesh`
+(built) / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.submodel` (cut recording and driving, σ_r at the Gauss points,
+levels), :mod:`~rods.fe.backend` (the array backends of the
 stepper: PETSc Mat/Vec, NumPy/SciPy, CuPy), :mod:`~rods.fe.matrixfree` (K applied element by element on the array
 backends, ``fe.operator = "matrix-free"``).
 

@@ -54,10 +54,9 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe.model import ExplicitModel
-from rods.scene import Scene, SceneError, cut_records
+from rods.scene import BAND_ELEMENTS, Scene, SceneError, cut_records
 
 __all__ = [
-    "BAND_ELEMENTS",
     "MAX_EXTRAPOLATION",
     "CutDriver",
     "CutRecorder",
@@ -73,7 +72,6 @@ __all__ = [
     "recorded_until",
 ]
 
-BAND_ELEMENTS = 2  # band half-width in global axial elements [-]
 INTERPOLATION_TOL = 1e-6  # the cut weights' non-matching interpolation tolerance (DOLFINx interpolate_nonmatching)
 # most negative interpolation weight accepted [-]: a cut node at most ~this fraction of a band cell outside it
 # (3D: a finer submodel's circle bulges past the band's polygonal section by its sagitta, 0.03 mm on 1 mm cells)

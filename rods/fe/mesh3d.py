@@ -9,7 +9,7 @@ Layout (SI units, metres), the same as the axisymmetric mesh (:mod:`rods.fe.mesh
   (x, y >= 0) models cut along mesh planes. Element counts (``section_counts``): ``n_c`` cells
   along the core side (and along each quarter arc), ``n_r`` across the outer blocks, chosen so that
   the mean tangential and radial edge is ``fe.radial_size`` (paper: 0.25 mm "average
-  cross-section edge length"). Along z the layers follow :func:`rods.fe.mesh.axial_spacing`
+  cross-section edge length"). Along z the layers follow :func:`rods.fe.layout.axial_spacing`
   (uniform ``fe.axial_size``, optionally graded to the tip by ``fe.tip_grading``).
 * A curved tip of radius r_k: the flat tip face is mapped onto the sphere by moving every node by
   ``∓c(ρ) max(0, 1 - |z|/L_b)`` along z, with ``c(ρ) = r_k - sqrt(r_k² - ρ²)`` (ρ = sqrt(x² + y²))
@@ -38,7 +38,8 @@ import dolfinx.io.gmsh
 import numpy as np
 from mpi4py import MPI
 
-from rods.fe.mesh import TAGS, RodsMesh, axial_spacing, cap_depth, element_count, gmsh_to_dolfinx
+from rods.fe.layout import axial_spacing, cap_depth, element_count
+from rods.fe.mesh import TAGS, RodsMesh, gmsh_to_dolfinx
 from rods.scene import Rod, Scene, SceneError
 
 __all__ = [

@@ -53,7 +53,8 @@ from rods.fe.explicit import CentralDifference
 from rods.fe.fields import FieldOutput
 from rods.fe.guards import CornerJacobians, Guard, InterruptCheck, Interrupted, RunGuard
 from rods.fe.kinematic import KinematicContact
-from rods.fe.mesh import TAGS, RodsMesh, build_mesh, graded_words
+from rods.fe.layout import graded_words
+from rods.fe.mesh import TAGS, RodsMesh, build_mesh
 from rods.fe.mesh3d import TAGS_3D, build_mesh_3d
 from rods.fe.observers import Observer, Progress, march
 from rods.fe.probes import PointProbes, station_points
@@ -453,8 +454,8 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
 
 
 def _grading_text(rm: RodsMesh) -> str:
-    """The plan's words for a radially graded mesh (rods.fe.mesh.radial_columns): which rods, core, largest size; and
-    for a coarsened one (rods.fe.mesh.coarsening) where its columns merge into how many."""
+    """The plan's words for a radially graded mesh (rods.fe.layout.radial_columns): which rods, core, largest size; and
+    for a coarsened one (rods.fe.layout.coarsening) where its columns merge into how many."""
     text = ""
     if any(rm.graded):
         text = (
@@ -491,11 +492,11 @@ def _mesh_summary(model: ExplicitModel, peak: dict[str, Any], hist: dict[str, np
         "pressure_profile": {k: v.tolist() for k, v in pressure_profile(model, peak).items()},
         "scene_values": sc.as_dict(),
     }
-    if any(rm.coarsened):  # per rod: where its columns merge and how many run on (rods.fe.mesh.coarsening)
+    if any(rm.coarsened):  # per rod: where its columns merge and how many run on (rods.fe.layout.coarsening)
         summary["mesh"]["coarsened"] = [
             None if co is None else {"from": co.z, "across": co.n_far} for co in rm.coarsened
         ]
-    if any(summary["mesh"]["graded"]):  # the patch's uniform core and the largest size across (rods.fe.mesh)
+    if any(summary["mesh"]["graded"]):  # the patch's uniform core and the largest size across (rods.fe.layout)
         summary["mesh"] |= {"core_radius": rm.core_radius, "rim_radial_size": rm.h_rim}
     if model.kind == "3d":  # off-axis effects: patch at peak force, midpoint bending
         summary["symmetry"] = rm.symmetry

@@ -57,12 +57,12 @@ LEVEL_SIZES = SUBMODEL_LEVEL_SIZES
 # ----------------------------------------------------------------------------------------------
 def submodel_grading(scene: Scene) -> str:
     """``fe.radial_grading`` of ``scene``'s submodels, one for all its levels: "uniform" or "graded" as the key
-    asks; "auto" (the default) "graded" where the global's rule (rods.fe.mesh.radial_columns, "auto": grading leaves
+    asks; "auto" (the default) "graded" where the global's rule (rods.fe.layout.radial_columns, "auto": grading leaves
     at most GRADED_SHARE of the uniform elements across) grades a rod at the auto levels' start
     (:attr:`~rods.scene.Scene.submodel_start_size`), else uniform; 3D: uniform (an O-grid).
 
     A graded level keeps its size h in a core of CORE_RADII Hertz radii a_P around the axis and as deep from each
-    tip (at least rods.fe.mesh.CAP_HEIGHTS cap heights: the patch and the stresses that vary on its scale), and grows
+    tip (at least rods.fe.layout.CAP_HEIGHTS cap heights: the patch and the stresses that vary on its scale), and grows
     outward by at most GROWTH per element to its global's sizes (across its bar size,
     :attr:`~rods.scene.Scene.bar_axial_size`; along its axial size, :attr:`~rods.scene.Scene.axial_core`): nowhere
     coarser than the global. Its levels halve h where the patch is; outside, their elements grow to the same sizes.
@@ -75,7 +75,7 @@ def submodel_grading(scene: Scene) -> str:
     grading = scene["fe.radial_grading"]
     if scene["fe.kind"] == "3d" or grading != "auto":
         return "uniform" if scene["fe.kind"] == "3d" else grading
-    from rods.fe.mesh import radial_columns  # the mesher's own columns
+    from rods.fe.layout import radial_columns  # the mesher's own columns
 
     h, h_bar, core = scene.submodel_start_size, scene.bar_axial_size, scene.graded_core
     graded = any(len(radial_columns(rod, h, h_bar, core, "auto")) > 1 for rod in scene.rods)

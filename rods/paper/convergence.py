@@ -188,7 +188,7 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
 
 def _mixed_far_fields(model: str, levels: Sequence[Mapping[str, Any]]) -> list[str]:
     """A family whose meshes merge their elements across away from the tips (``fe.radial_coarsening``,
-    rods.fe.mesh.coarsening) on some levels and not on others is no one systematic refinement: the merge's own
+    rods.fe.layout.coarsening) on some levels and not on others is no one systematic refinement: the merge's own
     small error (the paper scene's global: +0.047% on the peak force, 2026-12-06) is in some levels' errors only."""
     merged = [lv["level"] for lv in levels if lv.get("coarsened")]
     if not merged or len(merged) == len(levels):
@@ -562,6 +562,6 @@ def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
     keys = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
     edge = {q: _num(summary.get(q)) for q in OPTIONAL}
     phase = summary.get("phase", {}).get("member") if sub else None  # a phase member (rods.scene.submodel_phase_size)
-    coarsened = bool(summary.get("mesh", {}).get("coarsened"))  # merged across away from the tips (rods.fe.mesh)
+    coarsened = bool(summary.get("mesh", {}).get("coarsened"))  # merged across away from the tips (rods.fe.layout)
     return {"model": model, "level": level, "h": h, "phase": phase, "coarsened": coarsened,
             **{k: float(summary[k]) for k in keys}, **edge}  # fmt: skip

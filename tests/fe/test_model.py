@@ -22,9 +22,10 @@ import pytest
 import ufl
 
 from rods import analytical, hertz, io, metrics
-from rods.fe import mesh as mesh_module
+from rods.fe import layout
 from rods.fe.explicit import EIGEN_TOL
-from rods.fe.mesh import BUTTERFLY_ANGLE, TAGS, butterfly
+from rods.fe.layout import BUTTERFLY_ANGLE, butterfly
+from rods.fe.mesh import TAGS
 from rods.fe.mesh3d import TAGS_3D, Placement, section_counts
 from rods.fe.model import ExplicitModel
 from rods.scene import SceneError, load_scene
@@ -258,7 +259,7 @@ HEMISPHERE = ("rod1.tip_radius=0.00635", "fe.radial_size=0.5e-3", "simulation.en
 
 @pytest.mark.parametrize("tip_radius", [0.00635, 0.0066, 0.035, math.inf])
 def test_butterfly_layout_is_on_the_cap_and_convex(tip_radius):
-    """The butterfly (rods.fe.mesh.butterfly) only above its rim angle; P and E on the sphere, the arcs R - t and
+    """The butterfly (rods.fe.layout.butterfly) only above its rim angle; P and E on the sphere, the arcs R - t and
     cap - t long (so the blocks' edges match), every block a convex quadrilateral."""
     rod = load_scene(PAPER, [f"rod2.tip_radius={tip_radius}", "rod1.tip_radius=0.035"]).rod2
     b = butterfly(rod)
@@ -291,7 +292,7 @@ def test_hemispherical_tip_keeps_a_usable_step(monkeypatch):
     vol = math.pi * R**2 * (sc.rod1.length - R) + 2 / 3 * math.pi * R**3
     m1 = m.mass[_rod_entries(m, 1, m.axial)].sum()
     assert m1 == pytest.approx(sc.rod1.material.density * vol, rel=2e-3)
-    monkeypatch.setattr(mesh_module, "BUTTERFLY_ANGLE", math.pi / 2)  # the single block, as before
+    monkeypatch.setattr(layout, "BUTTERFLY_ANGLE", math.pi / 2)  # the single block, as before
     assert ExplicitModel(coarse("axisymmetric", *HEMISPHERE)).dt_critical < 0.2 * m.dt_critical
 
 
@@ -319,7 +320,7 @@ def _graded_or_uniform(base: list[str], mode: str) -> tuple[int, dict, np.ndarra
 
 
 def test_a_graded_global_answers_as_the_uniform_one():
-    """fe.radial_grading "graded" (rods.fe.mesh.radial_columns) against "uniform" on the same sizes (short paper
+    """fe.radial_grading "graded" (rods.fe.layout.radial_columns) against "uniform" on the same sizes (short paper
     rods at 1 m/s, 0.125 mm across, 1 mm along; a_P = 0.84 mm, the core 2.6 mm): 31 elements across instead of 52,
     the same first contact: peak force within 0.3% (measured +0.095%), duration within 0.1 µs (0.009 µs), both
     conserving energy (3e-11 and 6e-11 measured), and the midpoint's velocity history within 1.5% of its peak
@@ -336,7 +337,7 @@ def test_a_graded_global_answers_as_the_uniform_one():
 
 
 def test_a_coarsened_global_answers_as_the_full_one():
-    """fe.radial_coarsening "auto" (rods.fe.mesh.coarsening) against "none" on the same sizes (short paper rods at
+    """fe.radial_coarsening "auto" (rods.fe.layout.coarsening) against "none" on the same sizes (short paper rods at
     1 m/s, 0.125 mm across, 1 mm along: 51 to 53 elements across merge into 17 and 18 from 25.4 mm past the
     tips): the same step (the tip's, to 1e-6), the same first contact: peak force within 0.1%, duration within
     0.1 µs, both conserving energy, and the midpoint's velocity history within 1.5% of its peak, on under 0.65 of
@@ -363,7 +364,7 @@ def test_a_coarsened_global_answers_as_the_full_one():
 
 @pytest.mark.slow  # 22 s; the default suite builds the graded butterfly (tests/fe/test_mesh.py) and runs a graded flat
 def test_a_graded_butterfly_answers_as_the_uniform_one():
-    """A hemispherical Rod 1 (the butterfly cap, rods.fe.mesh.graded_butterfly) graded against uniform on the same
+    """A hemispherical Rod 1 (the butterfly cap, rods.fe.layout.graded_butterfly) graded against uniform on the same
     sizes (short paper rods at 0.5 m/s, 0.1 mm across, 1 mm along): the same first contact, peak force within 0.3%
     (measured +0.016%) and duration within 0.2 µs (-0.028 µs), both conserving energy (1e-11), the midpoint's
     velocity history within 1.5% of its peak (0.20%), on under 0.6 of the uniform mesh's DOFs (15.3k against 34.3k)."""

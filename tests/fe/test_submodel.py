@@ -389,14 +389,15 @@ def test_submodel_grading_follows_the_patch_against_the_section(extra, grading):
 
 def test_a_graded_submodel_keeps_its_size_at_the_patch_and_its_globals_across_the_rest():
     """A graded level (coarse, 0.25 mm, on a 40 mm Rod 2 at 1 m/s): Rod 2's elements h wide over the core of
-    CORE_RADII a_P, then growing by at most GROWTH to the global's bar size (rods.fe.mesh.bar_size at the global's
+    CORE_RADII a_P, then growing by at most GROWTH to the global's bar size (rods.fe.layout.bar_size at the global's
     axial size) and no wider; along, h over that core from the tip, then growing to the global's axial size (the
     cut's band at the global's spacing: 58 rows); the plan's DOFs the built mesh's (80 columns and 177 rows of 0.25 mm
     uniform instead)."""
     from mpi4py import MPI
 
     from rods import cost
-    from rods.fe.mesh import GROWTH, bar_size, build_mesh, element_sizes, face_count, scene_columns
+    from rods.fe.layout import GROWTH, bar_size, element_sizes, face_count, scene_columns
+    from rods.fe.mesh import build_mesh
 
     sc, h = load_scene(PAPER, [*THICK, "simulation.end_time=1e-6"]), 0.25e-3  # [m]
     sub = submodel_scene(sc, h, end_time=1e-6)
