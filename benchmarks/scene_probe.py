@@ -158,6 +158,7 @@ def probe(name: str, out: Path, comm) -> dict | None:
         "wall_time": time.perf_counter() - t0,
         "fe_wall_time": fe_wall,  # [s] the global stage, set-up to summary
         "fe_wall_estimate": estimate.wall_time,  # [s] rods.cost's estimate of it, as the run's plan prints it
+        "fe_wall_estimate_method": cost.ESTIMATE_METHOD,  # how rods.cost estimated it (estimate_spread)
         # each model's own, less the midpoint plateaus' (they lie past this short run: their warning says only that)
         "warnings": {
             m: [w for w in s.get("warnings", []) if not w.startswith("midpoint_peak_speed")]
@@ -238,18 +239,33 @@ def estimate_ratio(row: dict) -> str:
     return f"{est:.3g} / {wall:.3g} s = {est / wall:.2f}"
 
 
+# how rods.cost estimated a row's wall time (its "fe_wall_estimate_method"; rows from before 2026-12-06 have none)
+ESTIMATE_WORDS = {
+    "working-set probe": "the reference rates scaled by a sparse product of each run's own working set per rank, timed "
+    "before it",
+    None: "as planned before 2026-12-06: this machine's probed memory rate for a memory-bound loop over 10 s, the "
+    "reference rate below",
+}
+
+
 def estimate_spread(rows: list[dict], what: str = "global stage") -> list[str]:
-    """The line on how the plans' cost estimates (rods.cost, what a run prints before it starts) met the runs
-    (``what``: the measured run each estimate is of)."""
-    ratios = [r["fe_wall_estimate"] / r["fe_wall_time"] for r in rows if "fe_wall_estimate" in r]
-    if not ratios:
-        return []
-    return [
-        f"The plans' wall-time estimates (rods.cost as a run's plan prints it: this machine's probed memory rate for a "
-        f"memory-bound loop over rods.cost.PROBE_ABOVE, the reference rate below) over the measured {what}: "
-        f"{min(ratios):.2f} to {max(ratios):.2f} (median {statistics.median(ratios):.2f}).",
-        "",
-    ]
+    """The lines on how the plans' cost estimates (rods.cost, what a run prints before it starts) met the runs
+    (``what``: the measured run each estimate is of), one per way the estimates were made (ESTIMATE_WORDS)."""
+    lines = []
+    for method, words in ESTIMATE_WORDS.items():
+        ratios = [
+            r["fe_wall_estimate"] / r["fe_wall_time"]
+            for r in rows
+            if "fe_wall_estimate" in r and r.get("fe_wall_estimate_method") == method
+        ]
+        if ratios:
+            lines += [
+                f"The plans' wall-time estimates (rods.cost as a run's plan prints it: {words}) over the measured "
+                f"{what}: {min(ratios):.2f} to {max(ratios):.2f} (median {statistics.median(ratios):.2f}"
+                f"{'' if len(ratios) == len(rows) else f', {len(ratios)} rows'}).",
+                "",
+            ]
+    return lines
 
 
 # --random: materials drawn for each rod, (E [Pa], ρ [kg/m^3], ν [-]), yield strengths unset

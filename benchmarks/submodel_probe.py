@@ -110,6 +110,7 @@ def probe(name: str, out: Path, comm) -> dict | None:
         "wall_time": time.perf_counter() - t0,
         # the estimate against the study's wall time, as scene_probe.py's FE stage (its estimate_ratio, spread)
         "fe_wall_estimate": estimate,
+        "fe_wall_estimate_method": cost.ESTIMATE_METHOD,
     }
     row["fe_wall_time"] = row["wall_time"]
     row["passes"] = {

@@ -21,19 +21,17 @@ estimates"):
   the spring ε a, ε = factor x E*/h_n, has ω_c² = 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n², h_n the tip element normal
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
 * time: set-up (mesh, assembly, the contact's data) + steps x (a fixed cost per step + DOFs / (rate x ranks)).
-  The fixed cost (contact, cut driving, recorder, Python: 6.6e-5 s per step on a 13.6k-DOF global, ~1.9e-4 s
-  on the 6.2k-DOF coarse submodel) dominates small models; the rate is the memory-bound one of large models,
-  measured 2026-11-27 on an idle machine: 3.3e7 DOF-steps/s per rank axisymmetric (1.57M DOFs: 3.35e7 serial,
-  3.16e7 per rank on 2; 398k DOFs: 3.31e7 serial) and 8.5e6 in 3D (serial: 8.2e6 at 132k DOFs, 8.6e6 at 422k);
-  set-up 1.2e-5 s per DOF axisymmetric and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s
-  at 199k; 3D 4.2 s at 132k on 2026-11-27, 6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`). That memory-bound
-  rate is the machine's, and it moves: the same 396k-DOF loop ran 9.9e7 DOF-steps/s on 2026-11-22 and 3.3e7 on
-  2026-11-27, here. So where a run's memory-bound loop is estimated
-  above :data:`PROBE_ABOVE`, the entry points scale it by :func:`machine_speed` (:func:`calibrated`): an
-  out-of-cache sparse product timed on every rank at once (about 0.3 s; again when older than
-  :data:`PROBE_MAX_AGE`), against
-  :data:`PROBE_RATE_REFERENCE`, its rate on the day the rates above were measured. Cache-resident small meshes
-  run faster than the rate, so the estimate errs high there (the 52k-DOF paper mesh: 2.2x, 2026-11-27);
+  The fixed cost (contact, recorder, Python; the ghosts' exchange and the reductions under MPI; a submodel's cut
+  driving: :data:`STEP_OVERHEAD`, :data:`MPI_STEP_OVERHEAD`, :data:`CUT_STEP_OVERHEAD`) dominates small models.
+  The rate is the machine's, and it moves: the same 396k-DOF loop ran 9.9e7 DOF-steps/s on 2026-11-22, 3.3e7 on
+  2026-11-27 and 6.1e7 on 2026-12-06, here. So the entry points scale it by :func:`machine_speed`
+  (:func:`calibrated`): a sparse product of the run's own per-rank working set (:attr:`Cost.probe_rows`: in cache
+  where the run's mesh is, out of it where it is not) timed on every rank at once (milliseconds for a small run,
+  about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against :data:`PROBE_RATE_REFERENCE`: the
+  reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (2026-12-06, idle,
+  serial: 2.5e7 axisymmetric, 6.8e6 in 3D). Set-up 1.2e-5 s per DOF axisymmetric and 6e-5 in 3D over the ranks
+  (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s at 132k on 2026-11-27, 6.4 s on 2026-11-28:
+  :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at 398k);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells and DOFs: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene), 2 DOFs
@@ -100,16 +98,36 @@ BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
 BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
-DOF_STEPS_PER_SECOND = {"axisymmetric": 3.3e7, "3d": 8.5e6}  # per rank, memory-bound, 2026-11-27 [1/s]
-# the memory-bound rate's probe (machine_speed): a banded CSR matrix of PROBE_ROWS rows, each the 18 entries of an
-# axisymmetric stiffness row (9 nodes x 2 components; ~0.22 GB, past any core's share of a cache), y = A x
+# the time loop's rate per rank where the probe (machine_speed) at the loop's working set reads PROBE_RATE_REFERENCE
+# [1/s]: the loop's rate x PROBE_RATE_REFERENCE / the probe's, measured 2026-12-06 on this idle machine, serial (the
+# paper rods, coarsened, 600 steps, best of 2; the probe at each mesh's probe_rows, best of 5): axisymmetric 3.0e7
+# at 23k DOFs, 2.8e7 at 103k, 2.1e7 at 299k, 2.3e7 at 398k (the loop 8.6e7, 6.9e7, 5.4e7, 6.1e7; the probe 101 to
+# 117 M rows/s); 3D 6.7e6 at 132k, 6.8e6 at 83k (the loop 1.78e7, 1.81e7). 2026-11-27: 3.3e7 and 8.5e6 at the 1M-row
+# probe alone
+DOF_STEPS_PER_SECOND = {"axisymmetric": 2.5e7, "3d": 6.8e6}  # [1/s]
+# the probe (machine_speed): a banded CSR matrix, each row the 18 entries of an axisymmetric stiffness row (9 nodes x
+# 2 components), y = A x, of as many rows as a run's per-rank working set (PROBE_ROWS_PER_DOF), rounded up to a power
+# of two so that a study's stages share probes, within PROBE_MIN_ROWS (a few ms with its build) and PROBE_ROWS (~0.22
+# GB, past any core's share of a cache: larger sets run at its rate)
 PROBE_ROWS = 1_000_000  # [-]
-PROBE_RATE_REFERENCE = 4.0e7  # [rows/s] the probe where and when DOF_STEPS_PER_SECOND was measured (2026-11-27)
-PROBE_ABOVE = 10.0  # [s] memory-bound loop time above which a plan measures the machine (calibrated)
+PROBE_MIN_ROWS = 1 << 15  # [-]
+# a DOF's traffic per step over a probe row's (18 entries of 8 + 4 B, the row pointer, x and y: 236 B): its row's
+# entries, the row pointer and 48 B of vectors (rods.fe.backend), 268 B axisymmetric (18 entries), 1024 B in 3D (81)
+# [-]
+PROBE_ROWS_PER_DOF = {"axisymmetric": 268.0 / 236.0, "3d": 1024.0 / 236.0}
+PROBE_RATE_REFERENCE = 4.0e7  # [rows/s] the probe's rate that DOF_STEPS_PER_SECOND is paired with
+ESTIMATE_METHOD = "working-set probe"  # how calibrated estimates a run (the probe benchmarks record it) [-]
 # [s] a probe older than this is measured again: one process planning many runs (the benchmarks, a notebook) tracks a
 # machine whose memory-bound rate moves within the hour (2026-11-29, here: 0.3x to 1x of the reference in one hour)
 PROBE_MAX_AGE = 60.0
-STEP_OVERHEAD = 2e-4  # fixed cost of one step: contact, cut driving, recorder, Python [s]
+# the fixed cost of one step [s]: contact, recorder, Python (serial); with the ghosts' exchange and the reductions
+# under MPI; and a submodel's cut driving on top. Measured 2026-12-06, idle, the paper rods at 638 to 5.8k DOFs, 1500
+# steps, best of 3: 40 to 108 µs serial, 60 to 112 µs on 2 ranks; 2 ranks' loops from 13.6k to 398k DOFs lie 40 to
+# 130 µs over DOFs / rate at the calibrated rate (a small mesh's exchange costs more than its share of the product);
+# the main job's submodels (2 ranks) 34 µs (23.7k DOFs) to 80 µs (93k) over globals of their size
+STEP_OVERHEAD = 3.5e-5  # [s]
+MPI_STEP_OVERHEAD = 9e-5  # [s]
+CUT_STEP_OVERHEAD = 5e-5  # [s]
 # mesh, assembly, contact data and the step's eigenvalue, on one rank [s] (3D, 2026-11-27, serial: 2.9e-5 at 132k
 # DOFs, 3.1e-5 at 983k, since the eigenvalue is solved to the step's need, rods.fe.explicit.EIGEN_TOL; 7.7e-5 and
 # 1.6e-4 before). 3D, 2026-11-28, serial, quarter models of twelve drawn scenes (scene_probe.random_probes, seed 11,
@@ -276,13 +294,12 @@ class Cost:
     remedy: str = ""
     memory_bound_time: float = 0.0  # [s] the part of wall_time that scales with the machine's memory bandwidth
     speed: float | None = None  # [-] the machine_speed it was scaled by (None: the reference rates)
+    probe_rows: int = 0  # [-] the probe's size for this run's working set per rank (probe_rows; 0: none, no CPU loop)
     file_bytes: float = 0.0  # [B] what the run writes: histories, field frames, checkpoints, the cut record
 
     def describe(self) -> str:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
-        machine = (
-            "" if self.speed is None else f" (this machine's memory-bound rate {self.speed:.2f} x the reference's)"
-        )
+        machine = "" if self.speed is None else f" (this machine's probed rate {self.speed:.2f} x the reference's)"
         return (
             f"cost of {self.what}: {self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps, "
             f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, memory "
@@ -290,8 +307,8 @@ class Cost:
         )
 
     def at_speed(self, speed: float) -> Cost:
-        """This cost on a machine whose memory-bound rate is ``speed`` x the reference's: the loop's memory-bound
-        part divided by it, the set-up and the per-step fixed cost as they are."""
+        """This cost on a machine whose rate at this run's working set is ``speed`` x the reference's: the loop's
+        rate-bound part divided by it, the set-up and the per-step fixed cost as they are."""
         bound = self.memory_bound_time / speed
         wall = self.wall_time - self.memory_bound_time + bound
         return replace(self, wall_time=wall, memory_bound_time=bound, speed=speed)
@@ -407,7 +424,7 @@ def fe_cost(
     memory = (
         ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
     )
-    setup, loop, bound = _fe_time(scene, ranks, steps, dofs)
+    setup, loop, bound = _fe_time(scene, ranks, steps, dofs, size is not None)
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
     frames = _field_frames(scene, dt, steps) if size is None else 0  # the submodel writes none
@@ -427,7 +444,7 @@ def fe_cost(
         memory, files = memory + CUT_RECORD_COPIES * cut, files + cut
     return Cost(
         what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,
-        file_bytes=files,
+        file_bytes=files, probe_rows=probe_rows(kind, dofs, ranks) if bound > 0 else 0,
     )  # fmt: skip
 
 
@@ -448,16 +465,25 @@ def _fe_mesh(
     return (h_r, h, g), region, *_mesh_axisymmetric(region, h_r, h, g)
 
 
-def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float) -> tuple[float, float, float]:
-    """The set-up, the time loop and the loop's memory-bound part [s] of ``steps`` steps on ``dofs`` DOFs: on a
-    device its own rate (not the host's probe, so no bound), else the CPU's per rank (assembled or matrix-free)."""
+def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float, cut: bool) -> tuple[float, float, float]:
+    """The set-up, the time loop and the loop's rate-bound part [s] of ``steps`` steps on ``dofs`` DOFs (``cut``: a
+    submodel's, driven at its cuts): on a device its own rate (not the host's probe, so no bound), else the CPU's per
+    rank (assembled or matrix-free) at the reference probe's rate, and the fixed cost per step."""
     kind = scene["fe.kind"]
     if _on_gpu(scene, ranks):
         setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]
         return setup, steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND), 0.0
     rate = MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND if scene["fe.operator"] == "matrix-free" else DOF_STEPS_PER_SECOND
     bound = steps * dofs / (rate[kind] * ranks)
-    return dofs * SETUP_SECONDS_PER_DOF[kind] / ranks, steps * STEP_OVERHEAD + bound, bound
+    fixed = (MPI_STEP_OVERHEAD if ranks > 1 else STEP_OVERHEAD) + (CUT_STEP_OVERHEAD if cut else 0.0)
+    return dofs * SETUP_SECONDS_PER_DOF[kind] / ranks, steps * fixed + bound, bound
+
+
+def probe_rows(kind: str, dofs: float, ranks: int) -> int:
+    """The probe's rows for a loop over ``dofs`` DOFs on ``ranks`` ranks of ``kind`` (:data:`PROBE_ROWS_PER_DOF`):
+    the next power of two, within :data:`PROBE_MIN_ROWS` and :data:`PROBE_ROWS`."""
+    rows = max(PROBE_ROWS_PER_DOF[kind] * dofs / ranks, PROBE_MIN_ROWS)
+    return min(1 << math.ceil(math.log2(rows)), PROBE_ROWS)
 
 
 def _cut_record_bytes(scene: Scene, dt: float, steps: int, until: float, every: int) -> float:
@@ -702,11 +728,12 @@ def probe_is_stale(rows: int = PROBE_ROWS) -> bool:
 
 
 def machine_speed(rows: int = PROBE_ROWS, refresh: bool | None = None) -> float:
-    """This machine's memory-bound rate over the reference's [-]: the best of four products y = A x of a banded CSR
-    matrix too large for a core's cache (``rows`` rows of the axisymmetric row's 18 entries, spread as a structured
-    mesh's; :data:`PROBE_ROWS`: ~0.22 GB, ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE`.
-    Measured again where the last probe of this size is older than :data:`PROBE_MAX_AGE` (``refresh`` overrides:
-    under MPI one rank decides for all, :func:`calibrated`); 1.0 where the memory for it is not available."""
+    """This machine's rate at a working set of ``rows`` over the reference's [-]: the best of at least four products
+    y = A x of a banded CSR matrix (``rows`` rows of the axisymmetric row's 18 entries, spread as a structured mesh's:
+    in a core's cache where a small run's mesh is, past it at :data:`PROBE_ROWS`, ~0.22 GB, ~0.3 s with the build),
+    in rows/s over :data:`PROBE_RATE_REFERENCE`. Measured again where the last probe of this size is older than
+    :data:`PROBE_MAX_AGE` (``refresh`` overrides: under MPI one rank decides for all, :func:`calibrated`); 1.0 where
+    the memory for it is not available."""
     if refresh is None:
         refresh = probe_is_stale(rows)
     if refresh or rows not in _probes:
@@ -726,7 +753,7 @@ def _probe(rows: int) -> float:
     columns = ((np.arange(n)[:, None] + offsets) % n).astype(np.int32).ravel()
     a = scipy.sparse.csr_matrix((np.ones(n * k), columns, np.arange(0, n * k + 1, k, dtype=np.int32)), shape=(n, n))
     x, best = np.ones(n), math.inf
-    for _ in range(4):
+    for _ in range(max(4, PROBE_ROWS // n)):  # a small product is short against the clock's jitter: more of them
         t0 = time.perf_counter()
         a @ x
         best = min(best, time.perf_counter() - t0)
@@ -734,22 +761,21 @@ def _probe(rows: int) -> float:
 
 
 def calibrated(costs: Sequence[Cost], comm: Any = None) -> list[Cost]:
-    """``costs`` at this machine's memory-bound rate (:func:`machine_speed`) where one of them has more than
-    :data:`PROBE_ABOVE` of memory-bound loop; as they are otherwise (a short run is not worth the probe, and its mesh
-    may sit in cache). Under MPI every rank of ``comm`` probes at once, on 1/size of the rows (at least a quarter),
-    as the run's ranks will share a node's memory bandwidth, and all take the slowest (2026-11-27, 2 ranks here:
-    0.97 each against 1.05 alone; the FE loop ran 0.94 per rank of its serial rate). Every rank must call it with the
+    """``costs`` at this machine's rate (:func:`machine_speed`) at each one's working set per rank
+    (:attr:`Cost.probe_rows`: a small run's in cache, as its mesh is, at milliseconds' cost); those without a CPU
+    loop (the analytical model, a GPU's) as they are. Under MPI every rank of ``comm`` probes at once, as the run's
+    ranks will share a node's cache and memory bandwidth, and all take the slowest. Every rank must call it with the
     same costs (they follow from the scene alone), so every rank plans and refuses alike."""
-    if not any(c.memory_bound_time > PROBE_ABOVE for c in costs):
-        return list(costs)
+    sizes = sorted({c.probe_rows for c in costs if c.memory_bound_time > 0 and c.probe_rows > 0})
     if comm is None or comm.size == 1:
-        speed = machine_speed()
-    else:  # rank 0 says whether the probe is stale, so that every rank probes at once or none does
-        rows = max(PROBE_ROWS // comm.size, PROBE_ROWS // 4)
-        refresh = comm.bcast(probe_is_stale(rows) if comm.rank == 0 else None, root=0)
-        comm.Barrier()
-        speed = min(comm.allgather(machine_speed(rows, refresh)))
-    return [c.at_speed(speed) if c.memory_bound_time > 0 else c for c in costs]
+        speeds = {rows: machine_speed(rows) for rows in sizes}
+    else:  # rank 0 says which probes are stale, so that every rank probes at once or none does
+        stale = comm.bcast([probe_is_stale(rows) for rows in sizes] if comm.rank == 0 else None, root=0)
+        speeds = {}
+        for rows, refresh in zip(sizes, stale, strict=True):
+            comm.Barrier()
+            speeds[rows] = min(comm.allgather(machine_speed(rows, refresh)))
+    return [c.at_speed(speeds[c.probe_rows]) if c.probe_rows in speeds else c for c in costs]
 
 
 def _analytical_memory_remedy(cost: Cost) -> str:
