@@ -39,6 +39,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe-random.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random.json")),
     "scene-probe-random-2026.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-2026.json")),
     "scene-probe-random-61206.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61206.json")),
+    "scene-probe-random-61207.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61207.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
     "submodel-probe-random-1206.md": lambda: benchmark("submodel_probe").render(
