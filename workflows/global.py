@@ -23,8 +23,8 @@ from mpi4py import MPI
 import _cli
 from rods import cost, io, plan
 from rods.fe import checkpoint
-from rods.scene import check_submodel_length, cut_record_end
-from rods.study import stages
+from rods.scene import check_submodel_length
+from rods.study import jobs, stages
 
 SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_error", "ranks", "contact", "penalty")
 
@@ -59,8 +59,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     what = "the driving global" if args.driver else "the global"
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
-    until = cut_record_end(sc, args.record_until) if args.driver or args.record_cut else None
-    c = cost.fe_cost(sc, comm.size, what=what, record_until=until, record_every=args.record_every)
+    c = jobs.global_cost(scene, comm.size, driver=args.driver, record_cut=args.record_cut,
+                         record_until=args.record_until, record_every=args.record_every, phase=phase)  # fmt: skip
     step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's stable step (the set-up solves it exactly)
     if args.record_until is not None and args.record_until < step:
         _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
