@@ -61,5 +61,27 @@ steps = [l.split("|") for l in out if "|python" in l or "|srun" in l or l.split(
 mpi = [s for s in steps if s[2] == "2"]
 assert len(mpi) >= 2, f"expected two 2-task MPI steps in sacct, got {steps}"
 print(f"sacct: {len(mpi)} MPI steps with 2 tasks")
+# each FE job asked SLURM for its own plan's time and memory (rods.study.jobs.request), not the defaults
+from rods.scene import load_scene
+from rods.study import jobs
+want = set()
+for dtf in (0.5, 0.8):
+    sc = load_scene("workflows/scenes/paper.toml", ["impact.speed=2.197", "fe.kind=axisymmetric", "fe.axial_size=0.004",
+                                                    "fe.radial_size=0.001", f"fe.dt_fraction={dtf}"])
+    r = jobs.request([jobs.global_cost(sc, 2)])
+    want.add((r["runtime"], r["mem_mb"]))
+rows = subprocess.run(["sacct", "-P", "-n", "-X", "--starttime", start, "--format=JobID,AllocCPUS,Timelimit,ReqMem"],
+                      capture_output=True, text=True, check=True).stdout.split()
+def minutes(limit):  # sacct's [D-]HH:MM:SS
+    days, _, hms = limit.rpartition("-")
+    h, m, s = (int(x) for x in hms.split(":"))
+    return int(days or 0) * 1440 + h * 60 + m + (s > 0)
+def megabytes(mem):  # sacct's ReqMem: 2000M (older SLURM: 2000Mn, per node, or 2000Mc, per CPU), 2G
+    import re
+    number, unit = re.match(r"([\d.]+)([KMGT]?)", mem).groups()
+    return round(float(number) * {"K": 2**-10, "": 1, "M": 1, "G": 2**10, "T": 2**20}[unit])
+asked = {(minutes(t), megabytes(mem)) for _, cpus, t, mem in (r.split("|") for r in rows) if cpus == "2"}
+assert asked == want, f"the FE jobs asked SLURM for {asked} (runtime [min], mem [MB]), their plans for {want}"
+print(f"sacct: the FE jobs asked for their plans' time and memory {sorted(want)} (runtime [min], mem [MB])")
 PY
 echo "local run: $((t1 - t0)) s; SLURM run: $((t2 - t1)) s"
