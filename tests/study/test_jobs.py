@@ -1,7 +1,7 @@
 """What the workflow's jobs ask a scheduler for (rods.study.jobs): the wall time and memory of each FE rule come from
 its run's plan, cover the main job's measured runs with room for a slower node, grow with the run and with a retry,
 and reach SLURM through the Snakefile (was: 30 min and 4 GB for every global, a table of minutes per submodel level,
-so a 3D sweep point planned at 6 h was killed at 30 min)."""
+so a 3D sweep point planned at 2 h would be killed at 30 min)."""
 
 from __future__ import annotations
 
