@@ -292,7 +292,9 @@ class Cost:
     # the setting that chose this stage, named first in a refusal's remedy (a study's submodel level: the user set
     # no size for it, submodel.levels did) [-]
     remedy: str = ""
-    memory_bound_time: float = 0.0  # [s] the part of wall_time that scales with the machine's memory bandwidth
+    # [s] the part of wall_time that scales with the machine's rate at the run's working set (machine_speed: memory
+    # bandwidth for a large run, the cache's for a small one)
+    memory_bound_time: float = 0.0
     speed: float | None = None  # [-] the machine_speed it was scaled by (None: the reference rates)
     probe_rows: int = 0  # [-] the probe's size for this run's working set per rank (probe_rows; 0: none, no CPU loop)
     file_bytes: float = 0.0  # [B] what the run writes: histories, field frames, checkpoints, the cut record
