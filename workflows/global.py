@@ -57,7 +57,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         log(_cli.planning(cost.check(cost.analytical_cost(scene), args.force)))
     phase = plan.driver_phase(scene) if args.driver else None  # [s] the driver's record, the submodels' end
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
-    what = "the driving global" if args.driver else "the global"
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
     c = jobs.global_cost(scene, comm.size, driver=args.driver, record_cut=args.record_cut,
                          record_until=args.record_until, record_every=args.record_every, phase=phase)  # fmt: skip
@@ -65,7 +64,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.record_until is not None and args.record_until < step:
         _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
                   f"record would hold t = 0 alone; give --record-until {10 * step:.3g} or more")  # fmt: skip
-    log(f"{plan.fe_stage(sc, what)} -> {out}")
+    log(f"{plan.fe_stage(sc, c.what)} -> {out}")  # c.what: the driving global or the global (rods.study.jobs)
     _cli.outlook(scene, log)
     _cli.afford(args, c, log=log, comm=comm, out=out)
     if args.driver:

@@ -26,6 +26,7 @@ from typing import Any
 
 from rods import cost, plan
 from rods.scene import Scene, cut_record_end
+from rods.study import verification
 
 __all__ = ["MEMORY_MARGIN", "MEMORY_MIN", "RUNTIME_MARGIN", "RUNTIME_START", "global_cost", "request",
            "submodel_cost", "verification_costs"]  # fmt: skip
@@ -78,8 +79,6 @@ def submodel_cost(
 
 def verification_costs(scene: Scene, ranks: int, overrides: Sequence[str] = ()) -> list[cost.Cost]:
     """The costs of workflows/verify.py's matrix on ``scene`` (every case's runs, rods.study.verification)."""
-    from rods.study import verification
-
     return [c for name in verification.CASES for c in verification.case_costs(scene, name, overrides, ranks, True)]
 
 

@@ -9,6 +9,7 @@ import re
 import subprocess
 
 import pytest
+import yaml
 
 from rods import io
 from rods.scene import load_scene
@@ -41,16 +42,13 @@ def test_the_request_is_the_plan_with_its_margins():
 
 
 def test_the_requests_cover_the_main_jobs_measured_runs():
-    """Each of the main job's FE runs (the globals' meshes and the submodel levels, 2 ranks, measured in
+    """Each of the main job's FE runs (the globals' meshes, 3D ones too, and the submodel levels, 2 ranks, measured in
     results/accuracy-cost.json) is asked at least twice its measured time (a node half as fast finishes), and the
     submodel levels ask more as they refine."""
     measured = _measured()
-    meshes = {
-        "paper": ["fe.radial_size=0.25e-3"],
-        "coarse": ["fe.axial_size=2e-3", "fe.radial_size=0.5e-3"],
-        "fine": ["fe.axial_size=0.5e-3", "fe.radial_size=0.125e-3"],
-    }  # fmt: skip  (workflows/sweep.yaml)
+    meshes = yaml.safe_load((ROOT / "workflows" / "sweep.yaml").read_text())["paper_global_meshes"]  # the main job's
     sc = load_scene(PAPER, [])
+    assert {f"global {name}" for name in meshes} <= set(measured)
     for name, overrides in meshes.items():
         minutes = jobs.request([jobs.global_cost(sc.with_overrides(*overrides), RANKS)])["runtime"]
         assert 60 * minutes >= 2 * measured[f"global {name}"], name
