@@ -448,6 +448,46 @@ def test_a_study_level_above_the_machine_names_submodel_levels(scene_with, monke
         cost.check(fine)
 
 
+THICK_ONTO_THIN = (  # a 37 mm steel rod, 226 mm tip, onto an 8.6 mm glass rod at 0.427 m/s (submodel draw 61208)
+    "rod1.diameter=0.03714", "rod1.length=0.3498", "rod1.tip_radius=0.2258", "rod2.material.youngs_modulus=7e10",
+    "rod2.material.density=2500.0", "rod2.material.poisson_ratio=0.22", "rod2.diameter=0.008647",
+    "rod2.length=0.6216", "rod2.tip_radius=inf", "impact.speed=0.427", "effects=['contact_patch']",
+)  # fmt: skip
+
+
+def test_a_uniform_study_names_grading_where_it_saves_most_of_a_level(scene_with):
+    """ "auto" keeps a study's submodels uniform where grading saves less than half across at the levels' start
+    (rods.fe.submodel.submodel_grading); below it a uniform level quadruples, so a level that grading brings to at
+    most GRADED_SHARE of its time names fe.radial_grading='graded' in its remedy (the plan's total, a refusal) with
+    both DOF counts, each as the mesher would count it; a graded study, or one the user set uniform, names none."""
+    from rods import plan
+    from rods.fe.layout import GRADED_SHARE
+    from rods.study.pipeline import stage_costs
+
+    def levels(*overrides):
+        sc = scene_with(*THICK_ONTO_THIN, *overrides)
+        return sc, {c.what: c for c in stage_costs(sc, plan.make_plan(sc), 1) if c.what.startswith("the submodel")}
+
+    sc, uniform = levels()
+    assert list(uniform) == [f"the submodel {lv}" for lv in ("mid", "fine", "extra-fine")]
+    _, graded = levels("fe.radial_grading='graded'")
+    for what, c in uniform.items():
+        g = graded[what]
+        assert g.wall_time <= GRADED_SHARE * c.wall_time  # here every level: 17.7k / 122k DOFs at mid
+        said = f"or fe.radial_grading='graded' (the global and the submodels graded outside the patch: {g.dofs:.3g} "
+        assert said + f"DOFs at this level, not {c.dofs:.3g}" in c.remedy and g.remedy.count("radial_grading") == 0
+    assert graded["the submodel extra-fine"].dofs < 0.1 * uniform["the submodel extra-fine"].dofs
+    line = cost.total(list(uniform.values()))
+    assert "of it the submodel extra-fine" in line and "or fe.radial_grading='graded'" in line
+    _, own = levels("fe.radial_grading='uniform'")
+    assert all("radial_grading" not in c.remedy for c in own.values())
+    # the paper scene: its coarse level's grading leaves more than half of its time, its fine level's less
+    sc = scene_with("effects=['contact_patch']")
+    paper = {c.what: c for c in stage_costs(sc, plan.make_plan(sc), 1)}
+    assert "radial_grading" not in paper["the submodel coarse"].remedy
+    assert "radial_grading" in paper["the submodel fine"].remedy
+
+
 @pytest.mark.parametrize("ξ", [0.0, 0.3, 0.99])
 def test_bulk_viscosity_shortens_the_estimated_step_as_the_scheme_does(scene_with, ξ):
     """The estimate's damped factor is the integrator's (rods.fe.explicit.stable_step), and the steps estimated

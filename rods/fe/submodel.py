@@ -71,7 +71,10 @@ def submodel_grading(scene: Scene) -> str:
     DOFs uniform against 42k graded, peak force -0.06%, p0 against Hertz at its own force -3.08% / -2.48%; the paper
     scene forced graded, fine level, 93k against 25k DOFs, force +0.011%, area and p0 against Hertz -0.12 / -0.21%
     and -0.76 / -0.53% (2026-12-06, docs/run-log.md). The paper scene's and every scene's whose rods grading saves
-    less than half of across stays uniform, as the paper's submodel."""
+    less than half of across stays uniform, as the paper's submodel; below the start a uniform level quadruples, so a
+    study's plan names grading for a level it would bring to at most half its time (rods.study.pipeline: a 37 mm
+    steel rod with a 226 mm tip onto an 8.6 mm glass rod at 0.427 m/s, extra-fine 1.93e6 DOFs uniform, 1.17e5
+    graded; the graded study's area and p0 there -0.09% and -0.12% from Hertz at its own force)."""
     grading = scene["fe.radial_grading"]
     if scene["fe.kind"] == "3d" or grading != "auto":
         return "uniform" if scene["fe.kind"] == "3d" else grading
