@@ -298,14 +298,19 @@ class Cost:
     speed: float | None = None  # [-] the machine_speed it was scaled by (None: the reference rates)
     probe_rows: int = 0  # [-] the probe's size for this run's working set per rank (probe_rows; 0: none, no CPU loop)
     file_bytes: float = 0.0  # [B] what the run writes: histories, field frames, checkpoints, the cut record
+    # what the plan cannot settle and the set-up will (a given step above the estimated stable limit), said after
+    # the cost so that a dry run does not pass it as valid [-]
+    caveat: str = ""
 
     def describe(self) -> str:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
         machine = "" if self.speed is None else f" (this machine's probed rate {self.speed:.2f} x the reference's)"
+        caveat = f"; {self.caveat}" if self.caveat else ""
         return (
             f"cost of {self.what}: {self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps, "
             f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, memory "
             f"{self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}{machine}"
+            f"{caveat}"
         )
 
     def at_speed(self, speed: float) -> Cost:
@@ -417,7 +422,7 @@ def fe_cost(
     kind = scene["fe.kind"]
     (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size)
     end = scene.end_time if end_time is None else end_time
-    dt = _march_step(scene, h_r, h, g, size, dt, region)
+    dt, caveat = _march_step(scene, h_r, h, g, size, dt, region)
     steps = math.ceil(end / dt)
     # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
@@ -446,7 +451,7 @@ def fe_cost(
         memory, files = memory + CUT_RECORD_COPIES * cut, files + cut
     return Cost(
         what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,
-        file_bytes=files, probe_rows=probe_rows(kind, dofs, ranks) if bound > 0 else 0,
+        file_bytes=files, probe_rows=probe_rows(kind, dofs, ranks) if bound > 0 else 0, caveat=caveat,
     )  # fmt: skip
 
 
@@ -522,15 +527,16 @@ def _field_frames(scene: Scene, dt: float, steps: int) -> int:
 
 def _march_step(
     scene: Scene, h_r: float, h: float, g: float, size: float | None, dt: float | str, region: Scene | None
-) -> float:
+) -> tuple[float, str]:
     """The step [s] the model will march at, as rods.fe.timestep: fe.dt_fraction of the estimated stable step, at
     most the switching limit, or the given one (the global's fe.dt, a submodel's ``dt``), refused (exit 2) when it
-    is far above the estimated limit (``region``: :func:`_step_limits`)."""
+    is far above the estimated limit (``region``: :func:`_step_limits`); and a caveat where a given step is above
+    the estimate but not that far: the set-up's exact limit decides (empty otherwise)."""
     stable, switching = _step_limits(scene, h_r, h, g, size, region)
     limit = min(stable, switching)
     key, given = ("fe.dt", scene["fe.dt"]) if size is None else ("--dt", dt)
     if given == "auto":
-        return march_step(scene["fe.dt_fraction"], stable, switching)
+        return march_step(scene["fe.dt_fraction"], stable, switching), ""
     if given > DT_REFUSE_FACTOR * limit:
         raise (SceneError if size is None else InputError)(  # a scene key, or the submodel's --dt
             key,
@@ -539,7 +545,12 @@ def _march_step(
             "the set-up computes it exactly)",
             "fe.dt = 'auto' takes fe.dt_fraction of it" if size is None else "--dt auto takes fe.dt_fraction of it",
         )
-    return given
+    if given <= limit:
+        return given, ""
+    return given, (
+        f"{key} = {given:.3g} s is above the estimated stable limit {limit:.3g} s: the set-up computes the exact "
+        "limit (the estimate errs low) and refuses a step above it"
+    )
 
 
 def _on_gpu(scene: Scene, ranks: int) -> bool:

@@ -94,6 +94,7 @@ def here(tmp_path) -> Path:
     (tmp_path / "results-empty").mkdir()
     for name in ("table2.json", "table3.json", "fig4.json", "accuracy-cost.json"):
         (tmp_path / "results-empty" / name).write_text("{}")
+    (tmp_path / "bad-speed.toml").write_text(f'base = "{SCENES / "paper.toml"}"\n[impact]\nspeed = -2.0\n')
     many = ",".join(['"wave_response"'] * 200_000)
     (tmp_path / "many.toml").write_text(f'base = "{SCENES / "paper.toml"}"\neffects = [{many}]\n')
     return tmp_path
@@ -117,6 +118,17 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "compare missing": ("compare.py", ["--global", "missing", "--out", "o"], ["--global", "missing"]),
     "restart without checkpoint": ("global.py", ["--restart", "--out", "o"], ["--restart", "checkpoint.json"]),
     "200k effects": ("analytical.py", ["--scene", "many.toml", "--out", "o"], ["effects", "characters"]),
+    # a range with no remedy of its own names where the value came from (found by a newcomer's walk, 2026-12-06)
+    "speed -1 by --set": (
+        "global.py",
+        ["--set", "impact.speed=-1", "--out", "o"],
+        ["impact.speed", "-1.0", "[1e-09, 100] m/s", "(remedy: --set impact.speed=VALUE, a value as allowed)"],
+    ),
+    "speed -2 in a file": (
+        "run.py",
+        ["--scene", "bad-speed.toml", "--out", "o"],
+        ["impact.speed", "-2.0", "[1e-09, 100] m/s", "(remedy: impact.speed in bad-speed.toml, a value as allowed)"],
+    ),
     # refused by the model's set-up before, after the study's analytical stage had written its folder
     "study fe.degree 2": ("run.py", ["--set", "fe.degree=2", "--out", "o"], ["fe.degree", "2", "Q1"]),
     # a second bad-input audit (2026-11-29): levels without a contact effect ran without them; levels coarser than

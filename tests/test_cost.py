@@ -154,6 +154,26 @@ def test_a_step_far_above_the_stable_limit_is_refused_before_the_set_up(scene_wi
     assert cost.fe_cost(sc.with_overrides(f"fe.dt={0.99 * exact!r}")).steps > 0  # a stable step passes
     with pytest.raises(SceneError, match="'fe.dt'.*must be <= the stable limit, about"):
         cost.fe_cost(sc.with_overrides(f"fe.dt={2.1 * estimate!r}"))
+    # between the estimate and the refusal the set-up decides: the plan says so, so a dry run does not pass it
+    between = cost.fe_cost(sc.with_overrides(f"fe.dt={1.5 * estimate!r}"))
+    assert f"fe.dt = {1.5 * estimate:.3g} s is above the estimated stable limit {estimate:.3g} s" in between.caveat
+    assert between.describe().endswith(between.caveat) and cost.fe_cost(sc).caveat == ""
+    assert cost.fe_cost(sc.with_overrides(f"fe.dt={0.99 * estimate!r}")).caveat == ""
+
+
+def test_a_dry_run_with_a_step_the_set_up_decides_says_so(tmp_path):
+    """--dry-run with fe.dt above the estimated limit but below the refusal: exit 0, and its last line says the
+    input is valid only as far as the plan can tell (a newcomer's walk, 2026-12-06: "valid", then the run refused
+    5e-8 s against the exact 4.11e-8 s)."""
+    from .conftest import in_process
+
+    args = ["--set", "fe.dt=5e-8", "--set", "simulation.end_time=2e-5", "--dry-run", "--out", "o"]
+    p = in_process("global.py", *args, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr[-2000:]
+    lines = p.stdout.strip().splitlines()
+    assert "fe.dt = 5e-08 s is above the estimated stable limit" in lines[-2]
+    assert lines[-1].startswith("dry run: the input and the output folder are valid as far as the plan can tell")
+    assert not (tmp_path / "o").exists()
 
 
 @pytest.mark.alone  # a wall time: not beside another test

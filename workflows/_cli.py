@@ -151,7 +151,8 @@ def afford(
     if line := cost.total(calibrated):  # several stages: their sum, and the one that is most of it
         log(line)
     if getattr(args, "dry_run", False):
-        log("dry run: the input and the output folder are valid; nothing was run or written")
+        unsettled = " as far as the plan can tell (the caveat above)" if any(c.caveat for c in costs) else ""
+        log(f"dry run: the input and the output folder are valid{unsettled}; nothing was run or written")
         raise SystemExit(0)
 
 
@@ -196,7 +197,16 @@ def load(args: argparse.Namespace) -> Scene:
     try:
         return load_scene(args.scene, args.overrides)
     except SceneError as e:
-        fail(str(e))
+        fail(str(e) + _scene_remedy(e, args))
+
+
+def _scene_remedy(e: SceneError, args: argparse.Namespace) -> str:
+    """The remedy of a scene value refused without one of its own (a range, a choice): where the value came from,
+    the --set that gave it or the scene file, to be given within what is allowed."""
+    if e.hint or not e.allowed.startswith("must"):
+        return ""
+    given = any(t.split("=", 1)[0].strip() == e.key for t in args.overrides or ())
+    return f" (remedy: {f'--set {e.key}=VALUE' if given else f'{e.key} in {args.scene}'}, a value as allowed)"
 
 
 def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:

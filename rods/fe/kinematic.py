@@ -222,7 +222,8 @@ class KinematicContact(PenaltyContact):
             self.dissipated -= 0.5 * self.multiplicity * float((self._F_prev + F) @ (g - self._g_prev))
         # the half step's identity is E_1 - E_0 = ½ (u_1 - u_0)·(f_1 + ½ f_0): its force enters at weight h
         self._F_prev, self._g_prev = h * F, g
-        self.add_force(v, h * dt_inv_mass)
+        if self._closed:  # h Δt M^-1 formed only then: a full-length product each step costs about an axpy
+            self.add_force(v, dt_inv_mass if h == 1.0 else h * dt_inv_mass)
 
     def add_force(self, y, scale=None) -> None:
         """As :meth:`PenaltyContact.add_force`, nothing while every pair is open (the forces are zero)."""
