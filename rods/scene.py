@@ -496,11 +496,15 @@ def _apply_override(data: dict[str, Any], key: str, value: Any) -> None:
 
 def _unknown_msg(key: str) -> str:
     """'unknown key', the nearest known key when one is close (a typo, a missing table: 'end_time' ->
-    'simulation.end_time'), then the keys of its table (or all keys)."""
+    'simulation.end_time'), then the keys of its table, else of the nearest key's table (all ~60 keys, a 900-character
+    line, only where neither is known)."""
+    hint = nearest_key(key)
     head = key.split(".")[0]
+    if not any(k.split(".")[0] == head for k in SCHEMA) and hint is not None:
+        head = hint.split(".")[0]
     near = sorted(k for k in SCHEMA if k.split(".")[0] == head)
     listing = f"; keys in [{head}]: {', '.join(near)}" if near else f"; known keys: {', '.join(SCHEMA)}"
-    return "unknown key" + (f"; did you mean '{hint}'?" if (hint := nearest_key(key)) else "") + listing
+    return "unknown key" + (f"; did you mean '{hint}'?" if hint else "") + listing
 
 
 def nearest_key(key: str, known: Iterable[str] = SCHEMA) -> str | None:

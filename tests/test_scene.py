@@ -111,6 +111,8 @@ BAD = [
     ("impact.velocity=2", "impact.velocity", "unknown key"),
     ("rod3.length=1", "rod3.length", "unknown key"),
     ("end_time=1e-3", "end_time", "did you mean 'simulation.end_time'"),  # the table left out
+    # then that table's keys, not all ~60 (a 940-character line before; a newcomer's walk, 2026-12-06)
+    ("end_time=1e-3", "end_time", "?; keys in [simulation]: simulation.end_time, simulation.output_interval"),
     ("fe.dt_frac=0.5", "fe.dt_frac", "did you mean 'fe.dt_fraction'"),  # a short spelling
     ("fe.kind=2d", "fe.kind", "one of"),
     ("effects=['wave_response','teleport']", "effects", "unknown effect"),
