@@ -49,10 +49,11 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from mpi4py import MPI
 from scipy.linalg import lapack
 
 from rods.fe.backend import product
-from rods.fe.contact import PenaltyContact, _transpose
+from rods.fe.contact import PenaltyContact, _interp, _transpose
 
 __all__ = ["KinematicContact", "edge_radius", "solve_lcp"]
 
@@ -160,6 +161,8 @@ class KinematicContact(PenaltyContact):
         self._BA = None  # B A on the backend when the rates are predicted before the product (Overlap)
         self._pending = None  # the wait for the predicted gaps and rates on their way into self._buffer
         self._buffer = None  # host array the predicted gaps and rates are copied into (Overlap)
+        self._pair_buf = np.zeros(2 * (self.ns + self.nm))  # under MPI: u_n's and v*'s tip entries, one gather
+        self._u = None  # under MPI: u_n, whose gaps correct() gathers with the rates
 
     def predict_with(self, op) -> None:
         """Predict the rates before the step's product from now on (module docstring, "Overlap"): ``op`` the
@@ -187,8 +190,13 @@ class KinematicContact(PenaltyContact):
         self._closed = False  # a pair carries force this step (add_force adds it)
 
     def evaluate(self, u) -> None:
-        """Gaps at u_n on the backend (they come to the host with the rates in :meth:`correct`)."""
-        self._g, self._host = self.gaps(u), None
+        """Gaps at u_n on the backend (they come to the host with the rates in :meth:`correct`). Under MPI the
+        gather is left to :meth:`correct`: u_n stays as it is until the next step's drift, so one Allreduce there
+        gathers it with the rates' v* (two a step before; the sums are the same, each entry from its one owner)."""
+        if self.serial:
+            self._g, self._host = self.gaps(u), None
+        else:
+            self._u, self._host = u, None
 
     def correct(self, v, dt: float, h: float, dt_inv_mass) -> None:
         """v += M^-1 Bᵀ P so that no pair penetrates at t_{n+1} (``v``: v*_{n+½} on the backend; ``h``: ½
@@ -198,6 +206,9 @@ class KinematicContact(PenaltyContact):
             self._pending()
             self._pending = None
             g_rate = self._buffer.copy()  # the buffer is the next step's
+        elif not self.serial:  # the gaps at u_n and the rates of v* from one gather (:meth:`evaluate`)
+            self._g, rate = self._gaps_and_rates(self._u, v)
+            g_rate = np.concatenate((self._g, rate))
         else:
             rate = self.normal_rates(v)  # d g/dt [m/s]
             g_rate = self.backend.to_host(xp.concatenate((self._g, rate)))  # the step's one copy to the host
@@ -224,6 +235,18 @@ class KinematicContact(PenaltyContact):
         self._F_prev, self._g_prev = h * F, g
         if self._closed:  # h Δt M^-1 formed only then: a full-length product each step costs about an axpy
             self.add_force(v, dt_inv_mass if h == 1.0 else h * dt_inv_mass)
+
+    def _gaps_and_rates(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(g_s at ``u``, B ``v``) under MPI, host arrays: :meth:`gaps` and :meth:`normal_rates` from one Allreduce
+        of both arrays' axial tip entries (:meth:`gather`'s, side by side)."""
+        d, ns, n, b = self._host_arrays, self.ns, self.ns + self.nm, self._pair_buf
+        b[:] = 0.0
+        for x, at in ((u, 0), (v, n)):
+            b[at + d.slave_pos] = x[d.slave_local]
+            b[at + ns + d.master_pos] = x[d.master_local]
+        self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
+        g = d.g0 + (_interp(d.J, d.W, b[ns:n]) - b[:ns])
+        return g, _interp(d.J, d.W, b[n + ns :]) - b[n : n + ns]
 
     def add_force(self, y, scale=None) -> None:
         """As :meth:`PenaltyContact.add_force`, nothing while every pair is open (the forces are zero)."""
