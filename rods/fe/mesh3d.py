@@ -118,8 +118,9 @@ def _layers(rod: Rod, h: float, grading: float) -> tuple[list[int], list[float],
     L = rod.length
     counts, z = [], []
     if sp.n_graded:
-        q = sp.ratio
-        sizes = sp.graded_length * (q - 1.0) / (q**sp.n_graded - 1.0) * q ** np.arange(sp.n_graded)
+        q, n = sp.ratio, sp.n_graded  # q = 1: a deep cap's block of equal elements (rods.fe.layout._graded_counts)
+        first = sp.graded_length / n if q == 1.0 else sp.graded_length * (q - 1.0) / (q**n - 1.0)
+        sizes = first * q ** np.arange(n)
         z = list(np.cumsum(sizes) / L)
         counts = [1] * sp.n_graded
     counts.append(sp.n_uniform)
