@@ -1137,17 +1137,28 @@ def _cross_checks(v: dict[str, Any]) -> None:
         raise SceneError("submodel.levels", [], why, "'auto', or e.g. ['fine']")
     if (v["impact.offset"] > 0 or v["impact.tilt"] > 0) and v["fe.kind"] != "3d":
         key = "impact.offset" if v["impact.offset"] > 0 else "impact.tilt"
-        raise SceneError(key, v[key], "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)")
+        raise SceneError(
+            key,
+            v[key],
+            "an offset or tilt needs fe.kind = '3d' (axisymmetric is centric)",
+            f"set fe.kind = '3d', or {key} = 0",
+        )
     _misaligned_contact_on_the_tips(v)
     if v["fe.operator"] == "matrix-free" and v["fe.backend"] == "petsc":
         raise SceneError(
             "fe.operator", "matrix-free", "runs on the serial array backends", "set fe.backend = 'numpy' or 'cupy'"
         )
     if v["fe.symmetry"] != "full" and v["fe.kind"] != "3d":
-        raise SceneError("fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only")
+        raise SceneError(
+            "fe.symmetry", v["fe.symmetry"], "half/quarter symmetry applies to fe.kind = '3d' only",
+            "set fe.symmetry = 'full' (an axisymmetric model is one already), or fe.kind = '3d'",
+        )  # fmt: skip
     if v["fe.radial_grading"] == "graded" and v["fe.kind"] == "3d":
         raise SceneError(
-            "fe.radial_grading", "graded", "applies to fe.kind = 'axisymmetric' only (the 3D section is an O-grid)"
+            "fe.radial_grading",
+            "graded",
+            "applies to fe.kind = 'axisymmetric' only (the 3D section is an O-grid)",
+            "set fe.radial_grading = 'auto' or 'uniform', or fe.kind = 'axisymmetric'",
         )
     # the 3D model's mirrors: half (y -> -y) holds for an offset along x and a tilt about y; quarter (x and y)
     # needs a centric, aligned impact

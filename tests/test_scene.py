@@ -132,6 +132,9 @@ BAD = [
     ("station=3", "station", "array of tables"),
     ("station=[{rod = 1, position = 0.3}]", "station[0].position", "tip of rod 1"),
     ("analytical.rtol=1e-14", "analytical.rtol", "[1e-13, "),  # SciPy raised it with a raw warning
+    # a cross-key refusal names its remedy too (an options fuzz, 2026-12-06)
+    ("impact.tilt=0.01", "impact.tilt", "(set fe.kind = '3d', or impact.tilt = 0)"),
+    ("fe.symmetry='half'", "fe.symmetry", "(set fe.symmetry = 'full' (an axisymmetric model is one already)"),
 ]
 
 
@@ -536,6 +539,10 @@ def test_radial_grading_is_refused_on_the_3d_model(scene_with):
     """fe.radial_grading = "graded" asks for the axisymmetric mesh's graded columns; the 3D O-grid has none, so a
     3D scene asking for it is refused before anything runs ("auto" and "uniform" stay valid there)."""
     with pytest.raises(SceneError, match=r"'fe.radial_grading' = 'graded': applies to fe.kind = 'axisymmetric' only"):
+        scene_with("fe.kind='3d'", "fe.radial_grading='graded'")
+    with pytest.raises(
+        SceneError, match=r"\(set fe.radial_grading = 'auto' or 'uniform', or fe.kind = 'axisymmetric'\)"
+    ):
         scene_with("fe.kind='3d'", "fe.radial_grading='graded'")
     for v in ("auto", "uniform"):
         assert scene_with("fe.kind='3d'", f"fe.radial_grading='{v}'")["fe.radial_grading"] == v
