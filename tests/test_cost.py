@@ -447,6 +447,21 @@ def test_a_gpu_run_is_estimated_at_the_gpu_rates(scene_with):
         assert cost.fe_cost(scene_with(*paper_3d, "fe.backend=auto")).wall_time == pytest.approx(cpu.wall_time)
 
 
+def test_the_matrix_free_loop_is_planned_at_its_own_rate_not_the_probes(scene_with):
+    """fe.operator = "matrix-free" on the CPU: the element kernel's gathers and small products are not the sparse
+    product the machine probe times, so its loop is planned at its measured rate, unscaled, with no probe (an options
+    fuzz, 2026-12-06: 42.9k DOFs planned 66.6 s at 7.8e5 x the probe's 2.91, ran 151 s; now 193 s planned; 48k DOFs,
+    101 s planned, 109 s run)."""
+    sc = scene_with("fe.backend='numpy'", "fe.operator='matrix-free'", "simulation.end_time=6e-5")
+    c = cost.fe_cost(sc)
+    loop = c.steps * (cost.STEP_OVERHEAD + c.dofs / cost.MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND["axisymmetric"])
+    assert c.probe_rows == 0 and c.memory_bound_time == 0.0
+    assert c.wall_time == pytest.approx(c.setup_time + loop)
+    assert cost.calibrated([c])[0].wall_time == c.wall_time  # no probe scales it
+    assembled = cost.fe_cost(scene_with("fe.backend='numpy'", "simulation.end_time=6e-5"))
+    assert assembled.probe_rows > 0 and c.wall_time > 5 * assembled.wall_time  # 6-25x the CSR product's
+
+
 def test_a_study_level_above_the_machine_names_submodel_levels(scene_with, monkeypatch):
     """A 3D scene's contact_patch study: "auto" picks the levels, not the user, so a level refused for memory (or a
     budget) names submodel.levels first in its remedy (found on paper-3d-coarse, 2026-11-27: fine, 5.4e7 DOFs and
