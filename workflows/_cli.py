@@ -205,7 +205,7 @@ def _scene_remedy(e: SceneError, args: argparse.Namespace) -> str:
     the --set that gave it or the scene file, to be given within what is allowed."""
     if e.hint or not e.allowed.startswith("must"):
         return ""
-    given = any(t.split("=", 1)[0].strip() == e.key for t in args.overrides or ())
+    given = any(parse_override(t)[0] == e.key for t in args.overrides or ())  # read once by _Override already
     return f" (remedy: {f'--set {e.key}=VALUE' if given else f'{e.key} in {args.scene}'}, a value as allowed)"
 
 

@@ -360,16 +360,23 @@ class PenaltyContact:
         """Axial entries of the owned array ``x`` (host or the evaluation backend's) at all slave and master
         nodes (every rank)."""
         d = self._host_arrays if isinstance(x, np.ndarray) else self._d
-        b = d.buf
-        if self.serial:
-            b[d.slave_pos] = x[d.slave_local]
-            b[self.ns + d.master_pos] = x[d.master_local]
-        else:  # the PETSc path (host arrays)
-            b[:] = 0.0
-            b[d.slave_pos] = x[d.slave_local]
-            b[self.ns + d.master_pos] = x[d.master_local]
-            self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
+        b = self._gather_into(d, d.buf, (x,))
         return b[: self.ns], b[self.ns :]
+
+    def _gather_into(self, d: _Arrays, b, xs):
+        """``b`` holding, side by side, each owned array of ``xs``'s axial entries at all slave and master nodes
+        (ns + nm each); under MPI (the PETSc path, host arrays) summed over the ranks in one Allreduce, each entry
+        from its one owner."""
+        n = self.ns + self.nm
+        if not self.serial:
+            b[:] = 0.0
+        for k, x in enumerate(xs):
+            part = b[k * n : (k + 1) * n]
+            part[d.slave_pos] = x[d.slave_local]
+            part[self.ns + d.master_pos] = x[d.master_local]
+        if not self.serial:
+            self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
+        return b
 
     def _scatter(self, f, fs, fm) -> None:  # fs, fm: all tip nodes
         """f[owned slave/master axial entries] += fs, fm (values over all tip nodes; host arrays, or the

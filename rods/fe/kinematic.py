@@ -20,8 +20,8 @@ the active set and reusing it while the set is unchanged (the set changes a few 
 Assumptions: frictionless, normal along the axis, small displacements (the pairing is fixed at the
 reference configuration), as for the penalty law. No spring, so no contact stiffness enters the spectrum:
 the step is the bulk limit of K alone and there is no switching limit (:func:`pair_frequency` is 0).
-Costs per step: a second gather of the tip velocities (one more Allreduce under MPI) and, while in
-contact, a triangular solve of the active block (~|A|² flops, |A| <= tens of nodes).
+Costs per step: a gather of the tip velocities beside the displacements' (under MPI both in one Allreduce) and,
+while in contact, a triangular solve of the active block (~|A|² flops, |A| <= tens of nodes).
 
 Energy: a pair that closes at a nonzero relative velocity loses that velocity (a perfectly plastic
 node-on-surface impact), so the contact dissipates. From the scheme's discrete energy identity
@@ -49,7 +49,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from mpi4py import MPI
 from scipy.linalg import lapack
 
 from rods.fe.backend import product
@@ -239,12 +238,8 @@ class KinematicContact(PenaltyContact):
     def _gaps_and_rates(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(g_s at ``u``, B ``v``) under MPI, host arrays: :meth:`gaps` and :meth:`normal_rates` from one Allreduce
         of both arrays' axial tip entries (:meth:`gather`'s, side by side)."""
-        d, ns, n, b = self._host_arrays, self.ns, self.ns + self.nm, self._pair_buf
-        b[:] = 0.0
-        for x, at in ((u, 0), (v, n)):
-            b[at + d.slave_pos] = x[d.slave_local]
-            b[at + ns + d.master_pos] = x[d.master_local]
-        self.comm.Allreduce(MPI.IN_PLACE, b, op=MPI.SUM)
+        d, ns, n = self._host_arrays, self.ns, self.ns + self.nm
+        b = self._gather_into(d, self._pair_buf, (u, v))
         g = d.g0 + (_interp(d.J, d.W, b[ns:n]) - b[:ns])
         return g, _interp(d.J, d.W, b[n + ns :]) - b[n : n + ns]
 

@@ -485,14 +485,18 @@ def graded_words(graded: tuple[bool, ...]) -> str:
     return "both rods" if all(graded) else next((f"rod {k + 1}" for k, g in enumerate(graded) if g), "")
 
 
+def progression(length: float, n: int, q: float) -> np.ndarray:
+    """The sizes [m] of ``n`` elements growing by ``q`` that fill ``length`` [m]: the first length (q - 1)/(q^n - 1),
+    or length/n where q = 1 (a deep cap's block of equal elements, :func:`_graded_counts`)."""
+    first = length / n if q == 1.0 else length * (q - 1.0) / (q**n - 1.0)
+    return first * q ** np.arange(n)
+
+
 def element_sizes(columns: tuple[Column, ...]) -> np.ndarray:
-    """Every element's size across [m] of a rod's ``columns``, axis to rim (a graded column's first element is
-    width (q - 1)/(q^n - 1), the rest grow by q)."""
+    """Every element's size across [m] of a rod's ``columns``, axis to rim (:func:`progression` in each)."""
     sizes, r0 = [], 0.0
     for c in columns:
-        width = c.r_end - r0
-        first = width / c.n if c.ratio == 1.0 else width * (c.ratio - 1.0) / (c.ratio**c.n - 1.0)
-        sizes.append(first * c.ratio ** np.arange(c.n))
+        sizes.append(progression(c.r_end - r0, c.n, c.ratio))
         r0 = c.r_end
     return np.concatenate(sizes)
 

@@ -38,7 +38,7 @@ import dolfinx.io.gmsh
 import numpy as np
 from mpi4py import MPI
 
-from rods.fe.layout import axial_spacing, cap_depth, element_count
+from rods.fe.layout import axial_spacing, cap_depth, element_count, progression
 from rods.fe.mesh import TAGS, RodsMesh, gmsh_to_dolfinx
 from rods.scene import Rod, Scene, SceneError
 
@@ -118,10 +118,7 @@ def _layers(rod: Rod, h: float, grading: float) -> tuple[list[int], list[float],
     L = rod.length
     counts, z = [], []
     if sp.n_graded:
-        q, n = sp.ratio, sp.n_graded  # q = 1: a deep cap's block of equal elements (rods.fe.layout._graded_counts)
-        first = sp.graded_length / n if q == 1.0 else sp.graded_length * (q - 1.0) / (q**n - 1.0)
-        sizes = first * q ** np.arange(n)
-        z = list(np.cumsum(sizes) / L)
+        z = list(np.cumsum(progression(sp.graded_length, sp.n_graded, sp.ratio)) / L)
         counts = [1] * sp.n_graded
     counts.append(sp.n_uniform)
     z.append(1.0)
