@@ -14,6 +14,7 @@ import errno
 import os
 import signal
 import sys
+import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
@@ -239,6 +240,10 @@ def _mpi():
 
 
 # the rank a launcher gives each process (MPICH's hydra, Open MPI, PMIx, SLURM's srun), read where MPI is not loaded
+# [s] between a rank's error line and its MPI_Abort: hydra forwards a rank's stderr through its proxy, which the
+# abort tears down, and on a loaded machine the line was lost (once, in the suite's abort test under load; MPICH's
+# own issues report the same), leaving the user an abort without its reason
+ABORT_GRACE = 0.2
 LAUNCHER_RANKS = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "SLURM_PROCID")
 
 
@@ -276,6 +281,7 @@ def _abort(message: str, code: int) -> int:
         return code
     rank = mpi.COMM_WORLD.rank
     print(f"error on rank {rank}: {one_line(message)}; aborting all ranks", file=sys.stderr, flush=True)
+    time.sleep(ABORT_GRACE)
     mpi.COMM_WORLD.Abort(code)
     return code
 
