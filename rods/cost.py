@@ -188,87 +188,37 @@ H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to
 # 0.87 on the meshes measured; between the estimate and this, the set-up's exact limit decides)
 DT_REFUSE_FACTOR = 2.0  # [-]
-# axisymmetric global: Δt of a curved tip / the estimate above, against its rim angle asin(d/2r) [deg, -]: the cells
-# where the cap meets the cylinder are the most distorted (rods.fe.mesh; the butterfly above 70°), times 0.99.
-# Measured on the paper rods at the auto mesh, 2026-11-27 (tip radius 35, 25, 15, 12.5, 10, 9, 8, 7.5, 7.2, 7, 6.8,
-# 6.77, 6.75, 6.5, 6.35 mm); the table before, measured before a curved tip's face was divided along its arc
-# (rods.fe.layout.face_count), had the 8 to 6.8 mm tips' steps 1.6x to 1.9x too long (the butterflies' rows, remeasured
-# 2026-11-29 at 0.1 m/s: 0.98x to 0.95x these, within the estimate's band)
+# the tip cells' estimated step (_tip_step) is this fraction of their thickness over the wave speed: that ratio read
+# 0.76 to 1.03 of the set-up's exact step (the highest, 1.032, a uniform 0.25 mm submodel on a 10 mm tip), so the
+# estimate errs low, as the bulk's (a stable given fe.dt is never refused) [-]
+TIP_STEP_FRACTION = 0.95
+# a near-hemispherical tip's butterfly cap (above rods.fe.layout.BUTTERFLY_ANGLE, 70°): Δt / the bulk's estimate
+# above, against its rim angle asin(d/2r) [deg, -]; a one-block tip face below it is estimated from its own cells
+# (_tip_step). Axisymmetric global, measured on the paper rods at the auto mesh, 2026-11-27 (tip radii 6.77 to 6.35
+# mm), times 0.99
 CAP_STEP_FACTOR = (
-    (0.0, 1.0),
-    (10.5, 1.0),
-    (14.7, 0.96),
-    (25.0, 0.77),
-    (30.5, 0.68),
-    (39.4, 0.58),
-    (44.9, 0.52),
-    (52.5, 0.44),
-    (57.9, 0.38),
-    (61.9, 0.33),
-    (65.1, 0.30),
-    (69.7, 0.24),
-    (70.0, 0.24),
     (70.2, 0.47),
     (77.7, 0.56),
     (90.0, 0.68),
 )
-# the same for a radially graded tip (fe.radial_grading, rods.fe.layout.radial_columns): its rim cells are wider, so its
-# step is longer, 1.07x (10.5°) to 1.54x (69°) the uniform mesh's. Measured 2026-11-29 on the paper rods at 2.197
-# and 0.2 m/s (auto sizes, both rods graded), the lower of the two (within 5%) times 0.99, made monotone (44.9°: 0.627
-# measured); a graded butterfly (above 70°, rods.fe.layout.graded_butterfly) at 0.1, 0.5 and 2.197 m/s (6.75, 6.5 and
-# 6.35 mm tips, graded forced; the three speeds within 2%), 1.1x to 1.7x the uniform butterfly's
+# the same for a radially graded butterfly (rods.fe.layout.graded_butterfly), measured 2026-11-29 at 0.1, 0.5 and
+# 2.197 m/s (6.75, 6.5 and 6.35 mm tips, graded forced; the three speeds within 2%), 1.1x to 1.7x the uniform's
 GRADED_CAP_STEP_FACTOR = (
-    (0.0, 1.0),
-    (14.7, 1.0),
-    (25.0, 0.85),
-    (30.5, 0.77),
-    (39.4, 0.616),
-    (44.9, 0.616),
-    (52.5, 0.547),
-    (57.9, 0.492),
-    (61.9, 0.449),
-    (65.1, 0.403),
-    (69.0, 0.358),
-    (70.0, 0.358),
     (70.2, 0.768),
     (77.7, 0.750),
     (90.0, 0.729),
 )
-# axisymmetric submodel (uniform size h, no grading, rods.fe.submodel.submodel_scene): Δt of its curved tip / the
-# estimate above, against the rim angle [deg, -]. Measured at h = 0.25 and 0.125 mm (the same to 2%; the lower kept)
-# on the paper rods, tips 50 to 6.35 mm; the butterfly cap (above 70°, rods.fe.layout.BUTTERFLY_ANGLE) steps up. Flat
-# and flatter tips: 1.02-1.12 (kept at 1). Before, a submodel ran 1.3x (10 mm tip) to 3.4x (6.76 mm) the steps
-# estimated.
+# an axisymmetric submodel's butterfly (uniform size h, rods.fe.submodel.submodel_scene), measured at h = 0.25 and
+# 0.125 mm (the same to 2%; the lower kept) on the paper rods
 SUBMODEL_CAP_STEP_FACTOR = (
-    (0.0, 1.0),
-    (18.5, 1.0),
-    (25.0, 0.93),
-    (30.5, 0.87),
-    (39.4, 0.73),
-    (48.3, 0.61),
-    (57.8, 0.46),
-    (65.1, 0.36),
-    (67.0, 0.33),
-    (70.0, 0.29),
     (70.2, 0.51),
     (74.2, 0.57),
     (82.9, 0.62),
     (90.0, 0.64),
 )
-# the same for a graded submodel (rods.fe.submodel.submodel_grading): its rim cells are wider. Measured 2026-12-06 on
-# the paper rods with grading forced at h = 0.25 and 0.125 mm (the same to 3%), tips 50 to 6.35 mm, the lower of
-# the two x 0.99; flat and flatter tips (1.07-1.15 measured) and the butterfly's first degrees (unmeasured: the
-# uniform's) kept low
+# the same, graded (rods.fe.submodel.submodel_grading), measured 2026-12-06 with grading forced at h = 0.25 and 0.125
+# mm (the same to 3%), the lower of the two x 0.99
 GRADED_SUBMODEL_CAP_STEP_FACTOR = (
-    (0.0, 1.0),
-    (25.0, 1.0),
-    (31.9, 0.928),
-    (39.4, 0.837),
-    (48.3, 0.717),
-    (57.9, 0.577),
-    (65.1, 0.466),
-    (69.9, 0.393),
-    (70.0, 0.393),
     (70.2, 0.51),
     (74.2, 0.765),
     (90.0, 0.637),
@@ -568,21 +518,20 @@ def _on_gpu(scene: Scene, ranks: int) -> bool:
 def _step_limits(
     scene: Scene, h_r: float, h: float, g: float, size: float | None, region: Scene | None = None
 ) -> tuple[float, float]:
-    """(stable step, contact switching limit) [s] estimated: the first from the smallest element
-    (:data:`DT_PER_ELEMENT_STEP`, :data:`H_MIN_FRACTION`, the cap factor of a curved axisymmetric global's tips;
-    within 0.87 to 1 of the set-up's exact limit on the paper rods with 35 mm and 50 mm tips and a hemisphere),
-    the second under the penalty law only (inf for the kinematic contact). An axisymmetric submodel's cap factors
-    are read off its ``region`` (:func:`_submodel_region`; built here where not given)."""
+    """(stable step, contact switching limit) [s] estimated. The first is the smaller of the bulk's, from the smallest
+    element asked for (:data:`DT_PER_ELEMENT_STEP`, :data:`H_MIN_FRACTION`; a hexahedron's in 3D; a butterfly cap's
+    by its table, :func:`_butterfly_step_factor`), and, on the axisymmetric mesh, the tip faces' own cells
+    (:func:`_tip_step`); the second under the penalty law only (inf for the kinematic contact). An axisymmetric
+    submodel is read off its ``region`` (:func:`_submodel_region`; built here where not given), a global off
+    ``scene`` (whose own sizes ``h_r``, ``h``, ``g`` are)."""
     c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
-    stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d * damped_step_factor(scene)
+    stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d
     if scene["fe.kind"] == "3d":
         stable *= _third_dimension(h_r, g * h)
     else:
-        if size is None:
-            stable *= _cap_step_factor(scene, submodel=False) * _rim_factor(scene, h, g)
-        else:
-            region = region or _submodel_region(scene, h_r, h)
-            stable *= _cap_step_factor(region, submodel=True) * _submodel_rim_factor(region)
+        region = scene if size is None else region or _submodel_region(scene, h_r, h)
+        stable = min(stable * _butterfly_step_factor(region, submodel=size is not None), _tip_step(region))
+    stable *= damped_step_factor(scene)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
     factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
@@ -602,63 +551,52 @@ def _third_dimension(a: float, b: float) -> float:
     return math.sqrt((1 / a**2 + 1 / b**2) / (2 / a**2 + 1 / b**2))
 
 
-def _rim_fraction(rod: Any, h: float, g: float) -> float:
-    """The rim column's share of a curved tip's graded block, (L_g - c)/L_g for a block of length L_g over a cap of
-    height c (rods.fe.layout.axial_spacing): the mesher grades every column of the block alike, so the rim's tip cell
-    is this fraction of the axis's (1 for a flat tip, an ungraded mesh or a butterfly cap)."""
-    from rods.fe.layout import axial_spacing, butterfly
+def _tip_step(region: Scene) -> float:
+    """[s] The stable step of the cells on the rods' one-block tip faces (a butterfly's aside): their smallest
+    thickness (rods.fe.layout.altitudes of rods.fe.layout.tip_row, the mesher's own corners, no mesh built) over
+    their rod's dilatational wave speed. A curved face's rim cells are the thinnest of a mesh: the face slopes there
+    and the cap takes (its height)/(the graded block's length) of their column, which depends on the rods' diameters
+    against the patch, so no table of the paper rods carries it over (that one read 1.24x to 1.49x the exact step
+    on 30 to 38 mm rods and at 15 m/s). Their thickness over the wave speed, against the set-up's exact limit,
+    2026-12-06: 0.76 to 0.98 over the paper rods' tips of 50 to 6.8 mm (graded or not, meshes to 0.25 x 0.125 mm;
+    deeper caps lower) and 48 scene-probe scenes (benchmarks/scene_probe.py's named and three random draws); a
+    submodel's (0.25 mm, tips of 35 to 6.76 mm) 0.83 to 1.03; so :data:`TIP_STEP_FRACTION` of it, to err low as the
+    bulk's estimate does (the whole estimate then 0.72 to 0.91 on those globals, 0.79 to 0.98 on the submodels)."""
+    from rods.fe.layout import altitudes, rod_layouts, tip_row
 
-    sp = axial_spacing(rod, h, g)
-    if sp.n_graded == 0 or rod.cap_height <= 0 or butterfly(rod) is not None:
-        return 1.0
-    return (sp.graded_length - rod.cap_height) / sp.graded_length
-
-
-def _rim_factor(scene: Scene, h: float, g: float) -> float:
-    """An axisymmetric global's step on axial size ``h`` [m] and grading ``g`` over its step on the scene's auto mesh,
-    where :data:`CAP_STEP_FACTOR` and :data:`H_MIN_FRACTION` were measured, as far as the rim cells set it: the
-    smallest ratio of the two meshes' :func:`_rim_fraction` over both tips, at most 1. A finer mesh's graded block is
-    short against the cap (kept at 2 c + h), so its rim cells are thinner: measured on the paper rods, 0.5 x
-    0.125 / 0.25 x 0.125 / 0.125 x 0.0625 mm meshes ran 0.90/0.75/0.68 of the step estimated without it."""
-    h0, g0 = scene.auto_axial_size, scene.auto_tip_grading
-    return min(1.0, *(_rim_fraction(r, h, g) / _rim_fraction(r, h0, g0) for r in scene.rods))
-
-
-def _submodel_rim_factor(region: Scene) -> float:
-    """A submodel's step over the same region's uniform along (where the cap tables were measured), as far as the
-    rim cells set it: a graded submodel's core block (rods.fe.layout.axial_spacing) is the cap's block, its rim cells
-    (L_c - c)/L_c of the axis's against (L_s - c)/L_s; the smaller over both tips, 1 where the region is uniform
-    along, a tip flat or a butterfly. ``region``: the submodel's own scene (:func:`_submodel_region`)."""
-    from rods.fe.layout import axial_spacing, butterfly
-
-    L_s, h = region["fe.submodel_length"], region["fe.axial_size"]
-    factors = [1.0]
-    for rod in region.rods:  # cut to L_s
-        c, sp = rod.cap_height, axial_spacing(rod, h, 1.0, *region.axial_core)
-        if sp.n_core and c > 0 and butterfly(rod) is None:
-            factors.append((sp.core_length - c) / sp.core_length / ((L_s - c) / L_s))
-    return min(factors)
+    return (
+        TIP_STEP_FRACTION
+        * DT_PER_ELEMENT_STEP
+        * min(
+            (
+                float(altitudes(tip_row(layout)).min()) / layout.rod.material.dilatational_wave_speed
+                for layout in rod_layouts(region)
+                if layout.butterfly is None
+            ),
+            default=math.inf,
+        )
+    )
 
 
-def _cap_step_factor(scene: Scene, submodel: bool) -> float:
-    """The cap factor of the more limiting tip (1 for flat tips), interpolated linearly in its rim angle: a
-    ``submodel``'s (``scene`` its region, :func:`_submodel_region`) from :data:`SUBMODEL_CAP_STEP_FACTOR` or, on a
-    graded rod, :data:`GRADED_SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, on a radially
-    graded rod, :data:`GRADED_CAP_STEP_FACTOR`."""
-    from rods.fe.layout import scene_columns
+def _butterfly_step_factor(region: Scene, submodel: bool) -> float:
+    """The butterfly cap's factor on the bulk's step (1 where no tip is one), interpolated linearly in its rim angle:
+    a ``submodel``'s (``region`` its own scene, :func:`_submodel_region`) from :data:`SUBMODEL_CAP_STEP_FACTOR` or,
+    graded, :data:`GRADED_SUBMODEL_CAP_STEP_FACTOR`, a global's from :data:`CAP_STEP_FACTOR` or, graded,
+    :data:`GRADED_CAP_STEP_FACTOR`."""
+    from rods.fe.layout import rod_layouts
 
-    graded = tuple(len(c) > 1 for c in scene_columns(scene))
     tables = (
         (SUBMODEL_CAP_STEP_FACTOR, GRADED_SUBMODEL_CAP_STEP_FACTOR)
         if submodel
         else (CAP_STEP_FACTOR, GRADED_CAP_STEP_FACTOR)
     )
-    factors = []
-    for rod, g in zip(scene.rods, graded, strict=True):
-        table = tables[g]
-        phi = math.degrees(math.asin(min(1.0, rod.diameter / 2 / rod.tip_radius)))
-        angles, values = zip(*table, strict=True)
-        factors.append(float(np.interp(phi, angles, values)))
+    factors = [1.0]
+    for layout in rod_layouts(region):
+        if layout.butterfly is not None:
+            rod = layout.rod
+            phi = math.degrees(math.asin(min(1.0, rod.diameter / 2 / rod.tip_radius)))
+            angles, values = zip(*tables[len(layout.columns) > 1], strict=True)
+            factors.append(float(np.interp(phi, angles, values)))
     return min(factors)
 
 

@@ -94,20 +94,25 @@ def test_the_axisymmetric_mesh_is_counted_node_by_node(scene_with, extra):
         *([f"rod1.tip_radius={r}"] for r in (0.035, 0.012, 0.008, 0.0068, 0.00635)),  # rim angles 10.5° to 90°
         ["fe.axial_size=0.5e-3", "fe.radial_size=0.125e-3"],  # finer than auto: a graded block short on the cap
         pytest.param(["fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"], marks=pytest.mark.slow),  # 7 s
+        ["impact.speed=15"],  # a fast rise: a finer tip block, so the cap takes more of its rim column
+        ["rod1.diameter=0.03", "rod1.tip_radius=0.05"],  # a thick rod's deep cap (2.4 mm) on a thin one's patch
+        ["fe.radial_grading='graded'", "rod1.tip_radius=0.01"],  # graded columns under a curved face
     ],
 )
 def test_a_curved_tips_step_is_estimated_within_the_measured_band(scene_with, extra):
-    """The estimated stable step of an axisymmetric global lies within 0.87 to 1.02 of the set-up's exact one at the
-    auto mesh for tips from 35 mm to a hemisphere (CAP_STEP_FACTOR; measured 0.93 to 1.01) and on finer meshes of
-    the 35 mm tip (the rim factor, rods.cost._rim_factor; measured 0.90): before, an 8 mm tip's and a 6.8 mm tip's
-    steps were estimated 1.55x and 1.85x too long, the 0.25 x 0.125 mm mesh's 1.34x (so their runs took that much
-    longer than their plans said)."""
+    """The estimated stable step of an axisymmetric global lies within 0.7 to 1.0 of the set-up's exact one, for tips
+    from 35 mm to a hemisphere at the auto mesh and finer, at 15 m/s and on a 30 mm rod: the tip cells from the
+    mesher's own geometry (rods.cost._tip_step; measured 0.72 to 0.93 over 48 scenes), a butterfly by its table.
+    Before, a table of the paper rods' auto mesh (against the rim angle) read 1.44x the exact step at 15 m/s and
+    1.24x on the 30 mm rod (and 1.49x and 1.30x on two random draws): their runs took that many more steps than
+    their plans said."""
     from rods.fe.model import ExplicitModel
 
     sc = scene_with("simulation.end_time=1e-6", *extra)
     m = ExplicitModel(sc)
     estimate = min(cost._step_limits(sc, sc["fe.radial_size"], sc["fe.axial_size"], sc.tip_grading, None))
-    assert 0.87 <= estimate / min(m.dt_critical, m.dt_switching) <= 1.02
+    butterfly = "rod1.tip_radius=0.00635" in extra  # its table, as before (measured 1.01)
+    assert 0.7 <= estimate / min(m.dt_critical, m.dt_switching) <= (1.02 if butterfly else 1.0)
 
 
 @pytest.mark.parametrize("symmetry", ["quarter", "half", "full"])
@@ -417,17 +422,18 @@ def test_time_budget_refuses_a_day_long_analytical_run(scene_with):
 @pytest.mark.parametrize("tip", [0.035, 0.010, 0.0075, 0.00676, 0.00635])
 def test_a_submodels_steps_follow_its_curved_tip(scene_with, tip, grading):
     """A submodel (0.25 mm, rods.fe.submodel.submodel_scene, uniform or graded across) on tips from the paper's
-    35 mm (rim angle 10°) to a hemisphere: the estimate within 15% of the built model's steps and not below them by
-    more than 2% (SUBMODEL_CAP_STEP_FACTOR, GRADED_SUBMODEL_CAP_STEP_FACTOR). Before, the curvature was left out: a
+    35 mm (rim angle 10°) to a hemisphere: the estimate not below the built model's steps by more than 2% and at
+    most 1.35x them (the tip cells' own geometry, rods.cost._tip_step, errs low on deep graded caps: 1.26x at 6.76
+    mm; a butterfly by SUBMODEL_CAP_STEP_FACTOR, GRADED_SUBMODEL_CAP_STEP_FACTOR). Before the curvature counted, a
     10 mm tip ran 1.3x, a 7.5 mm one 2.1x and a 6.76 mm one (69.9°, just below the butterfly cap) 3.4x the steps
-    estimated; a graded 7.5 mm tip's estimate was 1.28x its steps on the uniform table."""
+    estimated."""
     from rods.fe.model import ExplicitModel
     from rods.fe.submodel import submodel_scene
 
     sc = scene_with(f"rod1.tip_radius={tip}", "simulation.end_time=1e-5", f"fe.radial_grading='{grading}'")
     c = cost.fe_cost(sc, size=0.25e-3, end_time=1e-5)
     m = ExplicitModel(submodel_scene(sc, 0.25e-3, end_time=1e-5))
-    assert c.steps == pytest.approx(m.steps, rel=0.15) and c.steps >= 0.98 * m.steps
+    assert 0.98 * m.steps <= c.steps <= 1.35 * m.steps
 
 
 def test_a_gpu_run_is_estimated_at_the_gpu_rates(scene_with):
@@ -567,8 +573,8 @@ def test_afford_refuses_memory_before_probing_and_prints_the_calibrated_plan(sce
     grading=st.one_of(st.just("'auto'"), st.floats(min_value=0.05, max_value=1.0)),
 )
 def test_any_axisymmetric_mesh_gets_a_finite_estimate_or_a_refusal(scene_with, tip, diameter, axial, ratio, grading):
-    """Whatever tip, rod and mesh sizes a scene holds, the estimate (with the rim factor's look at the scene's auto
-    mesh) is finite and positive, or a SceneError naming a key: never a crash."""
+    """Whatever tip, rod and mesh sizes a scene holds, the estimate (with the tip cells' own geometry) is finite and
+    positive, or a SceneError naming a key: never a crash."""
     flat = tip == "inf"  # then Rod 2's tip is the curved one (two flats have no Hertz contact)
     tips = (
         ("rod1.tip_radius=inf", "rod2.tip_radius=0.035")
@@ -585,7 +591,7 @@ def test_any_axisymmetric_mesh_gets_a_finite_estimate_or_a_refusal(scene_with, t
         assert e.key
         return
     assert 0 < c.wall_time < math.inf and c.steps >= 1 and 0 < c.memory_bound_time <= c.wall_time
-    assert 0 < cost._rim_factor(sc, sc["fe.axial_size"], sc.tip_grading) <= 1.0
+    assert 0 < cost._tip_step(sc) <= math.inf
 
 
 def test_the_total_names_the_stage_that_is_most_of_a_study(scene_with):

@@ -11,7 +11,9 @@ mesher (:mod:`rods.fe.mesh`) builds by, cell for cell:
   columns growing outward to the bar's size (``fe.radial_grading``);
 * away from the tips, :func:`coarsening`: layers of 3:1 templates merging the columns down to the bar's size
   (``fe.radial_coarsening``);
-* :func:`mesh_counts`: the cells and nodes that all of this makes.
+* :func:`mesh_counts`: the cells and nodes that all of this makes;
+* :func:`tip_row`: the corners of the cells on a one-block tip face, whose distorted rim cells set a curved tip's
+  stable step (:func:`rods.cost._tip_step`).
 """
 
 from __future__ import annotations
@@ -27,9 +29,12 @@ from rods.scene import BAND_ELEMENTS, BAR_ELEMENTS, Rod, Scene
 __all__ = [
     "AxialSpacing",
     "Butterfly",
+    "RodLayout",
     "Coarsening",
     "Column",
     "GradedButterfly",
+    "altitudes",
+    "axial_blocks",
     "axial_spacing",
     "bar_size",
     "butterfly",
@@ -40,7 +45,9 @@ __all__ = [
     "graded_butterfly",
     "mesh_counts",
     "radial_columns",
+    "rod_layouts",
     "scene_columns",
+    "tip_row",
 ]
 
 GROWTH = 1.2  # target size ratio between neighbouring elements in a graded block (tip or radial) [-]
@@ -308,7 +315,7 @@ def radial_columns(rod: Rod, hr: float, h: float, core: float, grading: str) -> 
     R / BAR_ELEMENTS) (the axial size resolves the waves along the rod, BAR_ELEMENTS the rod's section), then a
     uniform column at the last one's size to the rim (no neighbours' ratio above GROWTH anywhere, the core's edge
     included). The core holds the patch and the smallest element, so a graded rod keeps the uniform one's contact
-    and step (longer on a curved cap, whose rim cells are wider: rods.cost.GRADED_CAP_STEP_FACTOR) and loses the
+    and step (longer on a curved cap, whose rim cells are wider: rods.cost._tip_step) and loses the
     fine elements where nothing needs them: a structured mesh at the patch's size otherwise runs the whole radius
     (4 mm tip on a 4.2 mm rod at 0.177 m/s: 72 elements of 0.029 mm across). "auto" grades where that leaves at
     most :data:`GRADED_SHARE` of the uniform count ("graded": fewer than it); a core past the rim or leaving a band
@@ -499,6 +506,85 @@ def element_sizes(columns: tuple[Column, ...]) -> np.ndarray:
         sizes.append(progression(c.r_end - r0, c.n, c.ratio))
         r0 = c.r_end
     return np.concatenate(sizes)
+
+
+@dataclass(frozen=True)
+class RodLayout:
+    """One rod of a scene's axisymmetric mesh as the mesher lays it out (:func:`rod_layouts`)."""
+
+    rod: Rod
+    columns: tuple[Column, ...]
+    spacing: AxialSpacing
+    coarsened: Coarsening | None
+    butterfly: Butterfly | None
+
+
+def rod_layouts(scene: Scene) -> tuple[RodLayout, RodLayout]:
+    """Both rods' layouts on ``scene``'s axisymmetric mesh (a global's, or a submodel's region): the columns across
+    (:func:`scene_columns`), the spacing along (:func:`axial_spacing` at fe.axial_size and the tip grading, a graded
+    submodel's core), the 3:1 merges (:func:`coarsening`) and a near-hemispherical tip's butterfly."""
+    h, g, start = scene["fe.axial_size"], scene.tip_grading, coarsening_start(scene)
+    layouts = []
+    for rod, columns in zip(scene.rods, scene_columns(scene), strict=True):
+        sp = axial_spacing(rod, h, g, *scene.axial_core)
+        co = coarsening(rod, columns, scene.bar_axial_size, sp, start)
+        layouts.append(RodLayout(rod, columns, sp, co, butterfly(rod)))
+    return layouts[0], layouts[1]
+
+
+def axial_blocks(rod: Rod, sp: AxialSpacing, co: Coarsening | None) -> list[tuple[float, int, float, Any]]:
+    """A rod's axial blocks from its tip face to its far end, as the mesher draws them (rods.fe.mesh._rod_body), each
+    (its end's distance from the apex [m], elements, their growth ratio away from the tip, the end station's node
+    radii where a coarsening's first layer starts, else None): a graded submodel's core, the tip's graded block, the
+    uniform block (in two where it coarsens, the layers between them drawn by their template)."""
+    blocks: list[tuple[float, int, float, Any]] = []
+    if sp.n_core:
+        blocks.append((sp.core_length, sp.n_core, 1.0, None))
+    if sp.n_graded:
+        blocks.append((sp.core_length + sp.graded_length, sp.n_graded, sp.ratio, None))
+    if co is not None:
+        blocks.append((co.z, co.rows, 1.0, co.radii[0]))
+    blocks.append((rod.length, sp.n_uniform - (0 if co is None else co.rows + len(co.layers)), 1.0, None))
+    return blocks
+
+
+def tip_row(layout: RodLayout) -> np.ndarray:
+    """The corners [m] of the row of cells on a one-block tip face (a flat or curved tip below the butterfly), shape
+    (cells, 4, 2) as (r, distance from the apex along the axis), each cell's face side first: the face's nodes (each
+    column's elements along its arc, rods.fe.mesh._flat_block_cap) joined to the first block's end station (each
+    column's across) by straight lines graded as the block, the transfinite surface between them, of which this row
+    is the first (progression) share. The rim's cells are the most distorted: the face slopes there and they are
+    (L - c)/L as thick as the axis's under a cap of height c over a block of length L."""
+    rod, columns = layout.rod, layout.columns
+    rt, R = rod.tip_radius, rod.diameter / 2
+    face, top, r0 = [0.0], [0.0], 0.0
+    for c in columns:
+        s0, s1 = arc_to(rod, r0), arc_to(rod, c.r_end)
+        arcs = s0 + np.cumsum(progression(s1 - s0, c.n, c.ratio))
+        face.extend(arcs if math.isinf(rt) else rt * np.sin(arcs / rt))
+        top.extend(r0 + np.cumsum(progression(c.r_end - r0, c.n, c.ratio)))
+        r0 = c.r_end
+    face[-1] = R  # the rim exactly, as the mesher's last point
+    z_end, n, ratio, split = axial_blocks(rod, layout.spacing, layout.coarsened)[0]
+    r_face = np.asarray(face)
+    r_top = np.asarray(split if split is not None else [*top[:-1], R])
+    on_face = np.stack([r_face, cap_depth(r_face, rt)], axis=1)
+    below = on_face + progression(1.0, n, ratio)[0] * (np.stack([r_top, np.full_like(r_top, z_end)], axis=1) - on_face)
+    return np.stack([on_face[:-1], on_face[1:], below[:-1], below[1:]], axis=1)
+
+
+def altitudes(cells: np.ndarray) -> np.ndarray:
+    """Each quadrilateral's smallest distance [m] from a corner to the line of a side it is not on (corners ordered
+    as :func:`tip_row`'s: sides 0-1, 2-3, 0-2, 1-3): its thickness across its thinnest direction, which sets its
+    highest frequency, a rectangle's shorter side."""
+
+    def distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        t, d = b - a, p - a
+        return np.abs(t[:, 0] * d[:, 1] - t[:, 1] * d[:, 0]) / np.hypot(t[:, 0], t[:, 1])
+
+    P = [cells[:, k] for k in range(4)]
+    pairs = (((0, 1), (2, 3)), ((2, 3), (0, 1)), ((0, 2), (1, 3)), ((1, 3), (0, 2)))  # a side, the corners opposite
+    return np.min([distance(P[c], P[a], P[b]) for (a, b), opposite in pairs for c in opposite], axis=0)
 
 
 def butterfly_counts(b: Butterfly, hr: float) -> tuple[int, int, int]:

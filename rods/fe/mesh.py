@@ -29,21 +29,18 @@ import numpy as np
 from mpi4py import MPI
 
 from rods.fe.layout import (
-    AxialSpacing,
     Butterfly,
     Coarsening,
     Column,
     GradedButterfly,
+    RodLayout,
     arc_to,
-    axial_spacing,
-    butterfly,
+    axial_blocks,
     butterfly_counts,
     cap_depth,
-    coarsening,
-    coarsening_start,
     element_sizes,
     graded_butterfly,
-    scene_columns,
+    rod_layouts,
 )
 from rods.scene import Rod, Scene
 
@@ -294,27 +291,20 @@ def _coarsening_layers(geo, lower: list[list[int]], corners: list[int], co: Coar
     return surfaces, axis, outer, lower, corners
 
 
-def _rod_body(geo, cap: dict[str, Any], columns, sp: AxialSpacing, co: Coarsening | None, z_far: float):
-    """A rod's body from its ``cap`` to its far end at ``z_far`` [m] (signed): the axial stations (a graded
-    submodel's core, the tip's graded block, then the uniform block), the uniform block in three where it coarsens
-    (``co``: to the first layer, split per element, the layers, the rest on the layers' last elements). Returns its
-    surfaces, axis and outer lines and the far end's station."""
-    s = math.copysign(1.0, z_far)
-    blocks = []  # (z_end [m], elements, ratio, split)
-    if sp.n_core:
-        blocks.append((s * sp.core_length, sp.n_core, 1.0, None))
-    if sp.n_graded:
-        blocks.append((s * (sp.core_length + sp.graded_length), sp.n_graded, sp.ratio, None))
-    if co is not None:
-        blocks.append((s * co.z, co.rows, 1.0, co.radii[0]))
-    blocks.append((z_far, sp.n_uniform - (0 if co is None else co.rows + len(co.layers)), 1.0, None))
+def _rod_body(geo, cap: dict[str, Any], layout: RodLayout, s: float):
+    """A rod's body from its ``cap`` to its far end, on the side ``s`` (-1: z < 0, rod 1; +1: rod 2): its axial blocks
+    (:func:`rods.fe.layout.axial_blocks`: a graded submodel's core, the tip's graded block, then the uniform block),
+    the uniform block in three where it coarsens (to the first layer, split per element, the layers, the rest on the
+    layers' last elements). Returns its surfaces, axis and outer lines and the far end's station."""
+    columns, co = layout.columns, layout.coarsened
+    blocks = axial_blocks(layout.rod, layout.spacing, co)
     lower, corners, surfaces, axis, outer = cap["rim"], cap["corners"], [], [], []
     for i, (z_end, n, ratio, split) in enumerate(blocks):
         if co is not None and i == len(blocks) - 1:  # the layers, then the rest on their last elements
             surfs, a, o, lower, corners = _coarsening_layers(geo, lower, corners, co, s * co.z, s * co.dz)
             surfaces, axis, outer = surfaces + surfs, axis + a, outer + o
             columns = tuple(Column(r, 1) for r in co.radii[-1][1:])
-        surfs, a, o, lower, corners = _column_block(geo, lower, corners, columns, z_end, n, ratio, split)
+        surfs, a, o, lower, corners = _column_block(geo, lower, corners, columns, s * z_end, n, ratio, split)
         surfaces, axis, outer = surfaces + surfs, axis + [a], outer + [o]
     return surfaces, axis, outer, lower
 
@@ -323,23 +313,17 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     import gmsh
 
     hr = scene["fe.radial_size"]
-    h = scene["fe.axial_size"]
-    g = scene.tip_grading
     geo = gmsh.model.geo
     surfaces, tips, ends, axes, outers = {}, {}, {}, {}, {}
     info = {}
-    graded_columns, start = scene_columns(scene), coarsening_start(scene)
-    for k, (rod, s) in enumerate(((scene.rod1, -1.0), (scene.rod2, 1.0)), start=1):
-        sp = axial_spacing(rod, h, g, *scene.axial_core)
-        b = butterfly(rod)
-        columns = graded_columns[k - 1]
+    for k, (layout, s) in enumerate(zip(rod_layouts(scene), (-1.0, 1.0), strict=True), start=1):
+        rod, b, columns = layout.rod, layout.butterfly, layout.columns
         if b:
             gb = graded_butterfly(rod, hr, scene.bar_axial_size, scene.graded_core, scene["fe.radial_grading"])
             cap = _butterfly_cap(geo, b, s, hr, gb)
         else:
             cap = _flat_block_cap(geo, rod, s, columns)
-        co = coarsening(rod, columns, scene.bar_axial_size, sp, start)
-        surfs, axis_curves, outer_curves, lower = _rod_body(geo, cap, columns, sp, co, s * rod.length)
+        surfs, axis_curves, outer_curves, lower = _rod_body(geo, cap, layout, s)
         surfaces[k] = list(cap["surfaces"]) + surfs
         tips[k], ends[k], axes[k], outers[k] = (
             cap["tip"],
@@ -347,7 +331,8 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
             cap["axis"] + axis_curves,
             outer_curves,
         )
-        info[k] = (sum(c.n for c in columns), sp, cap.get("h_tip", sp.h_tip), cap["h_face"], columns, co)
+        sp = layout.spacing
+        info[k] = (sum(c.n for c in columns), sp, cap.get("h_tip", sp.h_tip), cap["h_face"], columns, layout.coarsened)
     geo.synchronize()
     for k in (1, 2):
         gmsh.model.addPhysicalGroup(2, surfaces[k], TAGS[f"rod{k}"], name=f"rod{k}")

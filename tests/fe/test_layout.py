@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from rods.fe.layout import (
     GRADED_SHARE,
     GROWTH,
+    altitudes,
     arc_to,
     axial_spacing,
     bar_size,
@@ -196,3 +197,15 @@ def test_no_coarsening_where_it_cannot_help():
     assert coarsening_start(sc.with_overrides("fe.kind='3d'")) == np.inf
     assert coarsening_start(sc.with_overrides("fe.radial_coarsening='none'")) == np.inf
     assert coarsening_start(sc.with_overrides("fe.submodel_length=0.05")) == pytest.approx(0.05 + 3 * 1e-3)
+
+
+def test_altitudes_are_a_cells_thickness_across_its_thinnest_direction():
+    """rods.fe.layout.altitudes: a rectangle's shorter side; a parallelogram sheared by θ, its height b cos θ where
+    that is below its width a; the corners in tip_row's order (face side 0-1, the side below it 2-3)."""
+    a, b, θ = 2e-3, 0.5e-3, np.radians(40.0)  # [m], [m], [rad]
+    rectangle = np.array([[[0, 0], [a, 0], [0, b], [a, b]]], dtype=float)
+    shear = np.array([b * np.sin(θ), b * np.cos(θ)])  # the side 0-2 leans by θ from the normal of 0-1
+    parallelogram = np.array([[[0, 0], [a, 0], shear, [a + shear[0], shear[1]]]])
+    assert altitudes(rectangle)[0] == pytest.approx(b, rel=1e-12)
+    assert altitudes(parallelogram)[0] == pytest.approx(b * np.cos(θ), rel=1e-12)
+    assert altitudes(rectangle[:, :, ::-1])[0] == pytest.approx(b, rel=1e-12)  # r and z swapped

@@ -183,3 +183,35 @@ def test_a_coarsened_mesh_is_built_as_counted(overrides):
     assert none.coarsened == (None, None) and none.mesh.topology.index_map(2).size_local > 1.5 * sum(
         c for c, _ in counts
     )
+
+
+@pytest.mark.parametrize(
+    "overrides, submodel",
+    [
+        ((), False),  # the paper's 35 mm tip, graded along
+        (("rod1.tip_radius=0.008", "fe.radial_grading='graded'"), False),  # a deep cap over graded columns
+        (("rod1.diameter=0.03", "rod1.tip_radius=0.05"), False),  # a thick rod's cap, 2.4 mm deep
+        (("rod1.tip_radius=inf", "rod2.tip_radius=0.02"), False),  # Rod 2's tip curved, Rod 1's flat
+        (("fe.tip_grading=1", "fe.radial_size=0.2e-3"), False),  # no graded block: the first is the coarsening's
+        (("fe.radial_grading='graded'",), True),  # a graded submodel: its core block first
+    ],
+    ids=["paper", "graded-8mm", "thick-rod", "rod2-tip", "ungraded-coarsened", "graded-submodel"],
+)
+def test_the_tip_row_is_the_meshers_own(overrides, submodel):
+    """rods.fe.layout.tip_row, which the plan's step estimate reads (rods.cost._tip_step) without building a mesh, gives
+    the corners of the built mesh's cells on each one-block tip face, to round-off: a face's nodes on its arc, the
+    first block's end station, the transfinite surface's first row between them."""
+    from rods.fe.layout import rod_layouts, tip_row
+    from rods.fe.submodel import submodel_scene
+
+    sc = load_scene(PAPER, ["simulation.end_time=1e-5", *overrides])
+    if submodel:
+        sc = submodel_scene(sc, 0.25e-3, end_time=1e-5)
+    msh = build_mesh(sc, MPI.COMM_SELF).mesh
+    x = msh.geometry.x[:, :2]
+    for sign, layout in zip((-1.0, 1.0), rod_layouts(sc), strict=True):
+        if np.isinf(layout.rod.tip_radius):
+            continue
+        row = tip_row(layout) * np.array([1.0, sign])  # Rod 1 lies at z < 0
+        found = np.linalg.norm(x[None, :, :] - row.reshape(-1, 1, 2), axis=2).min(axis=1)
+        assert found.max() < 1e-9 * layout.rod.diameter, found.max()
