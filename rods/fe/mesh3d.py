@@ -51,6 +51,7 @@ __all__ = [
     "cell_sizes_3d",
     "section_counts",
     "section_size",
+    "tip_rim_cell",
 ]
 
 TAGS_3D = {**TAGS, "sym_x": 51, "sym_y": 52}
@@ -123,6 +124,25 @@ def _layers(rod: Rod, h: float, grading: float) -> tuple[list[int], list[float],
     counts.append(sp.n_uniform)
     z.append(1.0)
     return counts, z, (sp.graded_length if sp.n_graded else L)
+
+
+def tip_rim_cell(rod: Rod, hr: float, h: float, grading: float) -> tuple[np.ndarray, float]:
+    """A curved tip's thinnest cell as the mesher makes it: the first layer's outermost ring cell on the section's
+    diagonal, where the ring is thinnest across, (R - s√2)/n_r. Its (ρ, depth from the apex) corners [m] in the order
+    of rods.fe.layout.tip_row, shape (1, 4, 2) (the tip mapping moves a node at ρ and distance z from the flat face by
+    c(ρ) (1 - z/L_b): the layer's rim cell slopes with the face and is (1 - c/L_b) as thick as its axis's), and its
+    edge along the rim [m], a quarter arc over n_c/2 cells."""
+    R = rod.diameter / 2
+    n_c, n_r, s = section_counts(R, hr)
+    counts, heights, L_b = _layers(rod, h, grading)
+    first = heights[0] * rod.length  # the first layer's thickness [m] (_layers' heights are cumulative over L)
+    if counts[0] > 1:  # an ungraded rod: its one block's elements
+        first /= counts[0]
+    rho = np.array([R - (R - s * math.sqrt(2)) / n_r, R])
+    c = cap_depth(rho, rod.tip_radius)
+    face = np.stack([rho, c], axis=1)
+    below = np.stack([rho, c + first * (1.0 - c / L_b)], axis=1)
+    return np.stack([face[0], face[1], below[0], below[1]])[None], math.pi * R / 2 / (n_c // 2)
 
 
 def _cross_section(geo, R: float, n_c: int, n_r: int, s: float, quadrants: tuple[int, ...], z: float) -> list[int]:
