@@ -76,7 +76,8 @@ def here(tmp_path) -> Path:
     ended = {"model": "fe-axisymmetric", "scene_values": paper, "contact_duration": 2e-4}
     folder("global", ended, history=True)
     folder("global-unended", {**ended, "contact_duration": None}, history=True)  # stopped before its contact ended
-    folder("driver-run", {**ended, "contact_phase": 2.4e-4}, history=True)  # a driving global's summary
+    folder("driver-run", {**ended, "scene_values": phase, "contact_phase": 2.4e-4}, history=True)  # a driver's
+    folder("study-global", {**ended, "contact_phase": 2.4e-4}, history=True)  # a study's global, recording the cut
     sub = {"model": "fe-submodel-coarse", "driver_scene_values": paper}
     folder("submodel-unended", {**sub, "contact_duration": None}, history=True)
     folder("submodel", {**sub, "contact_duration": 2e-4}, history=True)

@@ -238,6 +238,22 @@ def test_wave_and_contact_run_one_global_that_records_the_cut_over_the_contact_p
     # "a driving global runs the contact phase only (to 259.6 µs)" on such a study, its end the scene's)
     mid = [w for w in s["warnings"] if w.startswith("global: midpoint_peak_speed")]
     assert mid and "only 2 of 5 plateaus within end_time" in mid[0] and "driving global" not in mid[0]
+    # and fig4.py takes that global as the study's compare stage did (it refused it as a driver, by the key its
+    # summary shares with one: a fuzz, 2026-12-06)
+    fig = tmp_path / "fig4"
+    args = [
+        "--analytical",
+        str(run_dir / "analytical"),
+        "--fe",
+        f"global={run_dir / 'global'}",
+        "--png",
+        str(fig / "f.png"),
+    ]
+    p = in_process("fig4.py", *args, "--md", str(fig / "f.md"), cwd=ROOT)
+    assert p.returncode == 0, p.stderr[-2000:]
+    ours, study = (json.loads(f.read_text())["runs"][0] for f in (fig / "f.json", run_dir / "compare" / "fig4.json"))
+    assert ours["peak_contact_force"] == study["peak_contact_force"]  # the study's own measures (the strain RMS
+    assert ours["strain_rms_difference"] == pytest.approx(study["strain_rms_difference"], rel=1e-8)  # from CSV here)
 
 
 def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):

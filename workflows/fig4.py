@@ -39,8 +39,14 @@ def main(argv: list[str] | None = None) -> int:
     given = [parse_run(spec) for spec in args.fe]
     fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in given]
     for (_, folder), run in zip(given, fe, strict=True):
-        if "contact_phase" in run.summary:  # rods.study.stages.driver_keys
-            why = "a driving global (global.py --driver): it stops after the contact phase, before the plateaus"
+        # a global that drove submodels carries rods.study.stages.driver_keys; a study's own global records the cut
+        # beside its whole run (so it has them too) and is Fig. 4's: only one that stopped early is refused
+        end = scene_from_summary(run.summary["scene_values"]).end_time  # [s]
+        if "contact_phase" in run.summary and end < (1.0 - 1e-9) * scene.end_time:
+            why = (
+                f"a driving global (global.py --driver): it stops at {end:.3g} s, after the contact phase, before "
+                f"the plateaus (the --analytical run's end: {scene.end_time:.3g} s)"
+            )
             raise InputError("--fe", folder, why, "give the scene's own global run (workflows/global.py)")
     data = fig4.write(analytical, fe, args.png, args.md)
     print(fig4.render_md(data, args.png))
