@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "cut_identity",
     "SUMMARY_KEYS",
     "Run",
     "atomic_write_text",
@@ -218,3 +219,20 @@ def offscreen_pyvista() -> Any:
 
     pv.OFF_SCREEN = True
     return pv
+
+
+def cut_identity(path: str | Path) -> str:
+    """The identity of the cut record at ``path``: the random id its recording wrote (``record_id``), so the
+    same record wherever its study folder is copied or however it is spelled, and another for each recording
+    (a global rerun into the same folder). A checkpoint of the submodel it drove
+    (rods.fe.cut.CutDriver.checkpoint_identity), a study's restart and compare.py (a submodel summary's
+    ``cut_record``) tell them apart. A record written before the id existed: its resolved path, size and
+    modification time. Here, not in rods.fe.cut, so that a stage reading it loads no DOLFINx/MPI."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        record = f.attrs.get("record_id")
+    if record is not None:
+        return f"record:{record}"
+    stat = Path(path).stat()
+    return f"{Path(path).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"

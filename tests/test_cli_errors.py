@@ -81,6 +81,11 @@ def here(tmp_path) -> Path:
     sub = {"model": "fe-submodel-coarse", "driver_scene_values": paper}
     folder("submodel-unended", {**sub, "contact_duration": None}, history=True)
     folder("submodel", {**sub, "contact_duration": 2e-4}, history=True)
+    elsewhere = {"cut_record": "record:abc", "cut_file": "/elsewhere/global/cut.h5"}  # what a level's summary names
+    folder("submodel-driven-elsewhere", {**sub, "contact_duration": 2e-4, **elsewhere}, history=True)
+    folder("global-recorded", ended, [0.0, 2.4e-4], history=True)  # a global with a cut record of its own
+    with h5py.File(tmp_path / "global-recorded" / "cut.h5", "a") as f:
+        f.attrs["record_id"] = "xyz"
     folder("garbage-history", ended)
     (tmp_path / "garbage-history" / "history.csv").write_text("garbage\n")
     (tmp_path / "blocked-compare" / "table3.json").mkdir(parents=True)  # a folder where compare.py writes a file
@@ -372,6 +377,17 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "compare.py",
         ["--global", "global", "--submodel", "submodel", "--submodel", "./submodel", "--out", "o"],
         ["--submodel", "more than once"],
+    ),
+    # a fuzz (2026-12-06): Table 3 labelled a global that drove no submodel "drives the submodels"
+    "compare a global that drove no submodel": (
+        "compare.py",
+        ["--global", "global", "--submodel", "submodel-driven-elsewhere", "--out", "o"],
+        ["--global", "records no cut", "/elsewhere/global/cut.h5"],
+    ),
+    "compare a submodel another global drove": (
+        "compare.py",
+        ["--global", "global-recorded", "--submodel", "submodel-driven-elsewhere", "--out", "o"],
+        ["--submodel", "another global's cut record", "/elsewhere/global/cut.h5"],
     ),
     "compare table in the way": ("compare.py", ["--global", "global", "--out", "blocked-compare"], ["table3.json"]),
     "convergence a run twice": (

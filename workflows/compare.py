@@ -19,8 +19,9 @@ from pathlib import Path
 import _cli
 from rods import cost
 from rods.analytical import simulate
+from rods.io import cut_identity
 from rods.paper.data import read_run, read_summary
-from rods.preflight import distinct, output_names
+from rods.preflight import InputError, distinct, output_names
 from rods.scene import Scene
 from rods.study import stages, table3
 from rods.study.table3 import ModelRun
@@ -36,6 +37,23 @@ def _run(role: str, folder: str, scene: Scene) -> ModelRun:
     return ModelRun(role, read_summary(folder, flag, ("global",), scene, whole_contact=True))
 
 
+def _driven_by(folder: str, summary: dict, driver: Path) -> None:
+    """A submodel level was driven by the --global run's cut record (its summary's ``cut_record``, the record's own
+    id: rods.io.cut_identity), else bad input: Table 3 would call another global its driver (a fuzz, 2026-12-06,
+    had a contact-only global with no cut record labelled "drives the submodels"). A level written before the id
+    was recorded is not checked."""
+    recorded = summary.get("cut_record")
+    if recorded is None:
+        return
+    cut = driver / "cut.h5"
+    if not cut.is_file():
+        why = "records no cut (no cut.h5): it drove no submodel"
+        raise InputError("--global", driver, why, f"give the global that drove them ({summary.get('cut_file')})")
+    if cut_identity(cut) != recorded:
+        why = f"driven by another global's cut record ({summary.get('cut_file')}), not by --global {driver}'s"
+        raise InputError("--submodel", folder, why, "give --global the run that drove it, or rerun it from this one")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = _cli.parser(__doc__)
     ap.add_argument("--global", dest="global_dir", required=True, help="the driving global run (global.py --driver)")
@@ -46,6 +64,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     distinct([Path(d) for d in args.submodel], "--submodel")  # a level given twice is two rows of Table 3
     runs = [_run("global-uniform", args.global_uniform, scene)] if args.global_uniform else []
     runs += [_run("global-driver", args.global_dir, scene), *(_run("submodel", d, scene) for d in args.submodel)]
+    for folder, run in zip(args.submodel, runs[-len(args.submodel) :] if args.submodel else [], strict=True):
+        _driven_by(folder, run.summary, Path(args.global_dir))
     cost.check(cost.analytical_cost(scene))  # the reference run below: refused (exit 2) before it, as its stage is
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     output_names(out, stages.COMPARISON_FILES)

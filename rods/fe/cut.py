@@ -54,6 +54,7 @@ import ufl
 from mpi4py import MPI
 
 from rods.fe.model import ExplicitModel
+from rods.io import cut_identity  # the record's id, defined where a stage reads it without DOLFINx
 from rods.scene import BAND_ELEMENTS, Scene, SceneError, cut_records
 
 __all__ = [
@@ -225,22 +226,6 @@ def _band_layout(
 # ----------------------------------------------------------------------------------------------
 # driving (submodel run)
 # ----------------------------------------------------------------------------------------------
-def cut_identity(path: str | Path) -> str:
-    """The identity of the cut record at ``path``: the random id its recording wrote (``record_id``), so the
-    same record wherever its study folder is copied or however it is spelled, and another for each recording
-    (a global rerun into the same folder). A checkpoint of the submodel it drove
-    (CutDriver.checkpoint_identity) and a study's restart (its summary's ``cut_record``) tell them apart. A
-    record written before the id existed: its resolved path, size and modification time."""
-    import h5py
-
-    with h5py.File(path, "r") as f:
-        record = f.attrs.get("record_id")
-    if record is not None:
-        return f"record:{record}"
-    stat = Path(path).stat()
-    return f"{Path(path).resolve()}:{stat.st_size}:{stat.st_mtime_ns}"
-
-
 def recorded_until(path: str | Path) -> tuple[float, dict[str, Any]]:
     """(the last time [s] of a cut record, the recording global's scene values): the submodels it drives can run
     to that time, and only on that scene's bodies and impact."""

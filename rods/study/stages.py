@@ -307,9 +307,9 @@ def submodel(
     ``resume`` (a study's restart, from a kept driver): a run finished in ``out`` for this submodel scene and cut
     file is kept (:func:`finished`), else it resumes from a checkpoint there or starts afresh. ``driver_summary``:
     the driving global's summary, whose peak force the submodel's is checked against (rods.checks.driver_warning)."""
-    from rods.fe.cut import cut_identity
     from rods.fe.guards import SimulationError
     from rods.fe.submodel import run_submodel, submodel_label, submodel_name, submodel_scene
+    from rods.io import cut_identity
 
     comm = world(comm)
     h = size or plan.submodel_size(scene, level, phase)
@@ -337,7 +337,7 @@ def _finish_submodel(
 ) -> None:
     """Annotate the submodel run ``sr`` (rods.fe.submodel.run_submodel's) with its driver, phase member and checks
     against ``scene`` (the driving global's) up to ``end`` [s], and write its files into ``out`` (rank 0)."""
-    from rods.fe.cut import cut_identity
+    from rods.io import cut_identity
 
     sr.summary["cut_file"] = str(cut_file)
     # the driving global's scene: the submodel's own scene_values are the cut region's (rods L_s long, not a scene
