@@ -473,3 +473,20 @@ def test_a_too_short_end_time_is_refused_with_one_that_every_case_accepts():
     named = float(re.search(r"at least ([0-9.e-]+)", str(e.value)).group(1))
     for name in verification.CASES:  # every case accepts it: no SceneError
         verification.case_costs(base, name, [f"simulation.end_time={named!r}"], 1)
+
+
+def test_a_case_on_another_scene_is_described_by_that_scene():
+    """The matrix's words name the paper's rods: on the paper scene they stand (its mesh settings aside), on another
+    scene the row names that scene and the case's overrides (verify.py --scene trial-2-4.toml was labelled "the paper
+    scene, 2.197 m/s" over a 2.178 m/s run; "flat Rod 2" over a curved one)."""
+    from rods.scene import PAPER_SCENE, load_scene
+
+    paper, coarse = load_scene(PAPER_SCENE), load_scene(PAPER_SCENE, ["fe.axial_size=2e-3"])
+    trial = load_scene(PAPER_SCENE.parent / "trial-2-4.toml")
+    for name, (words, _) in verification.CASES.items():
+        assert verification.case_description(paper, name) == verification.case_description(coarse, name) == words
+    assert verification.case_description(trial, "paper") == "trial-2-4, 2.178 m/s"
+    curved = load_scene(PAPER_SCENE, ["rod2.tip_radius=0.05"])
+    assert verification.case_description(curved, "equal-0.35m") == (
+        "paper with rod2.tip_radius=0.05: rod1.length=0.35, rod2.length=0.35"
+    )
