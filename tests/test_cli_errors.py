@@ -130,6 +130,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--set", "impact.speed=-1", "--out", "o"],
         ["impact.speed", "-1.0", "[1e-09, 100] m/s", "(remedy: --set impact.speed=VALUE, a value as allowed)"],
     ),
+    "station out of its rod by --set": (  # a fuzz (2026-12-06): the remedy named the scene file, not the --set
+        "analytical.py",
+        ["--set", "station=[{rod=2, position=5.0}]", "--out", "o"],
+        ["station[0].position", "5.0", "(remedy: station[0].position in --set station=..., a value as allowed)"],
+    ),
     "speed -2 in a file": (
         "run.py",
         ["--scene", "bad-speed.toml", "--out", "o"],

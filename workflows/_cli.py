@@ -206,8 +206,13 @@ def _scene_remedy(e: SceneError, args: argparse.Namespace) -> str:
     the --set that gave it or the scene file, to be given within what is allowed."""
     if e.hint or not e.allowed.startswith("must"):
         return ""
-    given = any(parse_override(t)[0] == e.key for t in args.overrides or ())  # read once by _Override already
-    return f" (remedy: {f'--set {e.key}=VALUE' if given else f'{e.key} in {args.scene}'}, a value as allowed)"
+    keys = [parse_override(t)[0] for t in args.overrides or ()]  # read once by _Override already
+    # a key inside a --set table or list (station[3].position in --set station=[...]) came from that --set
+    given = next((k for k in keys if e.key == k or e.key.startswith((f"{k}[", f"{k}."))), None)
+    where = f"{e.key} in {args.scene}" if given is None else f"--set {e.key}=VALUE" if given == e.key else (
+        f"{e.key} in --set {given}=..."
+    )  # fmt: skip
+    return f" (remedy: {where}, a value as allowed)"
 
 
 def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
