@@ -41,6 +41,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe-random-61206.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61206.json")),
     "scene-probe-random-61207.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61207.json")),
     "scene-probe-random-61208.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61208.json")),
+    "scene-probe-random-61209.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61209.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
     "submodel-probe-random-1206.md": lambda: benchmark("submodel_probe").render(
