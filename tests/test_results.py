@@ -53,6 +53,9 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "submodel-probe-random-61208.md": lambda: benchmark("submodel_probe").render(
         _data("submodel-probe-random-61208.json")
     ),
+    "submodel-probe-random-61209.md": lambda: benchmark("submodel_probe").render(
+        _data("submodel-probe-random-61209.json")
+    ),
     "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
     "wave-probe-random-61206.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61206.json")),
     "wave-probe-random-61207.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61207.json")),
