@@ -545,15 +545,16 @@ def _step_limits(
     its tip's cells (h_r, g h) and its body's (h_r, h): a graded tip's cubes had hidden the body's long cells, where
     the highest mode sits, along the O-grid's core corners (x = y = s, rods.fe.mesh3d.CORE; a power iteration on the
     paper rods' 0.3 x 1 mm quarter model), and the estimate read 1.17x (that mesh) to 1.21x (the paper's auto 3D
-    mesh) the exact step (2026-12-06); its curved tips' rim cells by :func:`_tip_step_3d`."""
+    mesh) the exact step (2026-12-06)."""
     c_d = max(r.material.dilatational_wave_speed for r in scene.rods)  # [m/s]
     stable = DT_PER_ELEMENT_STEP * H_MIN_FRACTION * min(h_r, g * h) / c_d
     if scene["fe.kind"] == "3d":
-        third = min(_third_dimension(h_r, g * h), _third_dimension(h_r, h))  # the tip's cells and the body's
-        stable = min(stable * third, _tip_step_3d(scene, h_r, h, g))
+        stable *= min(_third_dimension(h_r, g * h), _third_dimension(h_r, h))  # the tip's cells and the body's
+        region = scene
     else:
         region = scene if size is None else region or _submodel_region(scene, h_r, h)
-        stable = min(stable * _butterfly_step_factor(region, submodel=size is not None), _tip_step(region))
+        stable *= _butterfly_step_factor(region, submodel=size is not None)
+    stable = min(stable, _tip_step(region, h_r, h, g))
     stable *= damped_step_factor(scene)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
@@ -574,50 +575,40 @@ def _third_dimension(a: float, b: float) -> float:
     return math.sqrt((1 / a**2 + 1 / b**2) / (2 / a**2 + 1 / b**2))
 
 
-def _tip_step(region: Scene) -> float:
-    """[s] The stable step of the cells on the rods' one-block tip faces (a butterfly's aside): their smallest
-    thickness (rods.fe.layout.altitudes of rods.fe.layout.tip_row, the mesher's own corners, no mesh built) over
-    their rod's dilatational wave speed. A curved face's rim cells are the thinnest of a mesh: the face slopes there
-    and the cap takes (its height)/(the graded block's length) of their column, which depends on the rods' diameters
-    against the patch, so no table of the paper rods carries it over (that one read 1.24x to 1.49x the exact step
-    on 30 to 38 mm rods and at 15 m/s). Their thickness over the wave speed, against the set-up's exact limit,
-    2026-12-06: 0.76 to 0.98 over the paper rods' tips of 50 to 6.8 mm (graded or not, meshes to 0.25 x 0.125 mm;
-    deeper caps lower) and 48 scene-probe scenes (benchmarks/scene_probe.py's named and three random draws); a
-    submodel's (0.25 mm, tips of 35 to 6.76 mm) 0.83 to 1.03; so :data:`TIP_STEP_FRACTION` of it, to err low as the
-    bulk's estimate does (the whole estimate then 0.72 to 0.91 on those globals, 0.79 to 0.98 on the submodels)."""
-    from rods.fe.layout import altitudes, rod_layouts, tip_row
-
-    return (
-        TIP_STEP_FRACTION
-        * DT_PER_ELEMENT_STEP
-        * min(
-            (
-                float(altitudes(tip_row(layout)).min()) / layout.rod.material.dilatational_wave_speed
-                for layout in rod_layouts(region)
-                if layout.butterfly is None
-            ),
-            default=math.inf,
-        )
-    )
-
-
-def _tip_step_3d(scene: Scene, h_r: float, h: float, g: float) -> float:
-    """[s] A 3D mesh's curved tips' step: their thinnest cell (rods.fe.mesh3d.tip_rim_cell: the first layer's rim
-    cell on the O-grid's diagonal, sloped with the face and squeezed by the cap, as :func:`_tip_step`'s) over its
-    rod's wave speed, with its edge along the rim as the third dimension (:func:`_third_dimension`), x
-    :data:`TIP_STEP_FRACTION`; inf for flat tips. Without it a 3D run on an 8 mm tip (0.5 mm sizes) took 1.63x the
-    steps planned, a 12 mm tip 1.39x, the paper rods at 15 m/s 1.11x (2026-12-06; the estimate now 0.80 to 0.87 of
-    the exact step on those, 0.68 on a hemisphere)."""
+def _tip_step(region: Scene, h_r: float, h: float, g: float) -> float:
+    """[s] The stable step of the cells under the rods' curved tip faces (a butterfly's aside; inf where there are
+    none): their smallest thickness (rods.fe.layout.altitudes of :func:`_tip_cells`, the mesher's own corners, no
+    mesh built) over their rod's dilatational wave speed, in 3D with their edge along the rim as the third dimension
+    (:func:`_third_dimension`), x :data:`TIP_STEP_FRACTION`. A curved face's rim cells are the thinnest of a mesh:
+    the face slopes there and the cap takes (its height)/(the block's length) of their column, which depends on the
+    rods' diameters against the patch, so no table of the paper rods carries it over (that one read 1.24x to 1.49x
+    the exact step on 30 to 38 mm rods and at 15 m/s; 3D had no tip term: an 8 mm tip's run took 1.63x the steps
+    planned). Their thickness over the wave speed against the set-up's exact limit, 2026-12-06: 0.76 to 0.98 over the
+    paper rods' tips of 50 to 6.8 mm (graded or not, meshes to 0.25 x 0.125 mm; deeper caps lower) and 48
+    scene-probe scenes (benchmarks/scene_probe.py's named and three random draws), a submodel's (0.25 mm, tips of 35
+    to 6.76 mm) 0.83 to 1.03; the whole estimate then 0.72 to 0.91 on those globals, 0.79 to 0.98 on the submodels,
+    0.80 to 0.87 on four curved 3D tips (0.68 on a hemisphere)."""
     from rods.fe.layout import altitudes
-    from rods.fe.mesh3d import tip_rim_cell
 
     steps = [math.inf]
-    for rod in scene.rods:
-        if math.isfinite(rod.tip_radius):
-            cell, along_rim = tip_rim_cell(rod, h_r, h, g)
-            a = float(altitudes(cell)[0])
-            steps.append(a / rod.material.dilatational_wave_speed * _third_dimension(along_rim, a))
+    for rod, cells, along_rim in _tip_cells(region, h_r, h, g):
+        a = float(altitudes(cells).min())  # [m]
+        third = _third_dimension(along_rim, a) if along_rim > 0 else 1.0
+        steps.append(a / rod.material.dilatational_wave_speed * third)
     return TIP_STEP_FRACTION * DT_PER_ELEMENT_STEP * min(steps)
+
+
+def _tip_cells(region: Scene, h_r: float, h: float, g: float) -> list[tuple[Any, Any, float]]:
+    """Each curved tip's cells under its face, as (rod, corners (n, 4, 2) in (r, depth), edge along the rim [m] in
+    3D, else 0): on the axisymmetric mesh the row on a one-block face (rods.fe.layout.tip_row; a butterfly has its
+    table), in 3D the first layer's thinnest rim cell (rods.fe.mesh3d.tip_rim_cell) at sizes ``h_r``, ``h``, ``g``."""
+    if region["fe.kind"] == "3d":
+        from rods.fe.mesh3d import tip_rim_cell
+
+        return [(rod, *tip_rim_cell(rod, h_r, h, g)) for rod in region.rods if math.isfinite(rod.tip_radius)]
+    from rods.fe.layout import rod_layouts, tip_row
+
+    return [(lay.rod, tip_row(lay), 0.0) for lay in rod_layouts(region) if lay.butterfly is None]
 
 
 def _butterfly_step_factor(region: Scene, submodel: bool) -> float:

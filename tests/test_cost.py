@@ -130,7 +130,7 @@ def test_estimate_matches_the_built_3d_model(scene_with, symmetry, extra):
     """3D: cells and DOFs exactly (the O-grid's own counts, rods.fe.mesh3d.section_size), the steps not below the
     set-up's by more than 2% and at most 1.3x them. Before (2026-12-06), the 0.4 mm graded mesh ran 1.09x the steps
     planned (the body's long cells at the O-grid's core corners unseen behind the tip's cubes) and the 10 mm tip
-    1.30x (its rim cells, rods.cost._tip_step_3d, unseen); a hexahedron's step is sqrt(2/3) of a square's (the
+    1.30x (its rim cells, rods.cost._tip_step, unseen); a hexahedron's step is sqrt(2/3) of a square's (the
     estimate was once 0.72 of the paper mesh's)."""
     from rods.fe.model import ExplicitModel
 
@@ -607,7 +607,7 @@ def test_any_axisymmetric_mesh_gets_a_finite_estimate_or_a_refusal(scene_with, t
         assert e.key
         return
     assert 0 < c.wall_time < math.inf and c.steps >= 1 and 0 < c.memory_bound_time <= c.wall_time
-    assert 0 < cost._tip_step(sc) <= math.inf
+    assert 0 < cost._tip_step(sc, sc["fe.radial_size"], sc["fe.axial_size"], sc.tip_grading) <= math.inf
 
 
 def test_the_total_names_the_stage_that_is_most_of_a_study(scene_with):
