@@ -185,8 +185,9 @@ CUT_BYTES_PER_ENTRY_RECORD = 16.0  # [B]
 CUT_RECORD_COPIES = 2.0
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
-# a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate errs low by up to
-# 0.87 on the meshes measured; between the estimate and this, the set-up's exact limit decides)
+# a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate lies at 0.68 to 1.05
+# of the exact limit on the meshes measured, _tip_step; between the estimate and this, the set-up's exact limit
+# decides)
 DT_REFUSE_FACTOR = 2.0  # [-]
 # the tip cells' estimated step (_tip_step) is this fraction of their thickness over the wave speed: that ratio read
 # 0.76 to 1.03 of the set-up's exact step (the highest, 1.032, a uniform 0.25 mm submodel on a 10 mm tip), so the
