@@ -29,10 +29,10 @@ from rods.scene import BAND_ELEMENTS, BAR_ELEMENTS, Rod, Scene
 __all__ = [
     "AxialSpacing",
     "Butterfly",
-    "RodLayout",
     "Coarsening",
     "Column",
     "GradedButterfly",
+    "RodLayout",
     "altitudes",
     "axial_blocks",
     "axial_spacing",

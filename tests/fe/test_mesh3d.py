@@ -50,3 +50,24 @@ def test_a_deep_cap_makes_a_block_of_equal_elements():
     assert sp.n_graded == 4 and sp.ratio == 1.0
     _, z, _ = _layers(rod, 2e-3, 0.75)
     assert np.allclose(np.diff(np.asarray(z[: sp.n_graded]) * rod.length), sp.graded_length / sp.n_graded)
+
+
+@pytest.mark.parametrize("extra", [(), ("fe.tip_grading=1",)], ids=["graded", "ungraded"])
+def test_the_tip_rim_cell_is_the_meshers_own(extra):
+    """rods.fe.mesh3d.tip_rim_cell, which the plan's step reads (rods.cost._tip_step) without building a mesh, gives
+    corners of the built 3D mesh to round-off: the first layer's outermost ring cell on the O-grid's diagonal, moved
+    onto the cap by the tip mapping (Rod 2 curved, its apex at the origin)."""
+    from mpi4py import MPI
+
+    from rods.fe.mesh3d import build_mesh_3d, tip_rim_cell
+
+    sc = load_scene(PAPER, ["fe.kind=3d", "fe.symmetry=quarter", "fe.axial_size=1e-3", "fe.radial_size=0.5e-3",
+                            "rod1.tip_radius=inf", "rod2.tip_radius=0.02", "rod1.length=0.03", "rod2.length=0.04",
+                            *extra])  # fmt: skip
+    x = build_mesh_3d(sc, MPI.COMM_SELF).mesh.geometry.x
+    cell, along_rim = tip_rim_cell(sc.rod2, sc["fe.radial_size"], sc["fe.axial_size"], sc.tip_grading)
+    rho, depth = cell[0, :, 0], cell[0, :, 1]
+    corners = np.stack([rho / np.sqrt(2), rho / np.sqrt(2), depth], axis=1)  # on the diagonal x = y
+    found = np.linalg.norm(x[None, :, :] - corners[:, None, :], axis=2).min(axis=1)
+    assert found.max() < 1e-9 * sc.rod2.diameter, found
+    assert 0 < along_rim < sc.rod2.diameter
