@@ -81,6 +81,18 @@ def here(tmp_path) -> Path:
     sub = {"model": "fe-submodel-coarse", "driver_scene_values": paper}
     folder("submodel-unended", {**sub, "contact_duration": None}, history=True)
     folder("submodel", {**sub, "contact_duration": 2e-4}, history=True)
+    level = {
+        **sub,
+        "contact_duration": 2e-4,
+        "level": "coarse",
+        "element_size": 2.5e-4,
+        "peak_contact_force": 5.5e3,
+        "contact_radius": 1.1e-3,
+        "contact_area": 3.8e-6,
+        "peak_contact_pressure": 2.2e9,
+    }  # what convergence.py reads
+    folder("coarse-a", level, history=True)
+    folder("coarse-b", level, history=True)  # the same level run again (another --dt, driving or contact law)
     elsewhere = {"cut_record": "record:abc", "cut_file": "/elsewhere/global/cut.h5"}  # what a level's summary names
     folder("submodel-driven-elsewhere", {**sub, "contact_duration": 2e-4, **elsewhere}, history=True)
     folder("global-recorded", ended, [0.0, 2.4e-4], history=True)  # a global with a cut record of its own
@@ -393,6 +405,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "compare.py",
         ["--global", "global-recorded", "--submodel", "submodel-driven-elsewhere", "--out", "o"],
         ["--submodel", "another global's cut record", "/elsewhere/global/cut.h5"],
+    ),
+    "convergence two runs of one size": (  # a fuzz (2026-12-06): three failed the fit with exit 1, two passed
+        "convergence.py",
+        ["--run", "coarse-a", "--run", "coarse-b", "--out", "o"],
+        ["--run", "coarse-b", "the same submodel element size (0.25 mm)", "one run per size"],
     ),
     "compare table in the way": ("compare.py", ["--global", "global", "--out", "blocked-compare"], ["table3.json"]),
     "convergence a run twice": (
