@@ -104,6 +104,8 @@ def here(tmp_path) -> Path:
     (tmp_path / "blocked-convergence" / "convergence.png").mkdir(parents=True)
     (tmp_path / "blocked-paper" / "table2.json").mkdir(parents=True)
     (tmp_path / "blocked-x.png").mkdir()  # where accuracy_cost.py --out blocked-x writes its figure
+    (tmp_path / "results-good").symlink_to(ROOT / "results")  # the committed stages, which render (read only)
+    (tmp_path / "not-a-study.json").write_text((ROOT / "results" / "accuracy-cost.json").read_text())
     (tmp_path / "results").mkdir()
     (tmp_path / "results" / "table2.json").write_text("{bad")
     (tmp_path / "results-list").mkdir()
@@ -447,6 +449,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "report.py",
         ["--results", "afile-less", "--out", "o/R.md"],
         ["--results", "no such file"],
+    ),
+    "report another stage's JSON as the contact study": (  # a fuzz (2026-12-06): blamed --results, said make paper
+        "report.py",
+        ["--results", "results-good", "--contact-study", "not-a-study.json", "--out", "o/R.md"],
+        ["--contact-study", "not-a-study.json", "not the contact study's record", "or leave it out"],
     ),
     "report contact study missing": (
         "report.py",

@@ -32,11 +32,22 @@ def main(argv: list[str] | None = None) -> int:
         raise InputError("--contact-study", study, "no such file", "give the contact study's JSON, or leave it out")
     results = Path(args.results) if args.results else out.parent
     data = report.read(results, study if study.is_file() else None)
+    failed = (KeyError, TypeError, AttributeError, IndexError, ValueError)
     try:  # a stage file that parses but is not its stage's data fails in the rendering
         text = report.render(data)
-    except (KeyError, TypeError, AttributeError, IndexError, ValueError) as e:
-        why = f"a stage file is not that stage's data ({type(e).__name__}: {e})"
-        raise InputError("--results", results, why, "rerun the main job's stages (make paper)") from None
+    except failed as e:
+        why = f"({type(e).__name__}: {e})"
+        try:  # the stages render without the contact study: it is the file at fault (an accuracy_cost.py JSON given
+            report.render(report.read(results, None))  # as --contact-study was blamed on --results, a fuzz found)
+        except failed:
+            raise InputError(
+                "--results",
+                results,
+                f"a stage file is not that stage's data {why}",
+                "rerun the main job's stages (make paper)",
+            ) from None
+        hint = "give benchmarks/contact_study.py's record (results/contact-study.json), or leave it out"
+        raise InputError("--contact-study", study, f"not the contact study's record {why}", hint) from None
     io.atomic_write_text(out, text)
     print(f"wrote {out}")
     return 0
