@@ -54,6 +54,17 @@ def test_a_run_too_short_for_the_wave_response_is_foreseen(scene_with):
     auto = short.with_overrides("simulation.end_time='auto'")
     assert outlook(auto) == [] and f"runs {auto.end_time:.3g} s" in line
     assert outlook(short.with_overrides("effects=['contact_patch']")) == []
+    assert outlook(short, wave=False) == []  # a driving global's or a submodel's plan: the contact phase only
+
+
+def test_a_driver_and_a_submodel_plan_no_wave_outlook(tmp_path):
+    """global.py --driver and submodel.py run the contact phase only: their plans foresee no midpoint plateaus (a
+    fuzz, 2026-12-06: every submodel.py plan said its end time held 0.89 of the 5 periods); global.py alone does."""
+    short = ["--set", "rod1.length=2.0", "--set", "rod2.length=2.0", "--dry-run"]
+    alone = in_process("global.py", *short, "--out", str(tmp_path / "g"), cwd=tmp_path)
+    driver = in_process("global.py", *short, "--driver", "--out", str(tmp_path / "d"), cwd=tmp_path)
+    assert alone.returncode == driver.returncode == 0, alone.stderr + driver.stderr
+    assert "outlook: midpoint_peak_speed" in alone.stdout and "midpoint_peak_speed" not in driver.stdout
 
 
 def test_the_rim_line_is_the_rim_check_at_the_bound_force(scene_with):

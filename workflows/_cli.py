@@ -122,12 +122,12 @@ def planning(analytical: Any) -> str:
     return f"planning: the analytical model to its first contact (at most about {analytical.wall_time:.3g} s)"
 
 
-def outlook(scene: Scene, log: Callable[..., None] = print) -> None:
+def outlook(scene: Scene, log: Callable[..., None] = print, wave: bool = True) -> None:
     """Print, before the cost estimate, the checks a run of ``scene`` will likely fail (rods.outlook: foreseen from
-    closed forms, before anything runs; nothing for a scene inside the models' range)."""
+    closed forms, before anything runs; nothing for a scene inside the models' range); ``wave``: as there."""
     from rods.outlook import outlook as foreseen
 
-    for line in foreseen(scene):
+    for line in foreseen(scene, wave):
         log(f"outlook: {line}")
 
 

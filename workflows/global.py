@@ -65,7 +65,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
                   f"record would hold t = 0 alone; give --record-until {10 * step:.3g} or more")  # fmt: skip
     log(f"{plan.fe_stage(sc, c.what)} -> {out}")  # c.what: the driving global or the global (rods.study.jobs)
-    _cli.outlook(scene, log)
+    _cli.outlook(scene, log, wave=not args.driver)  # a driver stops after the contact phase
     _cli.afford(args, c, log=log, comm=comm, out=out)
     if args.driver:
         s = stages.driver(scene, out, comm, phase, progress=progress, log=log).summary

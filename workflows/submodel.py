@@ -164,7 +164,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
     log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")
-    _cli.outlook(scene, log)
+    _cli.outlook(scene, log, wave=False)  # the contact phase only: no plateaus to measure
     _cli.afford(args, c, log=log, comm=comm, out=out)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
     s = stages.submodel(
