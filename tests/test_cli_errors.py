@@ -362,6 +362,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--run", "a=global", "--run", "b=global", "--out", "o/x"],
         ["--run", "more than once"],
     ),
+    "accuracy-cost a label twice": (  # a fuzz (2026-12-06): two rows labelled alike
+        "accuracy_cost.py",
+        ["--run", "x=global", "--run", "x=global-fast", "--out", "o/x"],
+        ["--run label", "'x'", "more than once"],
+    ),
     "accuracy-cost figure in the way": (
         "accuracy_cost.py",
         ["--run", "global", "--out", "blocked-x"],

@@ -29,6 +29,7 @@ def main(argv: list[str] | None = None) -> int:
         raise InputError("--run", [], "no runs given", "give at least one --run LABEL=DIR")
     given = [parse_run(spec) for spec in args.run]
     distinct([folder for _, folder in given], "--run")
+    distinct([label or folder.name for label, folder in given], "--run label")  # two rows one cannot tell apart
     # each a finished run: its first contact ended (an FE run stopped before it reads a peak force still rising)
     runs = [read_run(folder, label or folder.name, "--run", scene=scene, whole_contact=True) for label, folder in given]
     data = accuracy_cost.write(scene, runs, args.out)
