@@ -21,10 +21,10 @@ from typing import Any
 import numpy as np
 
 __all__ = [
-    "cut_identity",
     "SUMMARY_KEYS",
     "Run",
     "atomic_write_text",
+    "cut_identity",
     "dumps",
     "file_mode",
     "offscreen_pyvista",

@@ -63,9 +63,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     scene = _cli.load(args)
     distinct([Path(d) for d in args.submodel], "--submodel")  # a level given twice is two rows of Table 3
     runs = [_run("global-uniform", args.global_uniform, scene)] if args.global_uniform else []
-    runs += [_run("global-driver", args.global_dir, scene), *(_run("submodel", d, scene) for d in args.submodel)]
-    for folder, run in zip(args.submodel, runs[-len(args.submodel) :] if args.submodel else [], strict=True):
+    driver = _run("global-driver", args.global_dir, scene)
+    subs = [_run("submodel", d, scene) for d in args.submodel]
+    for folder, run in zip(args.submodel, subs, strict=True):
         _driven_by(folder, run.summary, Path(args.global_dir))
+    runs += [driver, *subs]
     cost.check(cost.analytical_cost(scene))  # the reference run below: refused (exit 2) before it, as its stage is
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     output_names(out, stages.COMPARISON_FILES)

@@ -30,13 +30,7 @@ def main(argv: list[str] | None = None) -> int:
     given = [parse_run(spec) for spec in args.run]
     distinct([folder for _, folder in given], "--run")  # a run given twice is a level counted twice
     runs = [(label, read_summary(folder, "--run", scene=scene, whole_contact=True)) for label, folder in given]
-    seen: dict[tuple[str, float], object] = {}  # one run per size of a family: the fit's abscissae (a phase member
-    for (label, folder), (_, summary) in zip(given, runs, strict=True):  # is its level's, averaged apart)
-        r = convergence.record(summary, label)
-        if r["phase"] is None and (key := (r["model"], r["h"])) in seen:  # three at one size failed the fit, exit 1
-            why = f"the same {r['model']} element size ({r['h'] * 1e3:.4g} mm) as {seen[key]}: one run per size"
-            raise InputError("--run", folder, why, "give one run per mesh size (runs of one size: accuracy_cost.py)")
-        seen.setdefault((r["model"], r["h"]), folder)
+    convergence.one_run_per_size(runs, [folder for _, folder in given])  # the fit's abscissae
     data = convergence.for_scene(scene, runs, out)
     print(convergence.render_markdown(data))
     return 0

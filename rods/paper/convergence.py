@@ -39,12 +39,14 @@ from rods import hertz, io
 from rods.compare import cell, percent
 from rods.convergence import FS_GOOD, estimate
 from rods.io import write_data
+from rods.preflight import InputError
 from rods.study.figures import pyplot
 
 __all__ = [
     "KEYS",
     "QUANTITIES",
     "compute",
+    "one_run_per_size",
     "plot",
     "record",
     "render_markdown",
@@ -544,6 +546,24 @@ def for_scene(scene: Any, runs: Sequence[tuple[str, Mapping[str, Any]]], out_dir
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
     F_an = simulate(scene).summary["peak_contact_force"]
     return write([record(s, label) for label, s in runs], F_an, E_star, R_star, out_dir)
+
+
+def one_run_per_size(
+    runs: Sequence[tuple[str, Mapping[str, Any]]], folders: Sequence[Any], flag: str = "--run"
+) -> None:
+    """Each family's element sizes distinct among ``runs`` ((label, summary), from ``folders``), else bad input naming
+    both runs: they are the fit's abscissae (three runs of one level with another --dt, driving or contact law failed
+    the fit, two passed as two sizes: a fuzz, 2026-12-06). A phase member is its level's, averaged apart."""
+    seen: dict[tuple[str, float], Any] = {}
+    for (label, summary), folder in zip(runs, folders, strict=True):
+        r = record(summary, label)
+        if r["phase"] is not None:
+            continue
+        key = (r["model"], r["h"])
+        if key in seen:
+            why = f"the same {r['model']} element size ({r['h'] * 1e3:.4g} mm) as {seen[key]}: one run per size"
+            raise InputError(flag, folder, why, "give one run per mesh size (runs of one size: accuracy_cost.py)")
+        seen[key] = folder
 
 
 def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
