@@ -56,19 +56,14 @@ def step_bytes(model: ExplicitModel) -> float:
     return nz * (8 + 4) + (model.n_local + 1) * 4 + 48 * model.n_local
 
 
-def main() -> int:
-    ap = _cli.bare_parser(__doc__.splitlines()[0])
-    ap.add_argument("--steps", type=int, default=400)
-    ap.add_argument("--no-paper", action="store_true", help="skip the full 1.5 ms paper run")
-    ap.add_argument("--out", default=str(ROOT / "results" / "fe-throughput.md"))
-    args = ap.parse_args()
-    bw = stream_add()
-    print(f"STREAM-like add bandwidth: {bw / 1e9:.1f} GB/s", flush=True)
+def mesh_rows(steps: int, bw: float) -> list[tuple]:
+    """Per mesh of MESHES: (h_z, h_r, DOFs, best s/step of 3 runs of ``steps``, DOF-steps/s, traffic [B/s],
+    fraction of the bandwidth ``bw`` [B/s])."""
     rows = []
     for h_z, h_r in MESHES:
         sc = load_scene(PAPER, [f"fe.axial_size={h_z}", f"fe.radial_size={h_r}", "simulation.output_interval=1e-3"])
         model = ExplicitModel(sc)
-        end = args.steps * model.dt
+        end = steps * model.dt
         sc = load_scene(PAPER, [f"fe.axial_size={h_z}", f"fe.radial_size={h_r}", f"simulation.end_time={end}",
                                 f"simulation.output_interval={end / 4}"])  # fmt: skip
         model = ExplicitModel(sc)
@@ -81,6 +76,18 @@ def main() -> int:
         msg = f"h_z={h_z * 1e3:g} mm h_r={h_r * 1e3:g} mm: {model.n_global} DOFs, {best * 1e3:.3f} ms/step, "
         msg += f"{model.n_global / best / 1e6:.1f} M DOF-steps/s, {traffic / 1e9:.1f} GB/s = {traffic / bw:.0%}"
         print(msg, flush=True)
+    return rows
+
+
+def main() -> int:
+    ap = _cli.bare_parser(__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=400)
+    ap.add_argument("--no-paper", action="store_true", help="skip the full 1.5 ms paper run")
+    ap.add_argument("--out", default=str(ROOT / "results" / "fe-throughput.md"))
+    args = ap.parse_args()
+    bw = stream_add()
+    print(f"STREAM-like add bandwidth: {bw / 1e9:.1f} GB/s", flush=True)
+    rows = mesh_rows(args.steps, bw)
     paper = None
     if not args.no_paper:
         model = ExplicitModel(load_scene(PAPER))

@@ -127,6 +127,12 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "record-until -1": ("global.py", ["--record-cut", "--record-until", "-1", "--out", "o"], ["--record-until", "-1"]),
     "record-every 0": ("global.py", ["--record-cut", "--record-every", "0", "--out", "o"], ["--record-every", "0"]),
     "submodel dt abc": ("submodel.py", ["--global", "nosummary", "--dt", "abc", "--out", "o"], ["--dt", "abc"]),
+    "submodel dt -1e-8": ("submodel.py", ["--global", "nosummary", "--dt", "-1e-8", "--out", "o"], ["--dt", "-1e-8"]),
+    "record-until -2.5E-4": (
+        "global.py",
+        ["--record-cut", "--record-until", "-2.5E-4", "--out", "o"],
+        ["--record-until", "-2.5E-4", "> 0"],
+    ),
     "submodel size 0": ("submodel.py", ["--global", "nosummary", "--size=0", "--out", "o"], ["--size", "0"]),
     "submodel phase 9": ("submodel.py", ["--global", "nosummary", "--phase", "9", "--out", "o"], ["--phase", "9"]),
     "submodel phase with size": (

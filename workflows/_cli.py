@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import errno
 import os
+import re
 import signal
 import sys
 import time
@@ -43,6 +44,9 @@ class _Parser(argparse.ArgumentParser):
 
     def __init__(self, **kw: Any):
         super().__init__(allow_abbrev=False, formatter_class=argparse.RawDescriptionHelpFormatter, **kw)
+        # a negative number in exponent form (--dt -1e-8) is a value, so that its option names the range; Python
+        # 3.13.0's argparse takes it for an unknown option ("unrecognized arguments")
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
     def print_help(self, file: Any = None) -> None:  # rank 0's only under MPI
         if _is_rank0():

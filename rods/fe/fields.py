@@ -38,6 +38,7 @@ from __future__ import annotations
 import json
 import math
 import shutil
+import sys
 from pathlib import Path
 
 import dolfinx
@@ -309,6 +310,23 @@ class FieldOutput:
         reuse = dolfinx.cpp.io.VTXMeshPolicy.reuse  # the mesh once, not with every frame
         self.vtx = dolfinx.io.VTXWriter(msh.comm, Path(out) / name, funcs, "BP4", mesh_policy=reuse)
         self.series, self.order = self._xdmf(V, Path(out), (step0 - 0.5) * model.dt if step0 else -math.inf)
+        if self.series is not None and step0:
+            self._note_missing(Path(out), step0)
+
+    def _note_missing(self, out: Path, step0: int) -> None:
+        """Rank 0, a restart: the frames before ``step0`` that the interrupted run wrote and that are gone now
+        (deleted or cut short by the kill) are named on stderr; the series lists only the frames found, and no
+        later step can rewrite them."""
+        found = {name for name, _, _ in self.series.frames}
+        kept = (step0 - 0.5) * self.dt  # [s] the frames the series keeps (XdmfSeries' keep_before)
+        gone = [(k, t) for f in self.sched.values() for k, t in f if t < kept and f"frame-{k:06d}.h5" not in found]
+        if gone:
+            ts = ", ".join(f"{t * 1e6:.6g}" for _, t in gone[:5]) + (", ..." if len(gone) > 5 else "")
+            sys.stderr.write(
+                f"note: fields: {len(gone)} frame(s) before the restart are missing from {out / 'fields'} "
+                f"(t = {ts} µs); fields.xdmf lists the {len(found)} found. For a complete series, rerun without "
+                "--restart\n"
+            )
 
     def _xdmf(self, V, out: Path, keep_before: float) -> tuple[XdmfSeries | None, np.ndarray | None]:
         """Rank 0's series and the permutation of the gathered owned nodes into global order."""

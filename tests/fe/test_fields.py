@@ -175,7 +175,7 @@ class _Killed(Exception):
     """Stands for kill -9 right after a checkpoint is on disk."""
 
 
-def test_a_checkpoint_implies_its_frames_are_on_disk(tmp_path, monkeypatch):
+def test_a_checkpoint_implies_its_frames_are_on_disk(tmp_path, monkeypatch, capfd):
     """The kill window the subprocess test above cannot aim at: the process dies just after a checkpoint
     at step c is written. The restart resumes at c + 1, so every frame up to step c must already be written
     (fields before checkpoints in the observer order); otherwise a frame goes missing for good."""
@@ -202,6 +202,15 @@ def test_a_checkpoint_implies_its_frames_are_on_disk(tmp_path, monkeypatch):
     _, frames = _frames(tmp_path)
     assert t_ck == pytest.approx(2e-5, rel=0.02)
     assert [t for t, _ in frames] == pytest.approx([0.0, 1e-5, 2e-5], rel=1e-9, abs=1e-18)
+    # a frame deleted before the restart cannot come back: the restart names it and lists the frames found
+    monkeypatch.undo()
+    (tmp_path / "fields" / "frame-000001.h5").unlink()
+    capfd.readouterr()
+    model.run(tmp_path, restart=True)
+    err = capfd.readouterr().err
+    assert "1 frame(s) before the restart are missing" in err and "t = 10 µs" in err, err
+    _, frames = _frames(tmp_path)
+    assert [t for t, _ in frames] == pytest.approx([0.0, 2e-5, 3e-5, 4e-5], rel=1e-9, abs=1e-18)
 
 
 def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypatch):
