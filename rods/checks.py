@@ -715,9 +715,10 @@ def plateau_warning(
             f"({AUTO_END})"
         )
     problems = []
-    if len(runs) < metrics.PLATEAU_COUNT and t[-1] - t[0] >= metrics.PLATEAU_COUNT * period:
+    outlasts = contact is not None and contact >= period  # no plateaus at any end_time: the cause, however short
+    if len(runs) < metrics.PLATEAU_COUNT and (outlasts or t[-1] - t[0] >= metrics.PLATEAU_COUNT * period):
         why = "short or stubby rods"
-        if contact is not None and contact >= period:
+        if outlasts:
             why = (
                 f"the first contact, {contact * 1e6:.4g} µs, outlasts Rod 2's round trip 2 L2/c2 = "
                 f"{period * 1e6:.4g} µs: its pulse meets its own reflection at the midpoint"

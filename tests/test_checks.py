@@ -60,7 +60,8 @@ def test_plateau_assumptions():
 def test_too_few_plateaus_name_a_contact_that_outlasts_rod_2s_round_trip():
     """Past five periods with too few plateaus, a longer run cannot help; why: short or stubby rods, or (drawn by a
     fuzz run: an aluminium striker onto a PEEK Rod 2 at 0.36 m/s, contact 347 µs against a 287 µs round trip) a
-    first contact longer than the round trip, whose pulse meets its own reflection at the midpoint."""
+    first contact longer than the round trip, whose pulse meets its own reflection at the midpoint. That cause holds
+    before five periods too: 'auto' is not its remedy."""
     t = np.linspace(0, 1, 2001)
     merged = np.minimum(t / 0.1, 1.0) * (1 + 0.02 * np.sin(2 * np.pi * 11 * t))  # one long, unbroken motion
     period = 0.15  # [s] the round trip: the run spans 6.7 of them
@@ -70,6 +71,12 @@ def test_too_few_plateaus_name_a_contact_that_outlasts_rod_2s_round_trip():
     w = checks.plateau_warning(t, merged, period, contact=0.2)
     assert "the first contact, 2e+05 µs, outlasts Rod 2's round trip 2 L2/c2 = 1.5e+05 µs" in w
     assert "its pulse meets its own reflection at the midpoint" in w and "stubby" not in w
+    # a run shorter than five periods (a fuzz run: 1.5 ms over 3.5 round trips of 431 µs, contact 522 µs): the cause
+    # still, not 'auto' as a remedy, which would find no more plateaus
+    short = t < 0.5
+    w = checks.plateau_warning(t[short], merged[short], period, contact=0.2)
+    assert "only 1 of 5 plateaus in 3 periods" in w and "a longer run will not help" in w and "auto" not in w
+    assert "within end_time" in checks.plateau_warning(t[short], merged[short], period, contact=0.1)
 
 
 def test_ringing_spikes_longer_than_a_few_samples_are_caught():
