@@ -739,6 +739,10 @@ def test_interrupt_stops_every_rank_with_partial_histories(tmp_path, signum, gro
     assert stopped < 5.0
     s = json.loads((out / "summary.json").read_text())
     assert s["status"] == "interrupted" and 0 < s["failed_step"] < s["dt"] ** -1
+    if s["contact_duration"] is None:  # stopped before the contact ended (or began): said so, not the stop's time
+        assert any(w.startswith("contact_duration: the first contact had not") for w in s["warnings"])
+    else:
+        assert s["contact_episodes"][0][1] < s["failed_step"] * s["dt"]
     assert "Traceback" not in err.read_text() and "interrupted" in err.read_text()
     assert (out / "history.csv").stat().st_size > 0
     assert not os.path.exists(out / "cut.h5")

@@ -32,6 +32,9 @@ def test_unstable_step_is_stopped_with_step_time_and_cause(scene_with):
     h = err.partial.history  # histories up to the failure stay usable
     assert h["time"].size > 0 and np.all(np.isfinite(h["kinetic_energy"]))
     assert err.partial.summary["status"] == "failed"
+    # stopped while the rods still touch: no duration (the time up to the stop is none), said so
+    assert err.time < 1e-4 and err.partial.summary["contact_duration"] is None
+    assert err.partial.summary["warnings"][0].startswith("contact_duration: the first contact had not ended when")
 
 
 def test_cli_writes_partial_histories_and_exits_1(tmp_path, monkeypatch):
