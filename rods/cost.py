@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -54,7 +54,7 @@ import numpy as np
 from rods import hertz
 from rods.preflight import InputError
 from rods.scene import BAND_ELEMENTS, Scene, SceneError, cut_records
-from rods.stability import damping_factor, march_step, switching_step
+from rods.stability import damping_factor, march_step, one_step_remedy, switching_step
 
 __all__ = [
     "FRAME_BUDGET",
@@ -254,6 +254,10 @@ class Cost:
     caveat: str = ""
     # the same model for less, named in a refusal's remedy after ``remedy`` (a 3D model's symmetric twin) [-]
     cheaper: str = ""
+    # what the memory goes to and what would lower it (:func:`_memory_parts`), said when the memory refuses a run [-]
+    memory_parts: str = ""
+    # what gives fewer steps here, named when the step budget refuses a run (empty: the analytical model's) [-]
+    step_remedy: str = ""
 
     def describe(self) -> str:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
@@ -376,14 +380,19 @@ def fe_cost(
     (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size)
     end = scene.end_time if end_time is None else end_time
     dt, caveat = _march_step(scene, h_r, h, g, size, dt, region)
+    if size is None:  # a global's end: the scene's, or a study's contact phase in it (below a step only if it is)
+        _check_one_step(scene, end, dt)
     steps = math.ceil(end / dt)
     # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
     samples = min(math.floor(end / min(scene.output_interval, end)) + 1, steps + 1)
     values = samples * (12 + 2 * len(scene.stations) + (4 if kind == "3d" else 0))
-    memory = (
-        ranks * BASE_MEMORY + BYTES_PER_DOF[kind] * dofs + ranks * BYTES_PER_STEP * steps + BYTES_PER_VALUE * values
-    )
+    parts = {
+        "the ranks' interpreters and libraries": (ranks * BASE_MEMORY, "fewer ranks"),
+        "the mesh": (BYTES_PER_DOF[kind] * dofs, "coarser sizes"),
+        "the per-step force": (ranks * BYTES_PER_STEP * steps, "fewer steps (coarser sizes, a shorter end_time)"),
+        "the histories": (BYTES_PER_VALUE * values, "a larger simulation.output_interval, fewer stations"),
+    }
     setup, loop, bound = _fe_time(scene, ranks, steps, dofs, size is not None)
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
@@ -401,12 +410,59 @@ def fe_cost(
     # (without the interval a run writes one checkpoint only when stopped, Ctrl-C or SIGTERM: a finished run none)
     if record_until is not None:
         cut = _cut_record_bytes(scene, dt, steps, record_until, record_every)
-        memory, files = memory + CUT_RECORD_COPIES * cut, files + cut
+        files += cut
+        parts["the cut record"] = (
+            CUT_RECORD_COPIES * cut,
+            "coarser sizes (fewer cut nodes, a larger step); with --record-cut, a larger --record-every or an "
+            "earlier --record-until",
+        )
+    memory = sum(b for b, _ in parts.values())
     return Cost(
         what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,
         file_bytes=files, probe_rows=probe_rows(kind, dofs, ranks) if bound > 0 else 0, caveat=caveat,
-        cheaper=_symmetry_remedy(scene),
+        cheaper=_symmetry_remedy(scene), memory_parts=_memory_parts(parts), step_remedy=_step_remedy(scene, size),
     )  # fmt: skip
+
+
+def _step_remedy(scene: Scene, size: float | None) -> str:
+    """What gives a run fewer steps: coarser sizes (a larger stable step), the step itself where it was given below
+    its limit or at a fraction of it; a step above the stable limit is refused, so 'a larger fe.dt' is no remedy
+    of an 'auto' step at fe.dt_fraction 1."""
+    if size is not None:
+        return "a larger submodel element size (a larger stable step)"
+    if scene["fe.dt"] != "auto":
+        return "a larger fe.dt (up to the stable limit), coarser sizes"
+    if scene["fe.dt_fraction"] < 1.0:
+        return "coarser sizes (a larger stable step), a larger fe.dt_fraction (at most 1)"
+    return "coarser sizes (a larger stable step)"
+
+
+MEMORY_SHARE = 0.2  # a part of a run's memory above this share is named, with its remedy, in a refusal [-]
+
+
+def _memory_parts(parts: Mapping[str, tuple[float, str]]) -> str:
+    """The parts of a run's memory above :data:`MEMORY_SHARE` of it, largest first, each with what lowers it: a
+    refusal names the remedies that work (a fuzz: a driving global refused for 31.2 GB, 30.9 GB its cut record, was
+    told a larger output interval, which changed nothing)."""
+    total = sum(b for b, _ in parts.values())
+    big = sorted(((b, name, fix) for name, (b, fix) in parts.items() if b > MEMORY_SHARE * total), reverse=True)
+    return "; ".join(f"{name} {b / 1e9:.3g} GB: {fix}" for b, name, fix in big)
+
+
+STEP_ESTIMATE_MARGIN = 1.1  # the estimated stable step over the exact one, at most (0.68-1.05 measured) [-]
+
+
+def _check_one_step(scene: Scene, end: float, dt: float) -> None:
+    """Refuse (exit 2) a run to ``end`` [s] shorter than one step ``dt`` [s], as the set-up would (rods.fe.timestep)
+    but before it: a given fe.dt exactly, an estimated step only where it is below it by
+    :data:`STEP_ESTIMATE_MARGIN` (a dry run passed a 1 ps end time that the set-up then refused)."""
+    given = scene["fe.dt"] != "auto"
+    if end * (1.0 if given else STEP_ESTIMATE_MARGIN) < dt:
+        raise SceneError(
+            "simulation.end_time", scene.end_time,
+            f"must be >= one time step, {'fe.dt = ' if given else 'about '}{dt:.3g} s on this mesh",
+            one_step_remedy(given),
+        )  # fmt: skip
 
 
 def _symmetry_remedy(scene: Scene) -> str:
@@ -787,10 +843,11 @@ def check(cost: Cost, force: bool = False) -> Cost:
         raise InputError(
             cost.what, f"{cost.memory / 1e9:.3g} GB", f"needs more memory than available ({free / 1e9:.3g} GB): "
             f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
-            f"{first}coarser sizes, a larger fe.dt or simulation.output_interval, or a shorter end_time" if fe else
+            (f"{first}{cost.memory_parts}" if cost.memory_parts else
+             f"{first}coarser sizes, a larger simulation.output_interval, or a shorter end_time") if fe else
             _analytical_memory_remedy(cost),
         )  # fmt: skip
-    steps_remedy = "a larger fe.dt, coarser sizes" if fe else "thicker rods (a contact less stiff against them)"
+    steps_remedy = (cost.step_remedy or "coarser sizes") if fe else "thicker rods (a contact less stiff against them)"
     budgets = (  # (budget's name, amount, budget, the amount as said, what it would mean, remedy)
         ("step", cost.steps, STEP_BUDGET, f"{cost.steps:.3g} steps", f"about {_duration(cost.wall_time)}",
          f"{steps_remedy}, a shorter end_time"),

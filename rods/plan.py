@@ -162,8 +162,11 @@ def _phase(contact_end: float | None, end_time: float) -> float:
 
 def submodel_driver(scene: Scene, end_time: float | None = None) -> Scene:
     """The global run that drives the submodels: ``scene`` with :data:`DRIVER_OVERRIDES`, run to
-    ``end_time`` [s] (the contact phase; default the scene's end time)."""
+    ``end_time`` [s] (the contact phase; default the scene's end time), its output interval at most that."""
     extra = () if end_time is None else (f"simulation.end_time={end_time!r}",)
+    if end_time is not None and scene.output_interval > end_time:  # as a submodel's (submodel_scene): at most its
+        # run, not refused for an end the library chose (a fuzz: output_interval 1e-3 s against a 0.55 ms phase)
+        extra += (f"simulation.output_interval={end_time!r}",)
     return scene.with_overrides(*DRIVER_OVERRIDES, *extra)
 
 

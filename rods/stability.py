@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["SWITCHING", "damping_factor", "march_step", "stable_step", "switching_step"]
+__all__ = ["SWITCHING", "damping_factor", "march_step", "one_step_remedy", "stable_step", "switching_step"]
 
 SWITCHING = 1.0  # largest ω_c Δt of an isolated contact pair [-] (rods.fe.explicit's module docstring)
 
@@ -37,3 +37,8 @@ def march_step(fraction: float, stable: float, switching: float) -> float:
     """The step [s] of fe.dt = "auto": ``fraction`` (fe.dt_fraction) of the stable step, at most the switching
     limit."""
     return min(fraction * stable, switching)
+
+
+def one_step_remedy(given: bool) -> str:
+    """The remedy of an end time below one time step; ``given``: fe.dt was set (finer sizes would not change it)."""
+    return "a longer end time, or a smaller fe.dt" if given else "a longer end time, or finer sizes for a smaller step"

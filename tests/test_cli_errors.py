@@ -245,6 +245,25 @@ CASES = {  # name -> (script, arguments, words the line must name)
         [*TINY, "--set", "simulation.end_time=1e-8", "--set", "simulation.output_interval=1e-8", "--out", "o"],
         ["simulation.end_time", "one time step"],
     ),
+    "end time below one step, dry run": (
+        "run.py",
+        ["--set", "simulation.end_time=1e-12", "--set", "simulation.output_interval=1e-12", "--dry-run", "--out", "o"],
+        ["simulation.end_time", "1e-12", "one time step", "a longer end time"],
+    ),
+    "end time below a given step": (
+        "global.py",
+        [
+            "--set",
+            "fe.dt=3e-8",
+            "--set",
+            "simulation.end_time=1e-8",
+            "--set",
+            "simulation.output_interval=1e-8",
+            "--out",
+            "o",
+        ],
+        ["simulation.end_time", "fe.dt = 3e-08", "a smaller fe.dt"],
+    ),  # fmt: skip
     "submodel end time 1e-300": (
         "submodel.py",
         ["--global", "driver", "--end-time", "1e-300", "--out", "o"],

@@ -351,6 +351,35 @@ def test_budgets_and_force(scene_with):
             cost.check(huge, force=force)
 
 
+def test_a_memory_refusal_names_what_the_memory_goes_to(scene_with, monkeypatch):
+    """The parts above a fifth of the memory, largest first, each with what lowers it: a cut record's refusal named
+    a larger output interval, which changed nothing (a fuzz, 2026-12-06)."""
+    sc = scene_with()
+    recording = cost.fe_cost(sc, record_until=sc.end_time)
+    assert recording.memory_parts.startswith("the cut record") and "output_interval" not in recording.memory_parts
+    assert cost.fe_cost(sc).memory_parts.startswith("the ranks' interpreters and libraries")  # 170 MB vs 16 MB
+    fine = cost.fe_cost(scene_with("fe.axial_size=2e-5", "fe.radial_size=2e-5"))
+    assert fine.memory_parts.startswith("the mesh") and fine.memory_parts.endswith("coarser sizes")
+    monkeypatch.setattr(cost, "available_memory", lambda: 0.5 * recording.memory)
+    with pytest.raises(InputError, match="the cut record .* GB: coarser sizes") as e:
+        cost.check(recording)
+    assert "simulation.output_interval" not in str(e.value)
+
+
+def test_an_end_time_below_one_step_is_refused_before_the_set_up(scene_with):
+    """As the set-up would refuse it (rods.fe.timestep), but before: a dry run passed a 1 ps end time. A given
+    fe.dt is known exactly (its remedy a smaller fe.dt, not finer sizes); an estimated step only where it is
+    surely below (the estimate is 0.68-1.05 x the exact step): the set-up decides the margin."""
+    tiny = ("simulation.end_time=1e-12", "simulation.output_interval=1e-12")
+    with pytest.raises(SceneError, match=r"one time step, about .* \(a longer end time, or finer sizes"):
+        cost.fe_cost(scene_with(*tiny))
+    given = ("fe.dt=3e-8", "simulation.end_time=1e-8", "simulation.output_interval=1e-8")
+    with pytest.raises(SceneError, match=r"fe.dt = 3e-08 s on this mesh \(a longer end time, or a smaller fe.dt\)"):
+        cost.fe_cost(scene_with(*given))
+    near = cost.fe_cost(scene_with("simulation.end_time=3e-8", "simulation.output_interval=1e-8"))
+    assert near.steps == 2  # within the estimate's margin of the exact 3.3e-8 s step: planned, the set-up decides
+
+
 @pytest.fixture
 def fake_driver(tmp_path, scene_with):
     """A folder that passes submodel.py's input checks (summary.json of a driver, a cut.h5 with its times and

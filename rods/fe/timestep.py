@@ -38,7 +38,7 @@ from rods.fe.forms import assemble_csr
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
 from rods.scene import SceneError
-from rods.stability import march_step, stable_step, switching_step
+from rods.stability import march_step, one_step_remedy, stable_step, switching_step
 
 __all__ = [
     "TimeStep",
@@ -286,7 +286,7 @@ def time_step(model: SetUpModel) -> TimeStep:
     if sc.end_time < dt:  # one step would march past the end: a record of t = 0 alone, its force that of Δt
         raise SceneError(
             "simulation.end_time", sc.end_time, f"must be >= one time step Δt = {dt:.4g} s of this mesh",
-            "a longer end time, or finer sizes for a smaller step",
+            one_step_remedy(req != "auto"),
         )  # fmt: skip
     return TimeStep(
         ω_max=ω,

@@ -57,6 +57,9 @@ def test_submodel_driver_is_the_scene_itself_to_the_contact_phase(scene_with):
         k: v for k, v in sc.values.items() if k != "simulation.end_time"
     }
     assert submodel_driver(sc).end_time == sc.end_time
+    # an output interval longer than the phase the library chose: the phase's, not a refusal of the user's value
+    coarse = sc.with_overrides("simulation.output_interval=1e-3")
+    assert submodel_driver(coarse, 2.5e-4).output_interval == 2.5e-4 and d.output_interval == sc.output_interval
     p = make_plan(sc.with_overrides("effects=['contact_patch']"), 2e-4)
     assert p.driver_overrides == DRIVER_OVERRIDES
     assert "submodel driver: the global above, recording the cut until t = 240.0 µs" in p.describe()
