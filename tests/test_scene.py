@@ -69,6 +69,17 @@ def test_none_drops_an_optional_value_of_a_base_scene(scene_with, tmp_path):
         scene_with("rod2.material.yield_strength='weak'")
 
 
+@pytest.mark.parametrize("S", [2.2, 2200.0, 1.0])  # [Pa] 2.2 GPa as GPa, as MPa; 1 Pa
+def test_a_yield_strength_in_other_units_is_refused_naming_them(scene_with, S):
+    """E and ρ refused the GPa slip, the yield strength took it: 2200 (MPa) on steel ran, and its yield check read
+    "exceeds 1.1 S_y = 0.0 MPa" with a lower speed as the remedy (a fuzz, 2026-12-06). A yield strain below 1e-5 is
+    no solid's (annealed lead, copper, aluminium: 1.4e-4 to 3e-4)."""
+    with pytest.raises(SceneError, match=r"yield_strength.*>= 1e-05 x youngs_modulus.*looks like MPa or GPa"):
+        scene_with(f"rod1.material.yield_strength={S!r}")
+    lead = ("rod1.material.youngs_modulus=16e9", "rod1.material.density=11340.0", "rod1.material.yield_strength=5e6")
+    assert scene_with(*lead).rod1.material.yield_strength == 5e6  # a soft metal's, 3.1e-4 of E
+
+
 MINI = (  # 2 mm rods 20 / 40 mm long, 5 mm tip, 1 m/s: a patch of 0.127 mm (results/scene-probe.md's "mini")
     "rod1.diameter=0.002",
     "rod2.diameter=0.002",
