@@ -10,6 +10,8 @@ the rise time δ_P/s1 it implies (rods.scene.Scene.estimated_rise):
 * **yield**: Hertz's peak pressure at P against the paper's 1.1 S_y (rods.hertz.yield_check), per yield strength;
 * **bar theory**: the estimated rise against :data:`rods.checks.RISE_TRANSITS` diameter transits d/c of the
   longer-transit rod;
+* **impact strain**: rod i's bar front strain P/(Z_i c_i) against :data:`rods.checks.SMALL_STRAIN`
+  (:func:`rods.checks.strain_warning` on the scene alone: the run's check at its own midpoint follows);
 * **end time**: a wave response whose end time holds fewer than :data:`rods.scene.END_PERIODS` periods 2 L2/c2
   (the plateaus and the strain window: fewer plateaus than averaged, the run's warning).
 
@@ -64,6 +66,8 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
             "expect the FE's peak above the analytical one by ~0.5% or more (the auto fe.axial_size is refined to "
             "follow the rise)"
         )
+    if (strain := checks.strain_warning(scene)) is not None:  # closed form already: the run's own line
+        lines.append(strain)
     periods = scene.end_time / scene.rod2.transit_time  # Rod 2's round trips 2 L2/c2 the run holds [-]
     if wave and "wave_response" in scene.effects and periods < END_PERIODS:
         lines.append(

@@ -66,8 +66,9 @@ def test_too_few_plateaus_name_a_contact_that_outlasts_rod_2s_round_trip():
     merged = np.minimum(t / 0.1, 1.0) * (1 + 0.02 * np.sin(2 * np.pi * 11 * t))  # one long, unbroken motion
     period = 0.15  # [s] the round trip: the run spans 6.7 of them
     w = checks.plateau_warning(t, merged, period)
-    assert "only 1 of 5 plateaus in 7 periods" in w and "(short or stubby rods)" in w
-    assert checks.plateau_warning(t, merged, period, contact=0.1) == w  # a contact shorter than the round trip
+    assert "only 1 of 5 plateaus in 7 periods" in w and "(short or stubby rods, or a first contact that outlasts" in w
+    known = checks.plateau_warning(t, merged, period, contact=0.1)  # a contact shorter than the round trip
+    assert "(short or stubby rods)" in known
     w = checks.plateau_warning(t, merged, period, contact=0.2)
     assert "the first contact, 2e+05 µs, outlasts Rod 2's round trip 2 L2/c2 = 1.5e+05 µs" in w
     assert "its pulse meets its own reflection at the midpoint" in w and "stubby" not in w
