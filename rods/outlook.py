@@ -47,7 +47,7 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
             f"contact_radius: Hertz's radius at the impedance-bound force P = {P:.4g} N is "
             f"{at_P['contact_radius'] * 1e3:.3g} mm, {edge:.2f} of {checks.rim_where(scene)} (the rim check: "
             f"{checks.RIM_FRACTION:g}): the patch may reach the rim, where Hertz's half-space and the analytical "
-            "rod-end term no longer hold (a smaller tip radius or a lower speed keeps it inside)"
+            f"rod-end term no longer hold ({checks.rim_remedy(scene)} keeps it inside)"
         )
     p0 = at_P["peak_pressure"]  # [Pa]
     for S_y, which in hertz.rods_by_strength(scene.rods).items():

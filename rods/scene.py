@@ -1140,7 +1140,12 @@ def _cross_checks(v: dict[str, Any]) -> None:
         )
     _mesh_fits_rods(v)
     if "misalignment" in v["effects"] and v["fe.kind"] != "3d":
-        raise SceneError("effects", v["effects"], "'misalignment' needs fe.kind = '3d'")
+        raise SceneError(
+            "effects",
+            v["effects"],
+            "'misalignment' needs fe.kind = '3d'",
+            "--set fe.kind='3d' (with an offset or tilt)",
+        )
     if v["submodel.levels"] == [] and set(v["effects"]) & set(SUBMODEL_EFFECTS):
         why = f"must name a level where effects ask for the contact region ({', '.join(SUBMODEL_EFFECTS)})"
         raise SceneError("submodel.levels", [], why, "'auto', or e.g. ['fine']")

@@ -41,6 +41,8 @@ def test_misalignment_needs_3d_and_unknown_effects_fail(scene_with):
     assert p.global_kind == "3d" and not any("centric" in r for r in p.reasons)
     centric = make_plan(scene_with("effects=['misalignment']", "fe.kind=3d"))  # asked, but nothing misaligned
     assert any("impact.offset = impact.tilt = 0: a centric impact" in r for r in centric.reasons)
+    with pytest.raises(SceneError, match=r"'misalignment' needs fe.kind = '3d' \(--set fe.kind='3d'"):
+        scene_with("effects=['misalignment']")  # the refusal names its remedy
     with pytest.raises(SceneError, match="unknown effect"):
         scene_with("effects=['wave']")
     with pytest.raises(SceneError, match="submodel.levels"):
