@@ -39,6 +39,7 @@ __all__ = [
     "CONTACT_MARGIN",
     "DRIVER_OVERRIDES",
     "WAVE_KEYS",
+    "MISALIGNMENT_KEYS",
     "Plan",
     "check_driven_scene",
     "scene_difference",
@@ -67,6 +68,10 @@ DRIVER_OVERRIDES: tuple[str, ...] = ()
 
 CONTACT_KEYS = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure", "contact_duration")
 WAVE_KEYS = ("midpoint_peak_speed", "midpoint_peak_strain")
+# what a misalignment study measures that no centric model has: the 3D global's patch centroid [m], its farthest
+# contact node from it [m] and the Rod-2 midpoint's bending strain [-] (a fuzz found a study asked for misalignment
+# summarised without any of them, docs/models.md's 3D section)
+MISALIGNMENT_KEYS = ("contact_centroid_x", "contact_centroid_y", "contact_radius_max", "midpoint_peak_bending_strain")
 
 
 def first_contact_end(analytical_summary: Mapping[str, Any]) -> float | None:
@@ -373,7 +378,8 @@ def offers(plan: Plan, stage: str) -> tuple[str, ...]:
     under ``plan``: the analytical model every key; the global model the peak force and the duration, the
     patch's radius, area and pressure only where the plan resolves the patch (submodels: then the finest across
     it wins, a global finer than the submodels included), and the wave keys only when the wave response was
-    asked for (a contact-only global stops after the contact phase); a submodel the contact keys but the
+    asked for (a contact-only global stops after the contact phase), the misalignment's (:data:`MISALIGNMENT_KEYS`)
+    when that effect was asked for (the 3D global, which it needs); a submodel the contact keys but the
     duration (its run ends at the contact phase, cut by the driver's record). Without submodels the patch is
     the analytical model's Hertz at its own force: the global's auto mesh puts 4-6 elements across the patch
     (paper scene: area to 0.02%, peak pressure -4.85%), which its own summary keeps."""
@@ -381,6 +387,7 @@ def offers(plan: Plan, stage: str) -> tuple[str, ...]:
         return CONTACT_KEYS + WAVE_KEYS
     if stage == "global":
         contact = CONTACT_KEYS if plan.submodel_levels else (CONTACT_KEYS[0], CONTACT_KEYS[-1])
+        contact += MISALIGNMENT_KEYS if "misalignment" in plan.effects else ()  # the 3D global's alone
         return contact + WAVE_KEYS if "wave_response" in plan.effects else contact
     return CONTACT_KEYS[:-1] if stage.startswith("submodel/") else ()
 

@@ -12,6 +12,7 @@ from rods.analytical import simulate
 from rods.plan import (
     CONTACT_MARGIN,
     DRIVER_OVERRIDES,
+    MISALIGNMENT_KEYS,
     contact_phase,
     first_contact_end,
     global_drives,
@@ -119,6 +120,13 @@ def test_most_refined_model_wins(scene_with):
     assert {sources[k] for k in ("contact_radius", "contact_area", "peak_contact_pressure")} == {"analytical"}
     values, sources = most_refined(wave, {"analytical": stages["analytical"]})
     assert set(sources.values()) == {"analytical"}
+    # a misalignment study: the 3D global's centroid, farthest contact node and bending strain, which no centric
+    # model has (a fuzz's misalignment study summarised none of them)
+    mis = make_plan(scene_with("effects=['misalignment']", "fe.kind='3d'", "impact.offset=2e-3"), 2e-4)
+    extra = dict(zip(MISALIGNMENT_KEYS, (1.97e-3, 0.0, 1.1e-3, 2.1e-4), strict=True))
+    values, sources = most_refined(mis, {"analytical": stages["analytical"], "global": {**stages["global"], **extra}})
+    assert {k: values[k] for k in MISALIGNMENT_KEYS} == extra and {sources[k] for k in MISALIGNMENT_KEYS} == {"global"}
+    assert not set(MISALIGNMENT_KEYS) & set(most_refined(wave, {k: stages[k] for k in ("analytical", "global")})[0])
     # by the element size across the contact, not by the stage's name: on 1 mm rods with a 5 mm tip the global's
     # auto mesh (0.025 mm) is finer than the fine submodel level (0.0625 mm), which then is not the answer
     sized = {
