@@ -760,17 +760,15 @@ def plateau_warning(
     # round trips (a fuzz: 1 in 3.5, contact 522 against 431 µs; equal 2 m rods, 806 against 782 µs, find 3 in 1.9
     # and all five at 'auto')
     if len(runs) < metrics.PLATEAU_COUNT and (span >= metrics.PLATEAU_COUNT or (outlasts and len(runs) < span)):
-        # the contact's duration unknown (not ended: a very slow Rod 1, a fuzz at c1 = 3 m/s) names it as a cause too
-        why = (
-            "short or stubby rods"
-            if contact is not None
-            else "short or stubby rods, or a first contact that outlasts Rod 2's round trip"
-        )
         if outlasts:
             why = (
                 f"the first contact, {contact * 1e6:.4g} µs, outlasts Rod 2's round trip 2 L2/c2 = "
                 f"{period * 1e6:.4g} µs: its pulse meets its own reflection at the midpoint"
             )
+        elif contact is None:  # its duration unknown (not ended: a very slow Rod 1, a fuzz at c1 = 3 m/s)
+            why = "short or stubby rods, or a first contact that outlasts Rod 2's round trip"
+        else:
+            why = "short or stubby rods"
         problems.append(
             f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus in {span:.0f} periods 2 L2/c2: "
             f"the midpoint's motion has no flat plateaus here ({why}), a longer run will not help"
