@@ -60,8 +60,12 @@ def here(tmp_path) -> Path:
 
     paper, fast = (load_scene(SCENES / "paper.toml", o).as_dict() for o in ((), ("impact.speed=3.1",)))
     phase = load_scene(SCENES / "paper.toml", ("simulation.end_time=2.4e-4",)).as_dict()  # a driver's own scene
-    summary = {"scene_values": paper, "dt": 3e-8, "contact_phase": 2.4e-4}
+    summary = {"scene_values": paper, "dt": 3e-8, "contact_phase": 2.4e-4, "status": "ok"}
     folder("driver", summary, [0.0, 2.4e-4])  # a driver's summary and a cut record: submodel.py's own checks
+    # a driver rerun at other sizes and stopped: its summary says so, the first run's cut.h5 stayed (a fuzz)
+    other = load_scene(SCENES / "paper.toml", ("fe.axial_size=5e-4", "fe.radial_size=1e-4")).as_dict()
+    folder("driver-stopped", {**summary, "scene_values": other, "status": "interrupted"}, [0.0, 2.4e-4], paper)
+    folder("driver-other-sizes", {**summary, "scene_values": other}, [0.0, 2.4e-4], paper)  # a cut.h5 copied in
     folder("short", summary, [0.0, 1e-5])  # a cut recorded to 10 µs only, its summary's contact phase 240 µs
     folder("phase", {**summary, "scene_values": phase}, [0.0, 2.4e-4])  # the driver's scene ends at its record
     folder("stale", summary, [0.0, 2.4e-4], fast)  # an earlier run's cut.h5 left in the folder
@@ -126,6 +130,16 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "station rod 1.0": ("analytical.py", ["--scene", "station.toml", "--out", "o"], ["station[0].rod", "1.0"]),
     "record-until -1": ("global.py", ["--record-cut", "--record-until", "-1", "--out", "o"], ["--record-until", "-1"]),
     "record-every 0": ("global.py", ["--record-cut", "--record-every", "0", "--out", "o"], ["--record-every", "0"]),
+    "submodel from a stopped driver": (
+        "submodel.py",
+        ["--global", "driver-stopped", "--level", "coarse", "--out", "o"],
+        ["--global", "status is 'interrupted'", "did not finish", "empty folder"],
+    ),
+    "submodel from another run's cut record": (
+        "submodel.py",
+        ["--global", "driver-other-sizes", "--level", "coarse", "--out", "o"],
+        ["--global", "cut.h5 was recorded by another scene", "fe.axial_size", "empty folder"],
+    ),
     "submodel dt abc": ("submodel.py", ["--global", "nosummary", "--dt", "abc", "--out", "o"], ["--dt", "abc"]),
     "submodel dt -1e-8": ("submodel.py", ["--global", "nosummary", "--dt", "-1e-8", "--out", "o"], ["--dt", "-1e-8"]),
     "record-until -2.5E-4": (

@@ -388,7 +388,7 @@ def fake_driver(tmp_path, scene_with):
 
     d = tmp_path / "driver"
     d.mkdir()
-    s = {"scene_values": scene_with().as_dict(), "dt": 3e-8, "contact_phase": 1.2e-4}
+    s = {"scene_values": scene_with().as_dict(), "dt": 3e-8, "contact_phase": 1.2e-4, "status": "ok"}
     (d / "summary.json").write_text(json.dumps(s))
     with h5py.File(d / "cut.h5", "w") as f:
         f["times"] = [0.0, 1.2e-4]

@@ -32,7 +32,15 @@ from rods.fe import checkpoint
 from rods.fe.cut import recorded_until
 from rods.fe.submodel import submodel_label, submodel_scene
 from rods.preflight import InputError, input_dir
-from rods.scene import SUBMODEL_LEVELS, SUBMODEL_PHASES, Scene, SceneError, parse_override, scene_from_summary
+from rods.scene import (
+    SUBMODEL_LEVELS,
+    SUBMODEL_PHASES,
+    Scene,
+    SceneError,
+    parse_override,
+    scene_from_summary,
+    value_differences,
+)
 from rods.study import stages
 
 # scene keys the submodel replaces by its own options (rods.fe.submodel.submodel_scene): --set of one is refused,
@@ -71,9 +79,15 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
         recorder = scene_from_summary(values, (), str(gdir / "cut.h5"))
     except (OSError, KeyError, IndexError, ValueError, TypeError) as e:
         raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
-    diff = plan.scene_difference(driver, recorder)
-    if diff is not None:
-        why = f"cut.h5 was recorded by another scene than summary.json's ({diff[0]} = {diff[2]!r} there, {diff[1]!r})"
+    if gsum.get("status") not in ("ok", "warnings"):  # a stopped run's cut.h5 may be an earlier run's (a fuzz)
+        why = f"summary.json's status is {gsum.get('status')!r}: the driving global did not finish"
+        raise InputError("--global", gdir, why, "rerun workflows/global.py --driver into an empty folder")
+    # every value, not the bodies and impact alone: a record left by an earlier run of other sizes drove a
+    # submodel "ok" under the newer run's label (a fuzz, 2026-12-06)
+    diffs = value_differences(driver.as_dict(), recorder.as_dict())
+    if diffs:
+        key, ours, theirs = plan.scene_difference(driver, recorder) or diffs[0]  # bodies and impact named first
+        why = f"cut.h5 was recorded by another scene than summary.json's ({key} = {theirs!r} there, {ours!r})"
         raise InputError("--global", gdir, why, "rerun workflows/global.py --driver into an empty folder")
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     if given:

@@ -196,8 +196,8 @@ def global_model(
     resume: bool = False,
 ) -> Stage:
     """The global FE model of ``scene`` to its end time. ``record_cut``: record the cut band up to
-    ``record_until`` [s] every ``record_every`` steps into out/cut.h5 (without it, an earlier out/cut.h5 is
-    removed: it recorded another run). A guard's stop writes the partial
+    ``record_until`` [s] every ``record_every`` steps into out/cut.h5 (an earlier out/cut.h5 is removed first: it
+    recorded another run). A guard's stop writes the partial
     histories (summary status "failed") and re-raises :class:`rods.fe.guards.SimulationError`. ``extra``:
     keys added to the summary. ``model``: the :class:`rods.fe.model.ExplicitModel` of ``scene`` when the
     caller has set it up already (a benchmark that times its stepper first). ``resume`` (a study's restart): a
@@ -219,8 +219,8 @@ def global_model(
     if log is not None:
         log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
     recorder = CutRecorder(model, record_until, record_every) if record_cut else None
-    if recorder is None and comm.rank == 0:  # an earlier run's record in this folder would drive another scene
-        (out / "cut.h5").unlink(missing_ok=True)
+    if comm.rank == 0:  # an earlier run's record in this folder would drive another scene, also when this run, which
+        (out / "cut.h5").unlink(missing_ok=True)  # records its own, stops before writing it (a fuzz, 2026-12-06)
     try:
         res = model.run(out, progress, observers=(recorder,) if recorder else (), restart=restart)
     except SimulationError as e:
