@@ -97,6 +97,8 @@ def here(tmp_path) -> Path:
     }  # what convergence.py reads
     folder("coarse-a", level, history=True)
     folder("coarse-b", level, history=True)  # the same level run again (another --dt, driving or contact law)
+    folder("coarse-x", {**level, "cut_record": "record:x"}, history=True)  # levels of two drivers (a fuzz)
+    folder("mid-y", {**level, "level": "mid", "element_size": 1.25e-4, "cut_record": "record:y"}, history=True)
     elsewhere = {"cut_record": "record:abc", "cut_file": "/elsewhere/global/cut.h5"}  # what a level's summary names
     folder("submodel-driven-elsewhere", {**sub, "contact_duration": 2e-4, **elsewhere}, history=True)
     folder("global-recorded", ended, [0.0, 2.4e-4], history=True)  # a global with a cut record of its own
@@ -456,6 +458,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "convergence.py",
         ["--run", "coarse-a", "--run", "coarse-b", "--out", "o"],
         ["--run", "coarse-b", "the same submodel element size (0.25 mm)", "one run per size"],
+    ),
+    "convergence levels of two drivers": (
+        "convergence.py",
+        ["--run", "coarse-x", "--run", "mid-y", "--out", "o"],
+        ["--run", "mid-y", "another global's cut record than", "coarse-x", "one driving global"],
     ),
     "compare table in the way": ("compare.py", ["--global", "global", "--out", "blocked-compare"], ["table3.json"]),
     "convergence a run twice": (

@@ -31,6 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     distinct([folder for _, folder in given], "--run")  # a run given twice is a level counted twice
     runs = [(label, read_summary(folder, "--run", scene=scene, whole_contact=True)) for label, folder in given]
     convergence.one_run_per_size(runs, [folder for _, folder in given])  # the fit's abscissae
+    convergence.one_driver(runs, [folder for _, folder in given])  # one refinement, not two drivers'
     data = convergence.for_scene(scene, runs, out)
     print(convergence.render_markdown(data))
     return 0

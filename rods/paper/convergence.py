@@ -46,6 +46,7 @@ __all__ = [
     "KEYS",
     "QUANTITIES",
     "compute",
+    "one_driver",
     "one_run_per_size",
     "plot",
     "record",
@@ -564,6 +565,22 @@ def one_run_per_size(
             why = f"the same {r['model']} element size ({r['h'] * 1e3:.4g} mm) as {seen[key]}: one run per size"
             raise InputError(flag, folder, why, "give one run per mesh size (runs of one size: accuracy_cost.py)")
         seen[key] = folder
+
+
+def one_driver(runs: Sequence[tuple[str, Mapping[str, Any]]], folders: Sequence[Any], flag: str = "--run") -> None:
+    """The submodel levels among ``runs`` ((label, summary), from ``folders``) driven by one cut record (their
+    ``cut_record``), else bad input naming both: levels of two drivers differ by their drivers too, so their fit is
+    no refinement's (a fuzz, 2026-12-06: compare.py refused the mix, convergence.py fitted an order over it)."""
+    first: tuple[str, Any] | None = None
+    for (_, summary), folder in zip(runs, folders, strict=True):
+        cut = summary.get("cut_record")
+        if cut is None:  # a global, or a submodel of a version that did not record its driver
+            continue
+        if first is None:
+            first = (cut, folder)
+        elif cut != first[0]:
+            why = f"driven by another global's cut record than {first[1]} ({cut} against {first[0]})"
+            raise InputError(flag, folder, why, "give the submodel levels of one driving global")
 
 
 def record(summary: Mapping[str, Any], label: str = "") -> dict[str, Any]:
