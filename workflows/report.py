@@ -32,7 +32,7 @@ def main(argv: list[str] | None = None) -> int:
         raise InputError("--contact-study", study, "no such file", "give the contact study's JSON, or leave it out")
     results = Path(args.results) if args.results else out.parent
     data = report.read(results, study if study.is_file() else None)
-    failed = (KeyError, TypeError, AttributeError, IndexError, ValueError)
+    failed = (KeyError, TypeError, AttributeError, IndexError, ValueError, StopIteration)
     try:  # a stage file that parses but is not its stage's data fails in the rendering
         text = report.render(data)
     except failed as e:

@@ -272,7 +272,11 @@ def driver_text(ds: dict[str, Any] | None) -> str:
 
 
 def table3_section(t3: dict[str, Any], drivers: dict[str, Any] | None = None) -> list[str]:
-    glob = next(r for r in t3["rows"] if r["role"] == "global-uniform")
+    glob = next((r for r in t3["rows"] if r["role"] == "global-uniform"), None)
+    if glob is None:  # compare.py without --global-uniform: a table of its own, not the main job's (a fuzz)
+        raise ValueError(
+            "table3.json has no 'global-uniform' row: the main job's compare.py writes it (--global-uniform)"
+        )
     subs = [r for r in t3["rows"] if r["role"] == "submodel"]
     paper = t3["paper"]
     paper_force = percent(paper["global-uniform"]["force"], paper["analytical"]["force"])
@@ -566,7 +570,26 @@ def _model_form_text(rows: list[dict[str, Any]]) -> str:
     )
 
 
+def same_impact(data: ReportData) -> None:
+    """The stages that record their impact speed (table3.json, fig4.json, accuracy-cost.json) record one: a 1 m/s
+    fig4.json copied among the paper's stages was rendered as the paper's, "as the paper found" (a fuzz, 2026-12-06).
+    ValueError naming the files otherwise (bad input at the entry point)."""
+    speeds = {
+        name: d["impact_speed"]
+        for name, d in (
+            ("table3.json", data.table3),
+            ("fig4.json", data.fig4),
+            ("accuracy-cost.json", data.accuracy_cost),
+        )
+        if isinstance(d, dict) and "impact_speed" in d
+    }
+    if len(set(speeds.values())) > 1:
+        said = ", ".join(f"{name} {v:g} m/s" for name, v in speeds.items())
+        raise ValueError(f"the stages record different impact speeds ({said}): one scene's stages render one report")
+
+
 def render(data: ReportData) -> str:
+    same_impact(data)
     sections = [
         header(data),
         table2_section(data.table2),

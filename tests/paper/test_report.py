@@ -44,6 +44,25 @@ def test_cli_reads_only_json_and_defaults_to_the_folder_of_out(results):
     assert f"{row['scene']}, kinematic: {row['duration_vs_analytical'] * 1e6:+.2f} µs" in text
 
 
+def test_stages_of_another_scene_or_a_table_without_its_global_are_refused(results):
+    """A fuzz (2026-12-06): a 1 m/s fig4.json among the paper's stages rendered as the paper's ("as the paper
+    found"), and a compare.py table written without --global-uniform crashed the report (StopIteration, exit 1).
+    Both are bad input now: exit 2, one line naming --results and the files."""
+    fig4_data = read_data(results / "fig4.json")
+    write_data(results / "fig4.json", {**fig4_data, "impact_speed": 1.0})
+    cmd = [sys.executable, "workflows/report.py", "--out", str(results / "REPORT.md")]
+    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1, p.stderr
+    assert "different impact speeds (table3.json 2.197 m/s, fig4.json 1 m/s" in lines[0] and "--results" in lines[0]
+    write_data(results / "fig4.json", fig4_data)
+    t3 = read_data(results / "table3.json")
+    write_data(results / "table3.json", {**t3, "rows": [r for r in t3["rows"] if r["role"] != "global-uniform"]})
+    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    assert p.returncode == 2 and "no 'global-uniform' row" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert not (results / "REPORT.md").exists()
+
+
 def test_paper_numbers_in_the_prose_follow_the_data(stages):
     before = render(stages)
     before_phrases = (
