@@ -689,11 +689,14 @@ def energy_warning(summary: Mapping[str, Any]) -> str | None:
 
 
 def contact_warning(
-    summary: Mapping[str, Any], end_time: float, history: Mapping[str, np.ndarray] | None = None
+    summary: Mapping[str, Any],
+    end_time: float,
+    history: Mapping[str, np.ndarray] | None = None,
+    remedy: str = f"lengthen simulation.end_time ({AUTO_END})",
 ) -> str | None:
     """A warning when the first contact episode has not ended by ``end_time`` [s]: the episodes above the contact
     threshold of ``history`` (rods.metrics.contact_episodes, the contact duration's own definition), else the
-    summary's."""
+    summary's; ``remedy``: what sets the run's end (a submodel's is its --end-time, not the scene's)."""
     last = end_time  # [s] where an open episode ends: the last sample of a history (end_time need not be one)
     if (trace := _force_trace(history)) is not None:
         t, F = trace
@@ -703,7 +706,7 @@ def contact_warning(
     if metrics.first_contact_open(episodes, last):
         return (
             f"contact_duration: the first contact has not ended by end_time = {end_time:g} s (duration unknown, "
-            f"written as null); lengthen simulation.end_time ({AUTO_END})"
+            f"written as null); {remedy}"
         )
     return None
 
@@ -1005,16 +1008,19 @@ def apply(
     end_time: float,
     force: Mapping[str, np.ndarray] | None = None,
     driver: bool = False,
+    end_remedy: str | None = None,
 ) -> dict[str, Any]:
     """Run the checks on a finished run's ``summary`` (in place) and set ``status`` and ``warnings``;
     ``history`` holds time and the Rod-2 midpoint velocity (the plateaus); ``force`` (time, contact_force) the
     force the contact, duration, rise, reflection and rattle checks read, ``history``'s when None or empty: the
     analytical model passes its fine trace (rods.analytical.force_trace), its output grid may be coarser than the
     contact (a 50 µs output interval read a 0 µs rise on the paper scene). ``driver``: the run is the submodels'
-    driving global, stopped by the library after the contact phase (:func:`_midpoint_check`)."""
+    driving global, stopped by the library after the contact phase (:func:`_midpoint_check`). ``end_remedy``: what
+    lengthens the run where its contact has not ended (default: simulation.end_time)."""
     found: list[str] = []
     force = force if force else history  # an empty trace: the history
-    if (w := contact_warning(summary, end_time, force)) is not None:
+    kw = {} if end_remedy is None else {"remedy": end_remedy}
+    if (w := contact_warning(summary, end_time, force, **kw)) is not None:
         summary["contact_duration"] = None
         found.append(w)
     elif (w := tail_warning(force)) is not None:

@@ -436,7 +436,7 @@ CASES = {  # name -> (script, arguments, words the line must name)
     "compare a submodel cut short": (
         "compare.py",
         ["--global", "global", "--submodel", "submodel-unended", "--out", "o"],
-        ["--submodel", "first contact has not ended"],
+        ["--submodel", "first contact has not ended", "rerun the submodel without --end-time"],
     ),
     "compare a submodel twice": (
         "compare.py",

@@ -104,11 +104,17 @@ def read_summary(
         raise InputError(flag, d, f"a run of model {model!r} ({kind}), not a {' or '.join(kinds)} run", remedy)
     if summary.get("status") in STOPPED:  # a guard's or an interrupt's partial histories, not a result
         why = f"a stopped run (status {summary['status']!r}): its histories end where it stopped"
-        raise InputError(flag, d, why, "run it to its end (--restart resumes it where it wrote checkpoints)")
+        raise InputError(
+            flag, d, why, "run it to its end (--restart resumes a run that wrote checkpoints; a driving or "
+            "cut-recording global, not checkpointed, reruns into an empty folder)",
+        )  # fmt: skip
     if whole_contact and summary.get("contact_duration") is None:
         end = summary.get("scene_values", {}).get("simulation", {}).get("end_time")
         why = f"its first contact has not ended by its end time ({end} s): its peak force may be still to come"
-        raise InputError(flag, d, why, "give a run through the contact phase: workflows/global.py --driver")
+        fix = "give a run through the contact phase: workflows/global.py --driver"
+        if kind == "submodel":  # ended early only by --end-time: its default end is the driver's contact phase
+            fix = "rerun the submodel without --end-time (it ends at its driver's contact phase)"
+        raise InputError(flag, d, why, fix)
     diff = scene_difference(scene, theirs, cut=False) if theirs is not None else None
     if diff is not None:
         key, ours, other = diff

@@ -346,7 +346,9 @@ def _finish_submodel(
     sr.summary["cut_record"] = cut_identity(cut_file)  # which recording drove it (a study's restart keeps only that)
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}
-    checks.apply(sr.summary, {}, scene, end)  # its midpoint is no Rod-2 midpoint: no plateau check
+    # its midpoint is no Rod-2 midpoint: no plateau check; its end is the driver's contact phase or --end-time
+    remedy = "a later --end-time of submodel.py, or none (the driver's contact phase)"
+    checks.apply(sr.summary, {}, scene, end, end_remedy=remedy)
     if driver_summary is not None and (w := checks.driver_warning(sr.summary, driver_summary, scene)) is not None:
         sr.summary["warnings"].append(w)
         sr.summary["status"] = "warnings"
