@@ -112,15 +112,20 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
     return gdir, gsum, scene, end
 
 
-def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
-    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size, step or
-    end time named by its option (--size, --axial-size, --dt, --end-time), not by the scene key it becomes."""
-    flags = {
+def _flags(args: argparse.Namespace) -> dict[str, str]:
+    """The submodel scene's keys that this script's options set: a refusal names the option the user gave."""
+    return {
         "fe.radial_size": "--size",
         "fe.axial_size": "--axial-size" if args.axial_size else "--size",
         "fe.dt": "--dt",
         **({"simulation.end_time": "--end-time"} if args.end_time is not None else {}),
     }
+
+
+def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
+    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size, step or
+    end time named by its option (--size, --axial-size, --dt, --end-time), not by the scene key it becomes."""
+    flags = _flags(args)
     if args.axial_size is not None and args.axial_size > scene["fe.submodel_length"]:
         why = f"longer than the submodel (fe.submodel_length = {scene['fe.submodel_length']:g} m)"
         raise InputError("--axial-size", args.axial_size, why, "a smaller --axial-size")
@@ -181,10 +186,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     _cli.outlook(scene, log, wave=False)  # the contact phase only: no plateaus to measure
     _cli.afford(args, c, log=log, comm=comm, out=out)
     size = args.size if args.phase is None else h  # a phase member's size, resolved once (the cost above)
-    s = stages.submodel(
-        scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end, dt=dt,
-        progress=progress, phase=args.phase, restart=args.restart, driver_summary=gsum,
-    ).summary  # fmt: skip
+    try:
+        s = stages.submodel(
+            scene, gdir / "cut.h5", out, comm, args.level, size=size, axial_size=args.axial_size, end_time=end,
+            dt=dt, progress=progress, phase=args.phase, restart=args.restart, driver_summary=gsum,
+        ).summary  # fmt: skip
+    except SceneError as e:  # the set-up's exact stable limit refused the step: named by its option, --dt
+        flag = _flags(args).get(e.key)
+        if flag is None:
+            raise
+        hint = "--dt auto takes a stable step" if flag == "--dt" else (e.hint or f"another {flag}")
+        given = f"global ({dt:.3g} s)" if args.dt == "global" else args.dt  # the driver's step, as it was taken
+        raise InputError(flag, given if flag == "--dt" else e.value, e.allowed, hint) from None
     log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
     _cli.status(s, comm.rank)
     return 0

@@ -486,3 +486,15 @@ def test_a_submodel_step_longer_than_the_record_spacing_may_end_past_it(tiny):
     m.steps += 2  # two steps past the record: refused
     with pytest.raises(SceneError, match="simulation.end_time"):
         CutDriver(m, path)
+
+
+def test_a_step_the_set_up_refuses_is_named_by_its_option(global_dirs, tmp_path):
+    """--dt global on a level finer than its driver: the step above the submodel's stable limit was refused as
+    "scene key 'fe.dt'" with the remedy --set fe.dt='auto', which submodel.py itself refuses (a fuzz, 2026-12-06);
+    it is --dt now, with the driver's step and --dt auto."""
+    args = ["--global", str(global_dirs("axisymmetric")), "--size", "7e-4", "--dt", "global", "--end-time", "1e-5"]
+    p = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "s")])
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1, p.stderr
+    assert lines[0].startswith("error: --dt = 'global (1.21e-07 s)'") and "--dt auto" in lines[0], lines[0]
+    assert "scene key" not in lines[0] and "--set" not in lines[0]
