@@ -118,6 +118,16 @@ def test_an_unresolved_patch_is_not_ok():
     assert "1.68 elements" in checks.patch_warning({"contact_radius": 0.105e-3, "mesh": {"radial_size": 0.0625e-3}})
     assert checks.patch_warning({"contact_radius": 1.09e-3, "mesh": {"radial_size": 0.25e-3}}) is None
     assert checks.patch_warning({"contact_radius": 1.09e-3}) is None
+    # fine across, 7 mm deep under the patch (submodel.py --size 1e-4 --axial-size 1e-2: radius -40%, pressure +123%,
+    # status "ok" before; a fuzz, 2026-12-06); the paper's coarse level, as deep as wide, is not flagged
+    deep = {"contact_radius": 0.65e-3, "mesh": {"radial_size": 1e-4, "tip_axial_size": 7e-3}}
+    assert "elements under the patch are 7 mm deep, deeper than the 0.65 mm contact radius" in checks.patch_warning(
+        deep
+    )
+    assert (
+        checks.patch_warning({"contact_radius": 1.09e-3, "mesh": {"radial_size": 2.5e-4, "tip_axial_size": 2.5e-4}})
+        is None
+    )
 
 
 def test_a_patch_past_a_graded_core_is_not_ok():
