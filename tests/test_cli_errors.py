@@ -149,6 +149,17 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--record-cut", "--record-until", "-2.5E-4", "--out", "o"],
         ["--record-until", "-2.5E-4", "> 0"],
     ),
+    "submodel size inf": ("submodel.py", ["--global", "nosummary", "--size=inf", "--out", "o"], ["--size", "finite"]),
+    "submodel station": (
+        "submodel.py",
+        ["--global", "driver", "--set", 'station=[{rod=1,position=0.1,name="g"}]', "--out", "o"],
+        ["--set", "own midpoint station only", "global.py --set station"],
+    ),
+    "fig4 a run twice": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "global", "--fe", "global", "--png", "o/f.png", "--md", "o/f.md"],
+        ["--fe", "more than once"],
+    ),
     "submodel size 0": ("submodel.py", ["--global", "nosummary", "--size=0", "--out", "o"], ["--size", "0"]),
     "submodel phase 9": ("submodel.py", ["--global", "nosummary", "--phase", "9", "--out", "o"], ["--phase", "9"]),
     "submodel phase with size": (

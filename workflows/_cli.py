@@ -65,7 +65,9 @@ def _number(kind: type, lo: float, closed: bool, unit: str) -> Callable[[str], f
             v = kind(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if kind is int else 'a number'}") from None
-        if v != v or v in (float("inf"), float("-inf")) or not (v >= lo if closed else v > lo):
+        if v != v or v in (float("inf"), float("-inf")):
+            raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+        if not (v >= lo if closed else v > lo):
             raise argparse.ArgumentTypeError(f"{text!r} must be {'>=' if closed else '>'} {lo:g}{unit}")
         return v
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import _cli
 from rods.paper.data import parse_run, read_run
-from rods.preflight import InputError
+from rods.preflight import InputError, distinct
 from rods.scene import scene_from_summary
 from rods.study import fig4
 
@@ -37,6 +37,7 @@ def main(argv: list[str] | None = None) -> int:
     # Fig. 4 is the Rod-2 midpoint over the whole run: a global's, not a submodel's (its "midpoint" is the cut
     # region's) nor a driver's (it stops after the contact phase, before most plateaus)
     given = [parse_run(spec) for spec in args.fe]
+    distinct([folder for _, folder in given], "--fe")  # a run given twice is two identical rows
     fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in given]
     for (_, folder), run in zip(given, fe, strict=True):
         # a global that drove submodels carries rods.study.stages.driver_keys; a study's own global records the cut

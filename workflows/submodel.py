@@ -162,6 +162,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     for text in args.overrides:  # its mesh, step and end are its options': the scene's keys are the global's
         key, _ = parse_override(text)
+        if key == "station":  # dropped silently before (a fuzz): the cut region's rods have no scene positions
+            why = "the submodel records its own midpoint station only; the stations are the global's"
+            raise InputError(
+                "--set", text, why, "leave it out (set stations on the global: global.py --set station=...)"
+            )
         if key in OWN_OPTIONS:
             why = f"{key} is the global's; the submodel takes its own from {OWN_OPTIONS[key]}"
             raise InputError("--set", text, why, f"give {OWN_OPTIONS[key]} instead")
