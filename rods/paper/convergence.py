@@ -166,7 +166,11 @@ def _flags(model: str, levels: Sequence[Mapping[str, Any]], est: Mapping[str, An
             flags.append(f"{name}: errors cancel: force {eF:+.2f}% vs analytical, {parts}")
     flags += _mixed_far_fields(model, levels)
     if est is None:
-        return [*flags, f"{model}: only {len(levels)} levels, no convergence estimate (three or more needed)"]
+        n = len(levels)
+        return [
+            *flags,
+            f"{model}: only {n} level{'s' if n != 1 else ''}, no convergence estimate (three or more needed)",
+        ]
     for q, (label, *_) in QUANTITIES.items():
         if q not in est:
             continue
@@ -428,10 +432,12 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         if fam["estimates"] is not None:
             L += ["", *_value_rows(fam)]
             ok = "yes" if fam["monotone_last3"] else "no"
-            grow = [
-                QUANTITIES[q][0] for q, e in fam["estimates"].items() if e["error_pct_last3"]["branch"] == "diverging"
-            ]
-            conv = "yes" if not grow else f"no ({', '.join(grow)}: the differences grow)"
+            branch = {QUANTITIES[q][0]: e["error_pct_last3"]["branch"] for q, e in fam["estimates"].items()}
+            grow = [q for q, b in branch.items() if b == "diverging"]
+            swing = [q for q, b in branch.items() if b == "non-monotone"]  # no order at all: not "converging"
+            why = [f"{', '.join(grow)}: the differences grow"] if grow else []
+            why += [f"{', '.join(swing)}: non-monotone, no order"] if swing else []
+            conv = "yes" if not why else f"no ({'; '.join(why)})"
             L += ["", f"Every error monotone over the three finest levels: {ok}; converging there (p > 0): {conv}."]
         if all("members" in lv for lv in fam["levels"]):
             L += ["", *_member_rows(fam)]
