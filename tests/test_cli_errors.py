@@ -79,6 +79,8 @@ def here(tmp_path) -> Path:
     # found by a newcomer's walk-through (2026-11-29): each of these ran to exit 0 on the wrong data or failed late
     ended = {"model": "fe-axisymmetric", "scene_values": paper, "contact_duration": 2e-4}
     folder("global", ended, history=True)
+    short = load_scene(SCENES / "paper.toml", ("simulation.end_time=3e-4",)).as_dict()
+    folder("global-short", {**ended, "scene_values": short}, history=True)  # a plain global shorter than Fig. 4's
     folder("global-unended", {**ended, "contact_duration": None}, history=True)  # stopped before its contact ended
     folder("driver-run", {**ended, "scene_values": phase, "contact_phase": 2.4e-4}, history=True)  # a driver's
     folder("study-global", {**ended, "contact_phase": 2.4e-4}, history=True)  # a study's global, recording the cut
@@ -433,6 +435,11 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "fig4.py",
         ["--analytical", "analytical", "--fe", "driver-run", "--png", "o/f.png", "--md", "o/f.md"],
         ["--fe", "driving global", "own global run"],
+    ),
+    "fig4 a shorter global": (
+        "fig4.py",
+        ["--analytical", "analytical", "--fe", "global-short", "--png", "o/f.png", "--md", "o/f.md"],
+        ["--fe", "it ends at 0.0003 s", "before the --analytical run's end", "simulation.end_time=0.0003"],
     ),
     "fig4 png format": (
         "fig4.py",

@@ -44,7 +44,11 @@ def test_fig4_and_accuracy_cost_clis(job, tmp_path):
     stages.global_model(load_scene(SCENES / "trial-1-3.toml", tiny), g, None)
     fig4 = importlib.import_module("fig4")
     out = ["--png", str(tmp_path / "f.png"), "--md", str(tmp_path / "f.md")]
-    assert fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"coarse={g}", *out]) == 0
+    with pytest.raises(InputError, match="--fe.*it ends at 0.0003 s, before the --analytical run's end"):
+        fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"coarse={g}", *out])  # its plateaus: not all
+    short = tmp_path / "analytical"  # the analytical model over the global's 0.3 ms: the two compare
+    stages.analytical(load_scene(SCENES / "trial-1-3.toml", ("simulation.end_time=3e-4",)), short)
+    assert fig4.main(["--analytical", str(short), "--fe", f"coarse={g}", *out]) == 0
     assert read_data(tmp_path / "f.json")["runs"][0]["label"] == "coarse"
     with pytest.raises(InputError, match="--fe.*model 'analytical'"):
         fig4.main(["--analytical", str(a / "trial-1-3"), "--fe", f"other trial={a / 'trial-2-4'}", *out])
