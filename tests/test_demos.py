@@ -79,10 +79,13 @@ def test_study_demo_reproduces_the_main_jobs_submodel_rows(tmp_path):
 
 def test_the_readme_python_example_runs(capsys):
     """README.md's "Using the library from Python" block, run as written: the FE peak force within 0.5% of the
-    analytical model's, and its observer saw Rod 1's speed (1 m/s) and nothing faster than the contact's rebound."""
+    analytical model's, its observer saw Rod 1's speed (1 m/s) and nothing faster than the contact's rebound, and
+    rods.checks.apply gave the summary its status."""
     text = (ROOT / "README.md").read_text()
     block = text.split("## Using the library from Python", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
     exec(compile(block, "README.md", "exec"), {})
-    fe, an, fastest = (float(x) for x in capsys.readouterr().out.split()[-3:])
+    *_, numbers, status = capsys.readouterr().out.strip().splitlines()
+    fe, an, fastest = (float(x) for x in numbers.split())
     assert fe == pytest.approx(an, rel=0.005)
     assert 1.0 <= fastest < 1.5
+    assert status.split()[0] in ("ok", "warnings")  # rods.checks.apply: the status an entry point writes
