@@ -45,7 +45,7 @@ def scheduled_speeds(clone, speeds) -> set[str]:
     for line in out.splitlines():
         if m := re.match(r"\s*(?:local)?rule (\w+):", line):
             rule = m.group(1)
-        elif (m := re.match(r"\s*wildcards: speed=(\S+)", line)) and rule == "analytical":
+        elif (m := re.match(r"\s*wildcards: .*?speed=([^,\s]+)", line)) and rule == "analytical":
             found.add(m.group(1))
     return found
 
@@ -61,3 +61,25 @@ def test_fresh_clone_runs_exactly_the_changed_points(clone):
     with (clone / "rods" / "hertz.py").open("a") as f:  # a code change reruns every point
         f.write("\n# changed\n")
     assert scheduled_speeds(clone, ["1.0", "3.0"]) == {"1.0", "3.0"}
+
+
+@pytest.mark.slow  # ~10 s: one real sweep point in the temporary clone, then a dry run
+def test_a_base_scenes_edit_reruns_its_points_under_any_rerun_trigger(clone):
+    """A scene that inherits a base file: an edit of the base, which no rule names as an input, gives every point a
+    new key; under Snakemake's mtime trigger alone the old runs stood and their numbers were published under the new
+    keys (a fuzz, 2026-12-06). The key is in each run's folder now, so a new key is a new run."""
+    (clone / "workflows" / "scenes" / "derived.toml").write_text('base = "paper.toml"\nname = "derived"\n')
+    base = clone / "workflows" / "scenes" / "paper.toml"
+    text = base.read_text()
+    cmd = [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "2", "speed_sweep", "--config", "speeds=[1.5]",
+           "scene=workflows/scenes/derived.toml"]  # fmt: skip
+    p = subprocess.run(cmd, cwd=clone, capture_output=True, text=True)
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    try:
+        base.write_text(text.replace("youngs_modulus = 204.3e9", "youngs_modulus = 150e9", 1))
+        assert base.read_text() != text
+        p = subprocess.run([*cmd, "--rerun-triggers", "mtime", "-n"], cwd=clone, capture_output=True, text=True)
+        assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+        assert re.search(r"rule analytical:[^\n]*\n(?:[^\n]*\n)*?\s*wildcards: .*speed=1\.5", p.stdout), p.stdout
+    finally:
+        base.write_text(text)
