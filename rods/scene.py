@@ -1264,7 +1264,8 @@ def _not_a_file(path: str | Path) -> str:
 
 def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     """Parse TOML; a top-level ``base = "other.toml"`` (relative to this file) is read first and
-    this file's tables are merged over it, so a trial scene states only what differs."""
+    this file's tables are merged over it, so a trial scene states only what differs; its name is its own (the
+    file's stem where it sets none), never its base's."""
     if p.resolve() in seen:
         raise SceneError("base", str(p), "scene files include each other in a cycle")
     try:
@@ -1289,6 +1290,8 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
         raise SceneError("base", base, why, f'a scene file relative to {p.name}\'s folder, e.g. base = "paper.toml"')
     merged = _read_with_base(bp, (*seen, p.resolve()))
     _merge(merged, data)
+    if "name" not in data:  # its own name, not its base's: a derived scene named "paper" ran into the paper's
+        merged["name"] = p.stem  # folders and labels (a fuzz, 2026-12-06)
     return merged
 
 

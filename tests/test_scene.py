@@ -237,6 +237,11 @@ def test_a_relative_base_is_read_from_the_naming_files_folder(tmp_path, monkeypa
     monkeypatch.chdir(tmp_path)  # from here "../lib/paper.toml" does not exist
     sc = load_scene(own)
     assert sc.speed == 3.0 and sc.rod1.length == 0.25009
+    # its own name, the file's stem, not its base's "paper": a derived scene ran into the paper's default folders
+    # and labels (a fuzz, 2026-12-06); a name it sets is kept
+    assert sc.name == "fast" and load_scene(tmp_path / "lib" / "paper.toml").name == "paper"
+    (tmp_path / "mine" / "named.toml").write_text('base = "../lib/paper.toml"\nname = "mine"\n')
+    assert load_scene(tmp_path / "mine" / "named.toml").name == "mine"
     own.write_text('base = "lib/paper.toml"\n')  # relative to the cwd, not to mine/: refused, naming the file
     with pytest.raises(SceneError, match=r"base.*no such scene file .*mine/lib/paper.toml"):
         load_scene(own)
