@@ -79,6 +79,7 @@ def here(tmp_path) -> Path:
     # found by a newcomer's walk-through (2026-11-29): each of these ran to exit 0 on the wrong data or failed late
     ended = {"model": "fe-axisymmetric", "scene_values": paper, "contact_duration": 2e-4}
     folder("global", ended, history=True)
+    (tmp_path / "verify-case" / "global-finer").mkdir(parents=True)  # a verification case's folder (verify.py)
     short = load_scene(SCENES / "paper.toml", ("simulation.end_time=3e-4",)).as_dict()
     folder("global-short", {**ended, "scene_values": short}, history=True)  # a plain global shorter than Fig. 4's
     folder("global-unended", {**ended, "contact_duration": None}, history=True)  # stopped before its contact ended
@@ -435,6 +436,16 @@ CASES = {  # name -> (script, arguments, words the line must name)
         "fig4.py",
         ["--analytical", "analytical", "--fe", "driver-run", "--png", "o/f.png", "--md", "o/f.md"],
         ["--fe", "driving global", "own global run"],
+    ),
+    "study into a verification case": (
+        "run.py",
+        ["--out", "verify-case"],
+        ["--out", "verify-case", "verification matrix's runs", "another --out"],
+    ),
+    "verification into a global's folder": (
+        "verify.py",
+        ["--out", "global"],
+        ["--out", "holds another kind of run (global", "another --out"],
     ),
     "fig4 a shorter global": (
         "fig4.py",
@@ -815,14 +826,15 @@ def test_interrupted_run_leaves_a_checkpoint_and_resumes_to_the_same_histories(t
     the stop; --restart completes the run with the histories of an uninterrupted one."""
     from rods.io import read_history
 
-    args = [*TINY, "--set", "simulation.end_time=1e-3"]
+    # 2 ms: ~16,600 steps, over a second on an idle machine (at 1 ms a run once ended in the 0.5 s before the signal)
+    args = [*TINY, "--set", "simulation.end_time=2e-3"]
     cmd = [str(MPIRUN), "-n", "2", str(PY), str(W / "global.py"), *args]
     ref, cut, err = tmp_path / "ref", tmp_path / "cut", tmp_path / "stderr"
     subprocess.run([*cmd, "--out", str(ref)], cwd=tmp_path, check=True, capture_output=True, timeout=300)
     with open(err, "w") as ef:
         proc = subprocess.Popen([*cmd, "--out", str(cut)], cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=ef)
         _wait_for(err, "steps", 120)
-        time.sleep(0.5)
+        time.sleep(0.2)
         proc.send_signal(signal.SIGINT)
         assert proc.wait(timeout=30) == 130, err.read_text()[-2000:]
     partial = json.loads((cut / "summary.json").read_text())

@@ -18,7 +18,7 @@ from rods.plan import scene_difference
 from rods.preflight import InputError, input_dir
 from rods.scene import Scene, SceneError, scene_from_summary
 
-__all__ = ["check_reuse", "parse_run", "pct", "read_run", "read_summary", "run_kind"]
+__all__ = ["check_reuse", "parse_run", "pct", "read_run", "read_summary", "run_kind", "verify_folder"]
 
 # the data files' writer and reader and the run record lived here before rods.io took them (2026-11-28): the old
 # names stay, the same functions, for callers that import them from here
@@ -51,6 +51,7 @@ STAGE_KINDS = {
     "driver": "global",
     "run": "study",
     "submodel": "submodel",
+    "verify": "verification",  # no summary.json of its own: its folder holds case folders of runs (verify_folder)
 }
 
 
@@ -59,10 +60,21 @@ def stage_kind(stage: str) -> str | None:
     return STAGE_KINDS.get(stage.split("/")[0])
 
 
+def verify_folder(out: str | Path) -> bool:
+    """Whether ``out`` is a verification matrix's folder or one of its cases' (each case runs a global 2 x finer,
+    ``global-finer``, which no other entry point writes)."""
+    p = Path(out)
+    return (p / "global-finer").is_dir() or any(c.is_dir() for c in p.glob("*/global-finer"))
+
+
 def check_reuse(out: str | Path, kind: str, flag: str = "--out") -> None:
     """Refuse (:class:`InputError`) an output folder that holds another kind of run's summary.json: rerunning a
     stage into its own folder replaces it, but a global written over a study's folder (or a study over a
     global's) would leave the other's files beside a summary that no longer describes them."""
+    if kind != "verification" and verify_folder(out):  # a case's runs, or the matrix of them (a fuzz, 2026-12-06:
+        # a study into a case folder replaced its analytical and global, its finer global left beside them)
+        why = f"holds a verification matrix's runs (workflows/verify.py) rather than this {kind} run's"
+        raise InputError(flag, out, why, "give another --out")
     f = Path(out) / "summary.json"
     try:
         theirs = run_kind(json.loads(f.read_text(encoding="utf-8")))
