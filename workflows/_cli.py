@@ -91,9 +91,12 @@ non_negative = _number(float, 0.0, True, "")
 count = _number(int, 1, True, "")  # a step stride
 
 
-def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = False) -> argparse.ArgumentParser:
+def parser(
+    description: str, default_scene: str = "paper.toml", dry_run: bool = False, out_help: str | None = None
+) -> argparse.ArgumentParser:
     """The scene options (--scene, --set, --out, --force); ``dry_run``: also --dry-run (see :func:`afford`).
-    ``description``: the script's docstring, shown as written (its usage lines included)."""
+    ``description``: the script's docstring, shown as written (its usage lines included); ``out_help``: --out's
+    help where it is not a run's folder (a file prefix)."""
     p = _Parser(description=description)
     p.add_argument("--scene", default=str(SCENES / default_scene), help="scene TOML file (default: %(default)s)")
     p.add_argument(
@@ -107,7 +110,7 @@ def parser(description: str, default_scene: str = "paper.toml", dry_run: bool = 
     p.add_argument(
         "--out",
         default=None,
-        help="output folder (default: output/<stage>/<scene name>, -<digest> appended with --set)",
+        help=out_help or "output folder (default: output/<stage>/<scene name>, -<digest> appended with --set)",
     )
     p.add_argument(
         "--force", action="store_true", help="run above the step/history budgets (never above the free memory)"
@@ -232,6 +235,12 @@ def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
     if (kind := stage_kind(model)) is not None:
         check_reuse(out, kind)
     return out
+
+
+def scene_default(args: argparse.Namespace, stage: str, scene: Scene) -> Path:
+    """A side tool's default output folder, output/<stage>/<scene folder> as a run's (rods.preflight.default_folder):
+    one per scene, so that a tool run on another scene's runs does not overwrite the paper's tables (a fuzz)."""
+    return default_folder(stage, scene, _overridden(args, scene))
 
 
 def _overridden(args: argparse.Namespace, scene: Scene) -> bool:

@@ -2,9 +2,10 @@ r"""What accuracy costs in time: every model and resolution against its referenc
 (rods.paper.accuracy_cost).
 
     python workflows/accuracy_cost.py --run "global 1.0 mm=output/paper/global" [--run LABEL=DIR ...] \
-        [--scene workflows/scenes/paper.toml] [--out output/paper/accuracy-cost]
+        [--scene workflows/scenes/paper.toml] [--out output/accuracy-cost/paper/accuracy-cost]
 
-Writes --out + .json, .md, .png (the main job passes --out results/accuracy-cost). Every --run must be a
+Writes --out + .json, .md, .png (default output/accuracy-cost/<scene folder>/accuracy-cost, one per scene; the main
+job passes --out results/accuracy-cost). Every --run must be a
 finished run of the scene's bodies and impact (else exit 2, nothing written).
 """
 
@@ -17,14 +18,18 @@ from rods.preflight import InputError, distinct
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = _cli.parser(__doc__)
+    prefix = (
+        "file prefix: writes OUT.json, OUT.md, OUT.png (default: output/accuracy-cost/<scene folder>/accuracy-cost)"
+    )
+    ap = _cli.parser(__doc__, out_help=prefix)
     ap.add_argument("--run", action="append", default=[], help="LABEL=DIR of a run with summary.json, history.csv")
-    ap.set_defaults(out="output/paper/accuracy-cost")
     args = ap.parse_args(argv)
+    scene = _cli.load(args)
+    if args.out is None:  # one per scene: another scene's study does not overwrite the paper's tables
+        args.out = str(_cli.scene_default(args, "accuracy-cost", scene) / "accuracy-cost")
     out = _cli.output_file(args.out, "--out")  # --out is a prefix: OUT.json, OUT.md, OUT.png
     for suffix in accuracy_cost.SUFFIXES:
         _cli.output_file(out.with_suffix(suffix), "--out")
-    scene = _cli.load(args)
     if not args.run:
         raise InputError("--run", [], "no runs given", "give at least one --run LABEL=DIR")
     given = [parse_run(spec) for spec in args.run]

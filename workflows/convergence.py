@@ -2,7 +2,7 @@ r"""Mesh convergence of the contact: submodel levels and global meshes against H
 analytical force, least-squares order, extrapolation and band (rods.paper.convergence).
 
     python workflows/convergence.py --run output/paper/submodel/fine [--run DIR ...] \
-        [--scene workflows/scenes/paper.toml] [--out output/paper/convergence]
+        [--scene workflows/scenes/paper.toml] [--out output/convergence/paper]
 
 Each --run is a folder with summary.json (a submodel level or a global mesh of the scene's bodies and impact;
 anything else is refused, exit 2, nothing written). Writes convergence.json, .md and
@@ -20,11 +20,12 @@ from rods.preflight import InputError, distinct, output_names
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.parser(__doc__)
     ap.add_argument("--run", action="append", default=[], help="[LABEL=]DIR of a run with summary.json")
-    ap.set_defaults(out="output/paper/convergence")
     args = ap.parse_args(argv)
-    out = _cli.output_dir(args.out, "--out")
-    output_names(out, convergence.FILES)
     scene = _cli.load(args)
+    out = _cli.output_dir(
+        args.out if args.out is not None else _cli.scene_default(args, "convergence", scene), "--out"
+    )  # one per scene
+    output_names(out, convergence.FILES)
     if not args.run:
         raise InputError("--run", [], "no runs given", "give --run DIR of a submodel level or a global mesh")
     given = [parse_run(spec) for spec in args.run]

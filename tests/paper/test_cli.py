@@ -30,7 +30,7 @@ def test_paper_writes_its_stage_under_out(job):
     assert s["scene_values"]["rod2"]["length"] == 0.70099  # later stages rebuild the scene from the run
 
 
-def test_fig4_and_accuracy_cost_clis(job, tmp_path):
+def test_fig4_and_accuracy_cost_clis(job, tmp_path, monkeypatch):
     """Both read the runs they are given, and refuse (exit 2) what is not a run of their scene: an analytical run
     of another trial as an FE run, a missing folder (skipped with a note before 2026-11-24)."""
     from rods.preflight import InputError
@@ -56,6 +56,11 @@ def test_fig4_and_accuracy_cost_clis(job, tmp_path):
     runs = ["--scene", str(SCENES / "trial-1-3.toml"), "--run", f"trial={a / 'trial-1-3'}", "--run", f"coarse={g}"]
     assert ac.main([*runs, "--set", "simulation.end_time=3e-4", "--out", str(tmp_path / "ac")]) == 0
     assert {r["label"] for r in read_data(tmp_path / "ac.json")["rows"]} >= {"trial", "coarse"}
+    # without --out: the scene's own folder, not the paper's tables (the default was output/paper/ for every scene)
+    monkeypatch.chdir(tmp_path)
+    assert ac.main([*runs, "--set", "simulation.end_time=3e-4"]) == 0
+    (own,) = (tmp_path / "output" / "accuracy-cost").glob("trial-1-3-*/accuracy-cost.json")
+    assert [r["label"] for r in read_data(own)["rows"]] == [r["label"] for r in read_data(tmp_path / "ac.json")["rows"]]
     with pytest.raises(InputError, match="--run.*no such folder"):
         ac.main([*runs, "--run", f"missing={tmp_path / 'none'}", "--out", str(tmp_path / "ac2")])
 
