@@ -60,11 +60,16 @@ CONFIG_KEYS = (
 )  # fmt: skip
 
 
+# where a config value comes from: the Snakefile's configfile, or one given with --configfile (a fuzz found every
+# remedy naming workflows/sweep.yaml for a value from another file)
+CONFIG_FILE = "workflows/sweep.yaml or your --configfile"
+
+
 class ConfigError(ValueError):
     """A Snakemake config value (workflows/sweep.yaml or --config) that the sweeps cannot run."""
 
     def __init__(self, key: str, value: object, why: str, remedy: str = ""):
-        remedy = remedy or f"workflows/sweep.yaml; override with --config {key}=..."
+        remedy = remedy or f"{CONFIG_FILE}; override with --config {key}=..."
         super().__init__(f"config '{key}' = {short(value)}: {why} ({remedy})")
 
 
@@ -79,8 +84,9 @@ def check_config(config: Mapping[str, object], local_cpus: int | None = None) ->
     _keys(config)
     try:
         load_scene(str(config["scene"]))
-    except SceneError as e:
-        raise ConfigError("scene", config["scene"], str(e)) from None
+    except SceneError as e:  # the scene file itself is the config's value: not said as a --scene option
+        why = f"{e.allowed}" + (f" ({e.hint})" if e.hint else "") if e.key == "--scene" else str(e)
+        raise ConfigError("scene", config["scene"], why) from None
 
     def each(key: str, kind: type, overrides, scene: str | Path | None = None) -> None:
         values = config[key]
@@ -120,11 +126,11 @@ def _keys(config: Mapping[str, object]) -> None:
     if unknown:
         near = nearest_key(unknown[0], CONFIG_KEYS)
         hint = f"did you mean '{near}'?; " if near else ""
-        fix = f"workflows/sweep.yaml; spell it --config {near}=..." if near else "workflows/sweep.yaml; remove it"
+        fix = f"{CONFIG_FILE}; spell it --config {near}=..." if near else f"{CONFIG_FILE}; remove it"
         raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; {hint}known: {', '.join(CONFIG_KEYS)}", fix)
     missing = [k for k in CONFIG_KEYS if k not in config]
     if missing:
-        raise ConfigError(missing[0], None, "missing (workflows/sweep.yaml states every key)")
+        raise ConfigError(missing[0], None, f"missing ({CONFIG_FILE}: workflows/sweep.yaml states every key)")
 
 
 def _ranks(config: Mapping[str, object], local_cpus: int | None) -> None:

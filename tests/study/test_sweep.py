@@ -45,7 +45,7 @@ def test_the_shipped_config_passes(config):
         ({"ranks": 0}, ["'ranks'", ">= 1"]),
         ({"paper_levels": ["bogus"]}, ["'paper_levels'", "ultra-fine"]),
         ({"paper_global_meshes": {"x": ["fe.kind=2d"]}}, ["'paper_global_meshes'", "fe.kind"]),
-        ({"scene": "nope.toml"}, ["'scene'", "no such scene file"]),
+        ({"scene": "nope.toml"}, ["'scene'", "no such scene file", "or your --configfile"]),  # not "--scene"
         ({"sceen": "x"}, ["'sceen'", "unknown key", "did you mean 'scene'?"]),
         ({"spedes": [1.0]}, ["'spedes'", "did you mean 'speeds'?"]),
         ({"mesh_levels": {"coarse": [1e-3]}}, ["'mesh_levels'", "[axial size, radial size]"]),
@@ -77,6 +77,7 @@ def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
         check_config(config | change)
     for w in words:
         assert w in str(e.value), str(e.value)
+    assert "--scene" not in str(e.value)  # an option the sweep's user never gave (a fuzz)
 
 
 def test_more_ranks_than_the_machines_cpus_are_refused_where_the_jobs_run_on_it(config):
