@@ -80,7 +80,7 @@ def test_the_snakefile_asks_for_each_jobs_plan():
         cwd=ROOT, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert p.returncode == 0, p.stderr[-2000:]
-    found = re.findall(r"wildcards: kind=(\w+), level=coarse, dtf=([\d.]+), speed=([\d.]+)\n\s+resources: .*"
+    found = re.findall(r"wildcards: kind=(\w+), level=coarse, dtf=([\d.]+), speed=([\d.]+), key=\w+\n\s+resources: .*"
                        r"runtime=(\d+), mem_mb=(\d+)", p.stdout + p.stderr)  # fmt: skip
     assert {k for k, *_ in found} == {"axisymmetric", "3d"}, (p.stdout + p.stderr)[-3000:]
     for kind, dtf, speed, runtime, mem_mb in found:
