@@ -346,6 +346,10 @@ def _finish_submodel(
     sr.summary["cut_record"] = cut_identity(cut_file)  # which recording drove it (a study's restart keeps only that)
     if phase is not None:
         sr.summary["phase"] = {"member": phase, "members": SUBMODEL_PHASES}
+    # its station sits at the cut region's middle (L_s/2 from the tip), not at Rod 2's: the contract's midpoint keys
+    # are Rod 2's (README), so a submodel has none (its history keeps its own station's columns; a docs audit found
+    # a submodel's "midpoint_peak_speed" of 1.08 m/s from one plateau there, status ok)
+    sr.summary.update(midpoint_peak_speed=None, midpoint_peak_strain=None)
     # its midpoint is no Rod-2 midpoint: no plateau check; its end is the driver's contact phase or --end-time
     remedy = "a later --end-time of submodel.py, or none (the driver's contact phase)"
     checks.apply(sr.summary, {}, scene, end, end_remedy=remedy)
