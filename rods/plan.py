@@ -377,8 +377,8 @@ def offers(plan: Plan, stage: str) -> tuple[str, ...]:
     """The contract keys that ``stage`` (``analytical``, ``global``, ``submodel/<level>``, others: none) offers
     under ``plan``: the analytical model every key; the global model the peak force and the duration, the
     patch's radius, area and pressure only where the plan resolves the patch (submodels: then the finest across
-    it wins, a global finer than the submodels included), and the wave keys only when the wave response was
-    asked for (a contact-only global stops after the contact phase), the misalignment's (:data:`MISALIGNMENT_KEYS`)
+    it wins, a global finer than the submodels included), and the wave keys only when it ran the whole end time
+    (the wave response or the fields asked for; a contact-only global stops after the contact phase), the misalignment's (:data:`MISALIGNMENT_KEYS`)
     when that effect was asked for (the 3D global, which it needs); a submodel the contact keys but the
     duration (its run ends at the contact phase, cut by the driver's record). Without submodels the patch is
     the analytical model's Hertz at its own force: the global's auto mesh puts 4-6 elements across the patch
@@ -388,7 +388,10 @@ def offers(plan: Plan, stage: str) -> tuple[str, ...]:
     if stage == "global":
         contact = CONTACT_KEYS if plan.submodel_levels else (CONTACT_KEYS[0], CONTACT_KEYS[-1])
         contact += MISALIGNMENT_KEYS if "misalignment" in plan.effects else ()  # the 3D global's alone
-        return contact + WAVE_KEYS if "wave_response" in plan.effects else contact
+        # a global over the whole end time (the wave response's, or the fields'): its midpoint is the finer model's
+        # (a docs audit found a fields study quoting the analytical midpoint beside its own global's)
+        whole = "wave_response" in plan.effects or plan.fields
+        return contact + WAVE_KEYS if whole else contact
     return CONTACT_KEYS[:-1] if stage.startswith("submodel/") else ()
 
 

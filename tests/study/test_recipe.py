@@ -139,6 +139,9 @@ def test_most_refined_model_wins(scene_with):
     assert most_refined(contact, sized)[1]["contact_radius"] == "submodel/fine"
     assert offers(contact, "driver") == () and "contact_duration" not in offers(contact, "submodel/fine")
     assert "midpoint_peak_speed" in offers(wave, "global") and "midpoint_peak_speed" not in offers(contact, "global")
+    # a fields study's global runs the whole end time too: its midpoint, not the analytical model's (a docs audit)
+    fields = make_plan(scene_with("effects=['contact_patch', 'fields']"), 2e-4)
+    assert fields.global_end_time == scene_with().end_time and "midpoint_peak_speed" in offers(fields, "global")
 
 
 def test_level_sizes_are_one_table_halving_per_level():
