@@ -378,8 +378,9 @@ def offers(plan: Plan, stage: str) -> tuple[str, ...]:
     under ``plan``: the analytical model every key; the global model the peak force and the duration, the
     patch's radius, area and pressure only where the plan resolves the patch (submodels: then the finest across
     it wins, a global finer than the submodels included), and the wave keys only when it ran the whole end time
-    (the wave response or the fields asked for; a contact-only global stops after the contact phase), the misalignment's (:data:`MISALIGNMENT_KEYS`)
-    when that effect was asked for (the 3D global, which it needs); a submodel the contact keys but the
+    (the wave response or the fields asked for; a contact-only global stops after the contact phase), the
+    misalignment's (:data:`MISALIGNMENT_KEYS`) when that effect was asked for (the 3D global, which it needs); a
+    submodel the contact keys but the
     duration (its run ends at the contact phase, cut by the driver's record). Without submodels the patch is
     the analytical model's Hertz at its own force: the global's auto mesh puts 4-6 elements across the patch
     (paper scene: area to 0.02%, peak pressure -4.85%), which its own summary keeps."""
