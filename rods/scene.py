@@ -41,6 +41,7 @@ __all__ = [
     "cut_record_end",
     "cut_records",
     "impedance_force",
+    "last_per_key",
     "load_scene",
     "nearest_key",
     "parse_override",
@@ -891,7 +892,9 @@ class Scene:
         """A new, validated scene: this one with ``KEY=VALUE`` overrides applied (its :attr:`label` kept: the
         library's own overrides are a stage's settings, not another scene)."""
         new = scene_from_dict(self.as_dict(json_safe=False), overrides, source=self.source)
-        settings = _last_per_key((*self.settings, *overrides))
+        # an override that changes nothing is no setting (a study's global recorded its scene's own end time)
+        changed = [o for o in overrides if new.values.get(k := parse_override(o)[0]) != self.values.get(k)]
+        settings = last_per_key((*self.settings, *changed))
         return dataclasses.replace(
             new, overrides=self.overrides, settings=settings, global_axial_size=self.global_axial_size
         )
@@ -999,7 +1002,7 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         stations=_stations(stations_raw, rods),
         values=values,
         source=source,
-        overrides=_last_per_key(overrides),
+        overrides=last_per_key(overrides),
     )
 
 
@@ -1026,7 +1029,7 @@ def auto_output_interval(rods: tuple[Rod, Rod], end_time: float) -> float:
     return min(dt, end_time)
 
 
-def _last_per_key(overrides: Iterable[str]) -> tuple[str, ...]:
+def last_per_key(overrides: Iterable[str]) -> tuple[str, ...]:
     """The overrides as given (``KEY=VALUE``, stripped), the last one of each key, keys in their first order."""
     last = {parse_override(t)[0]: "=".join(p.strip() for p in t.split("=", 1)) for t in overrides}
     return tuple(last.values())
@@ -1235,7 +1238,7 @@ def scene_from_summary(
 
     overrides = tuple(overrides)
     scene = scene_from_dict(restore(values), overrides, source=source)
-    return dataclasses.replace(scene, overrides=_last_per_key((*given, *overrides)))
+    return dataclasses.replace(scene, overrides=last_per_key((*given, *overrides)))
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

@@ -549,6 +549,9 @@ def test_a_library_override_is_recorded_beside_the_users(scene_with):
     assert stage.label == user.label and stage.overrides == ("impact.speed=1.0",)
     assert stage.settings == ("simulation.end_time=1e-4", "fe.axial_size=2e-4")
     assert load_scene(PAPER, [*stage.overrides, *stage.settings]).as_dict() == stage.as_dict()
+    # an override that changes nothing is no setting (a study's global recorded the scene's own end time; a docs audit)
+    same = stage.with_overrides(f"simulation.end_time={stage.end_time!r}", "impact.speed=1.0")
+    assert same.settings == stage.settings and same.as_dict() == stage.as_dict()
 
 
 def test_radial_grading_is_refused_on_the_3d_model(scene_with):

@@ -32,7 +32,7 @@ from rods.fe import forms
 from rods.fe.cut import CutDriver
 from rods.fe.model import ExplicitModel, FEResult
 from rods.fe.traction import TractionDriver
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, Station, check_submodel_length, scene_from_dict
+from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, Station, check_submodel_length, last_per_key, scene_from_dict
 
 __all__ = [
     "LEVEL_SIZES",
@@ -129,16 +129,18 @@ def submodel_scene(
         values=values,
         global_axial_size=scene.bar_axial_size,  # a graded level's sizes outside the patch: its global's
         overrides=scene.overrides,  # named as the scene it cuts (Scene.label)
-        settings=(  # what the region changed of it (its summary's stage_settings)
-            *scene.settings,
-            *(
-                f"fe.{k}={v!r}"
-                for k, v in d["fe"].items()
-                if k in ("radial_size", "axial_size", "radial_grading", "dt", "penalty")
-            ),
-            f"rod1.length={L_s!r}",
-            f"rod2.length={L_s!r}",
-            f"simulation.end_time={end!r}",
+        settings=last_per_key(
+            (  # what the region changed of it (its summary's stage_settings), each key once
+                *scene.settings,
+                *(
+                    f"fe.{k}={v!r}"
+                    for k, v in d["fe"].items()
+                    if k in ("radial_size", "axial_size", "radial_grading", "dt", "penalty")
+                ),
+                f"rod1.length={L_s!r}",
+                f"rod2.length={L_s!r}",
+                f"simulation.end_time={end!r}",
+            )
         ),  # fmt: skip
     )
 
