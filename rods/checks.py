@@ -501,14 +501,15 @@ def rim_edge(a: float, scene: Any) -> float:
 
 def rim_where(scene: Any) -> str:
     """What :func:`rim_edge` is a fraction of, in words."""
-    aligned = not (scene["impact.offset"] or scene["impact.tilt"])
-    return "the thinner rod's radius" if aligned else "its rod's radius at its outer edge (a misaligned impact)"
+    return (
+        "its rod's radius at its outer edge (a misaligned impact)" if scene.misaligned else "the thinner rod's radius"
+    )
 
 
 def rim_remedy(scene: Any) -> str:
     """What keeps the patch off the rim: a misaligned impact's offset and tilt first (they set its edge: a 5 mm
     offset on 6.35 mm rods is 0.79 of the radius at any tip and speed, a fuzz found the old remedy could not work)."""
-    if scene["impact.offset"] or scene["impact.tilt"]:
+    if scene.misaligned:
         return "a smaller impact.offset or impact.tilt, then a smaller tip radius or a lower speed,"
     return "a smaller tip radius or a lower speed"
 
@@ -517,11 +518,9 @@ def centric_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning on the analytical model of a misaligned scene: its 1D bars and Hertz contact are centric, so
     impact.offset and impact.tilt do not enter it (a fuzz: a 2 mm offset gave the centric run's numbers bit for bit,
     status "ok", 2.7% above the 3D FE model's force)."""
-    if summary.get("model") != "analytical" or scene is None:
+    if summary.get("model") != "analytical" or scene is None or not scene.misaligned:
         return None
     e, θ = scene["impact.offset"], scene["impact.tilt"]
-    if not (e or θ):
-        return None
     return (
         f"misalignment: the analytical model is centric: its 1D bars and Hertz contact leave out impact.offset = "
         f"{e:g} m and impact.tilt = {θ:g} rad, which the 3D FE model carries (workflows/global.py); its force and "

@@ -472,8 +472,7 @@ def _symmetry_remedy(scene: Scene) -> str:
     on a quarter of the DOFs."""
     if scene["fe.kind"] != "3d":
         return ""
-    centric = scene["impact.offset"] == 0 and scene["impact.tilt"] == 0
-    if scene["fe.symmetry"] != "quarter" and centric:
+    if scene["fe.symmetry"] != "quarter" and not scene.misaligned:
         return "fe.symmetry = 'quarter' (a centric impact: a quarter of the DOFs)"
     if scene["fe.symmetry"] == "full":
         return "fe.symmetry = 'half' (the impact's offset and tilt lie in one plane: half the DOFs)"

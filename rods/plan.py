@@ -337,7 +337,7 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
         )
     if wave:
         reasons.append("wave_response: the global run covers the whole end_time; no submodel needed for it")
-    if "misalignment" in fx and scene["impact.offset"] == 0 and scene["impact.tilt"] == 0:
+    if "misalignment" in fx and not scene.misaligned:
         reasons.append(
             "misalignment asked, but impact.offset = impact.tilt = 0: a centric impact (set impact.offset [m] or "
             "impact.tilt [rad] to misalign it)"

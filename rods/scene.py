@@ -685,6 +685,11 @@ class Scene:
         return max(round_trip / FIELD_FRAMES_PER_ROUND_TRIP, self.end_time / FIELD_FRAMES_DEFAULT_MAX)
 
     @property
+    def misaligned(self) -> bool:
+        """An eccentric or tilted impact (``impact.offset`` or ``impact.tilt`` non-zero: the 3D model's alone)."""
+        return bool(self["impact.offset"] or self["impact.tilt"])
+
+    @property
     def impedance_force(self) -> float:
         """The impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) [N] (Z = ρ c A): the rods' stiff-contact (bar) limit,
         rod i moving at P/Z_i behind a front of strain P/(Z_i c_i); a Hertz contact only lowers it."""
