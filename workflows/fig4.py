@@ -14,7 +14,7 @@ from pathlib import Path
 
 import _cli
 from rods.paper.data import parse_run, read_run
-from rods.preflight import InputError, distinct
+from rods.preflight import distinct
 from rods.scene import scene_from_summary
 from rods.study import fig4
 
@@ -40,21 +40,7 @@ def main(argv: list[str] | None = None) -> int:
     distinct([folder for _, folder in given], "--fe")  # a run given twice is two identical rows
     fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in given]
     for (_, folder), run in zip(given, fe, strict=True):
-        # a global that drove submodels carries rods.study.stages.driver_keys; a study's own global records the cut
-        # beside its whole run (so it has them too) and is Fig. 4's: only one that stopped early is refused
-        end = scene_from_summary(run.summary["scene_values"]).end_time  # [s]
-        if end < (1.0 - 1e-9) * scene.end_time:  # its average and strain would be of fewer plateaus (a fuzz: a
-            # 0.3 ms global's average of one plateau sat beside the analytical model's of five, unremarked)
-            if "contact_phase" in run.summary:
-                why = f"a driving global (global.py --driver): it stops at {end:.3g} s, after the contact phase"
-                fix = "give the scene's own global run (workflows/global.py)"
-            else:
-                why = f"it ends at {end:.3g} s"
-                fix = (
-                    f"run it to the --analytical run's end, or that run to its end (--set simulation.end_time={end:g})"
-                )
-            why += f", before the --analytical run's end ({scene.end_time:.3g} s): Fig. 4 compares the whole runs"
-            raise InputError("--fe", folder, why, fix)
+        fig4.check_whole_run(run, scene, folder, "--fe")
     data = fig4.write(analytical, fe, args.png, args.md)
     print(fig4.render_md(data, args.png))
     return 0

@@ -29,9 +29,9 @@ from mpi4py import MPI
 import _cli
 from rods import cost, plan
 from rods.fe import checkpoint
-from rods.fe.cut import recorded_until
 from rods.fe.submodel import submodel_label, submodel_scene
-from rods.preflight import InputError, input_dir
+from rods.paper.data import driver_end, read_driver
+from rods.preflight import InputError
 from rods.scene import (
     SUBMODEL_LEVELS,
     SUBMODEL_PHASES,
@@ -39,7 +39,6 @@ from rods.scene import (
     SceneError,
     parse_override,
     scene_from_summary,
-    value_differences,
 )
 from rods.study import stages
 
@@ -63,32 +62,9 @@ def _step(text: str) -> float | str:
 
 def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path, dict, Scene, float]:
     """(folder, summary, the submodel's scene, its end time [s]) of the driving global --global, checked before
-    anything runs: its files readable, its cut.h5 recorded by that same scene (not left over from an earlier run
-    in the folder), the scene's rods, impact and cut its own (rods.plan.check_driven_scene), the end (--end-time,
-    else the driver's contact phase) within its cut record."""
-    remedy = "give the folder of a workflows/global.py --driver run (its cut.h5 and summary.json)"
-    gdir = input_dir(args.global_dir, ("cut.h5", "summary.json"), "--global", remedy)
-    try:
-        gsum = json.loads((gdir / "summary.json").read_text())
-        driver = scene_from_summary(gsum["scene_values"], (), str(gdir))
-        gsum["dt"]
-    except (ValueError, KeyError, TypeError) as e:
-        raise InputError("--global", gdir, f"summary.json unreadable or not a global run's ({e})", remedy) from None
-    try:
-        recorded, values = recorded_until(gdir / "cut.h5")  # [s], the recording global's scene
-        recorder = scene_from_summary(values, (), str(gdir / "cut.h5"))
-    except (OSError, KeyError, IndexError, ValueError, TypeError) as e:
-        raise InputError("--global", gdir, f"cut.h5 unreadable or empty ({e})", remedy) from None
-    if gsum.get("status") not in ("ok", "warnings"):  # a stopped run's cut.h5 may be an earlier run's (a fuzz)
-        why = f"summary.json's status is {gsum.get('status')!r}: the driving global did not finish"
-        raise InputError("--global", gdir, why, "rerun workflows/global.py --driver into an empty folder")
-    # every value, not the bodies and impact alone: a record left by an earlier run of other sizes drove a
-    # submodel "ok" under the newer run's label (a fuzz, 2026-12-06)
-    diffs = value_differences(driver.as_dict(), recorder.as_dict())
-    if diffs:
-        key, ours, theirs = plan.scene_difference(driver, recorder) or diffs[0]  # bodies and impact named first
-        why = f"cut.h5 was recorded by another scene than summary.json's ({key} = {theirs!r} there, {ours!r})"
-        raise InputError("--global", gdir, why, "rerun workflows/global.py --driver into an empty folder")
+    anything runs (rods.paper.data.read_driver), the scene's rods, impact and cut its own
+    (rods.plan.check_driven_scene), the end within its cut record (rods.paper.data.driver_end)."""
+    gdir, gsum, driver, recorded = read_driver(args.global_dir, "--global")
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     if given:
         scene = _cli.load(args)
@@ -96,20 +72,21 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
         values, told = gsum["scene_values"], gsum.get("scene_overrides", ())
         scene = scene_from_summary(values, args.overrides, str(gdir), given=told)
     plan.check_driven_scene(scene, driver)
-    # [s] as asked (refused below if past the record, never cut short silently), else the library's rule
-    end = args.end_time if args.end_time is not None else plan.submodel_end(scene, gsum)
-    if end > recorded * (1 + 1e-9):
-        why = f"the submodel's end {end:.6g} s is beyond the driving global's cut record (to {recorded:.6g} s)"
-        if args.end_time is None:  # not the user's: the driver's contact phase outlasts what it recorded
+    return gdir, gsum, scene, driver_end(scene, gsum, recorded, args.end_time, gdir, "--global")
+
+
+def _check_overrides(overrides: Sequence[str]) -> None:
+    """--set of a key the submodel takes from its own options, or of a station, refused: it would be ignored."""
+    for text in overrides:  # its mesh, step and end are its options': the scene's keys are the global's
+        key, _ = parse_override(text)
+        if key == "station":  # dropped silently before (a fuzz): the cut region's rods have no scene positions
+            why = "the submodel records its own midpoint station only; the stations are the global's"
             raise InputError(
-                "--global",
-                gdir,
-                f"{why}, the driver's contact phase; its record stops short of it",
-                f"give --end-time {recorded:.6g} or less, or a driver recorded over its contact phase (global.py "
-                "--driver)",
+                "--set", text, why, "leave it out (set stations on the global: global.py --set station=...)"
             )
-        raise InputError("--end-time", end, why, f"--end-time {recorded:.6g} or less, or a driver recorded longer")
-    return gdir, gsum, scene, end
+        if key in OWN_OPTIONS:
+            why = f"{key} is the global's; the submodel takes its own from {OWN_OPTIONS[key]}"
+            raise InputError("--set", text, why, f"give {OWN_OPTIONS[key]} instead")
 
 
 def _flags(args: argparse.Namespace) -> dict[str, str]:
@@ -160,16 +137,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
-    for text in args.overrides:  # its mesh, step and end are its options': the scene's keys are the global's
-        key, _ = parse_override(text)
-        if key == "station":  # dropped silently before (a fuzz): the cut region's rods have no scene positions
-            why = "the submodel records its own midpoint station only; the stations are the global's"
-            raise InputError(
-                "--set", text, why, "leave it out (set stations on the global: global.py --set station=...)"
-            )
-        if key in OWN_OPTIONS:
-            why = f"{key} is the global's; the submodel takes its own from {OWN_OPTIONS[key]}"
-            raise InputError("--set", text, why, f"give {OWN_OPTIONS[key]} instead")
+    _check_overrides(args.overrides)
     gdir, gsum, scene, end = _driver(args, argv)
     dt = gsum["dt"] if args.dt == "global" else args.dt
     level = submodel_label(args.level, args.size)

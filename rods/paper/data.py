@@ -14,11 +14,21 @@ import numpy as np
 
 from rods import io
 from rods.compare import percent
-from rods.plan import scene_difference
+from rods.plan import scene_difference, submodel_end
 from rods.preflight import InputError, input_dir
-from rods.scene import Scene, SceneError, scene_from_summary
+from rods.scene import Scene, SceneError, scene_from_summary, value_differences
 
-__all__ = ["check_reuse", "parse_run", "pct", "read_run", "read_summary", "run_kind", "verify_folder"]
+__all__ = [
+    "check_reuse",
+    "driver_end",
+    "parse_run",
+    "pct",
+    "read_driver",
+    "read_run",
+    "read_summary",
+    "run_kind",
+    "verify_folder",
+]
 
 # the data files' writer and reader and the run record lived here before rods.io took them (2026-11-28): the old
 # names stay, the same functions, for callers that import them from here
@@ -185,3 +195,63 @@ def parse_run(spec: str) -> tuple[str, Path]:
     """``LABEL=FOLDER`` (or a bare folder) from the command line; the label may itself contain '='."""
     label, _, folder = spec.rpartition("=")
     return label, Path(folder)
+
+
+DRIVER_REMEDY = "give the folder of a workflows/global.py --driver run (its cut.h5 and summary.json)"
+RERUN_DRIVER = "rerun workflows/global.py --driver into an empty folder"
+
+
+def read_driver(folder: str | Path, flag: str = "--global") -> tuple[Path, dict[str, Any], Scene, float]:
+    """(folder, summary, scene, the end of its cut record [s]) of the driving global in ``folder`` that a submodel
+    reads, checked before anything runs (:class:`InputError` naming ``flag``): its cut.h5 and summary.json readable,
+    the run finished (a stopped run's cut.h5 may be an earlier run's), and the cut record written by that same
+    scene in every value, not the bodies and impact alone (a record left by an earlier run of other sizes drove a
+    submodel "ok" under the newer run's label: a fuzz, 2026-12-06)."""
+    from rods.fe.cut import recorded_until  # h5py, read only here
+
+    gdir = input_dir(folder, ("cut.h5", "summary.json"), flag, DRIVER_REMEDY)
+    try:
+        summary = json.loads((gdir / "summary.json").read_text(encoding="utf-8"))
+        driver = scene_from_summary(summary["scene_values"], (), str(gdir))
+        summary["dt"]
+    except (ValueError, KeyError, TypeError) as e:
+        why = f"summary.json unreadable or not a global run's ({e})"
+        raise InputError(flag, gdir, why, DRIVER_REMEDY) from None
+    try:
+        recorded, values = recorded_until(gdir / "cut.h5")  # [s], the recording global's scene
+        recorder = scene_from_summary(values, (), str(gdir / "cut.h5"))
+    except (OSError, KeyError, IndexError, ValueError, TypeError) as e:
+        raise InputError(flag, gdir, f"cut.h5 unreadable or empty ({e})", DRIVER_REMEDY) from None
+    if summary.get("status") not in ("ok", "warnings"):
+        why = f"summary.json's status is {summary.get('status')!r}: the driving global did not finish"
+        raise InputError(flag, gdir, why, RERUN_DRIVER)
+    diffs = value_differences(driver.as_dict(), recorder.as_dict())
+    if diffs:
+        key, ours, theirs = scene_difference(driver, recorder) or diffs[0]  # bodies and impact named first
+        why = f"cut.h5 was recorded by another scene than summary.json's ({key} = {theirs!r} there, {ours!r})"
+        raise InputError(flag, gdir, why, RERUN_DRIVER)
+    return gdir, summary, driver, recorded
+
+
+def driver_end(
+    scene: Scene,
+    summary: Mapping[str, Any],
+    recorded: float,
+    end_time: float | None,
+    folder: str | Path,
+    flag: str = "--global",
+) -> float:
+    """A driven submodel's end [s]: ``end_time`` as asked (``--end-time``), else the library's rule
+    (:func:`rods.plan.submodel_end`, the driver's contact phase); refused past the driver's cut record
+    (``recorded`` [s]), never cut short silently, named by ``--end-time`` where the user gave it and by ``flag``
+    (the driver's ``folder``) where the driver's own contact phase outlasts its record."""
+    end = end_time if end_time is not None else submodel_end(scene, summary)
+    if end <= recorded * (1 + 1e-9):
+        return end
+    why = f"the submodel's end {end:.6g} s is beyond the driving global's cut record (to {recorded:.6g} s)"
+    if end_time is None:
+        why += ", the driver's contact phase; its record stops short of it"
+        fix = f"give --end-time {recorded:.6g} or less, or a driver recorded over its contact phase"
+        fix += " (global.py --driver)"
+        raise InputError(flag, folder, why, fix)
+    raise InputError("--end-time", end, why, f"--end-time {recorded:.6g} or less, or a driver recorded longer")

@@ -13,10 +13,11 @@ from typing import Any
 
 from rods import io, metrics
 from rods.compare import cell, difference, percent
-from rods.scene import scene_from_summary
+from rods.preflight import InputError
+from rods.scene import Scene, scene_from_summary
 from rods.study.figures import pyplot
 
-__all__ = ["compute", "force_panel_end", "plot", "render_md", "render_table", "write"]
+__all__ = ["check_whole_run", "compute", "force_panel_end", "plot", "render_md", "render_table", "write"]
 
 CONTACT_SETTINGS = ("penalty", "tip_grading")  # fe.* keys that tune the contact, not the mesh
 
@@ -45,6 +46,25 @@ def _measures(run: io.Run, analytical: io.Run, window: tuple[float, float], refe
         "wall_time": float(s.get("wall_time", math.nan)),
         "contact_overrides": _contact_overrides(run, reference_fe),
     }
+
+
+def check_whole_run(run: io.Run, scene: Scene, folder: str | Path, flag: str = "--fe") -> None:
+    """Fig. 4 compares whole runs: an FE run ``run`` (in ``folder``) ending before the analytical run's ``scene``
+    end is refused (:class:`InputError` naming ``flag``); its average peak speed and strain would be of fewer
+    plateaus (a fuzz: a 0.3 ms global's average of one plateau sat beside the analytical model's of five,
+    unremarked). A driving global (it carries the contact phase it stops after) is told to give the scene's own
+    global; a study's own global records the cut beside its whole run and is Fig. 4's."""
+    end = scene_from_summary(run.summary["scene_values"]).end_time  # [s]
+    if end >= (1.0 - 1e-9) * scene.end_time:
+        return
+    if "contact_phase" in run.summary:
+        why = f"a driving global (global.py --driver): it stops at {end:.3g} s, after the contact phase"
+        fix = "give the scene's own global run (workflows/global.py)"
+    else:
+        why = f"it ends at {end:.3g} s"
+        fix = f"run it to the --analytical run's end, or that run to its end (--set simulation.end_time={end:g})"
+    why += f", before the --analytical run's end ({scene.end_time:.3g} s): Fig. 4 compares the whole runs"
+    raise InputError(flag, folder, why, fix)
 
 
 def force_panel_end(analytical: dict[str, Any], end: float) -> float:

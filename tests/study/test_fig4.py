@@ -103,3 +103,20 @@ def test_window_ends_with_the_shortest_run(analytical):
         assert "over the first 300 µs only (the runs' common end, not the first 5 periods" in fig4.render_md(d, "f.png")
     d = fig4.compute(a, [fe])
     assert "over the first 5 periods 2 L2/c2 (1370 µs)." in fig4.render_md(d, "f.png")
+
+
+def test_only_whole_runs_are_compared(analytical):
+    """check_whole_run: an FE run to the analytical run's end passes; one ending before is refused naming --fe, a
+    driving global (it carries its contact phase) told to give the scene's own global."""
+    from rods.preflight import InputError
+
+    sc, run = analytical
+    fe = perturbed(run, "fe")
+    fig4.check_whole_run(fe, sc, "f")
+    short = copy.deepcopy(fe)
+    short.summary["scene_values"]["simulation"]["end_time"] = 3e-4
+    with pytest.raises(InputError, match=r"--fe = .f.: it ends at 0.0003 s, .*simulation.end_time=0.0003"):
+        fig4.check_whole_run(short, sc, "f")
+    short.summary["contact_phase"] = 2.4e-4
+    with pytest.raises(InputError, match="a driving global .*give the scene's own global run"):
+        fig4.check_whole_run(short, sc, "f")
