@@ -991,7 +991,7 @@ def _midpoint_check(
     if mid not in history or "midpoint_peak_speed" not in summary:
         return None
     period = scene.rod2.transit_time  # [s] 2 L2/c2
-    arrival, gap = metrics.ARRIVAL * scene.speed, metrics.plateau_gap(scene.rod2)  # [m/s], [s]
+    arrival, gap = metrics.plateau_bounds(scene)  # [m/s], [s]
     w = plateau_warning(history["time"], history[mid], period, arrival, gap, summary.get("contact_duration"))
     if w is None:
         return None

@@ -35,6 +35,7 @@ __all__ = [
     "richardson",
     "richardson_levels",
     "sigma_r_error",
+    "stress_field_hertz",
 ]
 
 SAFETY_FACTOR = FS_GOOD  # GCI factor of safety for three-grid studies at a credible order (Roache) [-]
@@ -148,6 +149,19 @@ def richardson_levels(sizes: Mapping[str, float]) -> tuple[tuple[str, str, str],
 
 
 SIGMA_EDGE_BAND = 0.2  # σ_r is compared away from the contact edge: |r - a| > SIGMA_EDGE_BAND a [-]
+
+
+def stress_field_hertz(summary: Mapping[str, Any]) -> dict[str, float]:
+    """Hertz (:func:`rods.hertz.at_force`, E* and R* of the summary's ``hertz_at_own_force``) at the force of a
+    submodel's stored stress field, ``stress_field_force``: the largest force at a step the field was kept
+    (rods.fe.submodel.PeakField), up to 8e-4 below the run's peak force on twelve probe submodels (2026-12-07); the
+    peak force in a summary written before that key. σ_r is compared at the field's own force (:func:`sigma_r_error`,
+    Fig. 6)."""
+    H = summary["hertz_at_own_force"]
+    if "stress_field_force" not in summary:
+        return dict(H) | {"force": summary["peak_contact_force"]}
+    F = summary["stress_field_force"]  # [N]
+    return hertz.at_force(F, H["E_star"], H["R_star"]) | {"force": F}
 
 
 def sigma_r_error(profile: Mapping[str, Any], hertz_at_force: Mapping[str, float], nu: float) -> dict[str, float]:

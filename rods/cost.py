@@ -693,7 +693,7 @@ def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
     """The penalty pair's switching limit (rods.stability.switching_step) at ω_c estimated from the tip element h_n
     [m] (module docstring)."""
     m1, m2 = scene.rod1.material, scene.rod2.material
-    E_star = hertz.effective_modulus(m1.youngs_modulus, m1.poisson_ratio, m2.youngs_modulus, m2.poisson_ratio)
+    E_star = hertz.contact_constants(scene.rod1, scene.rod2)[0]  # [Pa]
     inv_ρ = 1.0 / m1.density + 1.0 / m2.density  # [m^3/kg]
     return switching_step(math.sqrt(2.0 * factor * E_star * inv_ρ) / h_n)
 

@@ -21,7 +21,9 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "CONTACT_KEYS",
     "SUMMARY_KEYS",
+    "WAVE_KEYS",
     "Run",
     "atomic_write_text",
     "cut_identity",
@@ -36,20 +38,11 @@ __all__ = [
     "write_summary",
 ]
 
-# The summary.json contract (foundation issue): every model writes these keys, SI units.
-SUMMARY_KEYS = (
-    "model",
-    "scene",
-    "impact_speed",
-    "peak_contact_force",
-    "contact_radius",
-    "contact_area",
-    "peak_contact_pressure",
-    "contact_duration",
-    "midpoint_peak_speed",
-    "midpoint_peak_strain",
-    "wall_time",
-)
+# The summary.json contract (foundation issue): every model writes these keys, SI units; the contact's and the
+# wave response's are the keys a study takes from its most refined stage (rods.plan.most_refined)
+CONTACT_KEYS = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure", "contact_duration")
+WAVE_KEYS = ("midpoint_peak_speed", "midpoint_peak_strain")
+SUMMARY_KEYS = ("model", "scene", "impact_speed", *CONTACT_KEYS, *WAVE_KEYS, "wall_time")
 
 
 def file_mode() -> int:

@@ -50,7 +50,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
-    from rods.scene import Rod
+    from rods.scene import Rod, Scene
 
 __all__ = [
     "contact_episodes",
@@ -143,10 +143,17 @@ def contact_duration(t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_
 
 
 def edge_period_radius(
-    force: ArrayLike, radius: ArrayLike, spacing: float, E_star: float, R_star: float
+    force: ArrayLike,
+    radius: ArrayLike,
+    spacing: float,
+    E_star: float,
+    R_star: float,
+    peak_force: float | None = None,
 ) -> tuple[float, float, int]:
     """(a_edge [m], mean ratio a/a_H(F) - 1 [-], samples used) from the force [N] and contact radius [m]
-    histories and the node ``spacing`` [m] at the edge (module docstring). The sweep: the samples from the
+    histories and the node ``spacing`` [m] at the edge (module docstring); a_edge is the ratio applied at
+    ``peak_force`` [N] (the run's every-step peak, which the radius is compared at), else at the histories' largest
+    sample (up to 8e-4 below it at the output interval: the radius 3e-4 short). The sweep: the samples from the
     last one with a < a_peak - spacing (exclusive) up to the peak force; the ratio is integrated over a
     (trapezoid, samples ordered by a) and divided by the a-range covered. NaN where the sweep holds fewer
     than EDGE_MIN_SAMPLES samples, where the edge starts inside one spacing of the axis (a_peak < 2 spacing:
@@ -174,7 +181,8 @@ def edge_period_radius(
     if not aa[-1] > aa[0]:
         return nan
     e = float(np.trapezoid(ratio, aa) / (aa[-1] - aa[0]))
-    return float(contact_radius(F[ip], E_star, R_star)) * (1.0 + e), e, int(aa.size)
+    F_peak = F[ip] if peak_force is None else peak_force  # [N]
+    return float(contact_radius(F_peak, E_star, R_star)) * (1.0 + e), e, int(aa.size)
 
 
 def plateau_gap(rod2: Rod) -> float:
@@ -182,6 +190,13 @@ def plateau_gap(rod2: Rod) -> float:
     diameter over its bar wave speed, the period scale of its lateral ringing behind a front (2.5 µs on the paper's
     rods; module docstring). The dips between real plateaus last a large part of Rod 1's round trip."""
     return rod2.diameter_transit
+
+
+def plateau_bounds(scene: Scene) -> tuple[float, float]:
+    """(floor [m/s], gap [s]) of a scene's Rod-2 midpoint plateaus (:func:`plateaus`): :data:`ARRIVAL` x the impact
+    speed, below which the wave has not arrived, and :func:`plateau_gap`. Every model's average peak speed and the
+    plateau checks take both from here (the analytical model took no floor before: one definition)."""
+    return ARRIVAL * scene.speed, plateau_gap(scene.rod2)
 
 
 def plateau_level(v: np.ndarray, fraction: float = PLATEAU_FRACTION, threshold: float | None = None) -> float:

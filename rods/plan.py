@@ -32,6 +32,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from rods import metrics
+from rods.io import CONTACT_KEYS, WAVE_KEYS  # the summary contract's, named there once
 from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, Scene, SceneError, submodel_phase_size
 
 __all__ = [
@@ -66,8 +67,6 @@ CONTACT_MARGIN = 1.2  # contact phase: this x the analytical first contact episo
 # override here would be a per-scene knob.
 DRIVER_OVERRIDES: tuple[str, ...] = ()
 
-CONTACT_KEYS = ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure", "contact_duration")
-WAVE_KEYS = ("midpoint_peak_speed", "midpoint_peak_strain")
 # what a misalignment study measures that no centric model has: the 3D global's patch centroid [m], its farthest
 # contact node from it [m] and the Rod-2 midpoint's bending strain [-] (a fuzz found a study asked for misalignment
 # summarised without any of them, docs/models.md's 3D section)

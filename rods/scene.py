@@ -582,7 +582,9 @@ class Rod:
 
     @property
     def transit_time(self) -> float:
-        """Round-trip time of a bar wave, 2 L_bar/c [s] (the delay of Eqs. 2 and 4; :attr:`bar_length`)."""
+        """Round-trip time of a bar wave, 2 L_bar/c [s] (:attr:`bar_length`): the delay of Eqs. 2 and 4 under the
+        default rod-end law; the paper's own law (analytical.contact = "hertz") delays by 2 L/c of the whole rod
+        (rods.analytical.WaveModel.T)."""
         return 2 * self.bar_length / self.material.wave_speed
 
     @property

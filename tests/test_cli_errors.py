@@ -153,6 +153,16 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["--record-until", "-2.5E-4", "> 0"],
     ),
     "submodel size inf": ("submodel.py", ["--global", "nosummary", "--size=inf", "--out", "o"], ["--size", "finite"]),
+    "submodel field interval": (
+        "submodel.py",
+        ["--global", "driver", "--set", "fe.field_interval=1e-5", "--out", "o"],
+        ["--set", "a submodel writes no fields", "global.py --set fe.field_interval"],
+    ),
+    "submodel fields effect": (
+        "submodel.py",
+        ["--global", "driver", "--set", 'effects=["contact","fields"]', "--out", "o"],
+        ["--set", "a submodel writes no fields"],
+    ),
     "submodel station": (
         "submodel.py",
         ["--global", "driver", "--set", 'station=[{rod=1,position=0.1,name="g"}]', "--out", "o"],

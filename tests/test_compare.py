@@ -74,3 +74,30 @@ def test_an_order_outside_the_credible_range_gets_the_fixed_order_fits_and_no_cl
     assert low.order < 0.5 and 1.6765 < low.extrapolated < 1.70 and low.gci_fine < 0.05
     g = [3.7 + 0.8 * (0.1 * 2**k) ** 1.5 for k in range(3)]
     assert compare.richardson(*g).credible
+
+
+def test_sigma_r_is_judged_at_its_stored_fields_own_force():
+    """stress_field_hertz: Hertz at the force of the step whose field was kept (below the run's peak by the
+    throttle of rods.fe.submodel.PeakField), the peak force where a summary lacks it; the σ_r error of a profile that
+    is Hertz's own at that force is zero, and it is not at the peak force."""
+    from rods import compare, hertz
+
+    E_star, R_star, nu = 114e9, 0.0175, 0.3
+    summary = {
+        "peak_contact_force": 5600.0,
+        "stress_field_force": 5000.0,
+        "hertz_at_own_force": {"E_star": E_star, "R_star": R_star},
+    }
+    H = compare.stress_field_hertz(summary)
+    assert H["force"] == 5000.0 and H["contact_radius"] == hertz.at_force(5000.0, E_star, R_star)["contact_radius"]
+    r = np.linspace(0.0, 2 * H["contact_radius"], 41)
+    profile = {
+        "r": r,
+        "depth": np.zeros_like(r),
+        "sigma_r": hertz.surface_radial_stress(r, H["contact_radius"], H["peak_pressure"], nu),
+    }
+    assert compare.sigma_r_error(profile, H, nu)["surface"] < 1e-12
+    at_peak = hertz.at_force(5600.0, E_star, R_star)
+    assert compare.sigma_r_error(profile, at_peak, nu)["surface"] > 1e-2
+    del summary["stress_field_force"]
+    assert compare.stress_field_hertz(summary)["force"] == 5600.0

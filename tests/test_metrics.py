@@ -219,3 +219,16 @@ def test_a_strain_rms_over_a_window_needs_both_histories_through_it():
     assert np.isnan(metrics.window_rms_difference(t[short], a[short], t, b, (0.0, 1.0)))
     assert np.isnan(metrics.window_rms_difference(t, a, t[short], b[short], (0.0, 1.0)))
     assert metrics.window_rms_difference(t[short], a[short], t, b, (0.0, 0.9)) == pytest.approx(rms, rel=2e-2)
+
+
+def test_edge_period_radius_applies_its_ratio_at_the_runs_peak_force():
+    """The ratio is a property of the sweep; the radius is it applied at the run's every-step peak force, which a
+    history sampled at the output interval can miss (the radius is compared with Hertz at that force)."""
+    from rods.hertz import contact_radius
+
+    F, a = _sawtooth_loading(-0.001, 0.008, 0.125e-3, 0.3)
+    sampled, ratio, _ = metrics.edge_period_radius(F, a, 0.125e-3, E_EDGE, R_EDGE)
+    peak = 1.001 * F.max()  # [N] between two samples
+    a_edge, same, _ = metrics.edge_period_radius(F, a, 0.125e-3, E_EDGE, R_EDGE, peak)
+    assert same == ratio and a_edge == pytest.approx(contact_radius(peak, E_EDGE, R_EDGE) * (1 + ratio), rel=1e-12)
+    assert a_edge / sampled - 1 == pytest.approx(1.001 ** (1 / 3) - 1, rel=1e-9)

@@ -18,10 +18,8 @@ from pathlib import Path
 
 import _cli
 from rods import cost
-from rods.analytical import simulate
-from rods.io import cut_identity
-from rods.paper.data import read_run, read_summary
-from rods.preflight import InputError, distinct, output_names
+from rods.paper.data import check_driven_by, read_run, read_summary
+from rods.preflight import distinct, output_names
 from rods.scene import Scene
 from rods.study import stages, table3
 from rods.study.table3 import ModelRun
@@ -37,23 +35,6 @@ def _run(role: str, folder: str, scene: Scene) -> ModelRun:
     return ModelRun(role, read_summary(folder, flag, ("global",), scene, whole_contact=True))
 
 
-def _driven_by(folder: str, summary: dict, driver: Path) -> None:
-    """A submodel level was driven by the --global run's cut record (its summary's ``cut_record``, the record's own
-    id: rods.io.cut_identity), else bad input: Table 3 would call another global its driver (a fuzz, 2026-12-06,
-    had a contact-only global with no cut record labelled "drives the submodels"). A level written before the id
-    was recorded is not checked."""
-    recorded = summary.get("cut_record")
-    if recorded is None:
-        return
-    cut = driver / "cut.h5"
-    if not cut.is_file():
-        why = "records no cut (no cut.h5): it drove no submodel"
-        raise InputError("--global", driver, why, f"give the global that drove them ({summary.get('cut_file')})")
-    if cut_identity(cut) != recorded:
-        why = f"driven by another global's cut record ({summary.get('cut_file')}), not by --global {driver}'s"
-        raise InputError("--submodel", folder, why, "give --global the run that drove it, or rerun it from this one")
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     ap = _cli.parser(__doc__)
     ap.add_argument("--global", dest="global_dir", required=True, help="the driving global run (global.py --driver)")
@@ -66,12 +47,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     driver = _run("global-driver", args.global_dir, scene)
     subs = [_run("submodel", d, scene) for d in args.submodel]
     for folder, run in zip(args.submodel, subs, strict=True):
-        _driven_by(folder, run.summary, Path(args.global_dir))
+        check_driven_by(folder, run.summary, args.global_dir)
     runs += [driver, *subs]
     cost.check(cost.analytical_cost(scene))  # the reference run below: refused (exit 2) before it, as its stage is
     out = _cli.out_dir(args, "compare", scene)  # after the inputs: a refused run leaves no folder
     output_names(out, stages.COMPARISON_FILES)
-    comparison = stages.comparison(scene, simulate(scene).summary, runs, out)
+    # the reference through its stage (its yield warnings kept in its summary, not printed as Python's warnings)
+    reference = stages.analytical(scene, out, write=False).summary
+    comparison = stages.comparison(scene, reference, runs, out)
     print(table3.render_markdown(comparison.data))
     _cli.status(comparison.data)  # the finest submodel level's checks, as a study's "compare:" warnings
     return 0

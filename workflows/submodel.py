@@ -29,7 +29,7 @@ from mpi4py import MPI
 import _cli
 from rods import cost, plan
 from rods.fe import checkpoint
-from rods.fe.submodel import submodel_label, submodel_scene
+from rods.fe.submodel import REPLACED_KEYS, submodel_label, submodel_scene
 from rods.paper.data import driver_end, read_driver
 from rods.preflight import InputError
 from rods.scene import (
@@ -42,8 +42,8 @@ from rods.scene import (
 )
 from rods.study import stages
 
-# scene keys the submodel replaces by its own options (rods.fe.submodel.submodel_scene): --set of one is refused,
-# it would be ignored
+# the option that sets each scene key the submodel replaces (rods.fe.submodel.REPLACED_KEYS): a --set of one is
+# refused, it would be ignored; fe.field_interval has none (a submodel writes no fields)
 OWN_OPTIONS = {
     "fe.radial_size": "--size or --level",
     "fe.axial_size": "--axial-size",
@@ -76,15 +76,22 @@ def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path,
 
 
 def _check_overrides(overrides: Sequence[str]) -> None:
-    """--set of a key the submodel takes from its own options, or of a station, refused: it would be ignored."""
+    """--set of a key the submodel replaces by its own (rods.fe.submodel.REPLACED_KEYS), of a station or of the
+    fields effect refused: it would be ignored."""
     for text in overrides:  # its mesh, step and end are its options': the scene's keys are the global's
-        key, _ = parse_override(text)
+        key, value = parse_override(text)
         if key == "station":  # dropped silently before (a fuzz): the cut region's rods have no scene positions
             why = "the submodel records its own midpoint station only; the stations are the global's"
             raise InputError(
                 "--set", text, why, "leave it out (set stations on the global: global.py --set station=...)"
             )
-        if key in OWN_OPTIONS:
+        fields = key == "effects" and isinstance(value, (list, tuple)) and "fields" in value
+        if key == "fe.field_interval" or fields:  # dropped silently before (a review)
+            why = "a submodel writes no fields (submodel.py writes its contact: pressure_profile.csv, sigma_r.csv)"
+            raise InputError(
+                "--set", text, why, "leave it out (fields are the global's: global.py --set fe.field_interval=5e-6)"
+            )
+        if key in REPLACED_KEYS:
             why = f"{key} is the global's; the submodel takes its own from {OWN_OPTIONS[key]}"
             raise InputError("--set", text, why, f"give {OWN_OPTIONS[key]} instead")
 
@@ -103,9 +110,6 @@ def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float |
     """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size, step or
     end time named by its option (--size, --axial-size, --dt, --end-time), not by the scene key it becomes."""
     flags = _flags(args)
-    if args.axial_size is not None and args.axial_size > scene["fe.submodel_length"]:
-        why = f"longer than the submodel (fe.submodel_length = {scene['fe.submodel_length']:g} m)"
-        raise InputError("--axial-size", args.axial_size, why, "a smaller --axial-size")
     try:
         return submodel_scene(scene, h, args.axial_size, end, dt)
     except SceneError as e:

@@ -410,9 +410,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     sc = model.scene
     hist = recorder.history(rows)
     units = {name: recorder.units[name] for name in hist}
-    derived = recorder.summary(
-        hist, steps, sc.stations[0].name, metrics.ARRIVAL * sc.speed, metrics.plateau_gap(sc.rod2)
-    )
+    derived = recorder.summary(hist, steps, sc.stations[0].name, *metrics.plateau_bounds(sc))
     energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
     n_steps = min(steps, recorder.force.size) - 1
     penalty = sc["fe.contact"] == "penalty"
@@ -445,16 +443,16 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
         }
     )
     summary.update(_mesh_summary(model, recorder.peak, hist))
-    summary.update(_edge_period(model, hist, summary["contact_radius"]))
+    summary.update(_edge_period(model, hist, summary["contact_radius"], summary["peak_contact_force"]))
     profile = pressure_profile(model, recorder.peak)
     trace = {k: v.copy() for k, v in recorder.force_trace(steps).items()}
     return FEResult(hist, units, summary, profile, trace)
 
 
-def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: float) -> dict[str, Any]:
-    """The contact radius and area at the peak force averaged over the last node spacing the edge swept
-    (:func:`rods.metrics.edge_period_radius`): the spacing of the slave nodes around the peak radius
-    (axisymmetric; 3D: ``fe.radial_size``, the nodes are not in rings there)."""
+def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: float, F_peak: float) -> dict[str, Any]:
+    """The contact radius and area at the peak force ``F_peak`` [N] averaged over the last node spacing the edge
+    swept (:func:`rods.metrics.edge_period_radius`): the spacing of the slave nodes around the peak radius
+    ``a_peak`` [m] (axisymmetric; 3D: ``fe.radial_size``, the nodes are not in rings there)."""
     sc, r = model.scene, model.contact.slave.r
     if model.kind == "3d" or r.size < 2:
         spacing = float(sc["fe.radial_size"])
@@ -462,7 +460,8 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
         i = int(np.clip(np.searchsorted(r, a_peak), 1, r.size - 1))
         spacing = float(r[i] - r[i - 1])
     E_star, R_star = hertz.contact_constants(sc.rod1, sc.rod2)
-    a, ratio, n = metrics.edge_period_radius(hist["contact_force"], hist["contact_radius"], spacing, E_star, R_star)
+    F, a = hist["contact_force"], hist["contact_radius"]
+    a, ratio, n = metrics.edge_period_radius(F, a, spacing, E_star, R_star, F_peak)
     return {
         "contact_radius_edge_mean": a,
         "contact_area_edge_mean": np.pi * a * a,

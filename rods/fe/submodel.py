@@ -32,7 +32,15 @@ from rods.fe import forms
 from rods.fe.cut import CutDriver
 from rods.fe.model import ExplicitModel, FEResult
 from rods.fe.traction import TractionDriver
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, Station, check_submodel_length, last_per_key, scene_from_dict
+from rods.scene import (
+    SUBMODEL_LEVEL_SIZES,
+    Scene,
+    SceneError,
+    Station,
+    check_submodel_length,
+    last_per_key,
+    scene_from_dict,
+)
 
 __all__ = [
     "LEVEL_SIZES",
@@ -85,6 +93,18 @@ def submodel_grading(scene: Scene) -> str:
     return "graded" if graded else "uniform"
 
 
+# scene keys the region replaces by its own (:func:`submodel_scene`): a value given for one is not the region's
+REPLACED_KEYS = (
+    "fe.radial_size",
+    "fe.axial_size",
+    "fe.tip_grading",
+    "fe.dt",
+    "fe.penalty",
+    "fe.field_interval",  # a submodel writes no fields (the driving global's are the whole rods')
+    "simulation.end_time",
+)
+
+
 def submodel_scene(
     scene: Scene,
     h: float,
@@ -99,6 +119,8 @@ def submodel_scene(
     ``dt``."""
     L_s = scene["fe.submodel_length"]
     check_submodel_length(L_s, scene.rods)
+    if h_axial is not None and h_axial > L_s:
+        raise SceneError("fe.axial_size", h_axial, f"longer than the submodel (fe.submodel_length = {L_s:g} m)")
     d = scene.as_dict(json_safe=False)
     d["station"] = []
     d["fe"].update(

@@ -19,6 +19,7 @@ from rods.preflight import InputError, input_dir
 from rods.scene import Scene, SceneError, scene_from_summary, value_differences
 
 __all__ = [
+    "check_driven_by",
     "check_reuse",
     "driver_end",
     "parse_run",
@@ -255,3 +256,20 @@ def driver_end(
         fix += " (global.py --driver)"
         raise InputError(flag, folder, why, fix)
     raise InputError("--end-time", end, why, f"--end-time {recorded:.6g} or less, or a driver recorded longer")
+
+
+def check_driven_by(folder: str | Path, summary: Mapping[str, Any], driver: str | Path) -> None:
+    """A submodel level (``summary``, in ``folder``) was driven by the cut record of the global in ``driver`` (its
+    summary's ``cut_record``, the record's own id: rods.io.cut_identity), else bad input naming ``--submodel`` or
+    ``--global``: Table 3 would call another global its driver (a fuzz, 2026-12-06, had a contact-only global with
+    no cut record labelled "drives the submodels"). A level written before the id was recorded is not checked."""
+    recorded = summary.get("cut_record")
+    if recorded is None:
+        return
+    cut = Path(driver) / "cut.h5"
+    if not cut.is_file():
+        why = "records no cut (no cut.h5): it drove no submodel"
+        raise InputError("--global", driver, why, f"give the global that drove them ({summary.get('cut_file')})")
+    if io.cut_identity(cut) != recorded:
+        why = f"driven by another global's cut record ({summary.get('cut_file')}), not by --global {driver}'s"
+        raise InputError("--submodel", folder, why, "give --global the run that drove it, or rerun it from this one")

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from rods import hertz, io
+from rods import compare, hertz, io
 from rods.metrics import PICTURE_PATCHES
 
 __all__ = ["fig5c", "fig6", "pyplot"]
@@ -40,7 +40,7 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
         ax.plot(r * 1e3, σ / 1e6, ".", ms=3, label=f"FE {s['level']} (h = {s['element_size'] * 1e3:g} mm)")
     if subs:
         s = subs[-1]
-        H = s["hertz_at_own_force"]
+        H = compare.stress_field_hertz(s)  # at the stored field's own force
         prof = s["sigma_r_profile"]
         r = np.asarray(prof["r"])
         z = np.asarray(prof["depth"])
@@ -49,7 +49,7 @@ def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
             rr * 1e3,
             hertz.surface_radial_stress(rr, H["contact_radius"], H["peak_pressure"], nu) / 1e6,
             "k-",
-            label=f"Hertz, surface (F = {s['peak_contact_force']:.0f} N)",
+            label=f"Hertz, surface (F = {H['force']:.0f} N)",
         )
         ax.plot(
             r * 1e3,

@@ -100,7 +100,8 @@ def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu
     F, a, A, p = (s[k] for k in ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure"))
     H = hertz.at_force(F, E_star, R_star)
     an, exp = ref["analytical"], ref["experiment"]
-    err = compare.sigma_r_error(s["sigma_r_profile"], s["hertz_at_own_force"], nu) if "sigma_r_profile" in s else {}
+    profile = s.get("sigma_r_profile")  # σ_r at its stored field's own force (rods.compare.stress_field_hertz)
+    err = compare.sigma_r_error(profile, compare.stress_field_hertz(s), nu) if profile else {}
     key = run.level if run.role == "submodel" else run.role
     none = {"force": math.nan, "area": math.nan}
     pp = ref["paper"].get(key, none) if ref["paper_scene"] else none

@@ -501,3 +501,33 @@ def test_a_step_the_set_up_refuses_is_named_by_its_option(global_dirs, tmp_path)
     assert p.returncode == 2 and len(lines) == 1, p.stderr
     assert lines[0].startswith("error: --dt = 'global (1.21e-07 s)'") and "--dt auto" in lines[0], lines[0]
     assert "scene key" not in lines[0] and "--set" not in lines[0]
+
+
+def test_the_region_replaces_its_keys_and_the_script_refuses_each_by_its_option():
+    """Every key of rods.fe.submodel.REPLACED_KEYS takes the region's own value whatever the scene gave (so a --set
+    of one would be ignored), and submodel.py names an option for each (fe.field_interval: none, it is refused as
+    fields); an axial size past the region's length is refused by the library, named fe.axial_size."""
+    import sys
+
+    from rods.fe.submodel import REPLACED_KEYS
+    from rods.scene import SceneError
+
+    from ..conftest import ROOT
+
+    given = (
+        "fe.radial_size=3e-4", "fe.axial_size=2e-3", "fe.tip_grading=0.5", "fe.dt=1e-8", "fe.penalty=4.0",
+        "fe.field_interval=1e-5", "simulation.end_time=1e-3",
+    )  # fmt: skip
+    sc = load_scene(PAPER, given)
+    sub = submodel_scene(sc, 1e-4, None, 2e-4, "auto")
+    assert {o.split("=")[0] for o in given} == set(REPLACED_KEYS)
+    for key in REPLACED_KEYS:
+        assert sub[key] != sc[key], key
+    sys.path.insert(0, str(ROOT / "workflows"))
+    try:
+        import submodel
+    finally:
+        sys.path.remove(str(ROOT / "workflows"))
+    assert set(submodel.OWN_OPTIONS) == set(REPLACED_KEYS) - {"fe.field_interval"}
+    with pytest.raises(SceneError, match="fe.axial_size.*longer than the submodel"):
+        submodel_scene(sc, 1e-4, 1.0, 2e-4, "auto")
