@@ -23,7 +23,6 @@ from mpi4py import MPI
 import _cli
 from rods import cost, io, plan
 from rods.fe import checkpoint
-from rods.scene import check_submodel_length
 from rods.study import jobs, stages
 
 SHOWN = ("dofs", "steps", "dt", "dt_critical", "dt_element_estimate", "energy_error", "ranks", "contact", "penalty")
@@ -40,16 +39,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     scene = _cli.load(args)
     out = _cli.out_dir(args, "driver" if args.driver else "global", scene)
-    if (args.record_until is not None or args.record_every != 1) and (args.driver or not args.record_cut):
-        why = "the driver records the contact phase, every step" if args.driver else "nothing is recorded without it"
-        _cli.fail(f"--record-until/--record-every go with --record-cut ({why})")
-    if args.record_until is not None and args.record_until > scene.end_time:
-        why = f"beyond the run's end, simulation.end_time = {scene.end_time:g} s"
-        _cli.fail(f"--record-until = {args.record_until:g}: {why}; give --record-until {scene.end_time:g} or less")
-    if args.record_cut or args.driver:  # a submodel's rods keep a cylinder: refused now, not by every submodel after
-        check_submodel_length(scene.submodel_length, scene.rods)
-    if args.restart and (args.record_cut or args.driver):
-        _cli.fail("--restart cannot be combined with --record-cut/--driver (the cut record is not checkpointed)")
+    options = {"driver": args.driver, "record_cut": args.record_cut, "record_until": args.record_until,
+               "record_every": args.record_every, "restart": args.restart}  # fmt: skip
+    stages.check_cut_options(scene, **options)  # before any cost: the step is checked below, from the estimate
     if args.restart:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
@@ -61,9 +53,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     c = jobs.global_cost(scene, comm.size, driver=args.driver, record_cut=args.record_cut,
                          record_until=args.record_until, record_every=args.record_every, phase=phase)  # fmt: skip
     step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's stable step (the set-up solves it exactly)
-    if args.record_until is not None and args.record_until < step:
-        _cli.fail(f"--record-until = {args.record_until:g}: shorter than one time step (about {step:.3g} s), the cut "
-                  f"record would hold t = 0 alone; give --record-until {10 * step:.3g} or more")  # fmt: skip
+    stages.check_cut_options(scene, **options, step=step)
     log(f"{plan.fe_stage(sc, c.what)} -> {out}")  # c.what: the driving global or the global (rods.study.jobs)
     _cli.outlook(scene, log, wave=not args.driver)  # a driver stops after the contact phase
     _cli.afford(args, c, log=log, comm=comm, out=out)

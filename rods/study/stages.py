@@ -179,6 +179,43 @@ def _write_fe(out: Path, res: Any, comm: Any, extra: Mapping[str, Any] | None = 
         io.write_summary(out / "summary.json", {**res.summary, **(extra or {})})
 
 
+def check_cut_options(
+    scene: Scene,
+    *,
+    driver: bool = False,
+    record_cut: bool = False,
+    record_until: float | None = None,
+    record_every: int = 1,
+    restart: bool = False,
+    step: float | None = None,
+) -> None:
+    """The cut-record options of a global run of ``scene`` (workflows/global.py's --driver, --record-cut,
+    --record-until, --record-every, --restart), checked before anything runs (:class:`InputError` naming the
+    option, exit 2): the record's window and spacing only with a record of the user's (a driver records its
+    contact phase every step), not past the run's end nor shorter than one time step ``step`` [s] (then the record
+    holds t = 0 alone), the submodel region a cylinder of the rods (:func:`rods.scene.check_submodel_length`: refused
+    now, not by every submodel after), and no restart (the cut record is not checkpointed)."""
+    from rods.preflight import InputError
+    from rods.scene import check_submodel_length
+
+    recording = record_cut or driver
+    if (record_until is not None or record_every != 1) and (driver or not record_cut):
+        why = "the driver records the contact phase, every step" if driver else "nothing is recorded without it"
+        given = record_until if record_until is not None else record_every
+        raise InputError("--record-until/--record-every", given, f"go with --record-cut ({why})", "leave them out")
+    if record_until is not None and record_until > scene.end_time:
+        why = f"beyond the run's end, simulation.end_time = {scene.end_time:g} s"
+        raise InputError("--record-until", record_until, why, f"give --record-until {scene.end_time:g} or less")
+    if record_until is not None and step is not None and record_until < step:
+        why = f"shorter than one time step (about {step:.3g} s), the cut record would hold t = 0 alone"
+        raise InputError("--record-until", record_until, why, f"give --record-until {10 * step:.3g} or more")
+    if recording:
+        check_submodel_length(scene.submodel_length, scene.rods)
+    if restart and recording:
+        why = "cannot be combined with --record-cut/--driver (the cut record is not checkpointed)"
+        raise InputError("--restart", True, why, "rerun the recording global into an empty folder")
+
+
 def global_model(
     scene: Scene,
     out: Path,
@@ -207,8 +244,8 @@ def global_model(
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
 
-    if restart and record_cut:
-        raise ValueError("a restart cannot record the cut (the cut record is not checkpointed)")
+    options = {"record_cut": record_cut, "record_until": record_until, "record_every": record_every}
+    check_cut_options(scene, **options, restart=restart)
     comm = world(comm)
     if resume:
         kept = kept_global(scene, out, comm, record_cut, record_until, name)
@@ -216,6 +253,8 @@ def global_model(
             return kept
         restart = not record_cut
     model = ExplicitModel(scene, comm) if model is None else model
+    if record_cut:  # the exact step now: the caller's check had the estimate's
+        check_cut_options(scene, **options, step=model.dt)
     if log is not None:
         log("plan: " + "\n      ".join(f"{k}: {v}" for k, v in model.plan().items()) + f"\n      outputs -> {out}")
     recorder = CutRecorder(model, record_until, record_every) if record_cut else None

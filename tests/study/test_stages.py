@@ -36,3 +36,26 @@ def test_a_restart_keeps_a_stage_finished_for_the_same_scene_only(scene_with, tm
     assert finished("global", tmp_path / "i", sc, MPI.COMM_SELF) is None
     (tmp_path / "g" / "history.csv").unlink()
     assert finished("global", tmp_path / "g", sc, MPI.COMM_SELF) is None
+
+
+def test_cut_options_are_checked_by_the_library_as_by_global_py():
+    """check_cut_options: a window or spacing without a record of the user's, a window past the end or shorter than
+    one step, a restart of a recording run are refused, each naming its option; a record within the run passes."""
+    import pytest
+
+    from rods.preflight import InputError
+    from rods.scene import load_scene
+    from rods.study.stages import check_cut_options
+    from tests.conftest import PAPER
+
+    sc = load_scene(PAPER, ["simulation.end_time=1e-4"])
+    check_cut_options(sc, record_cut=True, record_until=5e-5, record_every=2, step=3e-8)
+    for kw, words in (
+        ({"record_until": 5e-5}, "--record-until/--record-every.*go with --record-cut"),
+        ({"driver": True, "record_every": 2}, "the driver records the contact phase"),
+        ({"record_cut": True, "record_until": 2e-4}, "--record-until = 0.0002: beyond the run's end"),
+        ({"record_cut": True, "record_until": 1e-9, "step": 3e-8}, "shorter than one time step.*t = 0 alone"),
+        ({"driver": True, "restart": True}, "--restart.*not checkpointed"),
+    ):
+        with pytest.raises(InputError, match=words):
+            check_cut_options(sc, **kw)
