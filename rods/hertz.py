@@ -319,7 +319,10 @@ def rod_end_compliance(rod: _RodLike, a: float) -> float:
     by about 0.03 per halving of a, so a smaller patch's clamped value is a few hundredths off). The clamp's
     error in ν is a part of the whole term's effect, which is small there (measured on the paper scene, both
     rods at ν: the term moves the first contact by -0.027 µs at -0.95 and -1.02 µs at 0.4999, of which the
-    table's slope over the last 0.01 in ν is 1.3%, and the peak force by 4e-9 and 4e-5): no warning."""
+    table's slope over the last 0.01 in ν is 1.3%, and the peak force by 4e-9 and 4e-5): no warning. Above a/b =
+    0.4 the 0.4 value is held: on a flat or shallow end (b/R <= 0.25) χ moved by at most 0.06 over the table's last
+    doubling of a/b, on a hemisphere by up to 0.26, where a patch over 0.4 b lies far past yield for any metal; the
+    patch-at-the-rim check (rods.checks.RIM_FRACTION) warns from 0.57 of the thinner rod's radius."""
     b = 0.5 * rod.diameter  # [m]
     s = 0.0 if math.isinf(rod.tip_radius) else b / rod.tip_radius
     return _end_chi(rod.material.poisson_ratio, s, a / b) / (rod.material.youngs_modulus * b)
