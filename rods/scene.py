@@ -111,6 +111,10 @@ SUBMODEL_DRIVINGS = ("displacement", "traction", "mixed")  # rods.fe.submodel.ma
 SUBMODEL_EFFECTS = ("contact_patch", "subsurface_stress")  # the effects that run the submodel (rods.plan)
 
 
+# scene keys that save a run's state and never change it: a restart may change them (turn periodic checkpoints on),
+# a study keeps its finished stages across them (rods.fe.checkpoint, rods.study.stages)
+RESULT_NEUTRAL = ("fe.checkpoint_interval",)
+
 # keys whose "auto" a Scene resolves -> the property that does ([] reads the resolved value)
 _RESOLVED = {
     "simulation.end_time": "end_time",

@@ -33,7 +33,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line
-from rods.scene import RESOLVED_KEYS, value_differences
+from rods.scene import RESOLVED_KEYS, RESULT_NEUTRAL, value_differences
 
 __all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
@@ -58,15 +58,29 @@ def _remedy(out: Path) -> str:
     return f"remove {Path(out) / 'checkpoint*'} to start afresh, or give another --out"
 
 
+def state_values(scene: Any) -> dict[str, Any]:
+    """The scene's validated values (Scene.as_dict, JSON's types) less rods.scene.RESULT_NEUTRAL: what a
+    checkpoint's state depends on (a restart that turned periodic checkpoints on, as the README offers, was refused
+    as "another scene": a fuzz, 2026-12-07)."""
+    d = json.loads(json.dumps(scene.as_dict()))
+    for key in RESULT_NEUTRAL:
+        *parents, leaf = key.split(".")
+        node = d
+        for k in parents:
+            node = node.get(k, {})
+        node.pop(leaf, None)
+    return d
+
+
 def scene_hash(scene: Any) -> str:
-    """The scene's validated values, hashed: tells a checkpoint's scene before any set-up."""
-    return hashlib.sha256(json.dumps(scene.as_dict(), sort_keys=True).encode()).hexdigest()[:16]
+    """The scene's :func:`state_values`, hashed: tells a checkpoint's scene before any set-up."""
+    return hashlib.sha256(json.dumps(state_values(scene), sort_keys=True).encode()).hexdigest()[:16]
 
 
 def run_key(scene: Any, dt: float, ranks: int, dofs: int, fmt: int, inputs: list[Any]) -> str:
     """Identifies scene + step ``dt`` [s] + partition (``ranks``, ``dofs``) + state format ``fmt`` (+ the observers'
     ``inputs``, a submodel's cut record): a checkpoint is only resumed by the same run."""
-    text = json.dumps([scene.as_dict(), dt, ranks, dofs, fmt, *inputs], sort_keys=True)
+    text = json.dumps([state_values(scene), dt, ranks, dofs, fmt, *inputs], sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -111,6 +125,7 @@ def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
         ours = json.loads(json.dumps(scene.as_dict()))
         # none named where the manifest has no values (a checkpoint written before they were kept)
         diffs = value_differences(ours, meta["scene_values"]) if meta.get("scene_values") else []
+        diffs = [d for d in diffs if d[0] not in RESULT_NEUTRAL]
         given = [d for d in diffs if d[0] not in RESOLVED_KEYS]  # a key given before one "auto" derives from it
         if diffs:
             key, here, there = (given or diffs)[0]

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from rods import checks, io, plan
-from rods.scene import SUBMODEL_PHASES, Scene, cut_record_end
+from rods.scene import RESULT_NEUTRAL, SUBMODEL_PHASES, Scene, cut_record_end
 
 __all__ = [
     "Comparison",
@@ -111,8 +111,7 @@ def write_analytical(stage: Stage, comm: Any = None) -> None:
 
 # scene keys a stage's run does not read, so a restart keeps it when only they changed (another submodel level
 # added to a study: its global and the levels already run are kept, only the new level runs; checkpoints turned
-# on for the restart: they save the state, they never change it)
-RESULT_NEUTRAL = ("fe.checkpoint_interval",)
+# on for the restart: rods.scene.RESULT_NEUTRAL)
 GLOBAL_IGNORES = ("submodel.levels", "submodel.penalty", "submodel.driving", *RESULT_NEUTRAL)  # the submodels' own
 SUBMODEL_IGNORES = ("submodel.levels", *RESULT_NEUTRAL)  # the other levels (its own size: its scene's fe.radial_size)
 
