@@ -13,10 +13,13 @@ from __future__ import annotations
 import copy
 import dataclasses
 import difflib
+import json
 import math
+import re
 import tomllib
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from decimal import Decimal
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -962,6 +965,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
 def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
     """Validate a parsed scene (plus ``KEY=VALUE`` overrides) and build a :class:`Scene`."""
     data, overrides = copy.deepcopy(dict(data)), tuple(overrides)
+    given = copy.deepcopy(data)  # the values before the overrides: the label lists those that change one
     for text in overrides:
         _apply_override(data, *parse_override(text))
     stations_raw = data.pop("station", None)
@@ -1013,8 +1017,65 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
         stations=_stations(stations_raw, rods),
         values=values,
         source=source,
-        overrides=last_per_key(overrides),
+        overrides=_told(given, overrides, values),
     )
+
+
+def _spell(value: Any) -> str:
+    """An override's value as the label spells it, one spelling per value (``4e-4`` and ``0.0004`` name one run):
+    a float's shortest spelling (:func:`_spell_float`), a bare word as it is, a list or any other string as TOML, None
+    as the schema's ``none``; it reads back as the same value."""
+    if value is None:  # a yield strength of "none"
+        return "none"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return _spell_float(value)
+    if isinstance(value, str) and re.fullmatch(r"[A-Za-z0-9_.+-]+", value):
+        return value
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_spell(v) if not isinstance(v, str) else json.dumps(v) for v in value) + "]"
+    return json.dumps(value) if isinstance(value, str) else str(value)
+
+
+def _spell_float(x: float) -> str:
+    """The shorter of a float's positional and scientific spellings with its shortest round-trip digits
+    (``0.0004`` -> ``4e-4``, ``2.1e11`` stays, ``2.197`` and ``4.0`` positional)."""
+    text = repr(x)
+    if not math.isfinite(x):
+        return text
+    positional = text  # 4.0, not 4: a float reads as one
+    sign, digits, exponent = Decimal(text).normalize().as_tuple()
+    mantissa = str(digits[0]) + ("." + "".join(map(str, digits[1:])) if len(digits) > 1 else "")
+    scientific = f"{'-' if sign else ''}{mantissa}e{int(exponent) + len(digits) - 1}"
+    if "e" in positional:  # repr's own exponent form (1e-08): the scientific spelling is shorter or as short
+        return scientific
+    return scientific if len(scientific) < len(positional) else positional
+
+
+def _told(before: Mapping[str, Any], overrides: Sequence[str], values: Mapping[str, Any]) -> tuple[str, ...]:
+    """The overrides a scene's label lists (:attr:`Scene.overrides`): the last of each key, only where it changes the
+    value ``before`` them (the scene file's, or the schema default where the file sets none: a run given the file's
+    own value is the file's scene, as its folder is), each spelled from its validated value in ``values``
+    (:func:`_spell`); ``name`` is left out (it heads the label) and stations are kept as given."""
+    flat = _flatten({k: v for k, v in before.items() if k != "station"})
+    told = []
+    for text in last_per_key(overrides):
+        key, _ = parse_override(text)
+        if key == "name":
+            continue
+        if key == "station":
+            if parse_override(text)[1] != before.get("station"):
+                told.append(text)
+            continue
+        kind, default, _ = SCHEMA[key]
+        try:
+            old = _type_check(key, kind, flat[key]) if key in flat else default
+        except SceneError:  # the file's own value was invalid: the override made it valid
+            old = REQUIRED
+        if old != values[key]:
+            told.append(f"{key}={_spell(values[key])}")
+    return tuple(told)
 
 
 def auto_end_time(rods: tuple[Rod, Rod], speed: float) -> float:
@@ -1247,9 +1308,8 @@ def scene_from_summary(
             return [restore(v) for v in d]
         return math.inf if d == "inf" else d
 
-    overrides = tuple(overrides)
-    scene = scene_from_dict(restore(values), overrides, source=source)
-    return dataclasses.replace(scene, overrides=last_per_key((*given, *overrides)))
+    scene = scene_from_dict(restore(values), tuple(overrides), source=source)
+    return dataclasses.replace(scene, overrides=last_per_key((*given, *scene.overrides)))
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

@@ -55,6 +55,29 @@ def test_a_scene_given_overrides_is_labelled_with_them(scene_with):
     assert again.speed == 3.0 and again.label == f"{s.label}, fe.axial_size=2e-3"
 
 
+@pytest.mark.parametrize(
+    "overrides, label",
+    [
+        (("simulation.end_time=4e-4",), "paper with simulation.end_time=4e-4"),
+        (("simulation.end_time=0.0004",), "paper with simulation.end_time=4e-4"),
+        (("simulation.end_time=4.0e-4", "impact.speed=2.197"), "paper with simulation.end_time=4e-4"),
+        (("impact.speed=2.197",), "paper"),
+        (("effects=['wave_response']", "fe.contact='kinematic'"), "paper"),
+        (("name=other",), "other"),
+        (("rod1.material.youngs_modulus=210e9", "rod2.material.yield_strength='none'"),
+         "paper with rod1.material.youngs_modulus=2.1e11, rod2.material.yield_strength=none"),
+        (("effects=['contact_patch']",), 'paper with effects=["contact_patch"]'),
+    ],
+)  # fmt: skip
+def test_one_run_has_one_label_whatever_the_spelling(overrides, label):
+    """A label lists the overrides that change a value, each spelled from its value (a fuzz: 4e-4, 0.0004 and
+    4.0e-4 with a speed equal to the file's were three labels of one run in one folder; the file's own value
+    given again labelled the plain folder's run as overridden); the name heads it. The spelling replays the run."""
+    sc = load_scene(PAPER, overrides)
+    assert sc.label == label
+    assert load_scene(PAPER, sc.overrides).as_dict() == {**sc.as_dict(), "name": load_scene(PAPER).name}
+
+
 def test_none_drops_an_optional_value_of_a_base_scene(scene_with, tmp_path):
     """TOML has no null: "none" unsets the paper scene's yield strength, so a soft material can be swapped in
     (before, the base's 2.2 GPa could not be removed and a 10 MPa rubber failed "yield_strength < E")."""
