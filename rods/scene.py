@@ -668,8 +668,21 @@ class Scene:
     @property
     def identity(self) -> dict[str, Any]:
         """How summaries name and replay this scene: ``scene`` (:attr:`label`), ``scene_overrides`` (what the label
-        lists) and ``stage_settings`` (the library's own overrides after them, :attr:`settings`)."""
-        return {"scene": self.label, "scene_overrides": list(self.overrides), "stage_settings": list(self.settings)}
+        lists), ``stage_settings`` (the library's own overrides after them, :attr:`settings`) and ``scene_file``
+        (:attr:`scene_file`)."""
+        return {
+            "scene": self.label,
+            "scene_overrides": list(self.overrides),
+            "stage_settings": list(self.settings),
+            "scene_file": self.scene_file,
+        }
+
+    @property
+    def scene_file(self) -> str | None:
+        """The absolute path of the scene file the scene was read from, None for one built otherwise (from a dict, a
+        run's summary): the owner of the scene's default output folder (rods.paper.data.check_owner)."""
+        p = Path(self.source) if self.source else None
+        return str(p.resolve()) if p is not None and p.suffix == ".toml" and p.is_file() else None
 
     @property
     def label(self) -> str:

@@ -973,3 +973,18 @@ def test_an_ascii_console_runs_a_scene_with_a_non_ascii_name(tmp_path):
     assert "sch\\xf6n" in p.stdout and json.loads((tmp_path / "o" / "summary.json").read_text())["scene"].startswith(
         "schön"
     )
+
+
+def test_a_default_folder_is_its_scene_files(tmp_path):
+    """A copy of paper.toml at 4 m/s that kept name = "paper" would write into the paper scene's default folder over
+    its run (a fuzz, 2026-12-07): refused naming --scene and the remedy; the paper file's own rerun still goes there."""
+    (tmp_path / "samename.toml").write_text(
+        f'base = "{SCENES / "paper.toml"}"\nname = "paper"\n[impact]\nspeed = 4.0\n'
+    )
+    (tmp_path / "output" / "global" / "paper").mkdir(parents=True)
+    plain = {"model": "fe-axisymmetric", "scene": "paper", "scene_file": str((SCENES / "paper.toml").resolve())}
+    (tmp_path / "output" / "global" / "paper" / "summary.json").write_text(json.dumps(plain))
+    words = ("--scene", "holds a run of another scene file of the name 'paper'", "give --out", "a name of its own")
+    refused(in_process("global.py", "--scene", "samename.toml", "--dry-run", cwd=tmp_path), *words)
+    ok = in_process("global.py", "--scene", str(SCENES / "paper.toml"), "--dry-run", cwd=tmp_path)
+    assert ok.returncode == 0 and "output/global/paper" in ok.stdout + ok.stderr

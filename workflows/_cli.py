@@ -228,12 +228,14 @@ def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
     """--out, or output/<model>/<scene folder> (rods.preflight.scene_folder: the scene's name, with a digest of its
     values where --set changed it); checked usable (rods.preflight) and, for a stage that writes a summary.json,
     not holding another kind of run's (rods.paper.data.check_reuse)."""
-    from rods.paper.data import check_reuse, stage_kind
+    from rods.paper.data import check_owner, check_reuse, stage_kind
 
     default = default_folder(model, scene, _overridden(args, scene))
     out = output_dir(args.out if args.out is not None else default)
     if (kind := stage_kind(model)) is not None:
         check_reuse(out, kind)
+    if args.out is None:  # a folder named by the scene's name: not another scene file's of that name
+        check_owner(out, scene)
     return out
 
 

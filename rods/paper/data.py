@@ -20,6 +20,7 @@ from rods.scene import Scene, SceneError, scene_from_summary, value_differences
 
 __all__ = [
     "check_driven_by",
+    "check_owner",
     "check_reuse",
     "driver_end",
     "parse_run",
@@ -76,6 +77,23 @@ def verify_folder(out: str | Path) -> bool:
     ``global-finer``, which no other entry point writes)."""
     p = Path(out)
     return (p / "global-finer").is_dir() or any(c.is_dir() for c in p.glob("*/global-finer"))
+
+
+def check_owner(out: str | Path, scene: Scene, flag: str = "--scene") -> None:
+    """Refuse (:class:`InputError` naming ``flag``) a scene's default output folder ``out`` that holds a run of
+    another scene file of the same name: the folder is named by the scene's name (rods.preflight.scene_folder), so
+    a copy of paper.toml at 4 m/s that kept ``name = "paper"`` wrote over the paper scene's run (a fuzz, 2026-12-07).
+    A rerun of the same file, edited or not, replaces its run as before; a run that recorded no scene file is not
+    checked."""
+    ours = scene.scene_file
+    try:
+        theirs = json.loads((Path(out) / "summary.json").read_text(encoding="utf-8")).get("scene_file")
+    except (OSError, ValueError, AttributeError):  # none, or not a run's: nothing to protect
+        return
+    if ours is None or theirs is None or ours == theirs:
+        return
+    why = f"its default folder {out} holds a run of another scene file of the name {scene.name!r} ({theirs})"
+    raise InputError(flag, ours, why, 'give --out, or give this scene file a name of its own (name = "...")')
 
 
 def check_reuse(out: str | Path, kind: str, flag: str = "--out") -> None:
