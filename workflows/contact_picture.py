@@ -25,6 +25,8 @@ def main(argv: list[str] | None = None) -> int:
 
     check_run(run, "--fields")  # the series is the run's of summary.json (else its scene would label another's)
     out = _cli.output_file(args.out, "--out")  # a prefix: OUT.png, OUT.json
+    if not _cli._is_rank0():  # a serial tool under mpirun: one picture, one line (every rank drew and printed it)
+        return 0
     out.parent.mkdir(parents=True, exist_ok=True)
     t = contact_picture(run, out)["time"]
     print(f"wrote {out.with_suffix('.png')} and {out.with_suffix('.json')} (t = {t:.6g} s)")

@@ -60,6 +60,7 @@ __all__ = [
     "XdmfSeries",
     "check_run",
     "contact_picture",
+    "damaged_file",
     "discard",
     "frame_count",
     "frame_schedule",
@@ -100,11 +101,43 @@ def series_scene(folder: str | Path) -> dict | None:
         return None
 
 
+def damaged_file(folder: str | Path) -> tuple[Path, str] | None:
+    """(the first file of the field series in ``folder`` that does not read, why) or None: fields.xdmf not XML or
+    naming no frame, or an HDF5 file it names (fields/mesh.h5, a frame) missing or unreadable (truncated, its
+    bytes damaged)."""
+    import xml.etree.ElementTree as ET
+
+    import h5py
+
+    folder = Path(folder)
+    xdmf = folder / "fields.xdmf"
+    try:
+        items = [e.text or "" for e in ET.parse(xdmf).getroot().iter("DataItem") if e.get("Format") == "HDF"]
+    except (ET.ParseError, OSError) as e:
+        return xdmf, f"is not a readable XDMF file ({type(e).__name__})"
+    names = dict.fromkeys(t.strip().split(":")[0] for t in items if t.strip())  # each file once, in order
+    if not names:
+        return xdmf, "names no mesh or frame"
+    for name in names:
+        f = folder / name
+        if not f.is_file():
+            return f, "is missing"
+        try:
+            with h5py.File(f, "r") as h:
+                for t in items:  # every dataset the XDMF reads from this file
+                    file, _, dataset = t.strip().partition(":")
+                    if file == name:
+                        h[dataset].shape  # noqa: B018  (reading the header finds a damaged object table)
+        except (OSError, KeyError, ValueError):
+            return f, "is not a readable HDF5 file (truncated or damaged)"
+    return None
+
+
 def check_run(folder: str | Path, what: str = "--fields") -> None:
-    """Refuse (:class:`InputError`, exit 2 at the entry points) a field series in ``folder`` that the
-    summary.json beside it does not describe: written by another run (another scene: an earlier run's series
-    that a later one left behind, the study's restart excepted), or with no record of its run (an older version's
-    files). Without a summary.json there is nothing to mislabel: accepted."""
+    """Refuse (:class:`InputError`, exit 2 at the entry points) a field series in ``folder`` that is damaged
+    (:func:`damaged_file`) or that the summary.json beside it does not describe: written by another run (another
+    scene: an earlier run's series that a later one left behind, the study's restart excepted), or with no record of
+    its run (an older version's files). Without a summary.json there is nothing to mislabel: accepted."""
     folder = Path(folder)
     remedy = "rerun this run with fields (fe.field_interval > 0), or give the folder of the run that wrote them"
     try:
@@ -114,6 +147,10 @@ def check_run(folder: str | Path, what: str = "--fields") -> None:
     except (OSError, ValueError) as e:
         raise InputError(what, folder, f"unreadable summary.json ({type(e).__name__})", remedy) from None
     ours = summary.get("scene_values") if isinstance(summary, dict) else None
+    if (damage := damaged_file(folder)) is not None:  # exit 1 with h5py's or the XML parser's words before (a fuzz)
+        path, why = damage
+        fix = "rerun the run with fields into an empty folder (a stopped one: --restart repairs its series)"
+        raise InputError(what, folder, f"its field series is damaged: {path.relative_to(folder)} {why}", fix)
     theirs = series_scene(folder)
     if theirs is None:
         raise InputError(what, folder, "its field series carries no record of the run that wrote it", remedy)
@@ -395,12 +432,18 @@ class FieldOutput:
 
 
 def read_fields(xdmf: str | Path) -> tuple[np.ndarray, np.ndarray, list[tuple[float, dict[str, np.ndarray]]]]:
-    """Points, cells and the frames [(t [s], field name -> point values)] of a ``fields.xdmf`` (meshio)."""
+    """Points, cells and the frames [(t [s], field name -> point values)] of a ``fields.xdmf`` (meshio); a series
+    whose data do not read (damage :func:`damaged_file` does not see: bytes inside a dataset) is refused as
+    :class:`InputError` naming its folder."""
     import meshio
 
-    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
-        points, cells = r.read_points_cells()
-        frames = [r.read_data(k)[:2] for k in range(r.num_steps)]
+    try:
+        with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
+            points, cells = r.read_points_cells()
+            frames = [r.read_data(k)[:2] for k in range(r.num_steps)]
+    except (OSError, KeyError, ValueError, IndexError, meshio.ReadError) as e:
+        why = f"its field series does not read ({type(e).__name__}: {e})"
+        raise InputError("--fields", Path(xdmf).parent, why, "rerun the run with fields into an empty folder") from None
     return points, cells[0].data, frames
 
 

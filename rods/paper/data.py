@@ -129,7 +129,7 @@ def read_summary(
     scene gives a table of differences between two scenes that says nothing), and with ``whole_contact`` its
     first contact ended before its end time (Table 3's global row is that contact's peak: a 20 µs global read
     -20%)."""
-    remedy = f"give the folder of a finished {' or '.join(kinds)} run"
+    remedy = f"give the folder of a finished {' or '.join(kinds)} run"  # "finished" takes no article
     d = input_dir(folder, files, flag, remedy)
     try:
         summary = json.loads((d / "summary.json").read_text(encoding="utf-8"))
@@ -142,7 +142,9 @@ def read_summary(
         raise InputError(flag, d, f"unreadable summary.json ({type(e).__name__}: {e})", "rerun that stage") from None
     if kind not in kinds:
         model = summary.get("model") if isinstance(summary, dict) else None
-        raise InputError(flag, d, f"a run of model {model!r} ({kind}), not a {' or '.join(kinds)} run", remedy)
+        article = "an" if kinds[0][0] in "aeiou" else "a"
+        why = f"a run of model {model!r} ({kind}), not {article} {' or '.join(kinds)} run"
+        raise InputError(flag, d, why, remedy)
     if summary.get("status") in STOPPED:  # a guard's or an interrupt's partial histories, not a result
         why = f"a stopped run (status {summary['status']!r}): its histories end where it stopped"
         raise InputError(

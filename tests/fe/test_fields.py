@@ -170,6 +170,26 @@ def test_a_run_afresh_leaves_no_earlier_series_and_the_picture_refuses_a_foreign
     with pytest.raises(InputError, match="no record"):
         check_run(old)
 
+    # a damaged series, each named by its file in one line (a fuzz: exit 1 with h5py's or the XML parser's words);
+    # the damage is found before the series is matched to its summary
+    def truncate(f, n: int) -> None:
+        f.write_bytes(f.read_bytes()[:n])
+
+    frame = sorted((out / "fields").glob("frame-*.h5"))[4].name
+    for damage, words in (
+        (lambda d: truncate(d / "fields" / frame, 1000), f"{frame} is not a readable HDF5"),
+        (lambda d: (d / "fields" / frame).unlink(), f"{frame} is missing"),
+        (lambda d: truncate(d / "fields" / "mesh.h5", 100), "mesh.h5 is not a readable HDF5"),
+        (lambda d: truncate(d / "fields.xdmf", 300), "fields.xdmf is not a readable XDMF"),
+        (lambda d: (d / "fields.xdmf").write_text("<Xdmf/>"), "fields.xdmf names no mesh or frame"),
+    ):
+        damaged = tmp_path / "damaged"
+        shutil.rmtree(damaged, ignore_errors=True)
+        shutil.copytree(out, damaged)
+        damage(damaged)
+        with pytest.raises(InputError, match=f"--fields.*its field series is damaged: .*{words}"):
+            check_run(damaged)
+
 
 class _Killed(Exception):
     """Stands for kill -9 right after a checkpoint is on disk."""
