@@ -29,6 +29,11 @@ def run(tmp_path, effects: str, *extra: str) -> tuple[subprocess.CompletedProces
 
 
 def test_wave_response_runs_analytical_and_global_only(tmp_path):
+    # an earlier study's products in the folder (a fields study's picture, a contact study's Table 3): this study
+    # does not write them, so they must not stand beside its own (a fuzz, 2026-12-07)
+    (tmp_path / "run" / "compare").mkdir(parents=True)
+    for name in ("contact-fields.png", "contact-fields.json", "table3.md", "fig4.md"):
+        (tmp_path / "run" / "compare" / name).write_text("an earlier study's")
     p, s = run(tmp_path, "['wave_response']")
     assert "plan for scene" in p.stdout and "submodel levels: none" in p.stdout
     assert set(s["stages"]) == {"analytical", "global", "compare"}

@@ -166,6 +166,8 @@ def run_study(
         )  # fmt: skip
     if p.submodel_levels:
         _submodels(scene, p, done, shared, out, comm, progress, log, restart)
+    if root:  # an earlier run's comparisons and pictures: this run writes those its plan asks for
+        _forget_products(out / "compare")
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
     waves = "wave_response" in p.effects and p.global_model
     if waves and root:
@@ -257,6 +259,25 @@ def _forget_stages(p: plan.Plan, out: Path, comm: Any, shared: bool) -> None:
         for folder in _stage_folders(p, shared):
             (out / folder / "summary.json").unlink(missing_ok=True)
     comm.Barrier()
+
+
+# what a study writes into its compare/ folder: Table 3 and Figs. 5c/6, Fig. 4, the contact picture
+COMPARE_PRODUCTS = (
+    *stages.COMPARISON_FILES,
+    "fig4.json",
+    "fig4.md",
+    "fig4.png",
+    "contact-fields.png",
+    "contact-fields.json",
+)
+
+
+def _forget_products(folder: Path) -> None:
+    """Remove an earlier run's :data:`COMPARE_PRODUCTS` from ``folder`` (rank 0) before this run writes its own: a
+    fresh 1.5 m/s study kept the 2.197 m/s fields study's contact picture beside its new Fig. 4 (a fuzz, 2026-12-07),
+    and a study planned without submodels would keep another's Table 3."""
+    for name in COMPARE_PRODUCTS:
+        (folder / name).unlink(missing_ok=True)
 
 
 def _precheck_restart(p: plan.Plan, out: Path, comm: Any, g: Scene | None, shared: bool) -> None:
