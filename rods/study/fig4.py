@@ -54,7 +54,12 @@ def check_whole_run(run: io.Run, scene: Scene, folder: str | Path, flag: str = "
     plateaus (a fuzz: a 0.3 ms global's average of one plateau sat beside the analytical model's of five,
     unremarked). A driving global (it carries the contact phase it stops after) is told to give the scene's own
     global; a study's own global records the cut beside its whole run and is Fig. 4's."""
-    end = scene_from_summary(run.summary["scene_values"]).end_time  # [s]
+    theirs = scene_from_summary(run.summary["scene_values"])
+    end = theirs.end_time  # [s]
+    last = float(run.history["time"][-1])  # [s] its history's last sample: at its end, unless damaged from outside
+    if last < end - 1.01 * theirs.output_interval:
+        why = f"its history.csv stops at {last:.3g} s, before its end time {end:.3g} s (cut short from outside)"
+        raise InputError(flag, folder, why, "rerun it")
     if end >= (1.0 - 1e-9) * scene.end_time:
         return
     if "contact_phase" in run.summary:

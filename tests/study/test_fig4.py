@@ -120,3 +120,8 @@ def test_only_whole_runs_are_compared(analytical):
     short.summary["contact_phase"] = 2.4e-4
     with pytest.raises(InputError, match="a driving global .*give the scene's own global run"):
         fig4.check_whole_run(short, sc, "f")
+    cut = copy.deepcopy(fe)  # its summary's end, its history cut short (damaged from outside)
+    keep = cut.history["time"] <= 7.4e-5
+    cut.history.update({k: v[keep] for k, v in cut.history.items()})
+    with pytest.raises(InputError, match="its history.csv stops at 7.4e-05 s, before its end time 0.0015 s"):
+        fig4.check_whole_run(cut, sc, "f")

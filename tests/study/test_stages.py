@@ -8,11 +8,12 @@ from rods import io
 from rods.study.stages import GLOBAL_IGNORES, SUBMODEL_IGNORES, finished
 
 
-def _finished_run(folder, scene, status="ok"):
+def _finished_run(folder, scene, status="ok", until=None):
     folder.mkdir(parents=True, exist_ok=True)
     summary = dict.fromkeys(io.SUMMARY_KEYS, 0.0) | {"model": "global", "scene": scene.label, "status": status}
     io.write_summary(folder / "summary.json", summary | {"scene_values": scene.as_dict()})
-    io.write_history(folder / "history.csv", {"time": [0.0, 1e-6], "contact_force": [0.0, 1.0]}, {"time": "s"})
+    end = scene.end_time if until is None else until  # [s] the history's last sample
+    io.write_history(folder / "history.csv", {"time": [0.0, end], "contact_force": [0.0, 1.0]}, {"time": "s"})
 
 
 def test_a_restart_keeps_a_stage_finished_for_the_same_scene_only(scene_with, tmp_path):
@@ -36,6 +37,9 @@ def test_a_restart_keeps_a_stage_finished_for_the_same_scene_only(scene_with, tm
     assert finished("global", tmp_path / "i", sc, MPI.COMM_SELF) is None
     (tmp_path / "g" / "history.csv").unlink()
     assert finished("global", tmp_path / "g", sc, MPI.COMM_SELF) is None
+    # a history cut short (damaged from outside) is not a finished run: Fig. 4 read it over its first 74 µs (a fuzz)
+    _finished_run(tmp_path / "short", sc, until=7.4e-5)
+    assert finished("global", tmp_path / "short", sc, MPI.COMM_SELF) is None
 
 
 def test_cut_options_are_checked_by_the_library_as_by_global_py():
