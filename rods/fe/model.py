@@ -302,6 +302,8 @@ class ExplicitModel:
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
             raise failure
+        if out is not None:  # finished: its checkpoint resumes nothing (a --restart reran from it, "ok"; disk)
+            checkpoint.discard(out, self.comm)
         return fe_result(self, recorder, recorder.k, self.steps + 1, wall_loop)
 
     def stepper(self) -> CentralDifference:

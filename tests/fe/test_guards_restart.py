@@ -96,6 +96,8 @@ def test_killed_run_resumes_from_its_checkpoint_with_the_same_histories(tmp_path
     )
     assert r.returncode == 0, r.stderr[-2000:]
     assert "restart from the checkpoint of step" in r.stderr
+    # finished: its checkpoint resumes nothing, so it is gone (a fuzz: a later --restart reran from it, "ok")
+    assert not (cut / "checkpoint.json").exists() and not list(cut.glob("checkpoint-*.npz"))
     a, b = read_history(ref / "history.csv"), read_history(cut / "history.csv")
     assert set(a) == set(b)
     for key in a:
@@ -120,12 +122,17 @@ def test_inverted_cells_are_found_and_rigid_motion_is_not(scene_with, kind):
         Guard(m.dt, m.dt_critical).check_inverted(7, 7 * m.dt, m.inverted_cells(u))
 
 
-def test_checkpoint_interval_below_the_step_checkpoints_every_step(scene_with, tmp_path):
+def test_checkpoint_interval_below_the_step_checkpoints_every_step(scene_with, tmp_path, monkeypatch):
     """fe.checkpoint_interval under Δt (in range: any positive interval) checkpoints every step, not a division
-    by zero (found by tests/test_fuzz_cli.py with 1e-9 s)."""
+    by zero (found by tests/test_fuzz_cli.py with 1e-9 s); the finished run's last checkpoint is removed."""
+    from rods.fe import checkpoint
+
+    saved, save = [], checkpoint.save
+    monkeypatch.setattr(checkpoint, "save", lambda out, step, *a, **k: (saved.append(step), save(out, step, *a, **k)))
     m = ExplicitModel(scene_with(*COARSE[:2], "simulation.end_time=2e-6", "fe.checkpoint_interval=1e-9"))
     res = m.run(out=tmp_path)
-    assert res.summary["steps"] == m.steps and list(tmp_path.glob("*checkpoint*"))
+    assert res.summary["steps"] == m.steps and saved == list(range(1, m.steps))  # every step before the last
+    assert not list(tmp_path.glob("*checkpoint*"))
 
 
 def test_inverted_cells_counted_on_a_device_as_on_the_host(scene_with):
