@@ -576,7 +576,7 @@ def contact_picture(run: str | Path, out: str | Path) -> dict:
     data = {
         "png": out.with_suffix(".png").name,
         "time": float(t),
-        "peak_contact_pressure": float(d["contact_pressure"].max()),
+        "peak_contact_pressure": float(d["contact_pressure"].max()),  # either tip face's (summary.json: Rod 1's)
         "von_mises_max": float(d["von_mises"].max()),
         "model": s["model"],
         "scene": s["scene"],

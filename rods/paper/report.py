@@ -470,8 +470,8 @@ def contact_fields_section(cf: dict[str, Any]) -> list[str]:
         f"The {cf['model']} model of scene `{cf['scene']}` (mesh {cf['mesh']['radial_size'] * 1e3:.4g} mm radial x "
         f"{cf['mesh']['tip_axial_size'] * 1e3:.4g} mm axial at the tips), fields every "
         f"{cf['field_interval'] * 1e6:.3g} µs: the frame of the largest contact pressure is t = "
-        f"{cf['time'] * 1e6:.2f} µs, with {cf['peak_contact_pressure'] / 1e9:.3g} GPa on the tip nodes and "
-        f"von Mises up to {cf['von_mises_max'] / 1e6:.0f} MPa (nodal averages). Left: von Mises on the deformed "
+        f"{cf['time'] * 1e6:.2f} µs, with {cf['peak_contact_pressure'] / 1e9:.3g} GPa on the tip faces (either rod) "
+        f"and von Mises up to {cf['von_mises_max'] / 1e6:.0f} MPa (nodal averages). Left: von Mises on the deformed "
         "mesh (deformation exaggerated, factor in the title); right: the contact pressure, a surface traction, along "
         "the two tip faces over the grey mesh.",
         "",
