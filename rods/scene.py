@@ -1379,6 +1379,8 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     _merge(merged, data)
     if "name" not in data:  # its own name, not its base's: a derived scene named "paper" ran into the paper's
         merged["name"] = p.stem  # folders and labels (a fuzz, 2026-12-06)
+    if "description" not in data and merged.get("description"):  # the base's words may not be this scene's (a 4 m/s
+        merged["description"] = f"derived from {bp.name}: {merged['description']}"  # copy kept "at 2.197 m/s")
     return merged
 
 

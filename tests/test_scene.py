@@ -797,3 +797,13 @@ def test_the_cut_band_records_cover_the_recorded_time_and_no_step_past_the_run(e
     assert (n - 1) * every * dt >= until - 1e-15 and (n - 2) * every * dt < until  # covers it, one record past
     assert cut_records(sc, dt, steps, 1.0, every) == steps // every + 1  # past the end: capped at the run's steps
     assert cut_record_end(sc, 1.0) == sc.end_time
+
+
+def test_a_derived_scene_does_not_take_its_bases_words_as_its_own(tmp_path):
+    """A scene file with a base and no description of its own says it is derived (a fuzz: a 4 m/s copy of the paper
+    scene kept "at 2.197 m/s" in its scene_values); one with its own keeps it."""
+    (tmp_path / "fast.toml").write_text(f'base = "{PAPER}"\n[impact]\nspeed = 4.0\n')
+    words = load_scene(PAPER).values["description"]
+    assert load_scene(tmp_path / "fast.toml").values["description"] == f"derived from paper.toml: {words}"
+    (tmp_path / "own.toml").write_text(f'base = "{PAPER}"\ndescription = "mine"\n')
+    assert load_scene(tmp_path / "own.toml").values["description"] == "mine"

@@ -128,7 +128,8 @@ def parser(
 def planning(analytical: Any) -> str:
     """The line said before a plan runs the analytical model to its first contact (its cost, ``analytical``: a
     rods.cost.Cost, the whole run's, an upper bound), so a long planning is announced rather than silent."""
-    return f"planning: the analytical model to its first contact (at most about {analytical.wall_time:.3g} s)"
+    limit = f"at most about {analytical.wall_time:.3g} s of wall time"  # not a simulated time (a fuzz read it so)
+    return f"planning: the analytical model to its first contact ({limit})"
 
 
 def outlook(scene: Scene, log: Callable[..., None] = print, wave: bool = True) -> None:
