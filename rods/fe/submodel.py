@@ -30,6 +30,7 @@ from mpi4py import MPI
 from rods import hertz
 from rods.fe import forms
 from rods.fe.cut import CutDriver
+from rods.fe.layout import cap_depth
 from rods.fe.model import ExplicitModel, FEResult
 from rods.fe.traction import TractionDriver
 from rods.scene import (
@@ -251,9 +252,8 @@ def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str,
         P = x_expr.eval(msh, cells).reshape(cells.size, n_g, gdim)
     else:
         S, P = np.zeros((0, n_g)), np.zeros((0, n_g, gdim))
-    rk = model.scene.rod1.tip_radius
     r1, z = _rod1_frame(model, P)  # the depth below the tip's surface, in Rod 1's own frame
-    zs = np.zeros_like(r1) if math.isinf(rk) else -(rk - np.sqrt(rk * rk - r1 * r1))
+    zs = -np.asarray(cap_depth(r1, model.scene.rod1.tip_radius))  # [m] the surface, the meshes' own profile
     depth = zs - z
     if model.kind == "axisymmetric":
         r = r1
