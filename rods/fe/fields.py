@@ -177,12 +177,13 @@ def frame_count(interval: float, dt: float, steps: int) -> int:
 
 
 def frame_schedule(interval: float, dt: float, steps: int) -> dict[int, list[tuple[int, float]]]:
-    """Step n -> [(frame index k, time t_k [s])]: t_k = k x ``interval`` <= steps Δt at n = round(t_k/Δt),
+    """Step n -> [(frame index k, time t_k [s])]: t_k = k x ``interval`` (to 14 digits: a product's last-digit noise
+    dropped) <= steps Δt at n = round(t_k/Δt),
     then the final state (k = last + 1, t = steps Δt) where :func:`_requested` says so."""
     n_req, final = _requested(interval, dt, steps)
     sched: dict[int, list[tuple[int, float]]] = {}
     for k in range(n_req + 1):
-        t = k * interval
+        t = float(f"{k * interval:.14g}")  # [s] 6e-05, not k x interval's 6.000000000000001e-05 (a fuzz)
         sched.setdefault(min(steps, round(t / dt)), []).append((k, t))
     if final:
         sched.setdefault(steps, []).append((n_req + 1, steps * dt))

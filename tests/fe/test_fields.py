@@ -46,6 +46,9 @@ def test_schedule_requested_times_at_the_nearest_step_and_the_final_state():
     assert [(n, k) for n, fr in sorted(sched.items()) for k, _ in fr] == [(0, 0), (3, 1), (7, 2), (10, 3)]
     for args in [(1e-6, 0.3e-6, 10), (1e-6, 0.3e-6, 11), (1e-6, 0.301e-6, 10), (5e-6, 3.3e-8, 7607), (1e-9, 1e-7, 5)]:
         assert frame_count(*args) == sum(map(len, frame_schedule(*args).values())), args  # what rods.cost counts
+    # the times a reader sees are the requested ones, not a product's last-digit noise (3 x 2e-5 = 6.000000000000001e-5)
+    times = [t for fr in frame_schedule(2e-5, 1e-7, 1000).values() for _, t in fr]
+    assert times[3] == 6e-5 and times[:6] == [0.0, 2e-5, 4e-5, 6e-5, 8e-5, 1e-4]
 
 
 def test_every_field_on_one_grid_at_the_requested_times(tmp_path):
