@@ -153,9 +153,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     what = f"the submodel {level}"
     own = _own_settings(scene, h, args, end, dt)  # its contact law and outputs, as it will run
     remedy = "a larger --size" if args.size else "a coarser --level"
-    c = cost.fe_cost(
-        scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt, remedy=remedy
-    )
+    record = (gdir / "cut.h5").stat().st_size  # [B] every rank reads it whole
+    c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt,
+                     remedy=remedy, cut_record_bytes=record)  # fmt: skip
     if args.restart:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
