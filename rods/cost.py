@@ -866,6 +866,28 @@ def _analytical_memory_remedy(cost: Cost) -> str:
     return f"{steps}, a larger simulation.output_interval or a shorter end_time"
 
 
+def busy_note(ranks: int, load: float | None = None, cores: int | None = None) -> str:
+    """A line for the plan where other work already holds the cores (``load``: the 1-minute load average, ``cores``:
+    those this process may use; default the machine's): the estimate is an idle machine's, and beside other jobs a
+    run took 3-11 x it on 2 ranks (a fuzz at load 3.4-6.9 on 2 cores, ranks spin-waiting on each other); empty
+    where the load leaves this run's ranks their cores."""
+    import os
+
+    if load is None:
+        try:
+            load = os.getloadavg()[0]
+        except OSError:  # no load average on this platform: nothing to say
+            return ""
+    if cores is None:
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if load + ranks <= cores + 0.5:
+        return ""
+    return (
+        f"note: this machine is busy (load average {load:.1f} on {cores} cores, {ranks} rank(s) of this run on "
+        "top): the wall time above is an idle machine's estimate; beside other jobs a run can take several times it"
+    )
+
+
 def check(cost: Cost, force: bool = False) -> Cost:
     """Refuse ``cost`` above the available memory (always) or the step, work, frame, value and time budgets (unless
     ``force``)."""

@@ -1067,10 +1067,11 @@ def _spell_float(x: float) -> str:
 
 
 def _told(before: Mapping[str, Any], overrides: Sequence[str], values: Mapping[str, Any]) -> tuple[str, ...]:
-    """The overrides a scene's label lists (:attr:`Scene.overrides`): the last of each key, only where it changes the
-    value ``before`` them (the scene file's, or the schema default where the file sets none: a run given the file's
-    own value is the file's scene, as its folder is), each spelled from its validated value in ``values``
-    (:func:`_spell`); ``name`` is left out (it heads the label) and stations are kept as given."""
+    """The overrides a scene's label lists (:attr:`Scene.overrides`), in key order (:func:`by_key`): the last of each
+    key, only where it changes the value ``before`` them (the scene file's, or the schema default where the file
+    sets none: a run given the file's own value is the file's scene, as its folder is), each spelled from its
+    validated value in ``values`` (:func:`_spell`); ``name`` is left out (it heads the label) and stations are kept
+    as given."""
     flat = _flatten({k: v for k, v in before.items() if k != "station"})
     told = []
     for text in last_per_key(overrides):
@@ -1088,7 +1089,13 @@ def _told(before: Mapping[str, Any], overrides: Sequence[str], values: Mapping[s
             old = REQUIRED
         if old != values[key]:
             told.append(f"{key}={_spell(values[key])}")
-    return tuple(told)
+    return by_key(told)
+
+
+def by_key(overrides: Iterable[str]) -> tuple[str, ...]:
+    """``KEY=VALUE`` overrides in the order of their keys: one label whatever order they were given in (a fuzz:
+    `--set impact.speed=4.0 --set fe.dt_fraction=0.7` and the reverse named one run two ways)."""
+    return tuple(sorted(overrides, key=lambda text: text.split("=", 1)[0].strip()))
 
 
 def auto_end_time(rods: tuple[Rod, Rod], speed: float) -> float:
@@ -1322,7 +1329,7 @@ def scene_from_summary(
         return math.inf if d == "inf" else d
 
     scene = scene_from_dict(restore(values), tuple(overrides), source=source)
-    return dataclasses.replace(scene, overrides=last_per_key((*given, *scene.overrides)))
+    return dataclasses.replace(scene, overrides=by_key(last_per_key((*given, *scene.overrides))))
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

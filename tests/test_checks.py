@@ -748,19 +748,19 @@ def test_local_quadratic_refuses_a_window_it_cannot_fit():
             checks.local_quadratic(np.zeros(size), bad_n)
 
 
-def test_a_driving_globals_plateau_warning_says_why_it_has_few(scene_with):
-    """A driver runs to the contact phase, which the library chose: its plateau warning says the wave response is
-    the scene's own global's (it named simulation.end_time = 'auto', a remedy the driver's user never had); a run
-    the user ended that early keeps the end_time remedy."""
+def test_a_driving_global_has_no_midpoint_keys(scene_with):
+    """A driver runs to the contact phase, which the library chose, before most of the midpoint's plateaus: its
+    midpoint keys are null, as a submodel's, with no plateau warning (a driver alone read "warnings" for a check of
+    what it never ran; it named simulation.end_time = 'auto' once, a remedy its user never had); a run the user
+    ended that early keeps its value and the end_time remedy."""
     sc = scene_with("simulation.end_time=2.5e-4")  # the paper scene's contact phase: 2 of 5 plateaus
     r = simulate(sc)
     own = checks.apply(dict(r.summary), r.history, sc, sc.end_time)
     driver = checks.apply(dict(r.summary), r.history, sc, sc.end_time, driver=True)
     [mine] = [w for w in own["warnings"] if w.startswith("midpoint_peak_speed")]
-    [theirs] = [w for w in driver["warnings"] if w.startswith("midpoint_peak_speed")]
-    assert "simulation.end_time = 'auto'" in mine and "end_time" not in theirs
-    assert "contact phase only (to 250 µs)" in theirs and "without --driver" in theirs
-    assert driver["midpoint_peak_speed"] == own["midpoint_peak_speed"]  # the value stays, said for what it is
+    assert "simulation.end_time = 'auto'" in mine and own["midpoint_peak_speed"] > 0
+    assert not [w for w in driver["warnings"] if w.startswith("midpoint_peak_speed")]
+    assert driver["midpoint_peak_speed"] is None and driver["midpoint_peak_strain"] is None
 
 
 def test_the_analytical_model_of_a_misaligned_impact_says_it_is_centric(scene_with):

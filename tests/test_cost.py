@@ -744,3 +744,12 @@ def test_a_refused_3d_run_names_its_symmetric_twin(scene_with, extra, named):
     if named:
         with pytest.raises(InputError, match=named.replace("'", ".")):  # 404 GB on the full model
             cost.check(c)
+
+
+def test_a_busy_machine_is_said_beside_the_estimate():
+    """The plan's time is an idle machine's: where the load leaves this run's ranks no free cores, the plan says so
+    (a fuzz measured 3-11 x the estimate on 2 ranks at load 3.4-6.9 on 2 cores); with their cores free, nothing."""
+    assert cost.busy_note(2, load=0.3, cores=2) == "" and cost.busy_note(1, load=0.9, cores=2) == ""
+    note = cost.busy_note(2, load=5.9, cores=2)
+    assert note.startswith("note: this machine is busy (load average 5.9 on 2 cores") and "several times" in note
+    assert cost.busy_note(2, load=1.0, cores=16) == ""

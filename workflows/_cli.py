@@ -161,6 +161,8 @@ def afford(
         log(c.describe())
     if line := cost.total(calibrated):  # several stages: their sum, and the one that is most of it
         log(line)
+    if note := cost.busy_note(max((c.ranks for c in costs), default=1)):  # the load is this machine's, now
+        log(note)
     if getattr(args, "dry_run", False):
         unsettled = " as far as the plan can tell (the caveat above)" if any(c.caveat for c in costs) else ""
         log(f"dry run: the input and the output folder are valid{unsettled}; nothing was run or written")
