@@ -643,10 +643,16 @@ def patch_warning(summary: Mapping[str, Any], scene: Any = None) -> str | None:
             "--axial-size) to the radial one"
         )
     if scene is not None and scene["fe.kind"] == "3d" and 2 * h / a > RING_STEP_OK:
+        # a misaligned impact has no axisymmetric model (it refuses one): its finer 3D submodel levels (a fuzz)
+        where = (
+            "from a finer 3D submodel level (effects contact_patch, submodel.levels)"
+            if scene.misaligned
+            else "from the axisymmetric model (the impact is centric)"
+        )
         return (
             f"contact_area: the 3D patch is counted in whole node rings, one ring 2h/a = {2 * h / a:.0%} of its area "
             f"(h = {h * 1e3:.3g} mm, a = {a * 1e3:.3g} mm): its radius, area and pressure are the mesh's; take them "
-            "from the axisymmetric model where the impact is centric"
+            f"{where}"
         )
     return None
 

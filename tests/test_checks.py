@@ -163,7 +163,11 @@ def test_an_unresolved_patch_cannot_certify_itself_and_3d_counts_node_rings(scen
     assert "1.99 elements" in checks.patch_warning({"contact_radius": 0.4975e-3, "mesh": {"radial_size": 0.25e-3}})
     paper = {"contact_radius": 1.09e-3, "peak_contact_force": 5559.0, "mesh": {"radial_size": 0.25e-3}}
     assert checks.patch_warning(paper, scene_with()) is None
-    assert "node rings" in checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=quarter"))
+    centric = checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=quarter"))
+    assert "node rings" in centric and "from the axisymmetric model" in centric
+    # a misaligned impact has no axisymmetric model: its remedy is a finer 3D submodel level (a fuzz)
+    offset = checks.patch_warning(paper, scene_with("fe.kind=3d", "fe.symmetry=half", "impact.offset=2e-3"))
+    assert "node rings" in offset and "finer 3D submodel level" in offset and "axisymmetric" not in offset
 
 
 def test_an_output_interval_that_samples_the_pulse_is_not_ok(scene_with):
