@@ -191,7 +191,7 @@ def test_a_dry_run_with_a_step_the_set_up_decides_says_so(tmp_path):
     args = ["--set", "fe.dt=5e-8", "--set", "simulation.end_time=2e-5", "--dry-run", "--out", "o"]
     p = in_process("global.py", *args, cwd=tmp_path)
     assert p.returncode == 0, p.stderr[-2000:]
-    lines = p.stdout.strip().splitlines()
+    lines = [ln for ln in p.stdout.strip().splitlines() if not ln.startswith("note: this machine is busy")]
     assert "fe.dt = 5e-08 s is above the estimated stable limit" in lines[-2]
     assert lines[-1].startswith("dry run: the input and the output folder are valid as far as the plan can tell")
     assert not (tmp_path / "o").exists()

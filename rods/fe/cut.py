@@ -40,6 +40,7 @@ run (balance closes to O(Δt): ~1e-3 on the tests' meshes).
 from __future__ import annotations
 
 import json
+import math
 import time
 import uuid
 from pathlib import Path
@@ -68,6 +69,7 @@ __all__ = [
     "cut_space",
     "cut_weights",
     "node_colouring",
+    "read_band",
     "read_cut",
     "record_products",
     "recorded_until",
@@ -245,6 +247,15 @@ def read_cut(path: Path) -> dict[str, Any]:
     return d
 
 
+def read_band(path: Path, model: ExplicitModel) -> dict[str, Any]:
+    """The cut record at ``path`` (:func:`read_cut`) as ``model`` (a submodel) reads it: in 3D its band's nodes
+    mapped onto the model's sections (:func:`match_sections`)."""
+    d = read_cut(path)
+    if int(d["gdim"]) == 3:  # the two O-grids' rims at their own radii
+        d["nodes"] = match_sections(d["nodes"], json.loads(d["scene_values"]), model)
+    return d
+
+
 def band_space(d: dict[str, Any], comm: MPI.Comm) -> tuple[dolfinx.fem.FunctionSpace, np.ndarray]:
     """The recorded band as a P1 space on ``comm`` (rank 0 holds the input) and the band node of each dof."""
     gdim = int(d["gdim"])
@@ -314,6 +325,31 @@ def record_products(A: scipy.sparse.spmatrix, U: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray((A @ U.reshape(n_rec, n_nodes * gdim).T).T)
 
 
+def match_sections(nodes: np.ndarray, recorded: dict[str, Any], model: ExplicitModel) -> np.ndarray:
+    """A 3D band's nodes [m] (the recording global's, its scene values ``recorded``) with each rod's section scaled
+    about the rod's axis from the global's rim radius onto ``model``'s (rods.fe.mesh3d.section_radius: each O-grid
+    puts its rim where its polygon holds the rod's area, at a radius that depends on its size), so that the two
+    meshes' sections coincide at the rim: a submodel coarser across than its global had rim nodes outside the band.
+    Rod 1's axis is its placed one (rods.fe.mesh3d.Placement), Rod 2's the z axis; the band's Rod-1 nodes are those
+    at z < 0 (its cut plane at z = -L_s)."""
+    from rods.fe.mesh3d import section_radius
+
+    p, sc = model.rm.placement, model.scene
+    axes = (
+        (np.array([p.offset, 0.0, p.dz]), np.array([math.sin(p.tilt), 0.0, math.cos(p.tilt)])),
+        (np.zeros(3), np.array([0.0, 0.0, 1.0])),
+    )
+    out = np.array(nodes, dtype=float, copy=True)
+    for k, (rod, (c, a)) in enumerate(zip(sc.rods, axes, strict=True), start=1):
+        R = rod.diameter / 2  # [m]
+        ratio = section_radius(R, sc["fe.radial_size"]) / section_radius(R, recorded["fe"]["radial_size"])
+        on = out[:, 2] < 0.0 if k == 1 else out[:, 2] >= 0.0
+        rel = out[on] - c
+        along = rel @ a
+        out[on] = c + along[:, None] * a + ratio * (rel - along[:, None] * a)
+    return out
+
+
 def cut_weights(
     V0, nodes0, cut_cells, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, tol: float
 ) -> scipy.sparse.csr_matrix:
@@ -361,7 +397,7 @@ class CutDriver:
 
     def __init__(self, model: ExplicitModel, cut_file: str | Path, tol: float = INTERPOLATION_TOL):
         comm = model.comm
-        d = read_cut(Path(cut_file))  # every rank reads (small, read-only)
+        d = read_band(Path(cut_file), model)  # every rank reads (small, read-only)
         self.times, self.band_u = d["times"], d["u"]  # (n_rec,), (n_rec, n_nodes, gdim): the set-up's only
         # the last step may end past the record by less than one record spacing or one submodel step (a submodel
         # step longer than the global's: a kinematic submodel under a penalty global): CutDriver.at extrapolates

@@ -110,7 +110,7 @@ def cut_force_operator(
     model: ExplicitModel, d: dict, tol: float = INTERPOLATION_TOL
 ) -> tuple[scipy.sparse.csr_matrix, np.ndarray, np.ndarray]:
     """T (owned cut entries x band entries) with f_cut = T U_band.ravel() [N], the cut nodes (parents) and their
-    tributary areas A_i [m^2], for the band record ``d`` (:func:`rods.fe.cut.read_cut`)."""
+    tributary areas A_i [m^2], for the band record ``d`` as the model reads it (:func:`rods.fe.cut.read_band`)."""
     Vb, node_of_dof = band_space(d, model.comm)
     V0, nodes0, cut_cells, cut_nodes = cut_space(model)
     n_nodes = d["nodes"].shape[0]

@@ -98,15 +98,14 @@ def test_mesh_cells_and_blocks(model):
 
 def test_lumped_mass_positive_and_totals(model):
     """Row-sum lumped masses are positive (on the axis too) and sum to each rod's mass: Rod 2 a cylinder on
-    the section (3D: the polygon with 4 n_core vertices on the circle), Rod 1 the cylinder less the cap
-    height plus the spherical cap (axisymmetric: meshed with straight chords, rel 1e-4)."""
+    the section (3D: the polygon of 4 n_core rim nodes placed to hold the circle's area), Rod 1 the cylinder less
+    the cap height plus the spherical cap (axisymmetric: meshed with straight chords, rel 1e-4)."""
     sc = model.scene
     assert np.all(model.mass > 0)
     if model.kind == "axisymmetric":
         assert model.axis_r.size > 0 and np.all(model.mass[model.axis_r] > 0)  # row-sum keeps axis nodes
     R = sc.rod2.diameter / 2
-    N = 4 * model.rm.n_core if model.kind == "3d" else None
-    section = N / 2 * R**2 * math.sin(2 * math.pi / N) if N else math.pi * R**2
+    section = math.pi * R**2  # 3D: the polygon of 4 n_core rim nodes at rods.fe.mesh3d.area_radius holds it
     r, h = sc.rod1.tip_radius, sc.rod1.cap_height
     vol = math.pi * R**2 * (sc.rod1.length - h) + math.pi * h**2 * (3 * r - h) / 3
     for comp in range(model.bs):

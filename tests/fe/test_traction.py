@@ -10,7 +10,7 @@ import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
 import numpy as np
 import pytest
 
-from rods.fe.cut import read_cut
+from rods.fe.cut import read_band
 from rods.fe.model import ExplicitModel
 from rods.fe.submodel import run_submodel, submodel_scene
 from rods.fe.traction import cut_force_operator
@@ -63,7 +63,7 @@ def test_cut_forces_of_a_uniform_uniaxial_stress(tiny, tmp_path_factory, kind):
 
     sc, _, _, path = tiny if kind == "axisymmetric" else recorded_global(TINY_3D, tmp_path_factory, "global-3d")
     model = ExplicitModel(submodel_scene(sc, 1.5e-3))  # a size nesting with neither global size
-    d = read_cut(path)
+    d = read_band(path, model)  # in 3D its sections mapped onto the model's (rods.fe.cut.match_sections)
     T, cut, _ = cut_force_operator(model, d)
     X, ε, gdim = d["nodes"], 1e-4, model.bs  # [m], [-]
     xc = model.V.tabulate_dof_coordinates()[cut]
@@ -200,7 +200,7 @@ def test_coloured_cut_operators_equal_the_per_node_ones(tiny, tmp_path_factory, 
 
     sc, _, _, path = tiny if kind == "axisymmetric" else recorded_global(TINY_3D, tmp_path_factory, "global-3d")
     model = ExplicitModel(submodel_scene(sc, 1.5e-3))
-    d = read_cut(path)
+    d = read_band(path, model)
     W_ref, T_ref = _per_node_operators(model, d)
     W = CutDriver(model, path).W
     T, _, _ = cut_force_operator(model, d)
