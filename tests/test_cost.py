@@ -753,3 +753,14 @@ def test_a_busy_machine_is_said_beside_the_estimate():
     note = cost.busy_note(2, load=5.9, cores=2)
     assert note.startswith("note: this machine is busy (load average 5.9 on 2 cores") and "several times" in note
     assert cost.busy_note(2, load=1.0, cores=16) == ""
+
+
+def test_a_step_near_the_penalty_switching_estimate_is_valid_only_as_far_as_the_plan_can_tell(scene_with):
+    """The switching limit's estimate read 4% above the set-up's exact one (a fuzz: 1.12e-8 s passed the dry run as
+    "valid", the set-up refused it): a given fe.dt within cost.SWITCHING_CAVEAT of it carries the plan's caveat; one
+    well below it does not."""
+    sc = scene_with("fe.contact='penalty'", "simulation.end_time=2e-5")
+    switching = cost._step_limits(sc, *cost._fe_mesh(sc, None, None)[0], None)[1]  # [s] the plan's estimate
+    near = cost.fe_cost(sc.with_overrides(f"fe.dt={0.98 * switching!r}"))
+    assert "switching limit" in near.caveat and "refuses a step above it" in near.caveat
+    assert cost.fe_cost(sc.with_overrides(f"fe.dt={0.5 * switching!r}")).caveat == ""
