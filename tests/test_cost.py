@@ -179,7 +179,9 @@ def test_a_step_far_above_the_stable_limit_is_refused_before_the_set_up(scene_wi
     between = cost.fe_cost(sc.with_overrides(f"fe.dt={1.5 * estimate!r}"))
     assert f"fe.dt = {1.5 * estimate:.3g} s is above the estimated stable limit {estimate:.3g} s" in between.caveat
     assert between.describe().endswith(between.caveat) and cost.fe_cost(sc).caveat == ""
-    assert cost.fe_cost(sc.with_overrides(f"fe.dt={0.99 * estimate!r}")).caveat == ""
+    # just below it: valid, but for the penalty's switching estimate, which can err high (SWITCHING_CAVEAT)
+    below = cost.fe_cost(sc.with_overrides(f"fe.dt={0.99 * estimate!r}")).caveat
+    assert ("switching limit" in below) if "fe.contact=penalty" in extra else below == ""
 
 
 def test_a_dry_run_with_a_step_the_set_up_decides_says_so(tmp_path):
