@@ -270,8 +270,14 @@ class Cost:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
         machine = "" if self.speed is None else f" (this machine's probed rate {self.speed:.2f} x the reference's)"
         caveat = f"; {self.caveat}" if self.caveat else ""
+        # the analytical model's: the solver steps a stiff contact forces (analytical_steps), not all its steps
+        mesh = (
+            f"{self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps"
+            if self.dofs
+            else f"{math.ceil(self.steps):.3g} solver steps the stiff contact forces"
+        )
         return (
-            f"cost of {self.what}: {self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps, "
+            f"cost of {self.what}: {mesh}, "
             f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, memory "
             f"{self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}{machine}"
             f"{caveat}"
