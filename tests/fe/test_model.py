@@ -306,9 +306,11 @@ def test_summary_against_analytical(model, result):
         pytest.skip("the 3D coarse model has short rods")
     s = result.summary
     a = analytical.simulate(model.scene)
-    assert s["peak_contact_force"] == pytest.approx(a.summary["peak_contact_force"], rel=0.02)
-    assert abs(s["contact_duration"] - a.summary["contact_duration"]) < 20e-6  # coarse 4 mm mesh
-    assert s["midpoint_peak_strain"] == pytest.approx(a.summary["midpoint_peak_strain"], rel=0.05)
+    # measured on this coarse mesh: +0.38%, -0.14 µs, +0.57%; the duration is the contact's (Rod 1's tip radius
+    # doubled or halved moved it by -1.6% and +2.3%, which the old 20 µs bound let pass: a review)
+    assert s["peak_contact_force"] == pytest.approx(a.summary["peak_contact_force"], rel=0.01)
+    assert abs(s["contact_duration"] - a.summary["contact_duration"]) < 1e-6  # [s]
+    assert s["midpoint_peak_strain"] == pytest.approx(a.summary["midpoint_peak_strain"], rel=0.015)
 
 
 def _graded_or_uniform(base: list[str], mode: str) -> tuple[int, dict, np.ndarray]:
@@ -537,8 +539,9 @@ def test_offset_impact(model, result):
     # the +x side (under the impact) is compressed more than the -x side, on average over the run: the first
     # flexural arrival on these short rods (20-30 µs) is dispersive and briefly compresses -x more (measured)
     assert np.mean(h["rod2_mid_strain_plus_x"] - h["rod2_mid_strain_minus_x"]) < 0
-    # same axial momentum transfer, a little softer and longer than centric
-    assert s["peak_contact_force"] == pytest.approx(centric.summary["peak_contact_force"], rel=0.1)
+    # same axial momentum transfer, a little softer than centric (measured -2.9% on this mesh; the old rel=0.1 took
+    # either sign: a review)
+    assert -0.06 < s["peak_contact_force"] / centric.summary["peak_contact_force"] - 1 < -0.01
 
 
 def test_tilt_impact():

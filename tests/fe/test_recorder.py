@@ -111,13 +111,15 @@ def test_strain_energy_is_half_u_K_u():
 
 
 def test_damping_is_booked_as_dissipated_energy():
-    """C = β K: the dissipated energy grows and E + W_d = E_0 to O(Δt²)."""
+    """C = β K: the dissipated energy grows (3.8% of E_0 here) and E + W_d = E_0 within 3e-3 of E_0, the scheme's
+    own energy measure's wobble (measured 1.4e-3 at 0.3 of the stable step, 2.2e-3 and 8.6e-4 at half and a quarter
+    of that: no clean order); the damping booked 20% low reads 7e-3 (a review's mutation passed the old 1e-2)."""
     _, rec, _ = run(0.3, β=2e-5)
     h = rec.history()
     W = h["dissipated_energy"]
     E = h["kinetic_energy"] + h["strain_energy"] + h["contact_energy"]
-    assert W[-1] > 0.01 * E[0]
-    assert np.abs(E + W - E[0]).max() < 1e-2 * E[0]
+    assert W[-1] > 0.03 * E[0]
+    assert np.abs(E + W - E[0]).max() < 3e-3 * E[0]
 
 
 def test_external_work_enters_the_balance():
@@ -125,14 +127,20 @@ def test_external_work_enters_the_balance():
 
     class Push:
         def external_work(self) -> float:
-            return 0.25  # [J]
+            return 10.0  # [J] ten times E_0
 
         def after_step(self, step, t, state):
             pass
 
     st, rec, _ = impact(1e-5, 10, sources=(Push(), object()))
     march(st, range(11), [rec], rec.is_out)
-    assert np.all(rec.history()["external_work"] == 0.25)
+    h = rec.history()
+    assert np.all(h["external_work"] == 10.0)
+    # the balance's scale is the larger of E_0 and the work put in (a review: booking E_0 alone passed the old test)
+    E = h["kinetic_energy"] + h["strain_energy"] + h["contact_energy"]
+    assert E[0] < 10.0  # [J] so that the work is the scale
+    residual = np.abs(E + h["dissipated_energy"] - h["external_work"] - E[0]).max()
+    assert rec.summary(h, 11, "p0")["energy_error"] == pytest.approx(residual / 10.0, rel=1e-12)
 
 
 def test_output_steps():
