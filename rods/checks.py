@@ -1014,6 +1014,11 @@ def _midpoint_check(
     return w
 
 
+def _present(*warnings: str | None) -> list[str]:
+    """The warnings given, those that are not None, in order."""
+    return [w for w in warnings if w is not None]
+
+
 def apply(
     summary: dict[str, Any],
     history: Mapping[str, np.ndarray],
@@ -1039,35 +1044,27 @@ def apply(
     elif (w := tail_warning(force)) is not None:
         found.append(w)
     sampled = sampling_warning(summary, scene)
-    if (w := _midpoint_check(summary, history, scene, sampled is not None, driver)) is not None:
-        found.append(w)
-    for w in (
+    found += _present(  # in this order (a check may null a key the next reads)
+        _midpoint_check(summary, history, scene, sampled is not None, driver),
         bar_theory_warning(summary, force, scene),
         reflection_warning(summary, force, scene),
         stiffness_warning(summary, scene),
-    ):
-        if w is not None:
-            found.append(w)
+    )
     found += station_warnings(scene)
-    if (w := energy_warning(summary)) is not None:
-        found.append(w)
-    if _fe(summary) and (w := patch_warning(summary, scene)) is not None:
-        found.append(w)
-    for w in (core_warning(summary), resolution_warning(summary, scene), sampled):
-        if w is not None:
-            found.append(w)
-    for w in (
+    found += _present(
+        energy_warning(summary),
+        patch_warning(summary, scene) if _fe(summary) else None,
+        core_warning(summary),
+        resolution_warning(summary, scene),
+        sampled,
         strain_warning(scene, summary),
         rim_warning(summary, scene),
         centric_warning(summary, scene),
         normal_warning(summary, scene),
         locking_warning(summary, scene),
         contact_layer_warning(summary, scene),
-    ):
-        if w is not None:
-            found.append(w)
-    if (w := rattle_warning(summary, force, scene) or ringing_warning(summary, force, scene)) is not None:
-        found.append(w)
+        rattle_warning(summary, force, scene) or ringing_warning(summary, force, scene),
+    )
     found += summary.get("contact_law_warnings", [])  # the analytical model's law outside its range
     if "yield_warnings" not in summary:
         summary["yield_warnings"] = yield_warnings(scene, summary["peak_contact_force"])

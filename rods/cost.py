@@ -404,15 +404,7 @@ def fe_cost(
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
     samples = min(math.floor(end / min(scene.output_interval, end)) + 1, steps + 1)
     values = samples * (12 + 2 * len(scene.stations) + (4 if kind == "3d" else 0))
-    parts = {
-        "the ranks' interpreters and libraries": (ranks * BASE_MEMORY, "fewer ranks"),
-        "the mesh": (BYTES_PER_DOF[kind] * dofs, "coarser sizes"),
-        "the per-step force": (
-            ranks * BYTES_PER_STEP * steps,
-            f"fewer steps ({_step_remedy(scene, size)}, a shorter end_time)",
-        ),
-        "the histories": (BYTES_PER_VALUE * values, "a larger simulation.output_interval, fewer stations"),
-    }
+    parts = _memory_of(scene, ranks, dofs, steps, values, size)
     if size is not None:  # [B] on every rank
         record = _driver_record_bytes(scene, end) if cut_record_bytes is None else cut_record_bytes
         parts["the driver's cut record, read by every rank"] = (
@@ -427,13 +419,9 @@ def fe_cost(
     field_bytes = field_bytes if frames else 0.0
     wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
     files = field_bytes + CSV_BYTES_PER_VALUE * values
-    if size is None and scene["fe.checkpoint_interval"] > 0:  # the model's stride (rods.fe.checkpoint.stride)
-        from rods.fe.checkpoint import stride
-
-        every = stride(scene["fe.checkpoint_interval"], dt)
-        wall += steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
-        files += 2 * (CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * values)  # the newer and the older
-    # (without the interval a run writes one checkpoint only when stopped, Ctrl-C or SIGTERM: a finished run none)
+    if size is None:  # a global's periodic checkpoints
+        seconds, written = _checkpoints(scene, ranks, dt, steps, dofs, values)
+        wall, files = wall + seconds, files + written
     if record_until is not None:
         cut = _cut_record_bytes(scene, dt, steps, record_until, record_every)
         files += cut
@@ -449,6 +437,35 @@ def fe_cost(
         cheaper=_symmetry_remedy(scene), memory_parts=_memory_parts(parts), step_remedy=_step_remedy(scene, size),
         ranks_remedy=_ranks_remedy(scene),
     )  # fmt: skip
+
+
+def _memory_of(
+    scene: Scene, ranks: int, dofs: float, steps: int, values: float, size: float | None
+) -> dict[str, tuple[float, str]]:
+    """What an FE run's memory goes to [B], each with what would lower it (:func:`_memory_parts`): the ranks'
+    interpreters, the mesh and its operators, the per-step force and output mask, the histories."""
+    return {
+        "the ranks' interpreters and libraries": (ranks * BASE_MEMORY, "fewer ranks"),
+        "the mesh": (BYTES_PER_DOF[scene["fe.kind"]] * dofs, "coarser sizes"),
+        "the per-step force": (
+            ranks * BYTES_PER_STEP * steps,
+            f"fewer steps ({_step_remedy(scene, size)}, a shorter end_time)",
+        ),
+        "the histories": (BYTES_PER_VALUE * values, "a larger simulation.output_interval, fewer stations"),
+    }
+
+
+def _checkpoints(scene: Scene, ranks: int, dt: float, steps: int, dofs: float, values: float) -> tuple[float, float]:
+    """(seconds [s], bytes on disk [B]) of a global's periodic checkpoints at fe.checkpoint_interval > 0 (the model's
+    stride, rods.fe.checkpoint.stride): two on disk while the newer replaces the older. Without the interval a run
+    writes one only when stopped (Ctrl-C, SIGTERM), and a finished run removes it: (0, 0)."""
+    if scene["fe.checkpoint_interval"] <= 0:
+        return 0.0, 0.0
+    from rods.fe.checkpoint import stride
+
+    every = stride(scene["fe.checkpoint_interval"], dt)
+    seconds = steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
+    return seconds, 2 * (CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * values)
 
 
 def _ranks_remedy(scene: Scene) -> str:

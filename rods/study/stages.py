@@ -270,18 +270,21 @@ def global_model(
         if e.partial is not None:
             _write_fe(out, e.partial, comm)
         raise
-    cut = None
+    cut = out / "cut.h5" if recorder is not None else None
     if recorder is not None:
-        cut = out / "cut.h5"
         recorder.write(cut)
     # status, warnings (yield at the FE force); the force checks read every step's force, not the output samples
-    # driver_keys: the library chose its end, the contact phase; a study's one global that also runs the wave
-    # response records the cut for the contact phase but runs to the scene's end (its plateaus are its own)
-    phase = (extra or {}).get("contact_phase")
-    driver = phase is not None and scene.end_time <= phase * (1.0 + 1e-9)
-    checks.apply(res.summary, res.history, scene, scene.end_time, force=res.force_trace, driver=driver)
+    checks.apply(res.summary, res.history, scene, scene.end_time, force=res.force_trace, driver=_drives(scene, extra))
     _write_fe(out, res, comm, extra)
     return Stage(name, out, scene, {**res.summary, **(extra or {})}, res.history, cut)
+
+
+def _drives(scene: Scene, extra: Mapping[str, Any] | None) -> bool:
+    """Whether a global is the submodels' driver that stops after the contact phase (its ``extra`` keys carry the
+    phase: rods.study.stages.driver_keys, the library chose its end), not a study's one global that records the cut
+    over the contact phase but runs to the scene's end (its plateaus are its own)."""
+    phase = (extra or {}).get("contact_phase")
+    return phase is not None and scene.end_time <= phase * (1.0 + 1e-9)
 
 
 def kept_global(
