@@ -598,7 +598,8 @@ def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:
     warnings.warn(
         f"Hertz peak pressure{at} at the model's peak force, p0 = {p0 / 1e6:.1f} MPa, exceeds 1.1 S_y = "
         f"{limit / 1e6:.1f} MPa "
-        f"(p0 / 1.1 S_y = {p0 / limit:.3f}); the elastic Hertz solution no longer holds",
+        f"(p0 / 1.1 S_y = {p0 / limit:.3f}); the elastic Hertz solution no longer holds (every model here is "
+        "elastic: a lower impact.speed or a larger tip radius keeps the contact elastic)",
         YieldWarning,
         stacklevel=2,
     )
