@@ -45,6 +45,7 @@ __all__ = [
     "cut_records",
     "impedance_force",
     "last_per_key",
+    "values_without",
     "load_scene",
     "nearest_key",
     "parse_override",
@@ -451,6 +452,21 @@ def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
             out.update(_flatten(v, key + "."))
         else:
             out[key] = v
+    return out
+
+
+def values_without(values: Mapping[str, Any], keys: Iterable[str]) -> dict[str, Any]:
+    """Nested scene values (Scene.as_dict) as summary.json and a checkpoint's manifest hold them (a JSON round trip),
+    ``keys``' dotted keys dropped: what a kept stage or a checkpoint is compared by, less what it does not read
+    (rods.study.stages, rods.fe.checkpoint)."""
+    out = json.loads(json.dumps(values))
+    for key in keys:
+        *parents, leaf = key.split(".")
+        node = out
+        for k in parents:
+            node = node.get(k, {}) if isinstance(node, dict) else {}
+        if isinstance(node, dict):
+            node.pop(leaf, None)
     return out
 
 

@@ -33,7 +33,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line
-from rods.scene import RESOLVED_KEYS, RESULT_NEUTRAL, value_differences
+from rods.scene import RESOLVED_KEYS, RESULT_NEUTRAL, value_differences, values_without
 
 __all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
@@ -62,14 +62,7 @@ def state_values(scene: Any) -> dict[str, Any]:
     """The scene's validated values (Scene.as_dict, JSON's types) less rods.scene.RESULT_NEUTRAL: what a
     checkpoint's state depends on (a restart that turned periodic checkpoints on, as the README offers, was refused
     as "another scene": a fuzz, 2026-12-07)."""
-    d = json.loads(json.dumps(scene.as_dict()))
-    for key in RESULT_NEUTRAL:
-        *parents, leaf = key.split(".")
-        node = d
-        for k in parents:
-            node = node.get(k, {})
-        node.pop(leaf, None)
-    return d
+    return values_without(scene.as_dict(), RESULT_NEUTRAL)
 
 
 def scene_hash(scene: Any) -> str:

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from rods import checks, io, plan
-from rods.scene import RESULT_NEUTRAL, SUBMODEL_PHASES, Scene, cut_record_end
+from rods.scene import RESULT_NEUTRAL, SUBMODEL_PHASES, Scene, cut_record_end, values_without
 
 __all__ = [
     "Comparison",
@@ -137,15 +137,15 @@ def _read_finished(out: Path, scene: Scene, cut_until: float | None, ignore: Seq
     """(summary, history) of a finished run of ``scene`` in ``out`` (:func:`finished`); None: none there."""
     from rods.fe.cut import recorded_until
 
-    ours = _comparable(scene.as_dict(), ignore)
+    ours = values_without(scene.as_dict(), ignore)
     try:
         summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
-        theirs = _comparable(summary["scene_values"], ignore)
+        theirs = values_without(summary["scene_values"], ignore)
         if summary.get("status") not in ("ok", "warnings") or theirs != ours:
             return None
         if cut_until is not None:
             t, values = recorded_until(out / "cut.h5")  # [s]
-            if _comparable(values, ignore) != ours or t < cut_until * (1 - 1e-9):
+            if values_without(values, ignore) != ours or t < cut_until * (1 - 1e-9):
                 return None
         history = io.read_history(out / "history.csv")
         # a history cut short (damaged from outside: every write here is atomic) read as a kept run of fewer
@@ -155,20 +155,6 @@ def _read_finished(out: Path, scene: Scene, cut_until: float | None, ignore: Seq
         return summary, history
     except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError):  # absent, partial: run it
         return None
-
-
-def _comparable(values: Mapping[str, Any], ignore: Sequence[str]) -> dict[str, Any]:
-    """Nested scene values (Scene.as_dict) as summary.json holds them (a JSON round trip), ``ignore``'s dotted
-    keys dropped."""
-    out = json.loads(json.dumps(values))
-    for key in ignore:
-        *parents, leaf = key.split(".")
-        node = out
-        for p in parents:
-            node = node.get(p, {}) if isinstance(node, dict) else {}
-        if isinstance(node, dict):
-            node.pop(leaf, None)
-    return out
 
 
 # pressure_profile.csv's columns (rods.fe.model.pressure_profile: x and y in 3D only)
