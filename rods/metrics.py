@@ -58,7 +58,9 @@ __all__ = [
     "edge_period_radius",
     "first_contact_open",
     "midpoint_peak_speed",
+    "plateau_bounds",
     "plateau_gap",
+    "reaches_end",
     "plateau_level",
     "plateaus",
     "rms_difference",
@@ -190,6 +192,14 @@ def plateau_gap(rod2: Rod) -> float:
     diameter over its bar wave speed, the period scale of its lateral ringing behind a front (2.5 µs on the paper's
     rods; module docstring). The dips between real plateaus last a large part of Rod 1's round trip."""
     return rod2.diameter_transit
+
+
+def reaches_end(t: ArrayLike, scene: Scene) -> bool:
+    """Whether a history's times ``t`` [s] reach ``scene``'s end: its last sample within one output interval (1%
+    slack) of the end time. A run writes its history whole (atomically); one cut short was damaged from outside, and
+    read as a finished run's it gave fewer plateaus ("over the first 74 µs only": a fuzz, 2026-12-07)."""
+    t = np.asarray(t, float)
+    return t.size > 0 and bool(t[-1] >= scene.end_time - 1.01 * scene.output_interval)
 
 
 def plateau_bounds(scene: Scene) -> tuple[float, float]:

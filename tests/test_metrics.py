@@ -232,3 +232,13 @@ def test_edge_period_radius_applies_its_ratio_at_the_runs_peak_force():
     a_edge, same, _ = metrics.edge_period_radius(F, a, 0.125e-3, E_EDGE, R_EDGE, peak)
     assert same == ratio and a_edge == pytest.approx(contact_radius(peak, E_EDGE, R_EDGE) * (1 + ratio), rel=1e-12)
     assert a_edge / sampled - 1 == pytest.approx(1.001 ** (1 / 3) - 1, rel=1e-9)
+
+
+def test_a_history_reaches_its_end_within_one_output_interval(scene_with):
+    """rods.metrics.reaches_end, what a kept stage and Fig. 4 read a history's completeness by: its last sample
+    within one output interval of the end time; one cut short, or empty, does not."""
+    sc = scene_with("simulation.end_time=3e-4")
+    dt = sc.output_interval  # [s]
+    assert metrics.reaches_end(np.arange(0.0, sc.end_time + dt / 2, dt), sc)
+    assert metrics.reaches_end([0.0, sc.end_time - dt], sc)
+    assert not metrics.reaches_end([0.0, 7.4e-5], sc) and not metrics.reaches_end([], sc)

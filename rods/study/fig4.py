@@ -56,9 +56,9 @@ def check_whole_run(run: io.Run, scene: Scene, folder: str | Path, flag: str = "
     global; a study's own global records the cut beside its whole run and is Fig. 4's."""
     theirs = scene_from_summary(run.summary["scene_values"])
     end = theirs.end_time  # [s]
-    last = float(run.history["time"][-1])  # [s] its history's last sample: at its end, unless damaged from outside
     if end >= (1.0 - 1e-9) * scene.end_time:
-        if last < end - 1.01 * theirs.output_interval:
+        if not metrics.reaches_end(run.history["time"], theirs):  # damaged from outside: cut short
+            last = float(run.history["time"][-1])  # [s]
             why = f"its history.csv stops at {last:.3g} s, before its end time {end:.3g} s (cut short from outside)"
             raise InputError(flag, folder, why, "rerun it")
         return

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from rods import checks, io, plan
+from rods import checks, io, metrics, plan
 from rods.scene import RESULT_NEUTRAL, SUBMODEL_PHASES, Scene, cut_record_end, values_without
 
 __all__ = [
@@ -148,11 +148,7 @@ def _read_finished(out: Path, scene: Scene, cut_until: float | None, ignore: Seq
             if values_without(values, ignore) != ours or t < cut_until * (1 - 1e-9):
                 return None
         history = io.read_history(out / "history.csv")
-        # a history cut short (damaged from outside: every write here is atomic) read as a kept run of fewer
-        # plateaus, its Fig. 4 "over the first 74 µs only" (a fuzz, 2026-12-07): its last sample at the end
-        if not history["time"][-1] >= scene.end_time - 1.01 * scene.output_interval:
-            return None
-        return summary, history
+        return (summary, history) if metrics.reaches_end(history["time"], scene) else None  # not cut short
     except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError):  # absent, partial: run it
         return None
 
