@@ -1091,11 +1091,11 @@ def _told(before: Mapping[str, Any], overrides: Sequence[str], values: Mapping[s
     flat = _flatten({k: v for k, v in before.items() if k != "station"})
     told = []
     for text in last_per_key(overrides):
-        key, _ = parse_override(text)
+        key, value = parse_override(text)
         if key == "name":
             continue
         if key == "station":
-            if parse_override(text)[1] != before.get("station"):
+            if value != before.get("station"):
                 told.append(text)
             continue
         kind, default, _ = SCHEMA[key]

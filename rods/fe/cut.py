@@ -40,7 +40,6 @@ run (balance closes to O(Δt): ~1e-3 on the tests' meshes).
 from __future__ import annotations
 
 import json
-import math
 import time
 import uuid
 from pathlib import Path
@@ -334,11 +333,10 @@ def match_sections(nodes: np.ndarray, recorded: dict[str, Any], model: ExplicitM
     at z < 0 (its cut plane at z = -L_s)."""
     from rods.fe.mesh3d import section_radius
 
-    p, sc = model.rm.placement, model.scene
-    axes = (
-        (np.array([p.offset, 0.0, p.dz]), np.array([math.sin(p.tilt), 0.0, math.cos(p.tilt)])),
-        (np.zeros(3), np.array([0.0, 0.0, 1.0])),
-    )
+    sc = model.scene
+    origin, e_z = np.zeros(3), np.array([0.0, 0.0, 1.0])
+    c1, tip1 = model.rm.placement.apply(np.array([origin, e_z]))  # Rod 1's axis as the mesh placed it
+    axes = ((c1, tip1 - c1), (origin, e_z))
     out = np.array(nodes, dtype=float, copy=True)
     for k, (rod, (c, a)) in enumerate(zip(sc.rods, axes, strict=True), start=1):
         R = rod.diameter / 2  # [m]

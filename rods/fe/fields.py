@@ -115,19 +115,20 @@ def damaged_file(folder: str | Path) -> tuple[Path, str] | None:
         items = [e.text or "" for e in ET.parse(xdmf).getroot().iter("DataItem") if e.get("Format") == "HDF"]
     except (ET.ParseError, OSError) as e:
         return xdmf, f"is not a readable XDMF file ({type(e).__name__})"
-    names = dict.fromkeys(t.strip().split(":")[0] for t in items if t.strip())  # each file once, in order
-    if not names:
+    datasets: dict[str, list[str]] = {}  # file -> the datasets the XDMF reads from it, files in order
+    for text in filter(None, (t.strip() for t in items)):
+        name, _, dataset = text.partition(":")
+        datasets.setdefault(name, []).append(dataset)
+    if not datasets:
         return xdmf, "names no mesh or frame"
-    for name in names:
+    for name, names in datasets.items():
         f = folder / name
         if not f.is_file():
             return f, "is missing"
         try:
             with h5py.File(f, "r") as h:
-                for t in items:  # every dataset the XDMF reads from this file
-                    file, _, dataset = t.strip().partition(":")
-                    if file == name:
-                        h[dataset].shape  # noqa: B018  (reading the header finds a damaged object table)
+                for dataset in names:
+                    h[dataset].shape  # noqa: B018  (reading the header finds a damaged object table)
         except (OSError, KeyError, ValueError):
             return f, "is not a readable HDF5 file (truncated or damaged)"
     return None
