@@ -33,6 +33,10 @@ class Study:
     summary: dict[str, Any]  # the run summary (contract keys from the most refined stage, sources, plan)
 
 
+FIG4 = "fig4"  # compare/fig4.png, .md, .json: the wave response's figure and its data
+CONTACT_PICTURE = "contact-fields"  # compare/contact-fields.png, .json: the fields' contact picture
+
+
 def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
     """The estimated costs (rods.cost.fe_cost) of the FE stages :func:`run_study` runs for plan ``p`` of ``scene``
     on ``ranks`` ranks: the global to the planned end time, a separate driving global only where the global does
@@ -105,7 +109,7 @@ def _wave_figure(done: dict[str, stages.Stage], out: Path) -> None:
     from rods.study import fig4
 
     analytical, fe = (Run(k, done[k].history, done[k].summary) for k in ("analytical", "global"))
-    fig4.write(analytical, [fe], out / "fig4.png", out / "fig4.md")
+    fig4.write(analytical, [fe], out / f"{FIG4}.png", out / f"{FIG4}.md")
 
 
 def _contact_picture(global_stage: stages.Stage, out: Path, log: Any) -> None:
@@ -116,7 +120,7 @@ def _contact_picture(global_stage: stages.Stage, out: Path, log: Any) -> None:
 
     out.mkdir(parents=True, exist_ok=True)
     try:
-        contact_picture(global_stage.folder, out / "contact-fields")
+        contact_picture(global_stage.folder, out / CONTACT_PICTURE)
     except Exception as e:  # VTK's rendering failures surface as several types; the study's results are written
         if log is not None:
             log(
@@ -264,11 +268,8 @@ def _forget_stages(p: plan.Plan, out: Path, comm: Any, shared: bool) -> None:
 # what a study writes into its compare/ folder: Table 3 and Figs. 5c/6, Fig. 4, the contact picture
 COMPARE_PRODUCTS = (
     *stages.COMPARISON_FILES,
-    "fig4.json",
-    "fig4.md",
-    "fig4.png",
-    "contact-fields.png",
-    "contact-fields.json",
+    *(f"{FIG4}.{ext}" for ext in ("json", "md", "png")),  # rods.study.fig4.write: the data beside the table
+    *(f"{CONTACT_PICTURE}.{ext}" for ext in ("png", "json")),  # rods.fe.fields.contact_picture
 )
 
 
