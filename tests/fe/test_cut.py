@@ -2,7 +2,7 @@
 which the cut weights and the traction operator are built one colour at a time. The recording and the driving
 themselves run in tests/fe/test_submodel.py and tests/fe/test_traction.py (they need a global run)."""
 
-import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 # isort: split
 import numpy as np

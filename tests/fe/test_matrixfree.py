@@ -7,9 +7,6 @@ from __future__ import annotations
 
 import functools
 
-import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
-
-# isort: split
 import numpy as np
 import pytest
 

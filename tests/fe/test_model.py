@@ -13,7 +13,7 @@ import subprocess
 from dataclasses import replace
 from pathlib import Path
 
-import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 # isort: split
 import dolfinx

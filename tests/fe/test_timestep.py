@@ -14,7 +14,7 @@ from tests.conftest import MPIRUN, PAPER, PY, ROOT
 
 # Σ_ij |K_ij| over the owned rows, summed over the ranks, and the bound's step, printed by rank 0 (JSON)
 ROW_SUMS = f"""
-import dolfinx_solver  # noqa: F401 (before dolfinx, as the entry points do)
+import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 import json, numpy as np
 from mpi4py import MPI
 from rods.scene import load_scene

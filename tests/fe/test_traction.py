@@ -4,7 +4,7 @@ reproducing the global's force history with its energy balance closed."""
 
 from __future__ import annotations
 
-import dolfinx_solver  # noqa: F401  (must precede dolfinx/petsc4py)
+import rods.fe  # noqa: F401  (loads the PyPI wheel's dolfinx_solver shim where installed: before dolfinx/petsc4py)
 
 # isort: split
 import numpy as np
