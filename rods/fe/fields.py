@@ -22,7 +22,8 @@ Files in the run folder:
   killed run leaves every frame written so far readable, and a restart keeps the frames before its
   restart step and appends after them.
 * ``fields.bp`` (ADIOS2, DOLFINx's VTXWriter, written in parallel; ParaView's ADIOS2VTXReader): the same
-  functions and frames; a restart writes its frames to ``fields-restart-<step>.bp`` (VTXWriter cannot append).
+  functions and frames; a restart writes its frames to ``fields-restart-<step>.bp`` (VTXWriter cannot append);
+  not written where DOLFINx was built without ADIOS2.
 
 A run afresh (not a restart) removes an earlier run's field files in its folder first (:func:`discard`), asked
 for fields or not: a series left there would sit beside the new run's summary.json as if it were its own.
@@ -344,10 +345,7 @@ class FieldOutput:
         self.scalars = {name: dolfinx.fem.Function(Q, name=name) for name in FIELD_NAMES[2:]}
         self.stresses = _Stresses(model, self.uf, Q)
         self.n_nodes = Q.dofmap.index_map.size_local
-        name = "fields.bp" if step0 == 0 else f"fields-restart-{step0}.bp"  # afresh: the model discarded the old
-        funcs = [self.uf, self.vf, *self.scalars.values()]
-        reuse = dolfinx.cpp.io.VTXMeshPolicy.reuse  # the mesh once, not with every frame
-        self.vtx = dolfinx.io.VTXWriter(msh.comm, Path(out) / name, funcs, "BP4", mesh_policy=reuse)
+        self.vtx = _vtx(msh.comm, Path(out), [self.uf, self.vf, *self.scalars.values()], step0)
         self.series, self.order = self._xdmf(V, Path(out), (step0 - 0.5) * model.dt if step0 else -math.inf)
         if self.series is not None and step0:
             self._note_missing(Path(out), step0)
@@ -405,7 +403,8 @@ class FieldOutput:
         for f, a in zip(self.scalars.values(), values, strict=True):
             f.x.array[: self.n_nodes] = a
             f.x.scatter_forward()
-        self.vtx.write(t_k)
+        if self.vtx is not None:
+            self.vtx.write(t_k)
         pad = np.zeros((self.n_nodes, 3 - self.bs))
         data = {
             "displacement": np.hstack([u.reshape(-1, self.bs), pad]),
@@ -430,7 +429,23 @@ class FieldOutput:
         return p
 
     def finish(self) -> None:
-        self.vtx.close()
+        if self.vtx is not None:
+            self.vtx.close()
+
+
+def _vtx(comm, out: Path, funcs: list, step0: int):
+    """The ADIOS2 copy of the frames (``fields.bp``, or ``fields-restart-<step0>.bp`` after a restart: VTX cannot
+    append), or None where this DOLFINx was built without ADIOS2 (``dolfinx.common.has_adios2``; some conda and
+    source builds): the XDMF series is then the only one, and rank 0 says so once."""
+    if not dolfinx.common.has_adios2:
+        if comm.rank == 0:
+            sys.stderr.write(
+                "note: fields: this DOLFINx has no ADIOS2, so no fields.bp; fields.xdmf holds the frames\n"
+            )
+        return None
+    name = "fields.bp" if step0 == 0 else f"fields-restart-{step0}.bp"  # afresh: the model discarded the old
+    reuse = dolfinx.io.VTXMeshPolicy.reuse  # the mesh once, not with every frame
+    return dolfinx.io.VTXWriter(comm, out / name, funcs, "BP4", mesh_policy=reuse)
 
 
 def read_fields(xdmf: str | Path) -> tuple[np.ndarray, np.ndarray, list[tuple[float, dict[str, np.ndarray]]]]:

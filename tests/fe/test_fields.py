@@ -367,3 +367,23 @@ def test_the_pressure_is_drawn_on_the_section_boundary_without_the_axis():
     edges = {tuple(e) for e in surface_edges(points, quads).tolist()}
     assert edges == {(0, 1), (1, 2), (2, 5), (5, 8), (7, 8), (6, 7)}  # bottom, right, top; not (0, 3), (3, 6)
     assert {tuple(e) for e in surface_edges(points + [1.0, 0.0, 0.0], quads).tolist()} >= {(0, 3), (3, 6)}
+
+
+def test_a_dolfinx_without_adios2_writes_the_xdmf_series_alone(tmp_path, monkeypatch, capfd):
+    """DOLFINx 0.11 built without ADIOS2 (``dolfinx.common.has_adios2`` false: no ``dolfinx.io.VTXWriter``; some
+    conda and source builds) runs with fields: the XDMF series has every frame, no ``fields.bp``, and one note
+    says why."""
+    import dolfinx
+
+    from rods.fe.model import ExplicitModel
+    from rods.scene import load_scene
+
+    from ..conftest import PAPER
+
+    monkeypatch.setattr(dolfinx.common, "has_adios2", False)
+    monkeypatch.delattr(dolfinx.io, "VTXWriter")  # as such a build has none
+    ExplicitModel(load_scene(PAPER, [*COARSE, "simulation.end_time=2e-5", "fe.field_interval=1e-5"])).run(tmp_path)
+    _, frames = _frames(tmp_path)
+    assert [t for t, _ in frames] == pytest.approx([0.0, 1e-5, 2e-5], rel=1e-9, abs=1e-18)
+    assert not list(tmp_path.glob("*.bp"))
+    assert "this DOLFINx has no ADIOS2" in capfd.readouterr().err
