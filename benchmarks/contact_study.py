@@ -99,7 +99,8 @@ def run(
         "factor": factor,
         "basis": basis,
         "damping": sc["fe.contact_damping"] if law == "penalty" else None,
-        "smoothed_peak_vs_analytical": metrics.smoothed_peak(h["time"], h["contact_force"]) / sa["peak_contact_force"]
+        "smoothed_peak_vs_analytical": metrics.smoothed_peak(h["time"], h["contact_force"], metrics.smoothing(sc))
+        / sa["peak_contact_force"]
         - 1,
         "peak_force_vs_analytical": s["peak_contact_force"] / sa["peak_contact_force"] - 1,
         "duration_vs_analytical": s["contact_duration"] - sa["contact_duration"],

@@ -9,7 +9,7 @@ the cuts), one per contact law: the kinematic (penalty-free, the default) and th
 factor (the paper's Abaqus practice). Each drives submodels at every level, with the cut driven by the
 global's displacement (rods.fe.cut.CutDriver), by its traction, or mixed: its traction plus a
 bar-impedance dashpot to its velocity (rods.fe.traction; the default), the submodel's own contact under
-either law. Rows: peak force (raw and smoothed over rods.metrics.SMOOTHING)
+either law. Rows: peak force (raw and smoothed over rods.metrics.smoothing)
 and first-contact duration against the analytical model, contact area and peak pressure against Hertz at
 the row's own force, the energy-balance error, the wall time (set-up + loop, one process unless run under
 mpirun). Writes --out + .json, .md and .png (force curves of the finest level).
@@ -62,7 +62,7 @@ def row(case: tuple[str, str, str], level: str, st: stages.Stage, analytical: di
         "level": level,
         "element_size": s["element_size"],
         "peak_force_vs_analytical": s["peak_contact_force"] / analytical["peak_contact_force"] - 1,
-        "smoothed_peak_vs_analytical": metrics.smoothed_peak(h["time"], h["contact_force"])
+        "smoothed_peak_vs_analytical": metrics.smoothed_peak(h["time"], h["contact_force"], metrics.smoothing(st.scene))
         / analytical["peak_contact_force"]
         - 1,
         "duration_vs_analytical": s["contact_duration"] - analytical["contact_duration"],
@@ -82,7 +82,8 @@ def render_md(data: dict) -> str:
         "named separately. Peak force and duration against the analytical model "
         f"({data['analytical']['peak_contact_force']:.1f} N, "
         f"{data['analytical']['contact_duration'] * 1e6:.2f} µs); smoothed: the sliding "
-        f"{metrics.SMOOTHING * 1e6:g} µs average; area and p0 against Hertz at the row's own peak force.",
+        f"{metrics.smoothing(load_scene(PAPER)) * 1e6:.3g} µs average; area and p0 against Hertz at the row's own "
+        "peak force.",
         "",
         "| global | submodel | driving | level | peak force | smoothed | duration | area | p0 | energy error "
         "| wall [s] |",

@@ -467,6 +467,7 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     V1, V2 = model.rigid_velocities()
     v_mid, ε_mid = hist["rod2_mid_velocity"], hist["rod2_mid_strain"]
     floor, gap = metrics.plateau_bounds(scene)  # [m/s], [s]: the FE models' own (one definition)
+    gap_of_episodes = metrics.min_gap(scene)  # [s]
     summary: dict[str, Any] = {
         "model": "analytical",
         **scene.identity,
@@ -476,10 +477,12 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         "contact_radius": a_peak,
         "contact_area": math.pi * a_peak**2,
         "peak_contact_pressure": p0,
-        "contact_duration": metrics.contact_duration(trace["time"], trace["contact_force"]),
-        # the episodes by the contact duration's own definition (rods.metrics: gaps under MIN_GAP do not end one), as
+        "contact_duration": metrics.contact_duration(trace["time"], trace["contact_force"], gap_of_episodes),
+        # the episodes by the contact duration's own definition (rods.metrics: gaps under min_gap do not end one), as
         # the FE recorder writes them: a sub-µs release the solver's events hold would end the first contact early
-        "contact_episodes": [list(e) for e in metrics.contact_episodes(trace["time"], trace["contact_force"])],
+        "contact_episodes": [
+            list(e) for e in metrics.contact_episodes(trace["time"], trace["contact_force"], gap_of_episodes)
+        ],
         "midpoint_peak_speed": metrics.midpoint_peak_speed(hist["time"], v_mid, floor=floor, gap=gap),
         "midpoint_peak_strain": float(ε_mid.min()),
         "rigid_velocity_rod1": V1,

@@ -6,8 +6,12 @@
   δ ∝ F^(2/3) goes through zero linearly in time at touch and at release, so F^(2/3) is extrapolated linearly from
   the two samples inside the episode to zero, clipped to the sample interval that brackets the end (exact for a
   sampled Hertz pulse to second order; on the analytical model it lands within 0.05 µs of the solver's release
-  event at 0.25 µs sampling). Gaps shorter than ``MIN_GAP`` = 1 µs do not end an episode: contact nodes chatter
-  on a nanosecond scale, and the experiment (sampled every 2.26 µs) cannot see such gaps either.
+  event at 0.25 µs sampling). Gaps shorter than :func:`min_gap` (``MIN_GAP_TRANSITS`` = 0.4 of the thinner rod's
+  diameter transit d/c: 0.99 µs on the paper's rods) do not end an episode: contact nodes chatter on a nanosecond
+  scale, and the experiment (sampled every 2.26 µs) cannot see such gaps either. The gap is in the scene's own time
+  scale, not in seconds: a scene scaled by λ in length has every time x λ (the auto sampling and mesh included), and
+  a fixed 1 µs merged a real 0.72 µs separation of a half-size scene whose full-size one parted for 1.44 µs
+  (contact duration +16%, a fuzz, 2026-12-07).
   A threshold at a fraction of the peak (1e-3, used here before) is ill-conditioned: a stiff or wide contact ends
   in a long low tail (Rod 1 with a 1 m tip on the paper rods, 5 mm rods: 0.05-0.3% of the peak for ~30 µs), the
   duration there was the threshold's choice (1 m tip: 154 µs at 0.2%, 196 µs at 0.05%, analytical), and the FE
@@ -24,9 +28,10 @@
   rods), ringing dipped one plateau's end below it for 0.2-2 µs and left 1-sample "plateaus" (1.205 m/s) in the
   average where the analytical model had a whole plateau (1.270 m/s). On scenes whose plateaus stand clear of the
   threshold (the paper's) no dip is that short, and the value is the plain runs' mean.
-* Smoothed peak force: the largest value of the force averaged over a sliding window (default
-  ``SMOOTHING`` = 2 µs, below the experiment's 2.26 µs sampling). Stiff penalties make contact nodes
-  rattle and add nanosecond spikes to the raw force; the smoothed peak is what a sensor would see.
+* Smoothed peak force: the largest value of the force averaged over a sliding window (:func:`smoothing`:
+  ``SMOOTHING_TRANSITS`` = 0.8 of the thinner rod's d/c, 1.99 µs on the paper's rods, below the experiment's
+  2.26 µs sampling). Stiff penalties make contact nodes rattle and add nanosecond spikes to the raw force; the
+  smoothed peak is what a sensor would see.
 * RMS strain difference (Table 2): over the first five periods 2 L2/c2 of the midpoint strain,
   counted from impact (:func:`strain_window`); the two histories are compared on the first one's
   sample times.
@@ -57,22 +62,27 @@ __all__ = [
     "contact_duration",
     "edge_period_radius",
     "first_contact_open",
+    "longer_transit",
     "midpoint_peak_speed",
+    "min_gap",
     "plateau_bounds",
     "plateau_gap",
     "reaches_end",
     "plateau_level",
     "plateaus",
     "rms_difference",
+    "shorter_transit",
     "smoothed_peak",
+    "smoothing",
     "strain_window",
     "time_lag",
     "window_rms_difference",
 ]
 
 CONTACT_THRESHOLD = 1e-6  # fraction of the peak force below which it is zero (round-off guard) [-]
-MIN_GAP = 1e-6  # gaps shorter than this do not separate contact episodes [s]
-SMOOTHING = 2e-6  # sliding-average window of the smoothed peak force [s]
+# gaps shorter than this many of the thinner rod's diameter transits d/c do not separate contact episodes [-]
+MIN_GAP_TRANSITS = 0.4
+SMOOTHING_TRANSITS = 0.8  # sliding-average window of the smoothed peak force, in the thinner rod's d/c [-]
 PATCH_ELEMENTS_MIN = 2.0  # fewest elements across the contact radius that resolve a patch [-]
 # a picture of the contact's half-width in contact radii [-]: the patch and the stress under it (Hertz's largest
 # von Mises stress lies 0.48 a deep, its field fades over a few a); the paper scene's 1.09 mm patch: 2.7 mm
@@ -102,12 +112,34 @@ def _hertz_end(t: np.ndarray, y: np.ndarray, inside: int, step: int, outside: in
     return float(min(max(tc, min(a, b)), max(a, b)))
 
 
+def shorter_transit(scene: Scene) -> float:
+    """The shorter of the two rods' diameter transits d/c [s]: the scale of a contact's chatter on an auto mesh (its
+    sizes follow the diameters) and of the auto output interval (rods.scene: SAMPLES_PER_DIAMETER_TRANSIT)."""
+    return min(r.diameter_transit for r in scene.rods)
+
+
+def longer_transit(scene: Scene) -> float:
+    """The longer of the two rods' diameter transits d/c [s]: the scale of the thicker rod's lateral ringing, which
+    the 1D bars lack, and so of how far the FE and the analytical model can differ in time (rods.checks)."""
+    return max(r.diameter_transit for r in scene.rods)
+
+
+def min_gap(scene: Scene) -> float:
+    """The shortest gap [s] that separates two contact episodes of ``scene`` (module docstring)."""
+    return MIN_GAP_TRANSITS * shorter_transit(scene)
+
+
+def smoothing(scene: Scene) -> float:
+    """The sliding-average window [s] of ``scene``'s smoothed peak force (module docstring)."""
+    return SMOOTHING_TRANSITS * shorter_transit(scene)
+
+
 def contact_episodes(
-    t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_THRESHOLD, min_gap: float = MIN_GAP
+    t: ArrayLike, force: ArrayLike, min_gap: float, threshold: float = CONTACT_THRESHOLD
 ) -> list[tuple[float, float]]:
     """Intervals [start, end] in which ``force`` (compressive magnitude, >= 0) exceeds ``threshold x peak``, their
-    ends placed between samples by the Hertz law (module docstring); episodes separated by less than ``min_gap``
-    are one."""
+    ends placed between samples by the Hertz law (module docstring); episodes separated by less than ``min_gap`` [s]
+    (:func:`min_gap` of the scene) are one."""
     t, f = np.asarray(t, float), np.abs(np.asarray(force, float))
     if f.size == 0 or f.max() <= 0:
         return []
@@ -138,9 +170,10 @@ def first_contact_open(episodes: Sequence[Sequence[float]], last: float) -> bool
     return bool(episodes) and episodes[0][1] >= last * (1 - 1e-9)
 
 
-def contact_duration(t: ArrayLike, force: ArrayLike, threshold: float = CONTACT_THRESHOLD) -> float:
-    """Duration of the first contact episode [s] (see module docstring); 0 if there is none."""
-    ep = contact_episodes(t, force, threshold=threshold)
+def contact_duration(t: ArrayLike, force: ArrayLike, min_gap: float, threshold: float = CONTACT_THRESHOLD) -> float:
+    """Duration of the first contact episode [s] (see module docstring; ``min_gap`` [s]: :func:`min_gap`); 0 if
+    there is none."""
+    ep = contact_episodes(t, force, min_gap, threshold=threshold)
     return ep[0][1] - ep[0][0] if ep else 0.0
 
 
@@ -302,8 +335,9 @@ def time_lag(
     return float(lags[i]), float(r[i])
 
 
-def smoothed_peak(t: ArrayLike, force: ArrayLike, window: float = SMOOTHING) -> float:
-    """Largest sliding average of ``force`` over ``window`` [s] (equally spaced samples ``t``), from running sums:
+def smoothed_peak(t: ArrayLike, force: ArrayLike, window: float) -> float:
+    """Largest sliding average of ``force`` over ``window`` [s] (:func:`smoothing` of the scene; equally spaced
+    samples ``t``), from running sums:
     O(samples) whatever the window holds (a convolution was O(samples x window): 17 s at a 0.1 ns output
     interval); a record shorter than the window counts as zero beyond its ends (its sum over the window)."""
     t, f = np.asarray(t, float), np.asarray(force, float)

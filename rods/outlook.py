@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from rods import checks, hertz
+from rods import checks, hertz, metrics
 from rods.scene import END_PERIODS, auto_end_time
 
 __all__ = ["outlook"]
@@ -58,7 +58,7 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
             f"{p0 / (hertz.YIELD_FACTOR * S_y):.2f} x 1.1 S_y of {which}: the contact may yield, where the elastic "
             "models no longer hold (a lower speed or a larger tip radius lowers it)"
         )
-    rise, transit = scene.estimated_rise, checks.longer_transit(scene)  # [s]
+    rise, transit = scene.estimated_rise, metrics.longer_transit(scene)  # [s]
     if rise < checks.RISE_TRANSITS * transit:
         lines.append(
             f"peak_contact_force: the force should rise in about {rise * 1e6:.3g} µs, {rise / transit:.2g} diameter "

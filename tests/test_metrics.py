@@ -9,6 +9,8 @@ import pytest
 
 from rods import metrics
 
+GAP = 1e-6  # [s] the shortest gap between two episodes (metrics.min_gap: 0.99 µs on the paper's rods)
+
 
 def test_contact_duration_of_a_sampled_hertz_pulse():
     """A Hertz pulse F = K δ^(3/2), δ a half sine over 200.37 µs, sampled every 0.5 µs (touch and release between
@@ -18,10 +20,10 @@ def test_contact_duration_of_a_sampled_hertz_pulse():
     t = -0.2e-6 + h * np.arange(601)  # [s] touch at 0, between samples
     δ = np.where((t > 0) & (t < T), 40e-6 * np.sin(np.pi * t / T), 0.0)  # [m]
     F = 2.2e10 * δ**1.5  # [N]
-    assert metrics.contact_duration(t, F) == pytest.approx(T, abs=1e-9)
-    start, end = metrics.contact_episodes(t, F)[0]
+    assert metrics.contact_duration(t, F, GAP) == pytest.approx(T, abs=1e-9)
+    start, end = metrics.contact_episodes(t, F, GAP)[0]
     assert start == pytest.approx(0.0, abs=1e-9) and end == pytest.approx(T, abs=1e-9)
-    assert metrics.contact_duration(t, np.zeros_like(t)) == 0.0
+    assert metrics.contact_duration(t, np.zeros_like(t), GAP) == 0.0
 
 
 def test_a_low_tail_is_contact():
@@ -30,14 +32,14 @@ def test_a_low_tail_is_contact():
     t = np.arange(0.0, 300e-6, 0.25e-6)  # [s]
     pulse = 5e3 * np.clip(np.sin(np.pi * t / 200e-6), 0, None) * (t < 200e-6)  # [N]
     tail = 5e3 * 1.2e-3 * ((t >= 200e-6) & (t < 240e-6))  # [N]
-    assert metrics.contact_duration(t, pulse + tail) == pytest.approx(240e-6, abs=0.25e-6)
-    assert metrics.contact_duration(t, pulse + tail, threshold=2e-3) == pytest.approx(200e-6, abs=0.25e-6)
+    assert metrics.contact_duration(t, pulse + tail, GAP) == pytest.approx(240e-6, abs=0.25e-6)
+    assert metrics.contact_duration(t, pulse + tail, GAP, threshold=2e-3) == pytest.approx(200e-6, abs=0.25e-6)
 
 
 def test_two_episodes_are_found():
     t = np.linspace(0, 1, 10001)
     F = np.clip(np.sin(2 * np.pi * 2 * t), 0, None)
-    ep = metrics.contact_episodes(t, F)
+    ep = metrics.contact_episodes(t, F, GAP)
     assert len(ep) == 2
     assert ep[1][0] == pytest.approx(0.5, abs=1e-3)
 
@@ -101,7 +103,7 @@ def test_time_lag_finds_a_known_delay():
 def test_chatter_shorter_than_min_gap_is_one_episode():
     t = np.linspace(0, 200e-6, 200001)
     F = 5000 * np.sin(np.pi * t / 200e-6) * (np.sin(2 * np.pi * t / 0.2e-6) > -0.5)  # gaps of ~0.07 µs
-    ep = metrics.contact_episodes(t, F)
+    ep = metrics.contact_episodes(t, F, GAP)
     assert len(ep) == 1
     assert ep[0][1] - ep[0][0] == pytest.approx(200e-6, rel=1e-3)
 
@@ -187,9 +189,9 @@ def test_smoothed_peak_is_the_largest_window_average():
     t = np.arange(0.0, 3e-4, 2.5e-8)  # [s]
     f = 5e3 * np.clip(np.sin(np.pi * t / 2.5e-4), 0.0, None) + rng.normal(0.0, 50.0, t.size)  # [N]
     n = 80  # the 2 µs window in samples
-    assert smoothed_peak(t, f) == pytest.approx(np.convolve(f, np.ones(n) / n, mode="valid").max(), rel=1e-12)
+    assert smoothed_peak(t, f, 2e-6) == pytest.approx(np.convolve(f, np.ones(n) / n, mode="valid").max(), rel=1e-12)
     short = f[:30]
-    assert smoothed_peak(t[:30], short) == pytest.approx(short.sum() / n, rel=1e-12)
+    assert smoothed_peak(t[:30], short, 2e-6) == pytest.approx(short.sum() / n, rel=1e-12)
     assert smoothed_peak(t, f, window=2.5e-8) == pytest.approx(f.max(), rel=1e-12)
 
 

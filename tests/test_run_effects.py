@@ -13,6 +13,7 @@ import pytest
 
 from rods import checks
 from rods.io import read_history
+from rods.scene import scene_from_summary
 
 from .conftest import ROOT, in_process
 
@@ -113,7 +114,7 @@ def test_contact_patch_adds_driver_submodel_and_comparison_and_stops_global_earl
     # the study's own checks reach its status: the global against the analytical model, the submodel against Hertz
     an, g = (json.loads((run_dir / k / "summary.json").read_text()) for k in ("analytical", "global"))
     assert [w for w in s["warnings"] if w.startswith("study: ")] == [
-        f"study: {w}" for w in checks.agreement_warnings(an, g)
+        f"study: {w}" for w in checks.agreement_warnings(an, g, scene_from_summary(g["scene_values"]))
     ]
     assert [w for w in s["warnings"] if w.startswith("compare: ")] == [
         f"compare: {w}" for w in checks.submodel_warnings(table)

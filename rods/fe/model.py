@@ -298,7 +298,7 @@ class ExplicitModel:
             try:
                 failure.partial = fe_result(self, recorder, n_ok, failure.step + done, wall_loop)
                 failure.partial.summary.update(status=failure.status, error=str(failure), failed_step=failure.step)
-                _unknown_duration(failure.partial)
+                _unknown_duration(failure.partial, metrics.min_gap(self.scene))
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
             raise failure
@@ -390,12 +390,12 @@ class ExplicitModel:
         return self._corners.count(u_owned)
 
 
-def _unknown_duration(partial: FEResult) -> None:
+def _unknown_duration(partial: FEResult, min_gap: float) -> None:
     """A stopped run's summary (in place): a first contact still on at the stop, or none yet, has no duration (null,
     with a warning), not the time up to the stop (a fuzz, 2026-12-06: an interrupt at 104 µs, 5138 N still on,
     wrote a 104.3 µs contact and no warning)."""
     t, F = partial.force_trace["time"], partial.force_trace["contact_force"]
-    episodes = metrics.contact_episodes(t, F)
+    episodes = metrics.contact_episodes(t, F, min_gap)
     if t.size and episodes and not metrics.first_contact_open(episodes, float(t[-1])):
         return
     partial.summary["contact_duration"] = None
@@ -412,7 +412,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     sc = model.scene
     hist = recorder.history(rows)
     units = {name: recorder.units[name] for name in hist}
-    derived = recorder.summary(hist, steps, sc.stations[0].name, *metrics.plateau_bounds(sc))
+    derived = recorder.summary(hist, steps, sc.stations[0].name, *metrics.plateau_bounds(sc), metrics.min_gap(sc))
     energy = {k: derived.pop(k) for k in ("energy_error", "initial_energy")}
     n_steps = min(steps, recorder.force.size) - 1
     penalty = sc["fe.contact"] == "penalty"

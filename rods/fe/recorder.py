@@ -206,11 +206,12 @@ class Recorder:
         return {"time": np.arange(force.size) * self.dt, "contact_force": force}
 
     def summary(
-        self, hist: dict[str, np.ndarray], steps: int, midpoint: str, arrival: float = 0.0, gap: float = 0.0
+        self, hist: dict[str, np.ndarray], steps: int, midpoint: str, arrival: float, gap: float, min_gap: float
     ) -> dict[str, Any]:
         """History-derived summary values: peak, contact times, energy error (``steps``: force samples;
         ``arrival`` [m/s]: the midpoint speed below which the wave has not arrived, ``gap`` [s]: the shortest dip
-        between two plateaus, rods.metrics.plateaus)."""
+        between two plateaus, rods.metrics.plateaus; ``min_gap`` [s]: between two contact episodes,
+        rods.metrics.min_gap)."""
         trace = self.force_trace(steps)
         t_steps, force = trace["time"], trace["contact_force"]
         E_total = hist["kinetic_energy"] + hist["strain_energy"] + hist["contact_energy"]
@@ -228,8 +229,8 @@ class Recorder:
             "contact_area": math.pi * a_peak**2,
             "contact_area_nodal": peak.get("A_nodal", 0.0),
             "peak_contact_pressure": max(self.p_max_all, float(np.max(peak.get("p", [0.0])))),
-            "contact_duration": metrics.contact_duration(t_steps, force),
-            "contact_episodes": [list(e) for e in metrics.contact_episodes(t_steps, force)],
+            "contact_duration": metrics.contact_duration(t_steps, force, min_gap),
+            "contact_episodes": [list(e) for e in metrics.contact_episodes(t_steps, force, min_gap)],
             "midpoint_peak_speed": metrics.midpoint_peak_speed(
                 hist["time"], hist[f"{midpoint}_velocity"], floor=arrival, gap=gap
             ),

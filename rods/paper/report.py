@@ -23,7 +23,7 @@ from rods.compare import percent
 from rods.io import read_data
 from rods.paper import accuracy_cost, convergence, table2
 from rods.preflight import InputError
-from rods.study import fig4
+from rods.study import fig4, verification
 
 __all__ = ["ReportData", "read", "render"]
 
@@ -520,7 +520,7 @@ def verification_section(v: dict[str, Any]) -> list[str]:
         "",
         f"The global model at default settings against the analytical model on {len(rows)} scenes (`make verify`): "
         f"peak force within {worst_F:.2f}% everywhere, energy error at most {worst_E:.1e}; {n_ok} of {len(rows)} "
-        f"cases meet every target (peak force {t['peak_force']:g}%, duration {t['duration'] * 1e6:g} µs, energy "
+        f"cases meet every target (peak force {t['peak_force']:g}%, duration {verification.duration_words(v)}, energy "
         f"{t['energy']:g})."
         + (" **Misses:** " + "; ".join(misses) + "." + _model_form_text(rows) if misses else "")
         + _paper_law_text(rows),

@@ -323,7 +323,8 @@ def _status(
         found += [f"{k}: {w}" for w in kept]
     if "global" in done:
         waves = "midpoint_peak_speed" in plan.offers(p, "global")  # a contact-only global stops before the plateaus
-        agree = checks.agreement_warnings(done["analytical"].summary, done["global"].summary, waves)
+        g = done["global"]
+        agree = checks.agreement_warnings(done["analytical"].summary, g.summary, g.scene, waves)
         found += [f"study: {w}" for w in agree]
     converged = comparison.data["warnings"] if comparison is not None else []  # rods.study.stages.comparison
     found += [f"compare: {w}" for w in comm.bcast(converged, root=0)]

@@ -128,7 +128,7 @@ def test_elastic_impact_never_penetrates_and_closes_the_energy_balance():
         min_gap = min(min_gap, float(c.gap.min()))
         active = max(active, int(np.count_nonzero(c.pressure)))
     hist = rec.history()
-    summary = rec.summary(hist, steps + 1, "p")
+    summary = rec.summary(hist, steps + 1, "p", 0.0, 0.0, 1e-6)
     assert active >= 3  # the patch grew over several pairs
     assert min_gap >= -1e-12 * 0.5 * dt * steps  # no penetration beyond round-off of the approach
     assert hist["dissipated_energy"][-1] > 0.0  # pairs closing at a relative speed lose it

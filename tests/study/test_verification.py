@@ -427,7 +427,8 @@ def test_wave_probe_holds_the_global_to_the_studys_bands_and_renders_its_rows(mo
     to its band); every row's warnings are listed by key and in full."""
     bench = benchmark("wave_probe")
     assert (
-        bench.BANDS["peak_speed"] == 100 * checks.AGREE_PEAK_SPEED and bench.BANDS["duration"] == checks.AGREE_DURATION
+        bench.BANDS["peak_speed"] == 100 * checks.AGREE_PEAK_SPEED
+        and bench.BANDS["duration_transits"] == checks.AGREE_TRANSITS
     )
     seen = {}
     monkeypatch.setattr(bench.scene_probe, "run_probes", lambda argv, *args: seen.update(args=args) or 0)
