@@ -445,13 +445,18 @@ def _number_example(key: str) -> str:
 
 
 def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """Dotted keys of a parsed scene's tables. A table given where a value belongs (``impact.speed = {}``) stays a
+    value, refused by its type (an empty one vanished before: the key took its default, silently); a key set twice
+    through a quoted dotted key and its table (``"rod1.length" = 0.3`` beside ``[rod1] length = 0.2``) is refused
+    (one of the two was dropped, silently)."""
     out: dict[str, Any] = {}
     for k, v in d.items():
         key = f"{prefix}{k}"
-        if isinstance(v, Mapping):
-            out.update(_flatten(v, key + "."))
-        else:
-            out[key] = v
+        items = _flatten(v, key + ".") if isinstance(v, Mapping) and key not in SCHEMA else {key: v}
+        for name, value in items.items():
+            if name in out:
+                raise SceneError(name, value, "is given twice (a quoted dotted key and its table)", "remedy: keep one")
+            out[name] = value
     return out
 
 
@@ -1010,8 +1015,8 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
             values[key] = copy.copy(default)
             continue
         v = _type_check(key, kind, flat[key])
-        if check is not None and v is not None and v != "auto":
-            check(key, v)
+        if check is not None and v is not None and not (v == "auto" and kind.endswith("|auto")):
+            check(key, v)  # a choice's "auto" only where its choices hold it (fe.kind = 'auto' ran as no kind at all)
         values[key] = v
     _cross_checks(values)
 
