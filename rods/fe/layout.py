@@ -133,19 +133,29 @@ def _cored_spacing(rod: Rod, h: float, core: float, h_far: float) -> AxialSpacin
 def _graded_counts(a: float, length: float, h: float, n0: int) -> tuple[int, float]:
     """(n, q): the fewest n >= ``n0`` elements growing by q <= GROWTH from ``a`` [m] that fill ``length`` [m],
     a (q^n - 1)/(q - 1) = length, with none longer than ``h`` [m] (a deep cap's long graded block keeps the
-    tip element; stretching the block's elements instead made it 2.2x longer on a 30 mm rod, 35 mm tip)."""
-    n = n0
+    tip element; stretching the block's elements instead made it 2.2x longer on a 30 mm rod, 35 mm tip). No n below
+    length/h can hold it (none longer than h), so the search starts there: a 0.1 µm axial size counted one n at a
+    time to ~1e4 and overflowed q^n on the way (a fuzz, 2026-12-07, before the plan's refusal could speak)."""
+    n = max(n0, math.ceil(length / h))
     while True:
         if n * a >= length:  # uniform elements of length/n <= a fill it
             return n, 1.0
         lo, hi = 1.0, GROWTH
-        if a * (hi**n - 1.0) / (hi - 1.0) >= length:
+        if _block_length(a, hi, n) >= length:
             for _ in range(200):  # bisection: the block's length grows with q
                 q = 0.5 * (lo + hi)
-                lo, hi = (q, hi) if a * (q**n - 1.0) / (q - 1.0) < length else (lo, q)
-            if a * hi ** (n - 1) <= h:
+                lo, hi = (q, hi) if _block_length(a, q, n) < length else (lo, q)
+            if (n - 1) * math.log(hi) <= math.log(h / a):  # the last element a q^(n-1) <= h
                 return n, hi
         n += 1
+
+
+def _block_length(a: float, q: float, n: int) -> float:
+    """a (q^n - 1)/(q - 1) [m]: n elements growing by q from a; inf where q^n is beyond a float."""
+    if q == 1.0:
+        return a * n
+    grown = n * math.log(q)
+    return math.inf if grown > 700.0 else a * math.expm1(grown) / (q - 1.0)
 
 
 BUTTERFLY_ANGLE = math.radians(70.0)  # rim angle asin(R/r_k) above which a cap is meshed as a butterfly [rad]

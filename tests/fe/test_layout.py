@@ -209,3 +209,17 @@ def test_altitudes_are_a_cells_thickness_across_its_thinnest_direction():
     assert altitudes(rectangle)[0] == pytest.approx(b, rel=1e-12)
     assert altitudes(parallelogram)[0] == pytest.approx(b * np.cos(θ), rel=1e-12)
     assert altitudes(rectangle[:, :, ::-1])[0] == pytest.approx(b, rel=1e-12)  # r and z swapped
+
+
+@pytest.mark.parametrize("h", [1e-7, 1e-6])
+def test_a_tiny_axial_size_is_counted_without_overflow(h):
+    """An in-range 0.1 µm axial size at tip grading 0.05 (the paper's 35 mm cap, 0.58 mm deep, in a graded block of
+    ~1.2 mm): the block's count was searched one n at a time from its first guess and overflowed GROWTH^n on the way
+    (OverflowError, exit 1, before the plan could refuse the mesh's memory). Now the count starts where elements of
+    h can fill the block: every element at most h, the tip element g h, the block's length its own."""
+    rod = load_scene(PAPER).rod1
+    sp = axial_spacing(rod, h, 0.05)
+    sizes = sp.h_tip * sp.ratio ** np.arange(sp.n_graded)  # [m]
+    assert sp.h_tip == pytest.approx(0.05 * h, rel=1e-12)
+    assert sizes.max() <= h * (1 + 1e-9) and sizes.sum() == pytest.approx(sp.graded_length, rel=1e-9)
+    assert sp.n_graded >= sp.graded_length / h
