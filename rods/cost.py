@@ -397,8 +397,9 @@ def fe_cost(
     (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size)
     end = scene.end_time if end_time is None else end_time
     dt, caveat = _march_step(scene, h_r, h, g, size, dt, region)
-    if size is None:  # a global's end: the scene's, or a study's contact phase in it (below a step only if it is)
-        _check_one_step(scene, end, dt)
+    # a global's end: the scene's, or a study's contact phase in it (below a step only if it is); a submodel's: its
+    # own (workflows/submodel.py --end-time: 1 ns against a 9 ns step planned one step)
+    _check_one_step(scene, end, dt, scene.end_time if size is None else end)
     steps = math.ceil(end / dt)
     # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
@@ -505,14 +506,15 @@ def _memory_parts(parts: Mapping[str, tuple[float, str]]) -> str:
 STEP_ESTIMATE_MARGIN = 1.1  # the estimated stable step over the exact one, at most (0.68-1.05 measured) [-]
 
 
-def _check_one_step(scene: Scene, end: float, dt: float) -> None:
+def _check_one_step(scene: Scene, end: float, dt: float, shown: float) -> None:
     """Refuse (exit 2) a run to ``end`` [s] shorter than one step ``dt`` [s], as the set-up would (rods.fe.timestep)
     but before it: a given fe.dt exactly, an estimated step only where it is below it by
-    :data:`STEP_ESTIMATE_MARGIN` (a dry run passed a 1 ps end time that the set-up then refused)."""
+    :data:`STEP_ESTIMATE_MARGIN` (a dry run passed a 1 ps end time that the set-up then refused). ``shown`` [s]: the
+    end time the user gave (the scene's, or a submodel's own)."""
     given = scene["fe.dt"] != "auto"
     if end * (1.0 if given else STEP_ESTIMATE_MARGIN) < dt:
         raise SceneError(
-            "simulation.end_time", scene.end_time,
+            "simulation.end_time", shown,
             f"must be >= one time step, {'fe.dt = ' if given else 'about '}{dt:.3g} s on this mesh",
             one_step_remedy(given),
         )  # fmt: skip

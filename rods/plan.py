@@ -31,7 +31,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from rods import metrics
+from rods import checks, metrics
 from rods.io import CONTACT_KEYS, WAVE_KEYS  # the summary contract's, named there once
 from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, Scene, SceneError, submodel_phase_size
 
@@ -43,6 +43,7 @@ __all__ = [
     "MISALIGNMENT_KEYS",
     "Plan",
     "check_driven_scene",
+    "check_first_contact",
     "scene_difference",
     "contact_phase",
     "driver_phase",
@@ -120,8 +121,27 @@ def first_contact_summary(scene: Scene) -> dict[str, Any]:
 
 def driver_phase(scene: Scene) -> float:
     """The contact phase [s] a driving global of ``scene`` runs and records (its submodels' end time), from the
-    analytical model's first contact (:func:`first_contact_summary`)."""
-    return contact_phase(first_contact_summary(scene), scene.end_time)
+    analytical model's first contact (:func:`first_contact_summary`), which must end within the scene's end time
+    (:func:`check_first_contact`)."""
+    s = first_contact_summary(scene)
+    check_first_contact(scene, s, "a driving global records the whole first contact for its submodels, but it")
+    return contact_phase(s, scene.end_time)
+
+
+def check_first_contact(scene: Scene, analytical_summary: Mapping[str, Any], who: str) -> None:
+    """Refuse (SceneError, before any FE run) an end time that the analytical model's first contact outlasts, where
+    ``who`` needs that contact whole: a driver's record and its submodels, compared whole by the comparison
+    (rods.paper.data refuses an open contact, after the runs: a fuzz, 2026-12-07, ran a contact study to 10 µs of a
+    204 µs contact, "ok" but for warnings, and compare.py refused its folders)."""
+    if checks.contact_warning(analytical_summary, scene.end_time, scene) is None:
+        return
+    state = "has not ended" if analytical_summary.get("contact_episodes") else "has not begun"
+    raise SceneError(
+        "simulation.end_time",
+        scene.end_time,
+        f"{who} {state} by then (the analytical model)",
+        f"remedy: {checks.AUTO_END}, or a longer end time",
+    )
 
 
 def submodel_end(scene: Scene, driver_summary: Mapping[str, Any] | None = None) -> float:
@@ -278,6 +298,10 @@ def study_plan(scene: Scene, analytical_summary: Mapping[str, Any] | None = None
     contact: from its ``analytical_summary`` (the study's analytical stage), or, for a plan before the run (a
     dry run, the cost estimate), from the model run to its first contact (:func:`first_contact_summary`)."""
     s = analytical_summary if analytical_summary is not None else first_contact_summary(scene)
+    if set(scene.effects) & set(SUBMODEL_EFFECTS):
+        check_first_contact(
+            scene, s, "the submodels of contact_patch/subsurface_stress need the whole first contact, which"
+        )
     return make_plan(scene, first_contact_end(s))
 
 

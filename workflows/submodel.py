@@ -16,9 +16,10 @@ resumes there (same scene, level, rank count and cut record).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import rods.fe  # noqa: F401  (loads the wheel's dolfinx_solver first where installed)
@@ -106,16 +107,24 @@ def _flags(args: argparse.Namespace) -> dict[str, str]:
     }
 
 
-def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
-    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs; a refused size, step or
-    end time named by its option (--size, --axial-size, --dt, --end-time), not by the scene key it becomes."""
+@contextlib.contextmanager
+def _named_by_options(args: argparse.Namespace) -> Iterator[None]:
+    """A refused size, step or end time named by its option (--size, --axial-size, --dt, --end-time), not by the
+    scene key it becomes."""
     flags = _flags(args)
     try:
-        return submodel_scene(scene, h, args.axial_size, end, dt)
+        yield
     except SceneError as e:
         if e.key not in flags:
             raise
         raise InputError(flags[e.key], e.value, e.allowed, e.hint or f"a smaller {flags[e.key]}") from None
+
+
+def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:
+    """The submodel scene (rods.fe.submodel.submodel_scene), validated before anything runs (refusals named by
+    :func:`_named_by_options`)."""
+    with _named_by_options(args):
+        return submodel_scene(scene, h, args.axial_size, end, dt)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -154,8 +163,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     own = _own_settings(scene, h, args, end, dt)  # its contact law and outputs, as it will run
     remedy = "a larger --size" if args.size else "a coarser --level"
     record = (gdir / "cut.h5").stat().st_size  # [B] every rank reads it whole
-    c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt,
-                     remedy=remedy, cut_record_bytes=record)  # fmt: skip
+    with _named_by_options(args):  # an end time below one step: --end-time's
+        c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt,
+                         remedy=remedy, cut_record_bytes=record)  # fmt: skip
     if args.restart:
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
