@@ -4,6 +4,8 @@ run failed inside a rule after other points had run, or a SceneError with Snakem
 
 from __future__ import annotations
 
+import importlib.util
+import os
 import subprocess
 
 import pytest
@@ -182,3 +184,25 @@ def test_the_gpu_run_joins_the_accuracy_cost_study_only_when_asked(tmp_path):
     on, off = plan("true"), plan("false")
     assert "rule paper_global_gpu" in on and "fe.backend=cupy" in on and "global 3d-paper=output/paper/gpu/" in on
     assert "paper_global_gpu" not in off and "output/paper/gpu/" not in off
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("snakemake_executor_plugin_slurm") is None,
+    reason="the SLURM executor plugin is an extra (pip install -e '.[cluster]')",
+)
+def test_a_cluster_executor_takes_more_ranks_than_the_submitting_machines_cpus():
+    """Under the SLURM profile the ranks run on the cluster's nodes: ranks=8 on a 2-CPU submit host was refused
+    (the Snakefile read workflow.local_exec before Snakemake had its executor, True under any executor); the same
+    ranks on the local profile still are."""
+    cpus = os.cpu_count() or 1
+    base = [str(SNAKEMAKE), "-s", "workflows/Snakefile", "-n", "dt_sweep", "--config", f"ranks={cpus + 1}"]
+    slurm = subprocess.run(
+        [*base[:3], "--workflow-profile", "workflows/profiles/slurm", *base[3:]],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert slurm.returncode == 0 and "global_fe" in slurm.stdout + slurm.stderr, slurm.stderr[-2000:]
+    local = subprocess.run(
+        [*base[:3], "--workflow-profile", "workflows/profiles/local", *base[3:]],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert local.returncode == 2 and f"config 'ranks' = {cpus + 1}" in local.stderr, local.stderr[-2000:]
