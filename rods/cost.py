@@ -923,13 +923,14 @@ def busy_note(ranks: int, load: float | None = None, cores: int | None = None) -
     )
 
 
-def check(cost: Cost, force: bool = False) -> Cost:
-    """Refuse ``cost`` above the available memory (always) or the step, work, frame, value and time budgets (unless
-    ``force``)."""
+def check(cost: Cost, force: bool = False, memory: bool = True, forced_by: str | None = "--force") -> Cost:
+    """Refuse ``cost`` above the available memory (where ``memory``: this machine runs it; a cluster job's memory is
+    its node's, asked of the scheduler) or the step, work, frame, value and time budgets (unless ``force``; the
+    remedy names ``forced_by``, the option that lifts them, where there is one)."""
     free = available_memory()
     fe = cost.dofs > 0  # else the analytical model, whose steps a contact stiff against thin rods sets
     first = "".join(f"{r}, " for r in (cost.remedy, cost.cheaper) if r)
-    if cost.memory > free:
+    if memory and cost.memory > free:
         raise InputError(
             cost.what, f"{cost.memory / 1e9:.3g} GB", f"needs more memory than available ({free / 1e9:.3g} GB): "
             f"{cost.dofs:.3g} DOFs, {cost.steps:.3g} steps, {cost.values:.3g} history values",
@@ -954,5 +955,5 @@ def check(cost: Cost, force: bool = False) -> Cost:
     for name, amount, budget, said, limit, meaning, remedy in budgets:
         if not force and amount > budget:
             why = f"above the {name} budget of {limit} ({meaning})"
-            raise InputError(cost.what, said, why, f"{first}{remedy}, or --force")
+            raise InputError(cost.what, said, why, f"{first}{remedy}" + (f", or {forced_by}" if forced_by else ""))
     return cost
