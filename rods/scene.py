@@ -498,8 +498,10 @@ def parse_override(text: str) -> tuple[str, Any]:
         if isinstance(value, float) and math.isinf(value) and "inf" not in raw.lower():  # 1e400 reads as inf
             raise SceneError(key, raw, "must be a number a float64 holds (below 1.8e308)")
     except tomllib.TOMLDecodeError as e:
-        if raw[:1] in "[{\"'":  # meant as a TOML list, table or string: a bare string would hide the slip
-            remedy = "e.g. --set 'effects=[\"contact_patch\"]' (quote the whole --set for the shell)"
+        if raw[:1] and raw[:1] in "[{\"'":  # meant as a TOML list, table or string: a bare string would hide the slip
+            kind = SCHEMA.get(key, ("",))[0]
+            example = f'{key}="text"' if kind == "str" else 'effects=["contact_patch"]'  # ("" was in every string)
+            remedy = f"e.g. --set '{example}' (quote the whole --set for the shell)"
             raise SceneError(key, raw, f"malformed TOML value ({str(e).splitlines()[0]})", remedy) from None
         value = raw
     return key, value
@@ -532,8 +534,18 @@ def _unknown_msg(key: str) -> str:
     head = key.split(".")[0]
     if not any(k.split(".")[0] == head for k in SCHEMA) and hint is not None:
         head = hint.split(".")[0]
+    if key == "base":  # a scene file's own key, not a value to set
+        return (
+            "unknown as an override: base names a scene file's base (remedy: --scene FILE, whose base = ... it reads)"
+        )
     near = sorted(k for k in SCHEMA if k.split(".")[0] == head)
-    listing = f"; keys in [{head}]: {', '.join(near)}" if near else f"; known keys: {', '.join(SCHEMA)}"
+    tables = sorted({k.split(".")[0] for k in SCHEMA if "." in k}) + ["station"]
+    top = [k for k in SCHEMA if "." not in k]
+    listing = (
+        f"; keys in [{head}]: {', '.join(near)}"
+        if near
+        else f"; the scene's tables: {', '.join(tables)}; its other keys: {', '.join(top)} (remedy: README 'Scenes')"
+    )
     return "unknown key" + (f"; did you mean '{hint}'?" if hint else "") + listing
 
 
@@ -541,6 +553,8 @@ def nearest_key(key: str, known: Iterable[str] = SCHEMA) -> str | None:
     """The ``known`` key (default the scene schema's) closest to ``key`` by its whole spelling or, failing that, by
     its last dotted part alone; None when none is close (the "did you mean" of every unknown-key error)."""
     known = list(known)
+    if (same := {k.lower(): k for k in known}.get(key.lower())) is not None:  # IMPACT.SPEED: the case alone
+        return same
     whole = difflib.get_close_matches(key, known, n=1, cutoff=0.8)
     if whole:
         return whole[0]

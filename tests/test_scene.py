@@ -843,3 +843,19 @@ def test_a_key_set_twice_through_a_quoted_dotted_key_is_refused(tmp_path):
     same = ("name", "description")  # the file's own
     empty, paper = (load_scene(p).as_dict() for p in (tmp_path / "empty.toml", PAPER))
     assert {k: v for k, v in empty.items() if k not in same} == {k: v for k, v in paper.items() if k not in same}
+
+
+def test_an_unknown_or_misplaced_override_says_what_is_known(scene_with):
+    """An unknown key with no near one lists the scene's tables, not its ~60 keys (a 900-character line); a key in
+    the wrong case is found; ``base`` is a scene file's own; an empty value is a value (it got a list's example)."""
+    with pytest.raises(SceneError) as e:
+        scene_with("zzz=1")
+    assert "the scene's tables: analytical, fe, impact, rod1, rod2, simulation, submodel, station" in str(e.value)
+    assert len(str(e.value)) < 300
+    with pytest.raises(SceneError, match="did you mean 'impact.speed'"):
+        scene_with("IMPACT.SPEED=1.0")
+    with pytest.raises(SceneError, match=r"base names a scene file's base \(remedy: --scene FILE"):
+        scene_with("base=x")
+    assert parse_override("name=") == ("name", "")
+    with pytest.raises(SceneError, match=r"""e.g. --set 'name="text"'"""):
+        parse_override("name='x")
