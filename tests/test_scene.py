@@ -859,3 +859,12 @@ def test_an_unknown_or_misplaced_override_says_what_is_known(scene_with):
     assert parse_override("name=") == ("name", "")
     with pytest.raises(SceneError, match=r"""e.g. --set 'name="text"'"""):
         parse_override("name='x")
+
+
+def test_a_yield_strength_at_the_printed_floor_is_accepted(scene_with):
+    """The refusal printed its floor (1e-5 x E = 2.043e+06 Pa for E = 204.3 GPa) and then refused that value, its
+    product 2043000.0000000002 in floating point."""
+    E = scene_with().rod1.material.youngs_modulus  # [Pa]
+    assert scene_with(f"rod1.material.yield_strength={float(f'{1e-5 * E:g}')!r}").rod1.material.yield_strength
+    with pytest.raises(SceneError, match="must be >= 1e-05 x youngs_modulus"):
+        scene_with(f"rod1.material.yield_strength={0.99e-5 * E!r}")
