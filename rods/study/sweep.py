@@ -73,6 +73,35 @@ class ConfigError(ValueError):
         super().__init__(f"config '{key}' = {short(value)}: {why} ({remedy})")
 
 
+def check_config_file(path: str | Path) -> None:
+    """Refuse (ConfigError) a config file Snakemake would misread: not YAML (Snakemake's own error names neither the
+    line nor the column), not a mapping, or a key given twice in one mapping (YAML keeps the last, silently)."""
+    import yaml
+
+    class _Unique(yaml.SafeLoader):
+        def construct_mapping(self, node, deep=False):
+            seen = set()
+            for key_node, _ in node.value:
+                key = self.construct_object(key_node, deep=deep)
+                if key in seen:
+                    mark = key_node.start_mark
+                    raise ConfigError(key, None, f"given twice in {path} (line {mark.line + 1})", "keep one")
+                seen.add(key)
+            return super().construct_mapping(node, deep)
+
+    try:
+        data = yaml.load(Path(path).read_text(encoding="utf-8"), Loader=_Unique)
+    except (OSError, UnicodeDecodeError) as e:
+        raise ConfigError("configfile", str(path), f"cannot be read ({e})", "a UTF-8 YAML file") from None
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        why = f"not valid YAML{where}: {getattr(e, 'problem', None) or e}"
+        raise ConfigError("configfile", str(path), why, "fix that line (spaces, not tabs)") from None
+    if not isinstance(data, dict):
+        raise ConfigError("configfile", str(path), "must be a YAML mapping of the config's keys", "see sweep.yaml")
+
+
 def check_config(config: Mapping[str, object], local_cpus: int | None = None) -> None:
     """Refuse, before any job, a config the sweeps cannot run: unknown keys, a scene that does not load, speeds,
     mesh sizes, time-step fractions, model kinds, ranks and levels outside the scene schema's ranges (each value

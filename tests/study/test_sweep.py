@@ -216,3 +216,22 @@ def test_a_cluster_executor_takes_more_ranks_than_the_submitting_machines_cpus()
         cwd=ROOT, capture_output=True, text=True, timeout=120,
     )  # fmt: skip
     assert local.returncode == 2 and f"config 'ranks' = {cpus + 1}" in local.stderr, local.stderr[-2000:]
+
+
+def test_a_config_file_snakemake_would_misread_is_refused_with_its_line(tmp_path):
+    """The Snakefile reads its config files as YAML first: Snakemake's own error for a broken one named neither line
+    nor column (exit 1), and a key given twice kept the last silently (a fuzz, 2026-12-07)."""
+    from rods.study.sweep import check_config_file
+
+    check_config_file(ROOT / "workflows" / "sweep.yaml")
+    cases = {
+        "broken.yaml": ("scene: x\nspeeds: [1.0\n", r"not valid YAML at line 3, column 1"),
+        "twice.yaml": ("ranks: 1\nkinds: [axisymmetric]\nranks: 2\n", r"'ranks' = None: given twice .* \(line 3\)"),
+        "list.yaml": ("- 1\n- 2\n", "must be a YAML mapping"),
+        "latin1.yaml": (b"scene: \xe9\n", "cannot be read"),
+    }
+    for name, (text, words) in cases.items():
+        path = tmp_path / name
+        path.write_bytes(text if isinstance(text, bytes) else text.encode())
+        with pytest.raises(ConfigError, match=words):
+            check_config_file(path)
