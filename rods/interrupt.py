@@ -3,26 +3,34 @@
 A signal that arrives while a time loop is running (:func:`armed`) only records the request; the loop's
 :class:`rods.fe.guards.InterruptCheck` observer reduces it over the ranks every few steps and stops all
 of them together (the partial histories are written, status "interrupted", exit code 130). Outside a
-loop, or at a second signal, the signal raises KeyboardInterrupt at once (the entry point exits 130,
-under MPI after aborting every rank). :func:`install` is called by the entry points only: a library
-user keeps Python's default handling.
+loop, or at a second signal :data:`REPEAT_GRACE` or more after the first, the signal raises KeyboardInterrupt
+at once (the entry point exits 130, under MPI after aborting every rank). :func:`install` is called by the
+entry points only: a library user keeps Python's default handling.
 """
 
 from __future__ import annotations
 
 import signal
+import time
 from contextlib import contextmanager
 from typing import Any
 
 __all__ = ["armed", "install", "requested", "reset", "uninstall"]
 
-_state = {"armed": 0, "signal": 0, "installed": 0}
+_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0}
+# a signal repeated within this time of the first is the same stop request [s]: a SLURM time limit's SIGTERM reaches
+# each rank directly and again through mpirun, milliseconds apart, and the second raised KeyboardInterrupt on that
+# rank alone (no checkpoint; a hang where the others waited in a collective: a fuzz, 2026-12-07). A Ctrl-C pressed
+# again later still stops at once.
+REPEAT_GRACE = 5.0
 
 
 def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
-    if _state["armed"] and not _state["signal"]:
-        _state["signal"] = signum  # the loop stops at its next check, on every rank together
-        return
+    now = time.monotonic()  # [s]
+    if _state["armed"] and (not _state["signal"] or now - _state["since"] < REPEAT_GRACE):
+        if not _state["signal"]:  # the loop stops at its next check, on every rank together
+            _state["signal"], _state["since"] = signum, now
+        return  # a repeat within the grace is the same request
     _state["signal"] = signum  # raised inside a C extension, the interrupt may surface as another error
     raise KeyboardInterrupt
 

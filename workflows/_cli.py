@@ -289,8 +289,16 @@ def _stopped(e: BaseException) -> int | None:
         return None
     mpi = _mpi()
     if mpi is None or mpi.COMM_WORLD.rank == 0:
-        what = "interrupted" if isinstance(e, guards.Interrupted) else "run stopped"
-        print(f"error: {what}: {one_line(str(e))}; the histories up to the stop are written", file=sys.stderr)
+        from rods.study.console import end_bar
+
+        end_bar()  # the line after the bar, not on it
+        if isinstance(e, guards.Interrupted) and e.checkpointed:
+            tail = "the histories up to the stop and a checkpoint are written: the same command with --restart resumes"
+            print(f"error: interrupted: {one_line(str(e))}; {tail}", file=sys.stderr)
+        elif isinstance(e, guards.Interrupted):  # a driver's cut record, which no checkpoint holds: a rerun
+            print(f"error: interrupted: {one_line(str(e))}; the histories up to the stop are written", file=sys.stderr)
+        else:
+            print(f"error: run stopped: {one_line(str(e))}; the histories up to the stop are written", file=sys.stderr)
     return EXIT_INTERRUPTED if isinstance(e, guards.Interrupted) else EXIT_FAILED
 
 
@@ -312,9 +320,12 @@ def _abort(message: str, code: int) -> int:
 
 
 def _interrupted() -> int:
-    """Ctrl-C/SIGTERM outside the time loop (set-up, writing): stop at once, every rank, exit 130, without the
+    """Ctrl-C/SIGTERM outside the time loop (set-up, writing) or a second one inside it (rods.interrupt): stop at
+    once, every rank, exit 130, without the
     extensions' exit handlers (they would report the interrupted call again)."""
-    code = _abort("interrupted (outside the time loop: nothing partial to write)", EXIT_INTERRUPTED)
+    code = _abort(
+        "interrupted (in the set-up, the writing, or by a second signal: nothing partial to write)", EXIT_INTERRUPTED
+    )
     sys.stderr.flush()
     sys.stdout.flush()
     os._exit(code)

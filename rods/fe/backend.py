@@ -395,6 +395,10 @@ class OnHost:
     def after_step(self, step: int, t: float, state: Any) -> None:
         self.observer.after_step(step, t, HostView(state, self.backend))
 
+    @property
+    def collective(self) -> bool:
+        return getattr(self.observer, "collective", False)
+
     def finish(self) -> None:
         if hasattr(self.observer, "finish"):
             self.observer.finish()

@@ -103,7 +103,10 @@ def _dof_to_geometry(V: dolfinx.fem.FunctionSpace) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------
 class CutRecorder:
     """Observer of the global run (:mod:`rods.fe.observers`): records u_n, v_{n+1/2} of the cut band every
-    ``every`` steps up to ``record_until`` [s]; :meth:`write` gathers to rank 0 and writes ``cut.h5``."""
+    ``every`` steps up to ``record_until`` [s]; :meth:`write` gathers to rank 0 and writes ``cut.h5``. Its record
+    is in memory, which no checkpoint holds: a run with it is not resumable, and writes no checkpoint."""
+
+    resumable = False
 
     def __init__(self, model: ExplicitModel, record_until: float | None = None, every: int = 1):
         sc, V = model.scene, model.V

@@ -428,6 +428,11 @@ class FieldOutput:
             p[tip.local // self.bs] = np.where(area > 0, Fk[tip.pos] / np.where(area > 0, area, 1.0), 0.0)
         return p
 
+    @property
+    def collective(self) -> bool:
+        """Whether :meth:`finish` is collective (the ADIOS2 writer closes on every rank together)."""
+        return self.vtx is not None and self.comm.size > 1
+
     def finish(self) -> None:
         if self.vtx is not None:
             self.vtx.close()

@@ -61,9 +61,11 @@ class SimulationError(RuntimeError):
 
 
 class Interrupted(SimulationError):
-    """The run was stopped on request (Ctrl-C, SIGTERM) by every rank at the same step."""
+    """The run was stopped on request (Ctrl-C, SIGTERM) by every rank at the same step; ``checkpointed``: a
+    checkpoint of that step was written first (a run that can resume)."""
 
     status = "interrupted"
+    checkpointed = False
 
 
 @dataclass
@@ -189,7 +191,9 @@ class InterruptCheck:
                 if self.on_stop is not None:
                     self.on_stop(step, t)
                 cause = f"interrupted by signal {signum}"
-                raise Interrupted(f"run interrupted at step {step} (t = {t:.6g} s)", step, t, cause)
+                stop = Interrupted(f"run interrupted at step {step} (t = {t:.6g} s)", step, t, cause)
+                stop.checkpointed = self.on_stop is not None
+                raise stop
 
     def finish(self) -> None:
         if self._ctx is not None:

@@ -284,7 +284,9 @@ class ExplicitModel:
         step0 = self._restore(out, parts, key, progress) if restart and out is not None else 0
         if step0 == 0 and out is not None:  # afresh: an earlier run's field series here is not this run's
             fields.discard(out, self.comm)
-        own = self._observers(stepper, recorder, out, progress, step0, parts, key)
+        # a run whose record a checkpoint cannot hold (the driver's cut band: rods.fe.cut.CutRecorder) writes none
+        resumable = all(getattr(o, "resumable", True) for o in observers)
+        own = self._observers(stepper, recorder, out, progress, step0, parts, key, checkpoints=resumable)
         recorder.start()
         with loop_blas():  # the caller's setting is restored after the loop
             failure = march(stepper, range(step0, self.steps + 1), [*observers, recorder, *own], recorder.is_out)
@@ -332,10 +334,13 @@ class ExplicitModel:
         args = (self.contact, probes, mass_axial, steps, self.steps, self.dt, self.comm, self.multiplicity)
         return Recorder(*args, sources, self.backend)
 
-    def _observers(self, stepper, recorder, out, progress, step0: int, parts, key: str) -> list[Observer]:
-        """The model's own observers after the recorder: guards, fields, checkpoints (after ``step0``), the
-        interrupt check. Fields precede checkpoints: a checkpoint at step c (a restart at c + 1 keeps the frames
-        before (c + ½)Δt) then implies that the frames up to step c are on disk, whenever the run is killed."""
+    def _observers(
+        self, stepper, recorder, out, progress, step0: int, parts, key: str, checkpoints: bool = True
+    ) -> list[Observer]:
+        """The model's own observers after the recorder: guards, fields, checkpoints (after ``step0``; none where
+        not ``checkpoints``), the interrupt check. Fields precede checkpoints: a checkpoint at step c (a restart at
+        c + 1 keeps the frames before (c + ½)Δt) then implies that the frames up to step c are on disk, whenever the
+        run is killed."""
         sc, dt = self.scene, self.dt
         guard = Guard(dt, self.dt_critical, sc["fe.energy_growth_limit"], self.dt_switching)
         run_guard = RunGuard(guard, recorder, self.inverted_cells, self.comm, self.backend.dot)  # reads a device's
@@ -344,7 +349,7 @@ class ExplicitModel:
             view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
             own.append(FieldOutput(self, out, sc.field_interval, view, step0))
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together, a checkpoint first
-        if out is not None:  # periodic checkpoints where fe.checkpoint_interval > 0; one at a stop in any case
+        if out is not None and checkpoints:  # periodic ones where fe.checkpoint_interval > 0; one at a stop in any case
             interval = sc["fe.checkpoint_interval"]
             every = checkpoint.stride(interval, dt) if interval > 0 else self.steps + 1  # [steps]
             if step0 == 0:  # afresh: an earlier run's checkpoint here is stale from now on

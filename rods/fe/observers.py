@@ -30,7 +30,12 @@ class Observer(Protocol):
 def march(
     stepper: CentralDifference, steps: range, observers: Sequence[Observer], keep: np.ndarray
 ) -> SimulationError | None:
-    """Run ``steps`` (keeping the energy increments where ``keep[step]``); the guard's error, if one stopped it."""
+    """Run ``steps`` (keeping the energy increments where ``keep[step]``); the guard's error, if one stopped it.
+
+    A guard's or the interrupt check's stop comes on every rank at the same step, so the observers finish together
+    (collective closes: the ADIOS2 writer's). Anything else (a second Ctrl-C, an error) stops this rank alone while
+    the others are mid-step: there an observer's collective finish waited forever (a double SIGTERM hung a 2-rank run
+    in VTXWriter.close, a fuzz, 2026-12-07), so only the rank's own finishes run and the entry point aborts all."""
     try:
         for step in steps:
             stepper.step(keep[step])
@@ -38,12 +43,21 @@ def march(
             for o in observers:
                 o.after_step(step, t, stepper)
     except SimulationError as e:
+        _finish(observers)
         return e
-    finally:
-        for o in observers:
-            if hasattr(o, "finish"):
-                o.finish()
+    except BaseException:
+        _finish(observers, alone=True)
+        raise
+    _finish(observers)
     return None
+
+
+def _finish(observers: Sequence[Observer], alone: bool = False) -> None:
+    """Each observer's ``finish``; ``alone`` (this rank stops without the others): not the collective ones
+    (an observer's ``collective`` true)."""
+    for o in observers:
+        if hasattr(o, "finish") and not (alone and getattr(o, "collective", False)):
+            o.finish()
 
 
 class Progress:

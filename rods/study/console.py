@@ -27,6 +27,17 @@ def progress_bar(step: int, total: int, elapsed: float, start: int = 0) -> None:
     done = int(30 * step / max(total, 1))
     line = f"[{'#' * done}{'.' * (30 - done)}] {step}/{total} steps  {rate:,.0f} steps/s  eta {eta:5.1f} s"
     sys.stderr.write(("\r" + line + " ") if tty else (line + "\n"))
+    _bar["open"] = tty and step != total
     if tty and step == total:
         sys.stderr.write("\n")
     sys.stderr.flush()
+
+
+_bar = {"open": False}  # a bar redrawn on the terminal's last line, without its newline yet
+
+
+def end_bar() -> None:
+    """End a bar left open on the terminal (a run stopped mid-way): the next line starts on its own."""
+    if _bar["open"]:
+        sys.stderr.write("\n")
+        _bar["open"] = False

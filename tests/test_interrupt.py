@@ -1,0 +1,70 @@
+"""rods.interrupt: a signal during the time loop is a request the ranks honour together; a repeat within the grace
+is the same request, a later one stops at once; a rank that stops alone skips the collective finishes."""
+
+from __future__ import annotations
+
+import signal
+
+import numpy as np
+import pytest
+
+from rods import interrupt
+
+
+@pytest.fixture
+def armed(monkeypatch):
+    """The handler's state inside a time loop, restored after the test."""
+    monkeypatch.setattr(interrupt, "_state", {"armed": 1, "signal": 0, "installed": 0, "since": 0.0})
+    return interrupt._state
+
+
+def test_a_repeated_signal_within_the_grace_is_the_same_request(armed, monkeypatch):
+    """SLURM's SIGTERM reaches each rank directly and again through mpirun, milliseconds apart: the repeat raised
+    KeyboardInterrupt on that rank alone (no checkpoint; a hang where the others waited in a collective)."""
+    clock = iter([100.0, 100.002, 100.0 + interrupt.REPEAT_GRACE + 0.1])
+    monkeypatch.setattr(interrupt.time, "monotonic", lambda: next(clock))
+    interrupt._handler(signal.SIGTERM, None)
+    assert interrupt.requested() == signal.SIGTERM
+    interrupt._handler(signal.SIGTERM, None)  # 2 ms later: the same request
+    assert interrupt.requested() == signal.SIGTERM
+    with pytest.raises(KeyboardInterrupt):  # a Ctrl-C pressed again later: at once
+        interrupt._handler(signal.SIGINT, None)
+
+
+def test_outside_a_loop_a_signal_stops_at_once(armed):
+    armed["armed"] = 0
+    with pytest.raises(KeyboardInterrupt):
+        interrupt._handler(signal.SIGINT, None)
+
+
+class _Stepper:
+    dt = 1.0
+
+    def step(self, keep):  # noqa: ARG002
+        pass
+
+
+class _Observer:
+    def __init__(self, collective: bool, stop_at: int | None = None):
+        self.collective, self.stop_at, self.finished = collective, stop_at, False
+
+    def after_step(self, step, t, state):  # noqa: ARG002
+        if step == self.stop_at:
+            raise KeyboardInterrupt
+
+    def finish(self):
+        self.finished = True
+
+
+def test_a_rank_stopping_alone_skips_the_collective_finishes():
+    """A KeyboardInterrupt (or any error) on one rank: its collective finishes (the ADIOS2 writer's close) would wait
+    for ranks that are mid-step; its own finishes (disarming the signals) still run. A run to its end finishes all."""
+    from rods.fe.observers import march
+
+    shared, own = _Observer(collective=True), _Observer(collective=False, stop_at=3)
+    with pytest.raises(KeyboardInterrupt):
+        march(_Stepper(), range(10), [shared, own], np.zeros(10, bool))
+    assert own.finished and not shared.finished
+    shared, own = _Observer(collective=True), _Observer(collective=False)
+    assert march(_Stepper(), range(10), [shared, own], np.zeros(10, bool)) is None
+    assert own.finished and shared.finished
