@@ -13,13 +13,14 @@ it (rods.plan.most_refined).
 
 from __future__ import annotations
 
+import json
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from rods import checks, cost, io, plan
-from rods.scene import SUBMODEL_LEVEL_SIZES, Scene, cut_record_end
+from rods.scene import RESULT_NEUTRAL, SUBMODEL_LEVEL_SIZES, Scene, cut_record_end, value_differences, values_without
 from rods.study import stages
 
 __all__ = ["Study", "run_study", "stage_costs"]
@@ -155,7 +156,7 @@ def run_study(
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
     if restart:
-        _precheck_restart(p, out, comm, g if p.global_model and not shared else None, shared)
+        _precheck_restart(p, out, comm, g if p.global_model and not shared else None, shared, scene)
     if p.global_model:
         kept, model = _set_up_global(g, out / "global", comm, restart, kw)
     stages.write_analytical(done["analytical"], comm)  # the scene passed every check: the study writes from here
@@ -281,17 +282,34 @@ def _forget_products(folder: Path) -> None:
         (folder / name).unlink(missing_ok=True)
 
 
-def _precheck_restart(p: plan.Plan, out: Path, comm: Any, g: Scene | None, shared: bool) -> None:
+# scene keys a study's restart may change: which stages run (a level added, an effect), and the checkpoints' spacing
+RESTART_FREE = ("effects", "submodel.levels", *RESULT_NEUTRAL)
+
+
+def _precheck_restart(p: plan.Plan, out: Path, comm: Any, g: Scene | None, shared: bool, scene: Scene) -> None:
     """A study's restart refused before any set-up or write (CheckpointError, exit 2): ``out`` holds no study begun
-    (a study writes analytical/summary.json before any FE stage), or a planned FE stage's checkpoint there is
-    damaged, of another rank count or, the global's ``g`` (the global that resumes from its checkpoint; None:
-    none does), of another scene (rods.fe.checkpoint.precheck; the other stages' scenes are derived at their
-    set-up, whose load checks them). Every rank reads the same files, so all refuse together."""
+    (a study writes analytical/summary.json before any FE stage) or one of another ``scene`` (its values there but
+    :data:`RESTART_FREE`: a changed mesh size reran and overwrote every finished stage, silently, a fuzz,
+    2026-12-07), or a planned FE stage's checkpoint there is damaged, of another rank count or, the global's ``g``
+    (the global that resumes from its checkpoint; None: none does), of another scene (rods.fe.checkpoint.precheck;
+    the other stages' scenes are derived at their set-up, whose load checks them). Every rank reads the same files,
+    so all refuse together."""
     from rods.fe import checkpoint
 
-    if not (out / "analytical" / "summary.json").is_file():
+    begun = out / "analytical" / "summary.json"
+    if not begun.is_file():
         why = "no stopped study in this folder (a study writes analytical/summary.json before its FE stages)"
         raise checkpoint.CheckpointError("--restart", str(out), why, "run without --restart, or give the study's --out")
+    try:
+        theirs = json.loads(begun.read_text(encoding="utf-8")).get("scene_values")  # null stays None (read_data: NaN)
+    except (OSError, ValueError, AttributeError):
+        theirs = None  # damaged: the analytical stage reruns and overwrites it
+    ours = values_without(scene.as_dict(), RESTART_FREE)
+    if theirs is not None and (diffs := value_differences(ours, values_without(theirs, RESTART_FREE))):
+        key, here, there = diffs[0]
+        why = f"the study stopped there ran another scene ({key} = {there!r} there, {here!r} here)"
+        fix = "give that study's settings, or run without --restart (afresh: its stages are replaced)"
+        raise checkpoint.CheckpointError("--restart", str(out), why, fix)
     for folder in _stage_folders(p, shared):
         if (out / folder / checkpoint.MANIFEST).exists():
             checkpoint.precheck(out / folder, comm.size, g if folder == "global" else None)
