@@ -203,5 +203,8 @@ def scene_folder(scene: Any, overridden: bool) -> str:
     name = safe_name(scene.name)
     if not overridden:
         return name
-    digest = hashlib.sha1(json.dumps(scene.as_dict(), sort_keys=True).encode()).hexdigest()[:8]
+    from rods.scene import RESULT_NEUTRAL, values_without  # a restart may turn checkpoints on: the same folder
+
+    values = values_without(scene.as_dict(), RESULT_NEUTRAL)
+    digest = hashlib.sha1(json.dumps(values, sort_keys=True).encode()).hexdigest()[:8]
     return f"{name[: MAX_FOLDER_NAME - 9]}-{digest}"

@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import os
+import re
 import signal
 import subprocess
 import time
@@ -655,6 +656,9 @@ def test_a_run_with_other_values_never_overwrites_the_plain_scenes_folder(tmp_pa
     c = scene_folder(scene_with("impact.speed=3.0", "simulation.end_time=1e-4"), True)
     assert a == b != c and a.startswith("paper-") and len(a) == len("paper-") + 8
     assert scene_folder(scene_with(), False) == "paper"
+    # checkpoints turned on for a restart change no result: the same folder (its --restart found no checkpoint)
+    ckpt = scene_with("impact.speed=4.0", "simulation.end_time=1e-4", "fe.checkpoint_interval=1e-5")
+    assert scene_folder(ckpt, True) == a
     for speed in ("4.0", "3.0"):  # in this process (tests/conftest.py in_process): the folder is the workflow's rule
         p = in_process(
             "analytical.py", "--set", f"impact.speed={speed}", "--set", "simulation.end_time=1e-4", cwd=tmp_path
@@ -1011,3 +1015,14 @@ def test_a_default_folder_is_its_scene_files(tmp_path):
     refused(in_process("global.py", "--scene", "samename.toml", "--dry-run", cwd=tmp_path), *words)
     ok = in_process("global.py", "--scene", str(SCENES / "paper.toml"), "--dry-run", cwd=tmp_path)
     assert ok.returncode == 0 and "output/global/paper" in ok.stdout + ok.stderr
+
+
+def test_a_restart_with_checkpoints_turned_on_finds_the_default_folder(tmp_path):
+    """--set fe.checkpoint_interval (allowed on a restart: it changes no result) moved the default folder, so the
+    restart found no checkpoint and its remedy started afresh elsewhere (a fuzz, 2026-12-07)."""
+    base = ("--set", "simulation.end_time=1e-4", "--dry-run")
+    plain = run("global.py", *base, cwd=tmp_path)
+    ckpt = run("global.py", *base, "--set", "fe.checkpoint_interval=1e-5", cwd=tmp_path)
+    assert plain.returncode == ckpt.returncode == 0, ckpt.stderr
+    folder = re.search(r"-> (\S*output/global/\S+)", plain.stdout).group(1)
+    assert f"-> {folder}" in ckpt.stdout

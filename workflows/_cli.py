@@ -31,7 +31,7 @@ from rods.preflight import (  # noqa: F401  (for scripts)
     scene_folder,
     short,
 )
-from rods.scene import Scene, SceneError, load_scene, parse_override
+from rods.scene import RESULT_NEUTRAL, Scene, SceneError, load_scene, parse_override, values_without
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
 SCENES = Path(__file__).resolve().parent / "scenes"
@@ -250,11 +250,14 @@ def scene_default(args: argparse.Namespace, stage: str, scene: Scene) -> Path:
 
 def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
     """Whether --set changed the scene's values: a run whose overrides repeat the file's values (`--set
-    impact.speed=2.197` on paper.toml) is the file's scene and shares its default folder."""
+    impact.speed=2.197` on paper.toml), or change only what changes no result (rods.scene.RESULT_NEUTRAL: checkpoints
+    turned on for a restart), is the file's scene and shares its default folder."""
     if not args.overrides:
         return False
     try:
-        return load_scene(args.scene).as_dict() != scene.as_dict()
+        return values_without(load_scene(args.scene).as_dict(), RESULT_NEUTRAL) != values_without(
+            scene.as_dict(), RESULT_NEUTRAL
+        )
     except SceneError:  # the file alone is not a valid scene: the overrides made it one
         return True
 
