@@ -282,8 +282,10 @@ class ExplicitModel:
         inputs = [o.checkpoint_identity for o in observers if hasattr(o, "checkpoint_identity")]
         key = checkpoint.run_key(self.scene, self.dt, self.comm.size, self.n_global, CHECKPOINT_FORMAT, inputs)
         step0 = self._restore(out, parts, key, progress) if restart and out is not None else 0
-        if step0 == 0 and out is not None:  # afresh: an earlier run's field series here is not this run's
-            fields.discard(out, self.comm)
+        if step0 == 0 and out is not None:  # afresh: an earlier run's verdict and field series here are not this run's
+            if self.comm.rank == 0:  # its summary.json beside this run's partial series (killed) read as finished
+                (Path(out) / "summary.json").unlink(missing_ok=True)
+            fields.discard(out, self.comm)  # (a barrier)
         # a run whose record a checkpoint cannot hold (the driver's cut band: rods.fe.cut.CutRecorder) writes none
         resumable = all(getattr(o, "resumable", True) for o in observers)
         own = self._observers(stepper, recorder, out, progress, step0, parts, key, checkpoints=resumable)

@@ -219,8 +219,11 @@ def test_a_checkpoint_implies_its_frames_are_on_disk(tmp_path, monkeypatch, capf
         raise _Killed
 
     monkeypatch.setattr(checkpoint.Checkpoints, "save_now", save_then_die)
+    (tmp_path / "summary.json").write_text('{"status": "ok"}')  # an earlier run's, finished, in this folder
     with pytest.raises(_Killed):
         model.run(tmp_path)
+    # a run afresh removed it: killed, the folder reads as unfinished, not as the earlier run beside a partial series
+    assert not (tmp_path / "summary.json").exists()
     t_ck = json.loads((tmp_path / "checkpoint.json").read_text())["time"]
     _, frames = _frames(tmp_path)
     assert t_ck == pytest.approx(2e-5, rel=0.02)
