@@ -16,15 +16,27 @@ from rods.metrics import PICTURE_PATCHES
 __all__ = ["fig5c", "fig6", "pyplot"]
 
 
-def pyplot():
-    """matplotlib.pyplot on the Agg backend (files, no screen), imported at the first figure: at module level it
-    cost every entry point 0.6 s at start, bad input included."""
-    import matplotlib
+class _Figures:
+    """The two calls of matplotlib.pyplot the figures make (``subplots``, ``close``), on figures of their own
+    (matplotlib.figure.Figure, drawn by Agg when saved): no pyplot state, no backend switched. ``matplotlib.use("Agg")``
+    switched a notebook's backend for the rest of its session (a library user's fuzz, 2026-12-07)."""
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    @staticmethod
+    def subplots(*args: Any, figsize: tuple[float, float] | None = None, **kwargs: Any) -> tuple[Any, Any]:
+        from matplotlib.figure import Figure
 
-    return plt
+        fig = Figure(figsize=figsize)
+        return fig, fig.subplots(*args, **kwargs)
+
+    @staticmethod
+    def close(fig: Any) -> None:  # noqa: ARG004  (a Figure of its own: nothing holds it but the caller)
+        pass
+
+
+def pyplot() -> _Figures:
+    """The figures' drawing calls (:class:`_Figures`), imported at the first figure: matplotlib at module level cost
+    every entry point 0.6 s at start, bad input included."""
+    return _Figures()
 
 
 def fig6(out: Path, subs: Sequence[Mapping[str, Any]], nu: float) -> None:
