@@ -1012,7 +1012,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
 
 def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
     """Validate a parsed scene (plus ``KEY=VALUE`` overrides) and build a :class:`Scene`."""
-    data, overrides = copy.deepcopy(dict(data)), tuple(overrides)
+    data, overrides = copy.deepcopy(dict(data)), _override_list(overrides)
     given = copy.deepcopy(data)  # the values before the overrides: the label lists those that change one
     for text in overrides:
         _apply_override(data, *parse_override(text))
@@ -1365,6 +1365,15 @@ def scene_from_summary(
 
     scene = scene_from_dict(restore(values), tuple(overrides), source=source)
     return dataclasses.replace(scene, overrides=by_key(last_per_key((*given, *scene.overrides))))
+
+
+def _override_list(overrides: Iterable[str] | str) -> tuple[str, ...]:
+    """``overrides`` as KEY=VALUE strings: one string is one override (it was read letter by letter: "scene key 'i'
+    = None" for "impact.speed=1.0"); anything else but strings is refused naming the argument."""
+    given = (overrides,) if isinstance(overrides, str) else tuple(overrides)
+    if odd := [o for o in given if not isinstance(o, str)]:
+        raise TypeError(f"overrides: KEY=VALUE strings, e.g. ['impact.speed=1.0'], not {odd[0]!r}")
+    return given
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

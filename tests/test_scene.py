@@ -868,3 +868,11 @@ def test_a_yield_strength_at_the_printed_floor_is_accepted(scene_with):
     assert scene_with(f"rod1.material.yield_strength={float(f'{1e-5 * E:g}')!r}").rod1.material.yield_strength
     with pytest.raises(SceneError, match="must be >= 1e-05 x youngs_modulus"):
         scene_with(f"rod1.material.yield_strength={0.99e-5 * E!r}")
+
+
+def test_overrides_given_as_one_string_are_one_override():
+    """``load_scene(path, "impact.speed=1.0")`` was read letter by letter ("scene key 'i' = None"); a non-string
+    entry is refused naming the argument."""
+    assert load_scene(PAPER, "impact.speed=1.0").speed == 1.0
+    with pytest.raises(TypeError, match="overrides: KEY=VALUE strings"):
+        load_scene(PAPER, ["impact.speed=1.0", 3])

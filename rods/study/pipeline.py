@@ -141,8 +141,15 @@ def run_study(
     global that records the cut), the rest run; the analytical model and the comparison always run (seconds). Nothing is
     written before the global's set-up has accepted the scene (:func:`_set_up_global`): a refused input leaves no
     half study and deletes nothing."""
+    from rods.paper.data import check_reuse, stage_kind
+    from rods.preflight import output_dir
+
     t0 = time.perf_counter()
-    out = Path(out)
+    # the entry point's own checks, for a library caller too (a useless submodel ran; a study over a global's folder
+    # left its histories beside the study's summary; a file as out raised NotADirectoryError: a fuzz, 2026-12-07)
+    plan.check_levels(scene)
+    out = output_dir(out, "out")
+    check_reuse(out, stage_kind("run"), "out")
     comm = stages.world(comm)
     root = comm.rank == 0
     done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm, write=False)}

@@ -88,6 +88,7 @@ def analytical(scene: Scene, out: Path, comm: Any = None, write: bool = True) ->
     from rods.analytical import simulate
     from rods.hertz import YieldWarning
 
+    out = Path(out)  # a library caller's string too
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", YieldWarning)
         result = simulate(scene)
@@ -230,6 +231,7 @@ def global_model(
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
 
+    out = Path(out)  # a library caller's string too
     options = {"record_cut": record_cut, "record_until": record_until, "record_every": record_every}
     check_cut_options(scene, **options, restart=restart)
     comm = world(comm)
