@@ -733,7 +733,13 @@ def test_restart_compatibility_is_checked_before_the_set_up(tmp_path, scene_with
     # the entry point: refused before any mesh is built (well under the set-up's seconds)
     t0 = time.perf_counter()
     p = run("global.py", "--restart", "--set", "impact.speed=2.5", "--out", str(tmp_path), cwd=tmp_path)
-    refused(p, "another scene", "impact.speed = 2.197 there", "remove")
+    refused(
+        p,
+        "another scene",
+        "impact.speed = 2.197 there",
+        "give the stopped run's settings (impact.speed = 2.197)",
+        "remove",
+    )
     assert time.perf_counter() - t0 < 15
 
 

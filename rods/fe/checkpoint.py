@@ -120,10 +120,12 @@ def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
         diffs = value_differences(ours, meta["scene_values"]) if meta.get("scene_values") else []
         diffs = [d for d in diffs if d[0] not in RESULT_NEUTRAL]
         given = [d for d in diffs if d[0] not in RESOLVED_KEYS]  # a key given before one "auto" derives from it
+        remedy = _remedy(out)
         if diffs:
             key, here, there = (given or diffs)[0]
             why += f" ({key} = {there!r} there, {here!r} in this run)"
-        raise CheckpointError("--restart", str(out), why, _remedy(out))
+            remedy = f"give the stopped run's settings ({key} = {there!r}), or {remedy}"  # the likelier slip
+        raise CheckpointError("--restart", str(out), why, remedy)
     for r in range(int(meta["ranks"])):
         f = Path(out) / _name(int(meta["step"]), r)
         if not zipfile.is_zipfile(f):  # absent, a folder, truncated or not an archive
