@@ -455,7 +455,19 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
     summary.update(_edge_period(model, hist, summary["contact_radius"], summary["peak_contact_force"]))
     profile = pressure_profile(model, recorder.peak)
     trace = {k: v.copy() for k, v in recorder.force_trace(steps).items()}
+    summary.update(rigid_velocities(sc, trace["contact_force"], model.dt))
     return FEResult(hist, units, summary, profile, trace)
+
+
+def rigid_velocities(scene: Scene, force: np.ndarray, dt: float) -> dict[str, float]:
+    """Rod 1's and Rod 2's mean (rigid-body) velocities at the run's end [m/s]: the contact impulse Σ F_n Δt (the
+    force of every step, [N]; Δt [s]) on the rods' masses (rods.scene.Rod.mass), the analytical model's definition
+    (rods.analytical.WaveModel.rigid_velocities), so the two summaries carry the same keys."""
+    impulse = float(np.sum(force)) * dt  # [N s]
+    return {
+        "rigid_velocity_rod1": scene.speed - impulse / scene.rod1.mass,
+        "rigid_velocity_rod2": impulse / scene.rod2.mass,
+    }
 
 
 def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: float, F_peak: float) -> dict[str, Any]:
