@@ -52,7 +52,7 @@ def test_energy_bookkeeping_closes():
         assert np.abs(p - 2 * MASS * SPEED).max() <= 1e-13 * 2 * MASS * SPEED
         assert h["contact_force"].max() > 0 and h["contact_force"][-1] == 0.0  # met and separated
         assert np.all(h["dissipated_energy"] == 0.0) and np.all(h["external_work"] == 0.0)
-        s = rec.summary(h, st.n + 1, "p0")
+        s = rec.summary(h, st.n + 1, "p0", 0.0, 0.0, 1e-6)
         assert s["energy_error"] == pytest.approx(np.abs(E - E[0]).max() / E[0], rel=1e-12)
         errs.append(s["energy_error"])
         assert s["peak_contact_force"] == pytest.approx(h["contact_force"].max(), rel=1e-12)
@@ -140,7 +140,7 @@ def test_external_work_enters_the_balance():
     E = h["kinetic_energy"] + h["strain_energy"] + h["contact_energy"]
     assert E[0] < 10.0  # [J] so that the work is the scale
     residual = np.abs(E + h["dissipated_energy"] - h["external_work"] - E[0]).max()
-    assert rec.summary(h, 11, "p0")["energy_error"] == pytest.approx(residual / 10.0, rel=1e-12)
+    assert rec.summary(h, 11, "p0", 0.0, 0.0, 1e-6)["energy_error"] == pytest.approx(residual / 10.0, rel=1e-12)
 
 
 def test_output_steps():
