@@ -57,7 +57,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rods import hertz, metrics
-from rods.scene import Rod, Scene, impedance_force
+from rods.scene import SCHEMA, Rod, Scene, impedance_force
 
 __all__ = ["PAPER_LAW", "AnalyticalResult", "WaveModel", "contact_compliance", "force_trace", "simulate"]
 
@@ -444,8 +444,12 @@ def force_trace(scene: Scene, model: WaveModel) -> dict[str, NDArray[np.float64]
 
 def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
     """Run the analytical model on a scene; histories on the scene's output grid plus summary.json keys (the contact
-    duration from :func:`force_trace`, the peak from the dense output: neither depends on the output interval)."""
+    duration from :func:`force_trace`, the peak from the dense output: neither depends on the output interval).
+    ``rtol``: the solver's tolerance instead of the scene's analytical.rtol, held to that key's range (SceneError:
+    0 or 1 failed deep in the solver)."""
     t0 = time.perf_counter()
+    if rtol is not None:
+        SCHEMA["analytical.rtol"][2]("analytical.rtol", rtol)
     rtol = scene["analytical.rtol"] if rtol is None else rtol
 
     def solve(c: float, caps: bool) -> WaveModel:

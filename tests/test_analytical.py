@@ -246,3 +246,13 @@ def test_the_rod_end_term_stops_at_its_limit_on_thin_rods(scene_with):
     r, paper = simulate(s), simulate(s.with_overrides("analytical.contact=hertz"))
     assert r.summary["contact_law"] == "hertz"
     assert r.summary["peak_contact_force"] == paper.summary["peak_contact_force"]
+
+
+@pytest.mark.parametrize("rtol", [0.0, 1.0, -1.0])
+def test_a_tolerance_outside_the_keys_range_is_refused(scene_with, rtol):
+    """simulate(scene, rtol=...) bypassed analytical.rtol's range: 0 raised a NaN conversion, 1 a ZeroDivisionError
+    deep in the solver (a library user's fuzz, 2026-12-07)."""
+    from rods.scene import SceneError
+
+    with pytest.raises(SceneError, match=r"'analytical.rtol' = .*: must be in \[1e-13, 0.01\]"):
+        simulate(scene_with(), rtol=rtol)
