@@ -39,6 +39,7 @@ __all__ = [
 # the columns of results/sweep-*.csv (after "path", before "key"): summary keys, SI units
 FIELDS = (
     "model",
+    "scene",  # the run's label: its scene and the point's settings (speed, kind, sizes, step fraction), SI units
     "impact_speed",
     "peak_contact_force",
     "contact_radius",

@@ -137,14 +137,15 @@ def test_snakemake_stops_at_parse_time_with_one_line(tmp_path):
 
 def test_a_sweep_row_carries_its_runs_status_and_what_its_warnings_name(tmp_path):
     """A sweep table shows each run's status and the keys its warnings name: a 5 m/s point past yield and a
-    coarse-patch point read like clean rows before (a probe, 2026-11-25)."""
+    coarse-patch point read like clean rows before (a probe, 2026-11-25); and its scene label, which names the
+    point's settings (the mesh and step sweeps' sizes were only in the path, a fuzz, 2026-12-07)."""
     import csv
     import json
 
     from rods.study.sweep import write_sweep_table
 
     runs = {
-        "ok": {"model": "analytical", "impact_speed": 1.0, "status": "ok", "warnings": []},
+        "ok": {"model": "analytical", "scene": "paper with impact.speed=1.0", "impact_speed": 1.0, "status": "ok"},
         "hot": {
             "model": "analytical",
             "impact_speed": 5.0,
@@ -163,6 +164,7 @@ def test_a_sweep_row_carries_its_runs_status_and_what_its_warnings_name(tmp_path
     write_sweep_table(tmp_path / "t.csv", points)
     rows = {r["key"]: r for r in csv.DictReader((tmp_path / "t.csv").open())}
     assert (rows["ok"]["status"], rows["ok"]["warnings"]) == ("ok", "")
+    assert rows["ok"]["scene"] == "paper with impact.speed=1.0"
     assert (rows["hot"]["status"], rows["hot"]["warnings"]) == ("warnings", "yield; contact_radius")
 
 
