@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 import subprocess
 
 import pytest
@@ -237,3 +238,17 @@ def test_a_config_file_snakemake_would_misread_is_refused_with_its_line(tmp_path
         path.write_bytes(text if isinstance(text, bytes) else text.encode())
         with pytest.raises(ConfigError, match=words):
             check_config_file(path)
+
+
+@pytest.mark.skipif(not SNAKEMAKE.exists(), reason="snakemake is not installed beside the interpreter")
+def test_a_point_in_two_sweeps_runs_once():
+    """The mesh sweep's coarse level at step fraction 0.8 is the step sweep's 0.8 on the coarse mesh: one run, which
+    both tables read (the sweep's name in the key ran it twice: two 144-min SLURM jobs for paper-3d, a fuzz,
+    2026-12-07). sweep.yaml: 3 levels and 3 fractions, 5 runs."""
+    p = subprocess.run(
+        [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "1", "-n", "--forceall", "mesh_sweep", "dt_sweep"],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert p.returncode == 0, p.stderr[-2000:]
+    counts = dict(re.findall(r"^(\w+)\s+(\d+)$", p.stdout + p.stderr, re.M))
+    assert counts["global_fe"] == "5", (p.stdout + p.stderr)[-2000:]
