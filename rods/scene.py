@@ -1406,17 +1406,20 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     file's stem where it sets none), never its base's."""
     if p.resolve() in seen:
         raise SceneError("base", str(p), "scene files include each other in a cycle")
+    # the file given, or a base it names (a damaged base was reported as the --scene option: a fuzz, 2026-12-07)
+    what, flag = ("--scene", True) if not seen else ("base", False)
     try:
         # UTF-8 whatever the locale; a byte-order mark some editors write is dropped
         data = tomllib.loads(p.read_text(encoding="utf-8-sig"))
     except tomllib.TOMLDecodeError as e:
         fix = "fix the TOML syntax there (strings quoted, tables as [rod1], one key = value a line)"
-        raise SceneError("--scene", str(p), f"malformed TOML: {e}", fix, argument=True) from None
+        raise SceneError(what, str(p), f"malformed TOML: {e}", fix, argument=flag) from None
     except UnicodeDecodeError:
-        raise SceneError("--scene", str(p), "not a text (UTF-8) TOML file", argument=True) from None
+        fix = "save it as UTF-8 text (a TOML file)"
+        raise SceneError(what, str(p), "not a text (UTF-8) TOML file", fix, argument=flag) from None
     except OSError as e:  # unreadable: permissions, a device, an I/O error
         why = f"cannot be read ({e.strerror or e})"
-        raise SceneError("--scene", str(p), why, "give a readable TOML file", argument=True) from None
+        raise SceneError(what, str(p), why, "give a readable TOML file", argument=flag) from None
     base = data.pop("base", None)
     if base is None:
         return data

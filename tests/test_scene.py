@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -876,3 +877,15 @@ def test_overrides_given_as_one_string_are_one_override():
     assert load_scene(PAPER, "impact.speed=1.0").speed == 1.0
     with pytest.raises(TypeError, match="overrides: KEY=VALUE strings"):
         load_scene(PAPER, ["impact.speed=1.0", 3])
+
+
+def test_a_damaged_base_file_is_named_as_the_base(tmp_path):
+    """A base file that is not UTF-8 or not TOML is the scene file's ``base``, not the --scene option given."""
+    (tmp_path / "lat.toml").write_bytes(b"scene\xe9 = 1\n")
+    (tmp_path / "bad.toml").write_text("[rod1\n")
+    for base, words in (("lat.toml", "not a text (UTF-8) TOML file (save it as UTF-8"), ("bad.toml", "malformed TOML")):
+        (tmp_path / "child.toml").write_text(f'base = "{base}"\n')
+        with pytest.raises(SceneError, match=rf"scene key 'base' = '.*{base}': {re.escape(words)}"):
+            load_scene(tmp_path / "child.toml")
+    with pytest.raises(SceneError, match=r"^--scene = '.*lat.toml': not a text"):
+        load_scene(tmp_path / "lat.toml")
