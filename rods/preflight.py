@@ -166,7 +166,10 @@ def _can_create(folder: Path) -> bool:
 
 
 def input_dir(path: str | Path, files: tuple[str, ...], what: str, remedy: str) -> Path:
-    """``path`` as a folder a stage reads: exists and holds ``files``."""
+    """``path`` as a folder a stage reads: exists and holds ``files``; an empty path is no folder (Path("") is
+    the working folder, which the refusal named '.')."""
+    if str(path) == "":
+        raise InputError(what, "", "is empty", remedy)
     p = Path(path)
     if not p.is_dir():
         raise InputError(what, p, "a file, not a folder" if p.exists() else "no such folder", remedy)

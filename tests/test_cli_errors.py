@@ -256,6 +256,12 @@ CASES = {  # name -> (script, arguments, words the line must name)
         ["simulation.end_time", "whole first contact", "has not ended", "'auto'"],
     ),
     "fe.contact auto": ("global.py", ["--set", "fe.contact='auto'", "--out", "o"], ["fe.contact", "must be one of"]),
+    # an empty folder argument was the working folder, named '.' ("--global = '.': has no cut.h5"); report.py's
+    # empty --results fell back to its default silently
+    "empty --global": ("submodel.py", ["--global", "", "--out", "o"], ["--global = '': is empty"]),
+    "empty --run": ("convergence.py", ["--run", "", "--out", "o"], ["--run = '': names no folder"]),
+    "label without a folder": ("fig4.py", ["--analytical", "a", "--fe", "x=", "--out", "o"], ["--fe = 'x='"]),
+    "empty --results": ("report.py", ["--results", "", "--out", "o/R.md"], ["--results = '': is empty"]),
     "record-every without record-cut": ("global.py", ["--record-every", "2", "--out", "o"], ["--record-cut"]),
     "empty out": ("analytical.py", ["--out", ""], ["--out", "empty"]),
     "out name too long": ("analytical.py", ["--out", "o" * 300], ["--out", "exceeds"]),

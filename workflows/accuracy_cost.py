@@ -32,7 +32,7 @@ def main(argv: list[str] | None = None) -> int:
         _cli.output_file(out.with_suffix(suffix), "--out")
     if not args.run:
         raise InputError("--run", [], "no runs given", "give at least one --run LABEL=DIR")
-    given = [parse_run(spec) for spec in args.run]
+    given = [parse_run(spec, "--run") for spec in args.run]
     distinct([folder for _, folder in given], "--run")
     distinct([label or folder.name for label, folder in given], "--run label")  # two rows one cannot tell apart
     # each a finished run: its first contact ended (an FE run stopped before it reads a peak force still rising)

@@ -28,7 +28,7 @@ def main(argv: list[str] | None = None) -> int:
     output_names(out, convergence.FILES)
     if not args.run:
         raise InputError("--run", [], "no runs given", "give --run DIR of a submodel level or a global mesh")
-    given = [parse_run(spec) for spec in args.run]
+    given = [parse_run(spec, "--run") for spec in args.run]
     distinct([folder for _, folder in given], "--run")  # a run given twice is a level counted twice
     runs = [(label, read_summary(folder, "--run", scene=scene, whole_contact=True)) for label, folder in given]
     convergence.one_run_per_size(runs, [folder for _, folder in given])  # the fit's abscissae

@@ -36,7 +36,7 @@ def main(argv: list[str] | None = None) -> int:
     remedy = "give an FE run of the --analytical run's scene, or an --analytical run of that FE run's scene"
     # Fig. 4 is the Rod-2 midpoint over the whole run: a global's, not a submodel's (its "midpoint" is the cut
     # region's) nor a driver's (it stops after the contact phase, before most plateaus)
-    given = [parse_run(spec) for spec in args.fe]
+    given = [parse_run(spec, "--fe") for spec in args.fe]
     distinct([folder for _, folder in given], "--fe")  # a run given twice is two identical rows
     fe = [read_run(folder, label, "--fe", ("global",), scene, remedy) for label, folder in given]
     for (_, folder), run in zip(given, fe, strict=True):

@@ -30,6 +30,8 @@ def main(argv: list[str] | None = None) -> int:
     study = Path(args.contact_study) if args.contact_study is not None else DEFAULT_STUDY
     if args.contact_study is not None and not study.is_file():  # the default may be absent; one asked for may not
         raise InputError("--contact-study", study, "no such file", "give the contact study's JSON, or leave it out")
+    if args.results == "":  # given empty: not the default (out's folder), which it silently became
+        raise InputError("--results", "", "is empty", "give the folder of the stage JSON files, or leave it out")
     results = Path(args.results) if args.results else out.parent
     data = report.read(results, study if study.is_file() else None)
     failed = (KeyError, TypeError, AttributeError, IndexError, ValueError, StopIteration)

@@ -212,9 +212,12 @@ def read_run(
     return io.Run(label or summary.get("model", folder.name), history, summary)
 
 
-def parse_run(spec: str) -> tuple[str, Path]:
-    """``LABEL=FOLDER`` (or a bare folder) from the command line; the label may itself contain '='."""
+def parse_run(spec: str, flag: str = "--run") -> tuple[str, Path]:
+    """``LABEL=FOLDER`` (or a bare folder) from the command line; the label may itself contain '='. No folder
+    (``''``, ``LABEL=``) is refused naming ``flag``: Path("") is the working folder, which the refusal named '.'."""
     label, _, folder = spec.rpartition("=")
+    if not folder:
+        raise InputError(flag, spec, "names no folder", f"give {flag} DIR or {flag} LABEL=DIR")
     return label, Path(folder)
 
 
