@@ -736,6 +736,9 @@ def test_restart_compatibility_is_checked_before_the_set_up(tmp_path, scene_with
     checkpoint.save(tmp_path, 10, 1e-6, {"u": np.zeros(2)}, MPI.COMM_SELF, "k", checkpoint.scene_hash(sc), values)
     with pytest.raises(checkpoint.CheckpointError, match=r"another scene.*\(impact.speed = 2.197 there, 2.5 in this"):
         checkpoint.precheck(tmp_path, 1, scene_with("impact.speed=2.5"))
+    # another rank count: that count, or the stage afresh on this one (a study's stage had no way said)
+    with pytest.raises(checkpoint.CheckpointError, match=r"restart with mpirun -n 1, or remove .*checkpoint\* to run"):
+        checkpoint.precheck(tmp_path, 2, sc)
     # the entry point: refused before any mesh is built (well under the set-up's seconds)
     t0 = time.perf_counter()
     p = run("global.py", "--restart", "--set", "impact.speed=2.5", "--out", str(tmp_path), cwd=tmp_path)

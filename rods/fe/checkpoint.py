@@ -108,7 +108,8 @@ def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
     if int(meta["ranks"]) != ranks:
         raise CheckpointError(
             "--restart", str(out), f"the checkpoint was written by {_ranks(meta['ranks'])}, this run has {ranks}",
-            f"restart with mpirun -n {meta['ranks']}",
+            f"restart with mpirun -n {meta['ranks']}, or remove {Path(out) / 'checkpoint*'} to run it afresh on "
+            f"{_ranks(ranks)}",
         )  # fmt: skip
     if scene is not None and not meta.get("scene_hash"):
         why = "the checkpoint does not name its scene (written by an older rods), so it cannot be matched to this one"
