@@ -396,10 +396,12 @@ def fe_cost(
     kind = scene["fe.kind"]
     (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size)
     end = scene.end_time if end_time is None else end_time
+    # the step given, by the key that gave it: a global's fe.dt, a submodel's own --dt (not its global's fe.dt)
+    given = ("fe.dt" if scene["fe.dt"] != "auto" else None) if size is None else ("--dt" if dt != "auto" else None)
     dt, caveat = _march_step(scene, h_r, h, g, size, dt, region)
     # a global's end: the scene's, or a study's contact phase in it (below a step only if it is); a submodel's: its
     # own (workflows/submodel.py --end-time: 1 ns against a 9 ns step planned one step)
-    _check_one_step(scene, end, dt, scene.end_time if size is None else end)
+    _check_one_step(end, dt, scene.end_time if size is None else end, given)
     steps = math.ceil(end / dt)
     # the recorder keeps the step nearest each output time, once (rods.fe.recorder.output_steps): at most one row per
     # step, step 0 included (the paper scene every 0.1 ns was refused for 1.5e7 samples; it records 4.8e4)
@@ -506,17 +508,16 @@ def _memory_parts(parts: Mapping[str, tuple[float, str]]) -> str:
 STEP_ESTIMATE_MARGIN = 1.1  # the estimated stable step over the exact one, at most (0.68-1.05 measured) [-]
 
 
-def _check_one_step(scene: Scene, end: float, dt: float, shown: float) -> None:
+def _check_one_step(end: float, dt: float, shown: float, given: str | None) -> None:
     """Refuse (exit 2) a run to ``end`` [s] shorter than one step ``dt`` [s], as the set-up would (rods.fe.timestep)
-    but before it: a given fe.dt exactly, an estimated step only where it is below it by
-    :data:`STEP_ESTIMATE_MARGIN` (a dry run passed a 1 ps end time that the set-up then refused). ``shown`` [s]: the
-    end time the user gave (the scene's, or a submodel's own)."""
-    given = scene["fe.dt"] != "auto"
+    but before it: a step ``given`` by a key (fe.dt, a submodel's --dt) exactly, an estimated step (None) only where
+    it is below it by :data:`STEP_ESTIMATE_MARGIN` (a dry run passed a 1 ps end time that the set-up then refused).
+    ``shown`` [s]: the end time the user gave (the scene's, or a submodel's own)."""
     if end * (1.0 if given else STEP_ESTIMATE_MARGIN) < dt:
         raise SceneError(
             "simulation.end_time", shown,
-            f"must be >= one time step, {'fe.dt = ' if given else 'about '}{dt:.3g} s on this mesh",
-            one_step_remedy(given),
+            f"must be >= one time step, {f'{given} = ' if given else 'about '}{dt:.3g} s on this mesh",
+            one_step_remedy(given or False),
         )  # fmt: skip
 
 

@@ -27,10 +27,11 @@ REPEAT_GRACE = 5.0
 
 def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     now = time.monotonic()  # [s]
-    if _state["armed"] and (not _state["signal"] or now - _state["since"] < REPEAT_GRACE):
-        if not _state["signal"]:  # the loop stops at its next check, on every rank together
-            _state["signal"], _state["since"] = signum, now
-        return  # a repeat within the grace is the same request
+    if _state["since"] and now - _state["since"] < REPEAT_GRACE:
+        return  # a repeat of a request taken within the grace: the same stop, also once the loop has acted on it
+    if _state["armed"] and not _state["signal"]:  # the loop stops at its next check, on every rank together
+        _state["signal"], _state["since"] = signum, now
+        return
     _state["signal"] = signum  # raised inside a C extension, the interrupt may surface as another error
     raise KeyboardInterrupt
 
@@ -54,6 +55,9 @@ def requested() -> int:
 
 
 def reset() -> None:
+    """The request honoured (the loop stops): a new signal is a new request, but for a repeat of this one within
+    :data:`REPEAT_GRACE` (the loop's stop writes the histories after the check: mpirun's forwarded copy arriving then
+    aborted every rank before they were written, a review, 2026-12-07)."""
     _state["signal"] = 0
 
 

@@ -39,6 +39,9 @@ def march_step(fraction: float, stable: float, switching: float) -> float:
     return min(fraction * stable, switching)
 
 
-def one_step_remedy(given: bool) -> str:
-    """The remedy of an end time below one time step; ``given``: fe.dt was set (finer sizes would not change it)."""
-    return "a longer end time, or a smaller fe.dt" if given else "a longer end time, or finer sizes for a smaller step"
+def one_step_remedy(given: bool | str) -> str:
+    """The remedy of an end time below one time step; ``given``: the step was set (finer sizes would not change it),
+    by fe.dt, or by the key named (a submodel's --dt)."""
+    if not given:
+        return "a longer end time, or finer sizes for a smaller step"
+    return f"a longer end time, or a smaller {given if isinstance(given, str) else 'fe.dt'}"

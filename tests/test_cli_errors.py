@@ -260,7 +260,7 @@ CASES = {  # name -> (script, arguments, words the line must name)
     # empty --results fell back to its default silently
     "empty --global": ("submodel.py", ["--global", "", "--out", "o"], ["--global = '': is empty"]),
     "empty --run": ("convergence.py", ["--run", "", "--out", "o"], ["--run = '': names no folder"]),
-    "label without a folder": ("fig4.py", ["--analytical", "a", "--fe", "x=", "--png", "o/f.png"], ["--fe = 'x='"]),
+    "label without a folder": ("accuracy_cost.py", ["--run", "x=", "--out", "o"], ["--run = 'x=': names no folder"]),
     "empty --results": ("report.py", ["--results", "", "--out", "o/R.md"], ["--results = '': is empty"]),
     "record-every without record-cut": ("global.py", ["--record-every", "2", "--out", "o"], ["--record-cut"]),
     "empty out": ("analytical.py", ["--out", ""], ["--out", "empty"]),

@@ -68,3 +68,16 @@ def test_a_rank_stopping_alone_skips_the_collective_finishes():
     shared, own = _Observer(collective=True), _Observer(collective=False)
     assert march(_Stepper(), range(10), [shared, own], np.zeros(10, bool)) is None
     assert own.finished and shared.finished
+
+
+def test_a_repeat_after_the_loop_acted_on_the_request_is_still_the_same(armed, monkeypatch):
+    """The ranks agree to stop (reset) and the loop disarms before it writes the histories: mpirun's forwarded copy of
+    the SIGTERM arriving then raised on that rank and aborted every rank before the histories were written."""
+    clock = iter([100.0, 100.01, 100.0 + interrupt.REPEAT_GRACE + 0.1])
+    monkeypatch.setattr(interrupt.time, "monotonic", lambda: next(clock))
+    interrupt._handler(signal.SIGTERM, None)
+    interrupt.reset()  # the collective check honoured it
+    armed["armed"] = 0  # the loop's finish disarmed
+    interrupt._handler(signal.SIGTERM, None)  # 10 ms later: ignored, the stop goes on
+    with pytest.raises(KeyboardInterrupt):  # a signal later than the grace, outside a loop: at once
+        interrupt._handler(signal.SIGINT, None)

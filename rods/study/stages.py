@@ -380,7 +380,6 @@ def _finish_submodel(
     # are Rod 2's (README), so a submodel has none (its history keeps its own station's columns; a docs audit found
     # a submodel's "midpoint_peak_speed" of 1.08 m/s from one plateau there, status ok)
     sr.summary.update(midpoint_peak_speed=None, midpoint_peak_strain=None)
-    sr.summary.update(rigid_velocity_rod1=None, rigid_velocity_rod2=None)  # its rods are the cut region's
     # its midpoint is no Rod-2 midpoint: no plateau check; its end is the driver's contact phase or --end-time
     remedy = "a later --end-time of submodel.py, or none (the driver's contact phase)"
     checks.apply(sr.summary, {}, scene, end, end_remedy=remedy)
