@@ -208,6 +208,6 @@ def scene_folder(scene: Any, overridden: bool) -> str:
         return name
     from rods.scene import RESULT_NEUTRAL, values_without  # a restart may turn checkpoints on: the same folder
 
-    values = values_without(scene.as_dict(), RESULT_NEUTRAL)
+    values = values_without(scene.as_dict(), RESULT_NEUTRAL, default=True)  # the digest of a scene that left them
     digest = hashlib.sha1(json.dumps(values, sort_keys=True).encode()).hexdigest()[:8]
     return f"{name[: MAX_FOLDER_NAME - 9]}-{digest}"

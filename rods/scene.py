@@ -460,18 +460,22 @@ def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
     return out
 
 
-def values_without(values: Mapping[str, Any], keys: Iterable[str]) -> dict[str, Any]:
+def values_without(values: Mapping[str, Any], keys: Iterable[str], default: bool = False) -> dict[str, Any]:
     """Nested scene values (Scene.as_dict) as summary.json and a checkpoint's manifest hold them (a JSON round trip),
     ``keys``' dotted keys dropped: what a kept stage or a checkpoint is compared by, less what it does not read
-    (rods.study.stages, rods.fe.checkpoint)."""
+    (rods.study.stages, rods.fe.checkpoint); with ``default``, set to their schema defaults instead (a digest that
+    stays the one of a scene that never set them: rods.preflight.scene_folder)."""
     out = json.loads(json.dumps(values))
     for key in keys:
         *parents, leaf = key.split(".")
         node = out
         for k in parents:
             node = node.get(k, {}) if isinstance(node, dict) else {}
-        if isinstance(node, dict):
-            node.pop(leaf, None)
+        if isinstance(node, dict) and leaf in node:
+            if default:
+                node[leaf] = SCHEMA[key][1]
+            else:
+                del node[leaf]
     return out
 
 

@@ -351,11 +351,11 @@ class ExplicitModel:
             view = backends.HostView(stepper, self.backend) if self.backend.on_device else stepper
             own.append(FieldOutput(self, out, sc.field_interval, view, step0))
         stop = InterruptCheck(self.comm)  # Ctrl-C/SIGTERM: all ranks stop together, a checkpoint first
+        if out is not None and step0 == 0:  # afresh: an earlier run's checkpoint here is stale from now on, also
+            checkpoint.discard(out, self.comm)  # where this run writes none (a driver: a restart would resume it)
         if out is not None and checkpoints:  # periodic ones where fe.checkpoint_interval > 0; one at a stop in any case
             interval = sc["fe.checkpoint_interval"]
             every = checkpoint.stride(interval, dt) if interval > 0 else self.steps + 1  # [steps]
-            if step0 == 0:  # afresh: an earlier run's checkpoint here is stale from now on
-                checkpoint.discard(out, self.comm)
             h = checkpoint.scene_hash(sc)  # the restart's pre-set-up check
             values = json.loads(json.dumps(sc.as_dict()))  # the manifest's: a restart names a differing key
             own.append(checkpoint.Checkpoints(out, every, parts, self.comm, key, step0, self.steps, h, values))
