@@ -341,7 +341,7 @@ def duration_words(data: Mapping[str, Any]) -> str:
     if "duration_transits" not in t:
         return f"{t['duration'] * 1e6:g} µs"
     band = sorted({float(f"{r['duration_target'] * 1e6:.3g}") for r in data["rows"] if "duration_target" in r})  # [µs]
-    here = "-".join(f"{b:g}" for b in (band[0], band[-1]) if len(band) > 1 or b is band[0]) if band else ""
+    here = "" if not band else f"{band[0]:g}" if len(band) == 1 else f"{band[0]:g}-{band[-1]:g}"
     return f"{t['duration_transits']:g} d/c of the thicker rod" + (f" ({here} µs here)" if here else "")
 
 
