@@ -35,7 +35,9 @@ def march(
     A guard's or the interrupt check's stop comes on every rank at the same step, so the observers finish together
     (collective closes: the ADIOS2 writer's). Anything else (a second Ctrl-C, an error) stops this rank alone while
     the others are mid-step: there an observer's collective finish waited forever (a double SIGTERM hung a 2-rank run
-    in VTXWriter.close, a fuzz, 2026-12-07), so only the rank's own finishes run and the entry point aborts all."""
+    in VTXWriter.close, a fuzz, 2026-12-07), so only the rank's own finishes run and the entry point aborts all. A
+    library caller under MPI whose loop raises so is left with the ADIOS2 copy unclosed (the XDMF series, written a
+    frame at a time, is whole)."""
     try:
         for step in steps:
             stepper.step(keep[step])
