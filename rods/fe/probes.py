@@ -19,8 +19,17 @@ from mpi4py import MPI
 __all__ = ["PointProbes", "station_points"]
 
 
+REFERENCE_TOL = 1e-8  # a point is in a cell whose reference coordinates lie in [0, 1] this far [-]
+
+
+def _holds(X: np.ndarray) -> bool:
+    """Whether reference coordinates ``X`` lie in the unit cell (to :data:`REFERENCE_TOL`)."""
+    return bool(np.all(X >= -REFERENCE_TOL) and np.all(X <= 1.0 + REFERENCE_TOL))
+
+
 def _cell_rows(V: dolfinx.fem.FunctionSpace, cell: int, point: np.ndarray, axial: int) -> tuple[np.ndarray, ...]:
-    """Global vector indices, basis values and ∂/∂z of the basis at ``point`` in local ``cell``."""
+    """Global vector indices, basis values and ∂/∂z of the basis at ``point`` in local ``cell``, and the point's
+    reference coordinates there."""
     msh = V.mesh
     gdim = msh.geometry.dim
     cmap = msh.geometry.cmaps[0]
@@ -40,18 +49,20 @@ def _cell_rows(V: dolfinx.fem.FunctionSpace, cell: int, point: np.ndarray, axial
     dofs = V.dofmap.cell_dofs(cell)
     bs = V.dofmap.index_map_bs
     g = V.dofmap.index_map.local_to_global(dofs.astype(np.int32)) * bs + axial
-    return g, N, dN[axial]
+    return g, N, dN[axial], X[0]
 
 
 class PointProbes:
     """Axial velocity/displacement and axial strain at points as one sparse map ``P`` (owned entries):
     (P x)[2i] is the axial value of x at point i, (P x)[2i + 1] its ∂/∂z; callers sum P x over the ranks.
 
-    A point on the boundary of several cells (a station on a node) takes the mean over all of them, whichever rank
-    owns each: the value is continuous, so the same in each, and ∂/∂z, constant along z in a Q1 cell and jumping at
-    the node, becomes the mean of its one-sided values (the nodal average). The first cell found on the lowest rank
-    was taken before, which depended on the partition: 6.6% of the column's largest strain between 1 and 2 ranks at a
-    node on a rank boundary (a fuzz, 2026-12-07)."""
+    A point on the boundary of several cells (a station on a node) takes the mean over the cells that hold it (its
+    reference coordinates in [0, 1] to :data:`REFERENCE_TOL`; the bounding-box test alone can name a neighbour, whose
+    values would be extrapolated), whichever rank owns each: the value is continuous, so the same in each, and ∂/∂z,
+    constant along z in a Q1 cell and jumping at the node, becomes the mean of the cells' values (on these extruded
+    meshes as many cells lie on either side, so the mean of the one-sided values). The first cell found on the
+    lowest rank was taken before, which depended on the partition: 6.6% of the column's largest strain between 1 and
+    2 ranks at a node on a rank boundary (a fuzz, 2026-12-07)."""
 
     def __init__(self, V: dolfinx.fem.FunctionSpace, points: np.ndarray, axial: int):
         msh = V.mesh
@@ -64,15 +75,21 @@ class PointProbes:
         cand = dolfinx.geometry.compute_collisions_points(tree, pts)
         coll = dolfinx.geometry.compute_colliding_cells(msh, cand, pts)
         mine = [[c for c in coll.links(i) if c < n_owned_cells] for i in range(len(pts))]  # owned: each cell once
-        counts = np.array([len(c) for c in mine], dtype=np.int64)
-        counts = comm.allreduce(counts, op=MPI.SUM)  # every rank's colliding cells of each point
-        if (outside := np.flatnonzero(counts == 0)).size:
+        found = {i: [_cell_rows(V, c, pts[i], axial) for c in cells] for i, cells in enumerate(mine) if cells}
+        holding = {i: [r[:3] for r in rs if _holds(r[3])] for i, rs in found.items()}
+        n_found, n_holding = (
+            comm.allreduce(np.array([len(d.get(i, ())) for i in range(len(pts))], dtype=np.int64), op=MPI.SUM)
+            for d in (found, holding)
+        )  # every rank's cells of each point
+        if (outside := np.flatnonzero(n_found == 0)).size:
             raise ValueError(f"probe point {points[outside[0]]} lies outside the mesh")
-        rows = {i: [_cell_rows(V, c, pts[i], axial) for c in cells] for i, cells in enumerate(mine) if cells}
+        # the cells that hold it; all the colliding ones where none does to the tolerance (decided on every rank alike)
+        rows = {i: holding[i] if n_holding[i] else [r[:3] for r in rs] for i, rs in found.items()}
+        counts = np.where(n_holding > 0, n_holding, n_found)
         allrows: dict[int, list] = {i: [] for i in range(len(pts))}
         for d in comm.allgather(rows):
-            for i, found in d.items():
-                allrows[i] += found
+            for i, cell_rows in d.items():
+                allrows[i] += cell_rows
         bs = V.dofmap.index_map_bs
         lo = V.dofmap.index_map.local_range[0] * bs
         n_local = V.dofmap.index_map.size_local * bs

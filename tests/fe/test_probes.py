@@ -53,17 +53,23 @@ def test_probe_reproduces_a_field_linear_in_z_exactly(gdim):
     assert np.abs(values[1::2] - b).max() <= 1e-10 * abs(b)
 
 
-def test_a_probe_on_a_node_takes_the_mean_of_its_cells(comm=MPI.COMM_SELF):
-    """u_z = z² on a 2 x 8 strip of unit Q1 cells: at a node between two cells the one-sided strains of the
-    interpolant are 2z - 1 and 2z + 1; the probe reads their mean 2z (the exact strain) whatever the partition (the
-    first cell found on the lowest rank was taken: 6.6% of the column's largest strain between 1 and 2 ranks, a
-    fuzz, 2026-12-07); inside a cell, the cell's own. The MPI case below runs this on 2 ranks."""
-    msh = dolfinx.mesh.create_rectangle(comm, [[0.0, 0.0], [2.0, 8.0]], [2, 8], dolfinx.mesh.CellType.quadrilateral)
-    V = dolfinx.fem.functionspace(msh, ("Lagrange", 1, (2,)))
+@pytest.mark.parametrize("gdim", [2, 3])
+def test_a_probe_on_a_node_takes_the_mean_of_its_cells(gdim, comm=MPI.COMM_SELF):
+    """u_z = z² on a 2 x 8 strip (3D: 2 x 2 x 8 block) of unit Q1 cells: at a node between cells the one-sided
+    strains of the interpolant are 2z - 1 and 2z + 1; the probe reads their mean 2z (the exact strain) whatever the
+    partition (the first cell found on the lowest rank was taken: 6.6% of the column's largest strain between 1 and
+    2 ranks, a fuzz, 2026-12-07); inside a cell, the cell's own. The MPI case below runs this on 2 ranks."""
+    if gdim == 2:
+        box, cell = [[0.0, 0.0], [2.0, 8.0]], dolfinx.mesh.CellType.quadrilateral
+        msh = dolfinx.mesh.create_rectangle(comm, box, [2, 8], cell)
+    else:
+        box, cell = [[0.0, 0.0, 0.0], [2.0, 2.0, 8.0]], dolfinx.mesh.CellType.hexahedron
+        msh = dolfinx.mesh.create_box(comm, box, [2, 2, 8], cell)
+    V = dolfinx.fem.functionspace(msh, ("Lagrange", 1, (gdim,)))
     u = dolfinx.fem.Function(V)
-    u.interpolate(lambda x: np.vstack([0.0 * x[0], x[1] ** 2]))
-    z = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 2.5])  # nodes, then a cell's middle
-    P = PointProbes(V, np.column_stack([np.full(z.size, 1.0), z]), 1).P
+    u.interpolate(lambda x: np.vstack([*([0.0 * x[0]] * (gdim - 1)), x[gdim - 1] ** 2]))
+    z = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 2.5])  # nodes (4 or 8 cells around one), then a cell's middle
+    P = PointProbes(V, np.column_stack([np.full((z.size, gdim - 1), 1.0), z]), gdim - 1).P
     n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
     values = comm.allreduce(P @ u.x.array[:n], op=MPI.SUM)
     assert values[0::2] == pytest.approx(np.where(z % 1 == 0, z**2, 6.5), rel=1e-12)  # the interpolant's values
@@ -76,7 +82,7 @@ def test_a_probe_on_a_node_takes_the_mean_of_its_cells_on_two_ranks():
     """The case above on MPI.COMM_WORLD under `mpirun -n 2`: the strip's nodes lie on the ranks' boundary."""
     code = (
         "import rods.fe\nfrom mpi4py import MPI\nfrom tests.fe.test_probes import "
-        "test_a_probe_on_a_node_takes_the_mean_of_its_cells as t\nt(MPI.COMM_WORLD)\n"
+        "test_a_probe_on_a_node_takes_the_mean_of_its_cells as t\nt(2, MPI.COMM_WORLD)\nt(3, MPI.COMM_WORLD)\n"
     )
     p = subprocess.run(
         [str(MPIRUN), "-n", "2", str(PY), "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120
