@@ -42,7 +42,7 @@ def main(out: Path = ROOT / "output" / "demos" / "analytical") -> dict:
     for s1, F, P, S, a in rows:
         print(f"{s1:8.4g}  {F:14.1f}  {P:21.1f}  {F / P:.5f}  {S:13.3g}  {a * 1e3:17.4f}")
     out.mkdir(parents=True, exist_ok=True)
-    plt = pyplot()  # matplotlib on Agg (files, no screen)
+    plt = pyplot()  # matplotlib Figures of their own, drawn by Agg when saved (files, no screen, no pyplot state)
     fig, ax = plt.subplots(figsize=(5, 3.5))
     ax.semilogx([r[0] for r in rows], [r[1] / r[2] for r in rows], "o-")
     ax.set(xlabel="impact speed s1 [m/s]", ylabel="peak force / impedance bound P [-]", title="paper's rods")

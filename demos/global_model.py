@@ -85,7 +85,7 @@ def main(out: Path = ROOT / "output" / "demos" / "global_model") -> dict:
             f"{numbers['free_end_rms_vs_bar']:.2%} RMS of it from 2 F(t - L2/c2)/Z2 on the FE's own force"
         )
         out.mkdir(parents=True, exist_ok=True)
-        plt = pyplot()  # matplotlib on Agg (files, no screen)
+        plt = pyplot()  # matplotlib Figures of their own, drawn by Agg when saved (files, no screen, no pyplot state)
         fig, ax = plt.subplots(figsize=(6, 3.5))
         ax.plot(t * 1e6, v, label="FE, Rod 2's free end (this observer)")
         ax.plot(t * 1e6, v_bar, "k--", lw=1, label="1D bars on the FE's force, 2 F(t - L2/c2)/Z2")
