@@ -32,7 +32,7 @@ import numpy as np
 from mpi4py import MPI
 
 from rods.io import atomic_write_text
-from rods.preflight import InputError, one_line
+from rods.preflight import InputError, one_line, short
 from rods.scene import RESOLVED_KEYS, RESULT_NEUTRAL, value_differences, values_without
 
 __all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
@@ -125,7 +125,7 @@ def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
         if diffs:
             key, here, there = (given or diffs)[0]
             why += f" ({key} = {there!r} there, {here!r} in this run)"
-            remedy = f"give the stopped run's settings ({key} = {there!r}), or {remedy}"  # the likelier slip
+            remedy = f"give the stopped run's settings ({key} = {short(there)}), or {remedy}"  # the likelier slip
         raise CheckpointError("--restart", str(out), why, remedy)
     for r in range(int(meta["ranks"])):
         f = Path(out) / _name(int(meta["step"]), r)

@@ -315,10 +315,7 @@ def test_summary_against_analytical(model, result):
     # masses): Rod 2's, the impulse itself, within 1% of the 1D model's (this 4 mm mesh: -0.72%; the default mesh
     # -0.06%, equal to the per-rod momentum of the FE's own nodes, a fuzz, 2026-12-07). Rod 1's, v0 less the same
     # impulse over its mass, is a difference of near-equal terms (-6.4% here, -0.52% on the default mesh)
-    V2 = s["rigid_velocity_rod2"]  # [m/s]
-    assert V2 == pytest.approx(a.summary["rigid_velocity_rod2"], rel=0.01)
-    sc = model.scene
-    assert s["rigid_velocity_rod1"] == pytest.approx(sc.speed - sc.rod2.mass * V2 / sc.rod1.mass, rel=1e-12)
+    assert s["rigid_velocity_rod2"] == pytest.approx(a.summary["rigid_velocity_rod2"], rel=0.01)  # [m/s]
 
 
 def _graded_or_uniform(base: list[str], mode: str) -> tuple[int, dict, np.ndarray]:
