@@ -334,8 +334,12 @@ def _interrupted() -> int:
     os._exit(code)
 
 
-def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[str] | None], int]:
-    """``main`` with the one error path (module docstring): exit 2 bad input, 1 failed run, 130 interrupt."""
+def guarded(
+    main: Callable[[Sequence[str] | None], int], ignore_after: bool = False
+) -> Callable[[Sequence[str] | None], int]:
+    """``main`` with the one error path (module docstring): exit 2 bad input, 1 failed run, 130 interrupt;
+    ``ignore_after`` (the command, :func:`entry`): Ctrl-C and SIGTERM ignored from its end on, else the previous
+    handlers back (a caller in-process)."""
 
     def run(argv: Sequence[str] | None = None) -> int:
         # a closed reader (`| head`) ends the process quietly, as for any command-line tool (PETSc's handler
@@ -365,8 +369,8 @@ def guarded(main: Callable[[Sequence[str] | None], int]) -> Callable[[Sequence[s
             if interrupt.requested():  # a signal inside a C extension (SLEPc, gmsh) surfaces as another error
                 return _interrupted()
             return _abort(f"{type(e).__name__}: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
-        finally:
-            interrupt.uninstall(previous)
+        finally:  # the command: ignored at once, no default SIGTERM between (a repeat killed a rank with 15)
+            interrupt.uninstall({s: signal.SIG_IGN for s in previous} if ignore_after else previous)
             signal.signal(signal.SIGPIPE, pipe)
 
     return run
@@ -380,10 +384,7 @@ def entry(main: Callable[[Sequence[str] | None], int]) -> NoReturn:
     for stream in (sys.stdout, sys.stderr):  # an ASCII console (PYTHONIOENCODING=ascii, LC_ALL=C): 'µs', 'Δt' and a
         if hasattr(stream, "reconfigure"):  # scene's non-ASCII name escaped, not a UnicodeEncodeError's exit 1
             stream.reconfigure(errors="backslashreplace")
-    code = guarded(main)()
-    for s in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(s, signal.SIG_IGN)
-    sys.exit(code)
+    sys.exit(guarded(main, ignore_after=True)())
 
 
 def bare_parser(description: str, **kw: Any) -> argparse.ArgumentParser:
