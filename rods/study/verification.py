@@ -6,7 +6,7 @@ scene's defaults (no per-case tuning). Per case the matrix reports
 
 * peak contact force, FE against analytical [%] — target :data:`TARGETS` ``peak_force``;
 * first contact duration, FE minus analytical [s] (rods.metrics.contact_duration) — target ``duration_transits``
-  of the thicker rod's diameter transit d/c (rods.checks.agree_duration: 1.99 µs on the paper's rods, issue 13's
+  of the thinner rod's diameter transit d/c (rods.checks.agree_duration: 1.99 µs on the paper's rods, issue 13's
   2 µs; in the scene's own time scale, so a scene scaled in size is judged alike);
 * Rod-2 midpoint average peak speed, FE against analytical [%] (rods.metrics.midpoint_peak_speed);
 * midpoint strain RMS difference over the strain window [-] (rods.metrics.strain_window, rms_difference), and
@@ -89,7 +89,7 @@ TARGETS = {
     "peak_force": 100 * checks.AGREE_FORCE,
     "duration_transits": checks.AGREE_TRANSITS,
     "energy": checks.VERIFY_ENERGY,
-}  # [%], [d/c of the thicker rod], [-]
+}  # [%], [d/c of the thinner rod], [-]
 MESH_CHECK = 2.0  # the scene's element sizes / the mesh check's [-]
 MODEL_FORM_RATIO = 8.0  # a gap this many times the mesh change is the reference's model form [-]
 MAX_STRAIN_LAG = 10e-6  # [s] the lag search's range
@@ -342,7 +342,7 @@ def duration_words(data: Mapping[str, Any]) -> str:
         return f"{t['duration'] * 1e6:g} µs"
     band = sorted({float(f"{r['duration_target'] * 1e6:.3g}") for r in data["rows"] if "duration_target" in r})  # [µs]
     here = "" if not band else f"{band[0]:g}" if len(band) == 1 else f"{band[0]:g}-{band[-1]:g}"
-    return f"{t['duration_transits']:g} d/c of the thicker rod" + (f" ({here} µs here)" if here else "")
+    return f"{t['duration_transits']:g} d/c of the thinner rod" + (f" ({here} µs here)" if here else "")
 
 
 def _mark(ok: bool) -> str:

@@ -494,14 +494,14 @@ def test_a_case_on_another_scene_is_described_by_that_scene():
 
 
 def test_the_duration_target_is_said_in_transits_with_its_range_in_microseconds():
-    """The duration band is the scene's own (0.8 d/c of the thicker rod): said with the range its rows had, one
+    """The duration band is the scene's own (0.8 d/c of the thinner rod): said with the range its rows had, one
     value once (it read "1.99-1.99 µs"); data written before the band was relative says its µs."""
     from rods.study.verification import duration_words
 
     t = {"duration_transits": 0.8}
     assert duration_words({"targets": t, "rows": [{"duration_target": 1.9856e-6}]}) == (
-        "0.8 d/c of the thicker rod (1.99 µs here)"
+        "0.8 d/c of the thinner rod (1.99 µs here)"
     )
     two = {"targets": t, "rows": [{"duration_target": 1.9856e-6}, {"duration_target": 2.003e-6}]}
-    assert duration_words(two) == "0.8 d/c of the thicker rod (1.99-2 µs here)"
+    assert duration_words(two) == "0.8 d/c of the thinner rod (1.99-2 µs here)"
     assert duration_words({"targets": {"duration": 2e-6}, "rows": []}) == "2 µs"
