@@ -160,7 +160,8 @@ def _keys(config: Mapping[str, object]) -> None:
         raise ConfigError(unknown[0], config[unknown[0]], f"unknown key; {hint}known: {', '.join(CONFIG_KEYS)}", fix)
     missing = [k for k in CONFIG_KEYS if k not in config]
     if missing:
-        raise ConfigError(missing[0], None, f"missing ({CONFIG_FILE}: workflows/sweep.yaml states every key)")
+        why = "missing: a config replacing sweep.yaml (--replace-workflow-config) states every key, the main job's too"
+        raise ConfigError(missing[0], None, why, "copy workflows/sweep.yaml and edit the copy")
 
 
 def _ranks(config: Mapping[str, object], local_cpus: int | None) -> None:

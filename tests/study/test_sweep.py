@@ -252,3 +252,13 @@ def test_a_point_in_two_sweeps_runs_once():
     assert p.returncode == 0, p.stderr[-2000:]
     counts = dict(re.findall(r"^(\w+)\s+(\d+)$", p.stdout + p.stderr, re.M))
     assert counts["global_fe"] == "5", (p.stdout + p.stderr)[-2000:]
+
+
+def test_a_config_file_of_ones_own_that_drops_a_key_is_told_to_copy_sweep_yaml(config):
+    """A --configfile with --replace-workflow-config replaces sweep.yaml whole: a key left out (the main job's too)
+    is refused with one remedy (its message had the config file's name twice)."""
+    with pytest.raises(ConfigError) as e:
+        check_config({k: v for k, v in config.items() if k != "fe_speed"})
+    text = str(e.value)
+    assert "'fe_speed' = None: missing" in text and "copy workflows/sweep.yaml and edit the copy" in text
+    assert text.count("sweep.yaml") == 2  # the replaced file, the one to copy
