@@ -120,7 +120,7 @@ def shorter_transit(scene: Scene) -> float:
 
 def longer_transit(scene: Scene) -> float:
     """The longer of the two rods' diameter transits d/c [s]: the scale of the thicker rod's lateral ringing, which
-    the 1D bars lack, and so of how far the FE and the analytical model can differ in time (rods.checks)."""
+    the 1D bars lack, against which the ringing and bar-theory checks judge a force's rise and ripple (rods.checks)."""
     return max(r.diameter_transit for r in scene.rods)
 
 

@@ -127,18 +127,19 @@ def driver_phase(scene: Scene) -> float:
     return contact_phase(first_contact_summary(scene), scene.end_time)
 
 
-def check_first_contact(scene: Scene, analytical_summary: Mapping[str, Any], who: str) -> None:
+def check_first_contact(scene: Scene, analytical_summary: Mapping[str, Any]) -> None:
     """Refuse (SceneError, before any FE run) an end time that the analytical model's first contact outlasts, where
-    ``who`` needs that contact whole: a study's submodels, compared whole by its comparison (rods.paper.data refuses
-    an open contact, after the runs: a fuzz, 2026-12-07, ran a contact study to 10 µs of a 204 µs contact, "ok" but
-    for warnings, and compare.py refused its folders). A driver alone may stop in the loading (:func:`driver_phase`)."""
+    a study's submodels need that contact whole, compared whole by its comparison (rods.paper.data refuses an open
+    contact, after the runs: a fuzz, 2026-12-07, ran a contact study to 10 µs of a 204 µs contact, "ok" but for
+    warnings, and compare.py refused its folders). A driver alone may stop in the loading (:func:`driver_phase`)."""
     if checks.contact_warning(analytical_summary, scene.end_time, scene) is None:
         return
     state = "has not ended" if analytical_summary.get("contact_episodes") else "has not begun"
     raise SceneError(
         "simulation.end_time",
         scene.end_time,
-        f"{who} {state} by then (the analytical model)",
+        f"the submodels of contact_patch/subsurface_stress need the whole first contact, which {state} by then (the "
+        "analytical model)",
         f"remedy: {checks.AUTO_END}, or a longer end time",
     )
 
@@ -298,9 +299,7 @@ def study_plan(scene: Scene, analytical_summary: Mapping[str, Any] | None = None
     dry run, the cost estimate), from the model run to its first contact (:func:`first_contact_summary`)."""
     s = analytical_summary if analytical_summary is not None else first_contact_summary(scene)
     if set(scene.effects) & set(SUBMODEL_EFFECTS):
-        check_first_contact(
-            scene, s, "the submodels of contact_patch/subsurface_stress need the whole first contact, which"
-        )
+        check_first_contact(scene, s)
     return make_plan(scene, first_contact_end(s))
 
 
