@@ -46,6 +46,7 @@ __all__ = [
     "impedance_force",
     "last_per_key",
     "values_without",
+    "first_difference",
     "load_scene",
     "nearest_key",
     "parse_override",
@@ -488,6 +489,16 @@ def value_differences(ours: Any, theirs: Any, key: str = "") -> list[tuple[str, 
             found += value_differences(ours.get(k), theirs.get(k), f"{key}.{k}" if key else str(k))
         return found
     return [] if ours == theirs else [(key or "scene", ours, theirs)]
+
+
+def first_difference(ours: Any, theirs: Any, ignore: Iterable[str] = ()) -> tuple[str, Any, Any] | None:
+    """The difference a refusal names between two nested scene values (Scene.as_dict, as a summary or a checkpoint's
+    manifest holds them), ``ignore``'s keys left out: a key given before one an "auto" derives from it
+    (:data:`RESOLVED_KEYS`), else the first in key order; None where they agree (a restart's refusals,
+    rods.fe.checkpoint and rods.study.pipeline)."""
+    diffs = value_differences(values_without(ours, ignore), values_without(theirs, ignore))
+    given = [d for d in diffs if d[0] not in RESOLVED_KEYS]
+    return (given or diffs)[0] if diffs else None
 
 
 def parse_override(text: str) -> tuple[str, Any]:

@@ -33,7 +33,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line, short
-from rods.scene import RESOLVED_KEYS, RESULT_NEUTRAL, value_differences, values_without
+from rods.scene import RESULT_NEUTRAL, first_difference, values_without
 
 __all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
@@ -116,15 +116,13 @@ def precheck(out: Path, ranks: int, scene: Any | None) -> dict[str, Any]:
         raise CheckpointError("--restart", str(out), why, _remedy(out))
     if scene is not None and meta["scene_hash"] != scene_hash(scene):
         why = "the checkpoint belongs to another scene or settings"
-        ours = json.loads(json.dumps(scene.as_dict()))
         # none named where the manifest has no values (a checkpoint written before they were kept)
-        diffs = value_differences(ours, meta["scene_values"]) if meta.get("scene_values") else []
-        diffs = [d for d in diffs if d[0] not in RESULT_NEUTRAL]
-        given = [d for d in diffs if d[0] not in RESOLVED_KEYS]  # a key given before one "auto" derives from it
+        values = meta.get("scene_values")
+        found = first_difference(scene.as_dict(), values, RESULT_NEUTRAL) if values else None
         remedy = _remedy(out)
-        if diffs:
-            key, here, there = (given or diffs)[0]
-            why += f" ({key} = {there!r} there, {here!r} in this run)"
+        if found:
+            key, here, there = found
+            why += f" ({key} = {short(there)} there, {short(here)} in this run)"
             remedy = f"give the stopped run's settings ({key} = {short(there)}), or {remedy}"  # the likelier slip
         raise CheckpointError("--restart", str(out), why, remedy)
     for r in range(int(meta["ranks"])):

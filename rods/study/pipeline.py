@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import Any
 
 from rods import checks, cost, io, plan
-from rods.scene import RESULT_NEUTRAL, SUBMODEL_LEVEL_SIZES, Scene, cut_record_end, value_differences, values_without
+from rods.preflight import short
+from rods.scene import RESULT_NEUTRAL, SUBMODEL_LEVEL_SIZES, Scene, cut_record_end, first_difference
 from rods.study import stages
 
 __all__ = ["Study", "run_study", "stage_costs"]
@@ -311,10 +312,9 @@ def _precheck_restart(p: plan.Plan, out: Path, comm: Any, g: Scene | None, share
         theirs = json.loads(begun.read_text(encoding="utf-8")).get("scene_values")  # null stays None (read_data: NaN)
     except (OSError, ValueError, AttributeError):
         theirs = None  # damaged: the analytical stage reruns and overwrites it
-    ours = values_without(scene.as_dict(), RESTART_FREE)
-    if theirs is not None and (diffs := value_differences(ours, values_without(theirs, RESTART_FREE))):
-        key, here, there = diffs[0]
-        why = f"the study stopped there ran another scene ({key} = {there!r} there, {here!r} here)"
+    if theirs is not None and (found := first_difference(scene.as_dict(), theirs, RESTART_FREE)):
+        key, here, there = found
+        why = f"the study stopped there ran another scene ({key} = {short(there)} there, {short(here)} here)"
         fix = "give that study's settings, or run without --restart (afresh: its stages are replaced)"
         raise checkpoint.CheckpointError("--restart", str(out), why, fix)
     for folder in _stage_folders(p, shared):
