@@ -793,7 +793,16 @@ def plateau_warning(
             "midpoint_peak_speed: the midpoint does not move forward by end_time (null); lengthen simulation.end_time "
             f"({AUTO_END})"
         )
-    problems = []
+    problems = [
+        _plateau_count_problem(t, runs, period, contact),
+        _plateau_shape_problem(t, v, runs, gap, period, contact),
+    ]
+    problems = [p for p in problems if p]
+    return f"midpoint_peak_speed: {'; '.join(problems)}; the average is unreliable" if problems else None
+
+
+def _plateau_count_problem(t: np.ndarray, runs: list, period: float, contact: float | None) -> str | None:
+    """plateau_warning's count: too few plateaus, and whether a longer run would find the rest."""
     outlasts = contact is not None and contact >= period
     span = (t[-1] - t[0]) / period  # [-] Rod 2's round trips the run holds
     # a longer run cannot help past five round trips, nor where a contact that outlasts one left fewer plateaus than
@@ -809,20 +818,28 @@ def plateau_warning(
             why = "short or stubby rods, or a first contact that outlasts Rod 2's round trip"
         else:
             why = "short or stubby rods"
-        problems.append(
+        return (
             f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus in {span:.0f} periods 2 L2/c2: "
             f"the midpoint's motion has no flat plateaus here ({why}), a longer run will not help"
         )
-    elif len(runs) < metrics.PLATEAU_COUNT:
-        problems.append(f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time ({AUTO_END})")
+    if len(runs) < metrics.PLATEAU_COUNT:
+        return f"only {len(runs)} of {metrics.PLATEAU_COUNT} plateaus within end_time ({AUTO_END})"
+    return None
+
+
+def _plateau_shape_problem(
+    t: np.ndarray, v: np.ndarray, runs: list, gap: float, period: float, contact: float | None
+) -> str | None:
+    """plateau_warning's shape: plateaus too short, too sparse or lifted by spikes above their level."""
+    outlasts = contact is not None and contact >= period
     shortest = min(r.stop - r.start for r in runs)
     level = metrics.plateau_level(np.asarray(v, float))
     fill = min(float(np.mean(v[r] >= level)) for r in runs)
     if shortest < MIN_PLATEAU_SAMPLES:
-        problems.append(f"a plateau of {shortest} sample(s): spikes above the plateau level, not plateaus")
-    elif fill < MIN_PLATEAU_FILL:
-        problems.append(f"a plateau {fill:.0%} of whose samples reach its level: spikes above it, not a plateau")
-    elif (shift := spike_shift(t, v, gap)) > SPIKE_SHIFT:
+        return f"a plateau of {shortest} sample(s): spikes above the plateau level, not plateaus"
+    if fill < MIN_PLATEAU_FILL:
+        return f"a plateau {fill:.0%} of whose samples reach its level: spikes above it, not a plateau"
+    if (shift := spike_shift(t, v, gap)) > SPIKE_SHIFT:
         # a pulse over its own reflection peaks above its plateaus as ringing does; the 1D model has no ringing
         # (a fuzz: equal 1 m and 2 m rods, contact 784 µs against a 782 µs round trip, blamed on "ringing spikes")
         cause = (
@@ -831,11 +848,11 @@ def plateau_warning(
             if outlasts
             else "ringing spikes above the plateaus set the threshold"
         )
-        problems.append(
+        return (
             f"{cause} (the average moves by {shift:.1%} with the threshold at 0.9 x the {SPIKE_QUANTILE:.0%} quantile "
             "of the motion above half the largest speed)"
         )
-    return f"midpoint_peak_speed: {'; '.join(problems)}; the average is unreliable" if problems else None
+    return None
 
 
 def spike_shift(t: np.ndarray, v: np.ndarray, gap: float = 0.0) -> float:

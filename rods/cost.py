@@ -417,14 +417,8 @@ def fe_cost(
     setup, loop, bound = _fe_time(scene, ranks, steps, dofs, size is not None)
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
-    frames = _field_frames(scene, dt, steps) if size is None else 0  # the submodel writes none
-    field_bytes = frames * FIELD_FRAME_BYTES + (frames * FIELD_BYTES_PER_DOF + FIELD_MESH_BYTES_PER_DOF) * dofs
-    field_bytes = field_bytes if frames else 0.0
-    wall = setup + loop + frames * dofs * FIELD_SECONDS_PER_DOF
-    files = field_bytes + CSV_BYTES_PER_VALUE * values
-    if size is None:  # a global's periodic checkpoints
-        seconds, written = _checkpoints(scene, ranks, dt, steps, dofs, values)
-        wall, files = wall + seconds, files + written
+    frames, field_bytes, files, writing = _fe_files(scene, ranks, dt, steps, dofs, values, size is not None)
+    wall = setup + loop + writing
     if record_until is not None:
         cut = _cut_record_bytes(scene, dt, steps, record_until, record_every)
         files += cut
@@ -506,6 +500,22 @@ def _memory_parts(parts: Mapping[str, tuple[float, str]]) -> str:
 
 
 STEP_ESTIMATE_MARGIN = 1.1  # the estimated stable step over the exact one, at most (0.68-1.05 measured) [-]
+
+
+def _fe_files(
+    scene: Scene, ranks: int, dt: float, steps: int, dofs: int, values: int, submodel: bool
+) -> tuple[int, float, float, float]:
+    """An FE run's files: the field frames, their bytes [B], every file's bytes [B] (fields, histories and a global's
+    periodic checkpoints) and the seconds [s] writing the fields and checkpoints takes (a submodel writes neither)."""
+    frames = 0 if submodel else _field_frames(scene, dt, steps)
+    field_bytes = frames * FIELD_FRAME_BYTES + (frames * FIELD_BYTES_PER_DOF + FIELD_MESH_BYTES_PER_DOF) * dofs
+    field_bytes = field_bytes if frames else 0.0
+    seconds = frames * dofs * FIELD_SECONDS_PER_DOF
+    files = field_bytes + CSV_BYTES_PER_VALUE * values
+    if not submodel:
+        written_seconds, written = _checkpoints(scene, ranks, dt, steps, dofs, values)
+        seconds, files = seconds + written_seconds, files + written
+    return frames, field_bytes, files, seconds
 
 
 def _check_one_step(end: float, dt: float, shown: float, given: str | None) -> None:

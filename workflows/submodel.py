@@ -127,8 +127,8 @@ def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float |
         return submodel_scene(scene, h, args.axial_size, end, dt)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    comm = MPI.COMM_WORLD
+def _parser() -> argparse.ArgumentParser:
+    """The command line: the driving global's folder, the level or size, the end time, the step, a restart."""
     ap = _cli.parser(__doc__, dry_run=True)
     ap.add_argument("--global", dest="global_dir", required=True, help="output folder of a global run with cut.h5")
     ap.add_argument("--level", default="fine", choices=SUBMODEL_LEVELS, help="mesh level (default %(default)s)")
@@ -147,7 +147,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--dt", type=_step, default="auto", help="time step [s], 'auto' (stable) or 'global' (the global's)"
     )
     ap.add_argument("--restart", action="store_true", help="resume from the last checkpoint in --out")
-    args = ap.parse_args(argv)
+    return ap
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    comm = MPI.COMM_WORLD
+    args = _parser().parse_args(argv)
     if args.phase is not None and args.size is not None:
         raise InputError("--phase", args.phase, "sets the element size itself", "give --phase or --size, not both")
     _check_overrides(args.overrides)

@@ -152,7 +152,6 @@ def run_study(
     out = output_dir(out, "out")
     check_reuse(out, stage_kind("run"), "out")
     comm = stages.world(comm)
-    root = comm.rank == 0
     done: dict[str, stages.Stage] = {"analytical": stages.analytical(scene, out / "analytical", comm, write=False)}
     p = plan.study_plan(scene, done["analytical"].summary)
     if log is not None:
@@ -179,6 +178,15 @@ def run_study(
         )  # fmt: skip
     if p.submodel_levels:
         _submodels(scene, p, done, shared, out, comm, progress, log, restart)
+    return _finish(scene, p, done, out, comm, log, t0)
+
+
+def _finish(
+    scene: Scene, p: plan.Plan, done: dict[str, stages.Stage], out: Path, comm: Any, log: Any, t0: float
+) -> Study:
+    """The study's products from its stages (rank 0): the comparison with its figures, the wave figure, the contact
+    picture and the summary; an earlier run's products its plan does not ask for are removed first."""
+    root = comm.rank == 0
     if root:  # an earlier run's comparisons and pictures: this run writes those its plan asks for
         _forget_products(out / "compare")
     comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
