@@ -105,6 +105,21 @@ def test_ringing_spikes_longer_than_a_few_samples_are_caught():
     assert checks.spike_shift(t, hertzian) < checks.SPIKE_SHIFT and checks.plateau_warning(t, hertzian) is None
 
 
+def test_plateaus_that_are_not_separate_passes_of_a_pulse_warn():
+    """Five "plateaus" found, but not a pulse's passes of the midpoint: a ripple of ±6% on Rod 2's rigid motion (a
+    titanium 0.25 m rod onto a 0.1 m steel one: 0.975 m/s "ok" on a rigid 0.970 m/s), or a first contact that
+    outlasts Rod 2's round trip; plateaus the midpoint leaves between passes (the paper's fall to 0.2) do not."""
+    t = np.linspace(0.0, 1.0, 6001)
+    ripple = np.where(t > 0.05, 1.0 + 0.06 * np.sin(2 * np.pi * 8 * t), 0.0)  # [m/s] rigid 1.0, troughs 0.94/1.06
+    w = checks.plateau_warning(t, ripple)
+    assert "falls only to 89% of the largest" in w and "ripple on Rod 2's rigid motion" in w
+    passes = np.where(t > 0.05, 0.65 + 0.45 * (np.sin(2 * np.pi * 8 * t) > 0), 0.0)  # 1.1 plateaus, 0.65 between
+    assert checks.plateau_warning(t, passes) is None
+    w = checks.plateau_warning(t, passes, period=0.125, contact=0.13)  # a contact 4% longer than the round trip
+    assert "outlasts Rod 2's round trip 2 L2/c2 = 1.25e+05 µs" in w and "not its separate passes" in w
+    assert checks.plateau_warning(t, passes, period=0.125, contact=0.12) is None
+
+
 def test_a_midpoint_the_wave_never_reaches_has_a_null_speed(scene_with):
     """A 10 MPa Rod 2 (c = 95 m/s): the wave needs 3.7 ms to its midpoint, past the 1.5 ms end time."""
     sc = scene_with(
