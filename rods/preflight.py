@@ -78,11 +78,21 @@ def output_dir(path: str | Path, what: str = "--out") -> Path:
     if str(path) == "":
         raise InputError(what, "", "is empty", "give a folder path")
     p = Path(path)
+    if p.parts and p.parts[0].startswith("~"):  # `--out=~/x`: the shell expands no ~ after '=' (a folder named '~')
+        raise InputError(
+            what, p, "starts with a '~' the shell did not expand",
+            "give the full path (the shell expands '~' at a word's start: a space after the option, not '=')",
+        )  # fmt: skip
     _name_lengths(p, what)  # before exists(), which raises on such a name
     if p.exists() and not p.is_dir():
         raise InputError(what, p, "is an existing file, not a folder", "give a folder path")
     probe = p
     while not probe.exists():
+        if probe.is_symlink():  # a link to a purged scratch folder, or a loop: the run failed at its end (exit 1)
+            raise InputError(
+                what, p, f"{probe} is a link to {os.readlink(probe)}, which does not resolve to a folder",
+                "create its target, or give another folder",
+            )  # fmt: skip
         probe = probe.parent
     if not probe.is_dir():
         raise InputError(what, p, f"{probe} is a file, so the folder cannot be created", "give another path")

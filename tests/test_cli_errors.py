@@ -39,6 +39,7 @@ def refused(p: subprocess.CompletedProcess, *words: str) -> str:
 @pytest.fixture
 def here(tmp_path) -> Path:
     (tmp_path / "afile").write_text("x")
+    (tmp_path / "scratch").symlink_to(tmp_path / "purged")  # a link to a purged scratch folder
     (tmp_path / "nosummary").mkdir()
     (tmp_path / "nosummary" / "cut.h5").write_text("")
     (tmp_path / "station.toml").write_text(
@@ -133,6 +134,10 @@ def here(tmp_path) -> Path:
 CASES = {  # name -> (script, arguments, words the line must name)
     "out is a file": ("analytical.py", ["--out", "afile"], ["--out", "afile", "file"]),
     "out under a file": ("global.py", ["--out", "afile/sub"], ["--out", "afile"]),
+    # a broken link ran the whole run, then failed making the folder (FileExistsError, exit 1): a fuzz, 2026-12-07
+    "out a broken link": ("global.py", ["--out", "scratch"], ["--out", "purged", "does not resolve", "its target"]),
+    "out under a broken link": ("run.py", ["--out", "scratch/sub"], ["--out", "scratch", "purged"]),
+    "out with an unexpanded ~": ("analytical.py", ["--out=~/x"], ["--out", "'~/x'", "did not expand", "full path"]),
     "station rod 1.0": ("analytical.py", ["--scene", "station.toml", "--out", "o"], ["station[0].rod", "1.0"]),
     "record-until -1": ("global.py", ["--record-cut", "--record-until", "-1", "--out", "o"], ["--record-until", "-1"]),
     "record-every 0": ("global.py", ["--record-cut", "--record-every", "0", "--out", "o"], ["--record-every", "0"]),
