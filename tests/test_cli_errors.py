@@ -1041,3 +1041,53 @@ def test_a_restart_with_checkpoints_turned_on_finds_the_default_folder(tmp_path)
     assert plain.returncode == ckpt.returncode == 0, ckpt.stderr
     folder = re.search(r"-> (\S*output/global/\S+)", plain.stdout).group(1)
     assert f"-> {folder}" in ckpt.stdout
+
+
+def test_a_folder_another_run_writes_is_refused_and_left_as_it_was(tmp_path):
+    """Two runs into one folder mixed one's summary with the other's histories, both exit 0 (a fuzz, 2026-12-07):
+    the second is refused while the first holds the folder, and runs once it is released; a claim leaves no lock
+    file, nor the folders it made where nothing was written."""
+    from rods.preflight import LOCK, FolderClaim
+
+    held = tmp_path / "a" / "b"
+    claim = FolderClaim(held)
+    (held / "history.csv").write_text("the first run's\n")
+    try:
+        refused(in_process("analytical.py", "--out", str(held), cwd=tmp_path), "--out", "another run is writing")
+        assert sorted(p.name for p in held.iterdir()) == [LOCK, "history.csv"]
+        assert (held / "history.csv").read_text() == "the first run's\n"
+    finally:
+        claim.release()
+    assert in_process("analytical.py", "--out", str(held), cwd=tmp_path).returncode == 0
+    assert not (held / LOCK).exists() and (held / "summary.json").exists()
+    FolderClaim(tmp_path / "c" / "d").release()  # made, nothing written: removed
+    assert not (tmp_path / "c").exists()
+
+
+def test_a_full_disk_is_one_line_naming_the_file_exit_1(tmp_path):
+    """A file-size limit (ulimit -f; a full disk or quota alike): exit 1, one line naming the file and the remedy,
+    no summary.json (it said OSError: [Errno 27] File too large, nothing named)."""
+    import resource
+
+    def small_files() -> None:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (16_000_000, 16_000_000))  # [B] MPI's start needs a few MB
+
+    every = ["--set", "simulation.output_interval=1e-8"]  # [s] a ~40 MB history.csv
+    p = subprocess.run(
+        [str(PY), str(W / "analytical.py"), *every, "--out", "o"], cwd=tmp_path, capture_output=True, text=True,
+        timeout=120, preexec_fn=small_files,
+    )  # fmt: skip
+    assert p.returncode == 1, p.stderr[-2000:]
+    line = p.stderr.strip().splitlines()[-1]
+    assert line.startswith("error:") and "file too large" in line and "free space" in line and "in o:" in line
+    assert not (tmp_path / "o" / "summary.json").exists()
+
+
+def test_a_colour_coded_disk_error_is_one_plain_line():
+    """ADIOS2's exception on a full disk carries terminal colour codes and its errno in text."""
+    import _cli
+
+    e = RuntimeError("\x1b[1;36m[ADIOS2 EXCEPTION]\x1b[0m <Posix> errno = 28: No space left on device\n")
+    line = _cli.one_line(_cli._disk_full(e))
+    assert "\x1b" not in line and line.startswith("writing the results: no space left on device; free space")
+    assert _cli._disk_full(ValueError("x")) is None

@@ -22,6 +22,7 @@ from typing import Any, NoReturn
 
 from rods import interrupt
 from rods.preflight import (  # noqa: F401  (for scripts)
+    FolderClaim,
     InputError,
     default_folder,
     one_line,
@@ -167,6 +168,8 @@ def afford(
         unsettled = " as far as the plan can tell (the caveat above)" if any(c.caveat for c in costs) else ""
         log(f"dry run: the input and the output folder are valid{unsettled}; nothing was run or written")
         raise SystemExit(0)
+    if out is not None:
+        hold(out, comm)
 
 
 def figure_file(path: str | Path, flag: str) -> None:
@@ -248,6 +251,25 @@ def scene_default(args: argparse.Namespace, stage: str, scene: Scene) -> Path:
     return default_folder(stage, scene, _overridden(args, scene))
 
 
+_HELD: list[FolderClaim] = []  # the output folder this process's run holds (rank 0's), released by guarded()
+
+
+def hold(out: Path, comm: Any = None) -> None:
+    """Hold ``out`` for this run from here to its end (rods.preflight.FolderClaim, rank 0's): a second run into the
+    folder is refused on every rank, exit 2, before it writes anything; from here on a missing file is a failed run
+    (exit 1), not a path given wrong."""
+    refusal = None
+    if comm.rank == 0 if comm is not None else _is_rank0():  # a script without a communicator: the launcher's rank 0
+        try:
+            _HELD.append(FolderClaim(out))
+        except InputError as e:
+            refusal = (e.what, e.value, e.problem, e.remedy)
+    if comm is not None and comm.size > 1:
+        refusal = comm.bcast(refusal, root=0)
+    if refusal is not None:
+        raise InputError(*refusal)
+
+
 def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
     """Whether --set changed the scene's values: a run whose overrides repeat the file's values (`--set
     impact.speed=2.197` on paper.toml), or change only what changes no result (rods.scene.RESULT_NEUTRAL: checkpoints
@@ -305,8 +327,10 @@ def _stopped(e: BaseException) -> int | None:
     return EXIT_INTERRUPTED if isinstance(e, guards.Interrupted) else EXIT_FAILED
 
 
-def _abort(message: str, code: int) -> int:
-    """One line naming the rank; under MPI with several ranks, abort them all (none hangs in a collective)."""
+def _abort(message: str, code: int, at_once: bool = False) -> int:
+    """One line naming the rank; under MPI with several ranks, abort them all (none hangs in a collective).
+    ``at_once``: one process ends here too, without the teardown (a writer whose file failed throws again as it is
+    destroyed: ADIOS2's on a full disk ended the process by SIGABRT, exit 134, after the line)."""
     mpi = _mpi()
     if os.environ.get("RODS_TRACEBACK"):
         import traceback
@@ -314,12 +338,38 @@ def _abort(message: str, code: int) -> int:
         traceback.print_exc()
     if mpi is None or mpi.COMM_WORLD.size == 1:
         print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
+        if at_once:
+            while _HELD:
+                _HELD.pop().release()
+            sys.stdout.flush()
+            os._exit(code)
         return code
     rank = mpi.COMM_WORLD.rank
     print(f"error on rank {rank}: {one_line(message)}; aborting all ranks", file=sys.stderr, flush=True)
     time.sleep(ABORT_GRACE)
     mpi.COMM_WORLD.Abort(code)
     return code
+
+
+# the errors of a full disk or quota, and of a file over its size limit (ulimit -f), by number and by the text that
+# a C++ library's exception carries (ADIOS2: "errno = 28: No space left on device")
+DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
+
+
+def _disk_full(e: BaseException) -> str | None:
+    """The line for an error of a full disk (:data:`DISK_FULL`), naming the file where the error does; else None."""
+    texts = [os.strerror(n) for n in DISK_FULL]
+    if isinstance(e, OSError) and e.errno in DISK_FULL:
+        where, why = e.filename, os.strerror(e.errno)
+    elif any(t in str(e) for t in texts):
+        where, why = None, next(t for t in texts if t in str(e))
+    else:
+        return None
+    held = f" in {_HELD[0].path.parent}" if _HELD else ""
+    return (
+        f"{where or 'writing the results' + held}: {why.lower()}; free space (or raise the quota or ulimit -f), then "
+        "run again, or with --restart where the run wrote checkpoints"
+    )
 
 
 def _interrupted() -> int:
@@ -356,7 +406,9 @@ def guarded(
         except (SceneError, InputError) as e:
             fail(str(e))
         except FileNotFoundError as e:
-            fail(f"{e.filename or e}: no such file or folder (check the path)")
+            if not _HELD:  # an input path given wrong; in a run (a file removed under it) a failure, below
+                fail(f"{e.filename or e}: no such file or folder (check the path)")
+            return _abort(f"{e.filename or e}: removed while the run used it (run again)", EXIT_FAILED)
         except KeyboardInterrupt:
             return _interrupted()
         except Exception as e:
@@ -366,10 +418,14 @@ def guarded(
             code = _stopped(e)
             if code is not None:
                 return code
+            if (full := _disk_full(e)) is not None:
+                return _abort(full, EXIT_FAILED, at_once=True)
             if interrupt.requested():  # a signal inside a C extension (SLEPc, gmsh) surfaces as another error
                 return _interrupted()
             return _abort(f"{type(e).__name__}: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
         finally:  # the command: ignored at once, no default SIGTERM between (a repeat killed a rank with 15)
+            while _HELD:
+                _HELD.pop().release()
             interrupt.uninstall({s: signal.SIG_IGN for s in previous} if ignore_after else previous)
             signal.signal(signal.SIGPIPE, pipe)
 
