@@ -160,6 +160,10 @@ FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) 
 # a frame's time (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs,
 # 2 ranks): 0.82 s more than the same run without fields [s per DOF]
 FIELD_SECONDS_PER_DOF = 3e-7  # [s]
+# and a frame's time whatever its size (a file per frame, the gather, the ADIOS2 step): 3001 frames of 2.95k DOFs took
+# 12.6 s more than the same run without fields (4.2 ms a frame against the 0.9 ms above; fields.xdmf rewritten
+# geometrically, 2026-12-07; the plan had said 3.9 s for the whole run) [s]
+FIELD_SECONDS_PER_FRAME = 3.3e-3
 # a frame's files (XDMF/HDF5 and VTX: 7 fields, 2 vectors and 5 scalars, float64 on the nodes), measured 2026-12-06
 # on the paper mesh (48k DOFs, serial: 25.1 MB for 5 frames, 51.8 MB for 11, both formats): 93 B per DOF a frame
 # and 60 B per DOF once (the mesh, written with the first frame); 2026-11-24's contact picture run read 80 a frame
@@ -510,7 +514,7 @@ def _fe_files(
     frames = 0 if submodel else _field_frames(scene, dt, steps)
     field_bytes = frames * FIELD_FRAME_BYTES + (frames * FIELD_BYTES_PER_DOF + FIELD_MESH_BYTES_PER_DOF) * dofs
     field_bytes = field_bytes if frames else 0.0
-    seconds = frames * dofs * FIELD_SECONDS_PER_DOF
+    seconds = frames * (FIELD_SECONDS_PER_FRAME + dofs * FIELD_SECONDS_PER_DOF)
     files = field_bytes + CSV_BYTES_PER_VALUE * values
     if not submodel:
         written_seconds, written = _checkpoints(scene, ranks, dt, steps, dofs, values)

@@ -40,6 +40,7 @@ import json
 import math
 import shutil
 import sys
+import time
 from pathlib import Path
 
 import dolfinx
@@ -69,6 +70,8 @@ __all__ = [
     "surface_edges",
 ]
 
+XML_INTERVAL = 2.0  # [s] longest wall time between two rewrites of fields.xdmf during a run (XdmfSeries)
+XML_LAG = 0.1  # frames fields.xdmf may leave unlisted during a run, per frame it lists [-] (XdmfSeries)
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
 # a run folder's field files (module docstring; fields.h5: an older version's XDMF data), removed by a run afresh
 SERIES_FILES = ("fields.xdmf", "fields.h5", "fields", "fields.bp", "fields-restart-*.bp")
@@ -244,7 +247,12 @@ def _cylindrical_frame(model, x):
 
 class XdmfSeries:
     """Rank 0's XDMF time series (module docstring): ``mesh.h5`` once (with ``scene_values``, the JSON of the run's
-    scene values, :func:`check_run`), one HDF5 file per frame, the XML replaced atomically after each frame.
+    scene values, :func:`check_run`), one HDF5 file per frame, the XML replaced atomically once the frames it does not
+    list are :data:`XML_LAG` of those it does, or :data:`XML_INTERVAL` seconds after its last rewrite, and at
+    :meth:`flush` (rewritten after every frame, the XML's writes grew with the square of the frames: an audit's 3002
+    frames spent 37.8 s and ~8 GB of writes on it; geometric rewrites keep them in proportion). A kill between two
+    rewrites leaves an XML without the last frames' grids (at most a tenth of them; a restart lists every frame file
+    it finds).
     ``keep_before``: frames with t below it survive (a restart)."""
 
     def __init__(
@@ -262,6 +270,8 @@ class XdmfSeries:
         self.dir = Path(out) / "fields"
         self.cell_type, self.shape = cell_type, (len(points), len(cells), cells.shape[1])
         self.frames: list[tuple[str, float, dict[str, int]]] = []
+        self.grids: dict[str, str] = {}  # frame file -> its <Grid> element, formatted once
+        self.written, self.listed = -math.inf, 0  # [s] time.monotonic() of the last XML rewrite, the frames it lists
         if self.dir.exists():
             self.frames = [f for f in self._read_frames() if f[1] < keep_before]
             for p in self.dir.glob("frame-*.h5"):
@@ -299,32 +309,44 @@ class XdmfSeries:
         self.frames = [f for f in self.frames if f[0] != name and f[1] < t] + [
             (name, t, {n: v.shape[1] for n, v in data.items()})
         ]
+        self.grids.pop(name, None)  # a restart's frame of that number: its time may differ
+        behind = len(self.frames) - self.listed  # frames the XML does not list yet
+        if behind >= XML_LAG * self.listed or time.monotonic() - self.written >= XML_INTERVAL:
+            self._write_xml()
+
+    def flush(self) -> None:
+        """The XML of every frame written (the run's end, or its stop)."""
         self._write_xml()
 
-    def _write_xml(self) -> None:
+    def _grid(self, name: str, t: float, comps: dict[str, int]) -> str:
+        """The <Grid> element of frame file ``name`` at ``t`` [s] with its fields' component counts ``comps``."""
         n_pts, n_cells, per_cell = self.shape
         topo = f'<DataItem Dimensions="{n_cells} {per_cell}" NumberType="Int" Precision="8" Format="HDF">'
         geo = f'<DataItem Dimensions="{n_pts} 3" NumberType="Float" Precision="8" Format="HDF">'
-        grids = []
+        attrs = "".join(
+            f'<Attribute Name="{a}" AttributeType="{"Vector" if nc == 3 else "Scalar"}" Center="Node">'
+            f'<DataItem Dimensions="{n_pts} {nc}" NumberType="Float" Precision="8" Format="HDF">'
+            f"fields/{name}:/{a}</DataItem></Attribute>"
+            for a, nc in comps.items()
+        )
+        return (
+            f'<Grid Name="frame" GridType="Uniform"><Time Value="{t!r}"/>'
+            f'<Topology TopologyType="{self.cell_type}" NumberOfElements="{n_cells}">{topo}'
+            f"fields/mesh.h5:/cells</DataItem></Topology>"
+            f'<Geometry GeometryType="XYZ">{geo}fields/mesh.h5:/points</DataItem></Geometry>{attrs}</Grid>\n'
+        )
+
+    def _write_xml(self) -> None:
         for name, t, comps in self.frames:
-            attrs = "".join(
-                f'<Attribute Name="{a}" AttributeType="{"Vector" if nc == 3 else "Scalar"}" Center="Node">'
-                f'<DataItem Dimensions="{n_pts} {nc}" NumberType="Float" Precision="8" Format="HDF">'
-                f"fields/{name}:/{a}</DataItem></Attribute>"
-                for a, nc in comps.items()
-            )
-            grids.append(
-                f'<Grid Name="frame" GridType="Uniform"><Time Value="{t!r}"/>'
-                f'<Topology TopologyType="{self.cell_type}" NumberOfElements="{n_cells}">{topo}'
-                f"fields/mesh.h5:/cells</DataItem></Topology>"
-                f'<Geometry GeometryType="XYZ">{geo}fields/mesh.h5:/points</DataItem></Geometry>{attrs}</Grid>\n'
-            )
+            if name not in self.grids:
+                self.grids[name] = self._grid(name, t, comps)
         io.atomic_write_text(
             self.xml,
             '<?xml version="1.0"?>\n<Xdmf Version="3.0"><Domain>\n'
             '<Grid Name="fields" GridType="Collection" CollectionType="Temporal">\n'
-            f"{''.join(grids)}</Grid></Domain></Xdmf>\n",
+            f"{''.join(self.grids[name] for name, _, _ in self.frames)}</Grid></Domain></Xdmf>\n",
         )
+        self.written, self.listed = time.monotonic(), len(self.frames)
 
 
 class FieldOutput:
@@ -434,6 +456,8 @@ class FieldOutput:
         return self.vtx is not None and self.comm.size > 1
 
     def finish(self) -> None:
+        if self.series is not None:
+            self.series.flush()
         if self.vtx is not None:
             self.vtx.close()
 
