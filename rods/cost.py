@@ -152,9 +152,12 @@ GPU_SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 2.1e-5}  # [s] (axisy
 # 0.056 s for 54 axisymmetric cut nodes, 0.049 s for 207; 4.3 s for 5250 in the 3D coarse model's full section,
 # 730 s for those 5250 before, one interpolation per band node)
 CUT_SECONDS_PER_NODE = {"axisymmetric": 1e-3, "3d": 1e-3}
-# one checkpoint (fe.checkpoint_interval > 0: the state and histories so far, written and renamed per rank) [s]:
-# measured 2026-11-24 on the paper scene's 52.9k-DOF global, serial: 2.7-2.8 ms each, every step or every third
-CHECKPOINT_SECONDS = 1e-3  # [s]
+# one checkpoint (fe.checkpoint_interval > 0: the state written and renamed per rank, the histories' new rows
+# appended to its log, rods.fe.checkpoint) [s]: measured 2026-11-24 on the paper scene's 52.9k-DOF global, serial:
+# 2.7-2.8 ms each, every step or every third; 2026-12-07, the coarse paper mesh (2.95k DOFs) to 6 ms every 1 µs:
+# 5917 checkpoints 15.5 s (2.6 ms each, three fsyncs; with the histories rewritten whole, 21.6 s, growing with
+# the run's length squared)
+CHECKPOINT_SECONDS = 2.5e-3  # [s]
 CHECKPOINT_SECONDS_PER_DOF = 3.5e-8  # [s]
 FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
 # a frame's time (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs,
@@ -458,7 +461,8 @@ def _memory_of(
 
 def _checkpoints(scene: Scene, ranks: int, dt: float, steps: int, dofs: float, values: float) -> tuple[float, float]:
     """(seconds [s], bytes on disk [B]) of a global's periodic checkpoints at fe.checkpoint_interval > 0 (the model's
-    stride, rods.fe.checkpoint.stride): two on disk while the newer replaces the older. Without the interval a run
+    stride, rods.fe.checkpoint.stride): two states on disk while the newer replaces the older, and each rank's log of
+    the histories and the per-step force (rods.fe.checkpoint.Appended). Without the interval a run
     writes one only when stopped (Ctrl-C, SIGTERM), and a finished run removes it: (0, 0)."""
     if scene["fe.checkpoint_interval"] <= 0:
         return 0.0, 0.0
@@ -466,7 +470,7 @@ def _checkpoints(scene: Scene, ranks: int, dt: float, steps: int, dofs: float, v
 
     every = stride(scene["fe.checkpoint_interval"], dt)
     seconds = steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
-    return seconds, 2 * (CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * values)
+    return seconds, 2 * CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * (values + steps) * ranks  # the log: rows and force
 
 
 def _ranks_remedy(scene: Scene) -> str:

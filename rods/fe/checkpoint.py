@@ -1,8 +1,13 @@
 """Checkpoints of an explicit run: restart a killed run from its last checkpoint, same histories.
 
 Layout in the run's output folder:
-* ``checkpoint-<step>-r<rank>.npz`` — each rank's owned state (u, v_{n+1/2}, accumulators) and the
-  recorded histories so far;
+* ``checkpoint-<step>-r<rank>.npz`` — each rank's owned state (u, v_{n+1/2}, accumulators), and the name, bytes
+  and CRC-32 of its log;
+* ``checkpoint-log-<first>-r<rank>.bin`` — the state arrays that only grow (:class:`Appended`: the recorded
+  histories, the per-step force), each checkpoint appending their new entries (``.npy`` records, one fsync): a
+  checkpoint writes what is new since the last (each rewrote the whole before: an audit's 5917 checkpoints wrote
+  8.55 GB for a 5 MB run, 23.9 s against a 2.2 s loop); a restart reads the bytes its ``.npz`` counts, checks their
+  CRC, and starts a log of its own (named by its first checkpoint's step), the old one removed with its checkpoint;
 * ``checkpoint.json`` — written by rank 0 after every rank has written its file (a barrier between):
   the step, the time, the rank count. Each file is written to a temporary name and renamed, and the
   previous checkpoint's files are removed only after the new ``checkpoint.json`` is in place, so a
@@ -20,11 +25,13 @@ each part's ``restore`` reads back.
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
 import zipfile
 import zlib
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +42,7 @@ from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line, short
 from rods.scene import RESULT_NEUTRAL, first_difference, values_without
 
-__all__ = ["CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
+__all__ = ["Appended", "CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
 MANIFEST = "checkpoint.json"
 
@@ -48,6 +55,68 @@ def stride(interval: float, dt: float) -> int:
 
 def _name(step: int, rank: int) -> str:
     return f"checkpoint-{step}-r{rank}.npz"
+
+
+def _log_name(first: int, rank: int) -> str:
+    return f"checkpoint-log-{first}-r{rank}.bin"
+
+
+LOG_GLOB = "checkpoint-log-*.bin"
+
+
+class Appended:
+    """A state array whose entries, once there, never change between checkpoints and whose length only grows (a
+    history's rows, the per-step force): :func:`save` appends its new entries to the rank's log."""
+
+    def __init__(self, values: np.ndarray):
+        self.values = np.ascontiguousarray(values)
+
+
+@dataclass(frozen=True)
+class Tail:
+    """A rank's log after a checkpoint: its file, its bytes [B] and their CRC-32, each Appended array's length."""
+
+    log: str
+    size: int
+    crc: int
+    lengths: dict[str, int]
+
+
+def _append(out: Path, step: int, rank: int, arrays: dict[str, np.ndarray], tail: Tail | None) -> Tail:
+    """Append to the rank's log, after ``tail`` (the previous checkpoint's; None: a new log, named by ``step``), each
+    array's entries past its length there, as .npy records (its name, then the entries); one fsync."""
+    tail = tail or Tail(_log_name(step, rank), 0, 0, {})
+    buf = io.BytesIO()
+    for key, a in arrays.items():
+        np.lib.format.write_array(buf, np.asarray(key))
+        np.lib.format.write_array(buf, a[tail.lengths.get(key, 0) :])
+    data = buf.getvalue()
+    path = out / tail.log
+    with open(path, "r+b" if path.exists() and tail.size else "w+b") as f:
+        f.seek(tail.size)  # past the entries the previous checkpoint counts: a kill's partial records are cut
+        f.write(data)
+        f.truncate()
+        f.flush()
+        os.fsync(f.fileno())
+    return Tail(tail.log, tail.size + len(data), zlib.crc32(data, tail.crc), {k: len(a) for k, a in arrays.items()})
+
+
+def _read_log(out: Path, state: dict[str, np.ndarray]) -> None:
+    """Replace a loaded ``state``'s log entries (``@log``, ``@log_bytes``, ``@log_crc``) by its Appended arrays,
+    read from the first ``@log_bytes`` of the log (a ValueError names a log that is short or whose CRC differs)."""
+    if "@log" not in state:
+        return
+    path, size, crc = Path(out) / str(state.pop("@log")), int(state.pop("@log_bytes")), int(state.pop("@log_crc"))
+    with open(path, "rb") as f:
+        data = f.read(size)
+    if len(data) != size or zlib.crc32(data) != crc:
+        raise ValueError(f"{path}: {len(data)} bytes read where the checkpoint wrote {size}, or their CRC differs")
+    blocks: dict[str, list[np.ndarray]] = {}
+    buf = io.BytesIO(data)
+    while buf.tell() < size:
+        key = str(np.lib.format.read_array(buf, allow_pickle=False))
+        blocks.setdefault(key, []).append(np.lib.format.read_array(buf, allow_pickle=False))
+    state.update({key: np.concatenate(b) for key, b in blocks.items()})
 
 
 class CheckpointError(InputError):
@@ -149,6 +218,8 @@ def discard(out: Path, comm: MPI.Comm) -> None:
         if old:
             for r in range(int(old["ranks"])):
                 (Path(out) / _name(old["step"], r)).unlink(missing_ok=True)
+        for f in Path(out).glob(LOG_GLOB):
+            f.unlink(missing_ok=True)
     comm.Barrier()
 
 
@@ -161,14 +232,22 @@ def save(
     scene_key: str,
     scene_hash: str = "",
     scene_values: Mapping[str, Any] | None = None,
-) -> None:
-    """Write this rank's ``state`` (numpy arrays and scalars) for ``step``; collective. The manifest keeps the
-    scene's values (``scene_values``, Scene.as_dict) so a restart of another scene names the key that differs."""
+    tail: Tail | None = None,
+) -> Tail | None:
+    """Write this rank's ``state`` (numpy arrays and scalars, :class:`Appended` arrays) for ``step``; collective. The
+    manifest keeps the scene's values (``scene_values``, Scene.as_dict) so a restart of another scene names the key
+    that differs. ``tail``: the rank's log after the previous checkpoint of this run (its Appended arrays up to there
+    are in it; None: a new log); returns the log after this one, for the next."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    plain = {k: np.asarray(v) for k, v in state.items() if not isinstance(v, Appended)}
+    arrays = {k: v.values for k, v in state.items() if isinstance(v, Appended)}
+    if arrays:
+        tail = _append(out, step, comm.rank, arrays, tail)
+        plain.update({"@log": tail.log, "@log_bytes": tail.size, "@log_crc": tail.crc})
     tmp = out / f".{_name(step, comm.rank)}.tmp"
     with open(tmp, "wb") as f:
-        np.savez(f, **{k: np.asarray(v) for k, v in state.items()})
+        np.savez(f, **plain)
         f.flush()
         os.fsync(f.fileno())
     os.replace(tmp, out / _name(step, comm.rank))
@@ -185,7 +264,13 @@ def save(
         if old and old["step"] != step:
             for r in range(old["ranks"]):
                 (out / _name(old["step"], r)).unlink(missing_ok=True)
+        if tail is not None:  # an earlier run's logs (a restart's first checkpoint starts its own)
+            mine = tail.log.rsplit("-r", 1)[0]
+            for f in out.glob(LOG_GLOB):
+                if f.name.rsplit("-r", 1)[0] != mine:
+                    f.unlink(missing_ok=True)
     comm.Barrier()
+    return tail
 
 
 def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | None:
@@ -209,6 +294,7 @@ def load(out: Path, comm: MPI.Comm, scene_key: str) -> dict[str, np.ndarray] | N
     try:
         with np.load(f, allow_pickle=False) as z:
             state = {k: np.array(z[k]) for k in z.files}  # read every array now: a bad CRC shows here
+        _read_log(Path(out), state)
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error) as e:
         problem = f"{f}\0damaged ({one_line(str(e))})"
     problems = [p for p in comm.allgather(problem) if p]  # every rank refuses together: none waits alone
@@ -235,6 +321,7 @@ class Checkpoints:
     ):
         self.out, self.every, self.parts, self.comm, self.key = Path(out), every, parts, comm, key
         self.first, self.last, self.scene_hash, self.scene_values = first, last, scene_hash, scene_values
+        self.tail: Tail | None = None  # this rank's log after the last save (a restart starts a new log)
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
         if step % self.every == 0 and self.first < step < self.last:
@@ -245,4 +332,4 @@ class Checkpoints:
         merged: dict[str, Any] = {}
         for p in self.parts:
             merged.update(p.state(step))
-        save(self.out, step, t, merged, self.comm, self.key, self.scene_hash, self.scene_values)
+        self.tail = save(self.out, step, t, merged, self.comm, self.key, self.scene_hash, self.scene_values, self.tail)

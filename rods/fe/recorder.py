@@ -32,6 +32,7 @@ from mpi4py import MPI
 
 from rods import metrics
 from rods.fe.backend import PETSC, Backend, product
+from rods.fe.checkpoint import Appended
 from rods.fe.explicit import CentralDifference
 
 __all__ = ["BASE_COLUMNS", "ENERGY_COLUMNS", "Recorder", "balance_scale", "output_steps"]
@@ -170,8 +171,8 @@ class Recorder:
     def state(self, step: int) -> dict[str, Any]:
         """What a restart needs after ``step`` (this rank): rows so far, accumulators, peak, wall time."""
         k = self.k
-        out: dict[str, Any] = {f"hist_{name}": col[:k] for name, col in self.columns.items()}
-        out.update(k=k, force=self.force[: step + 1], W_local=float(self.W_local), s_prev=float(self.s_prev))
+        out: dict[str, Any] = {f"hist_{name}": Appended(col[:k]) for name, col in self.columns.items()}
+        out.update(k=k, force=Appended(self.force[: step + 1]), W_local=float(self.W_local), s_prev=float(self.s_prev))
         out.update(p_max_all=self.p_max_all, wall=self.wall())
         out.update({f"peak_{key}": np.asarray(val) for key, val in self.peak.items()})
         if hasattr(self.contact, "state"):  # a contact with memory (kinematic: F_{n-1}, g_{n-1}, dissipation)
