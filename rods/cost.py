@@ -95,9 +95,15 @@ STEPS_PER_STIFFNESS = 0.45  # [-]
 SECONDS_PER_STEP = 2.5e-4  # [s]
 BYTES_PER_SOLVER_STEP = 1e3  # [B]
 BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
+# [B] the analytical model's process: the interpreter, numpy, scipy, mpi4py (109 MB max RSS on the paper scene,
+# 2026-12-07; 60 MB had been planned)
+ANALYTICAL_BASE_MEMORY = 105e6
 BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
-BYTES_PER_VALUE = 33.0  # [B] a history value in memory (8) and as CSV text (25)
+# [B] a history value in memory: the recorder's column (8), the CSV writer's table (8) and its share of the heap's
+# growth (the CSV's text is formatted a chunk at a time, rods.io.write_history: as one string it took 61 B a value, an
+# audit's 200k rows 441 MB against 268 MB planned; 261 MB since, 2026-12-07)
+BYTES_PER_VALUE = 33.0
 # the time loop's rate per rank where the probe (machine_speed) at the loop's working set reads PROBE_RATE_REFERENCE
 # [1/s]: the loop's rate x PROBE_RATE_REFERENCE / the probe's, measured 2026-12-06 on this idle machine, serial (the
 # paper rods, coarsened, 600 steps, best of 2; the probe at each mesh's probe_rows, best of 5): axisymmetric 3.0e7
@@ -796,7 +802,7 @@ def analytical_cost(scene: Scene) -> Cost:
     passes = scene.end_time * max(r.material.wave_speed / r.length for r in scene.rods)  # [-]
     steps = analytical_steps(scene)
     wall = SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values + SECONDS_PER_STEP * steps
-    memory = 60e6 + 3 * BYTES_PER_VALUE * values + BYTES_PER_SOLVER_STEP * steps
+    memory = ANALYTICAL_BASE_MEMORY + 3 * BYTES_PER_VALUE * values + BYTES_PER_SOLVER_STEP * steps
     return Cost("analytical model", 0, 0, steps, samples, values, memory, wall, file_bytes=CSV_BYTES_PER_VALUE * values)
 
 
