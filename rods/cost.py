@@ -132,6 +132,10 @@ PROBE_MAX_AGE = 60.0
 # 130 µs over DOFs / rate at the calibrated rate (a small mesh's exchange costs more than its share of the product);
 # the main job's submodels (2 ranks) 34 µs (23.7k DOFs) to 80 µs (93k) over globals of their size
 STEP_OVERHEAD = 3.5e-5  # [s]
+# a recorded row's (rods.fe.recorder.Recorder._record: energies, probes, the patch; ~40 small array operations) [s]:
+# the coarse paper mesh to 10 ms, 40k rows against 1.0k, 1.69 s more (42 µs a row; 2026-12-07, idle; an audit on a
+# loaded machine 125 µs), which the plan had left out (4.28 s planned for the 1k-row run's 2.27 s and the 40k's 3.96 s)
+RECORD_ROW_SECONDS = 4e-5
 MPI_STEP_OVERHEAD = 9e-5  # [s]
 CUT_STEP_OVERHEAD = 5e-5  # [s]
 # mesh, assembly, contact data and the step's eigenvalue, on one rank [s] (3D, 2026-11-27, serial: 2.9e-5 at 132k
@@ -427,7 +431,7 @@ def fe_cost(
             ranks * record,
             "fewer ranks, or a driver recorded at coarser sizes",
         )
-    setup, loop, bound = _fe_time(scene, ranks, steps, dofs, size is not None)
+    setup, loop, bound = _fe_time(scene, ranks, steps, dofs, size is not None, samples)
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
     frames, field_bytes, files, writing = _fe_files(scene, ranks, dt, steps, dofs, values, size is not None)
@@ -576,23 +580,24 @@ def _fe_mesh(
     return (h_r, h, g), region, *_mesh_axisymmetric(region, h_r, h, g)
 
 
-def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float, cut: bool) -> tuple[float, float, float]:
+def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float, cut: bool, rows: int = 0) -> tuple[float, float, float]:
     """The set-up, the time loop and the loop's rate-bound part [s] of ``steps`` steps on ``dofs`` DOFs (``cut``: a
-    submodel's, driven at its cuts): on a device its own rate (not the host's probe, so no bound), else the CPU's per
-    rank: assembled at the reference probe's rate (the bound part), matrix-free at its own (no bound), and the fixed
-    cost per step."""
+    submodel's, driven at its cuts) recording ``rows`` rows: on a device its own rate (not the host's probe, so no
+    bound), else the CPU's per rank: assembled at the reference probe's rate (the bound part), matrix-free at its own
+    (no bound), and the fixed costs per step and per row."""
     kind = scene["fe.kind"]
+    recording = rows * RECORD_ROW_SECONDS
     if _on_gpu(scene, ranks):
         setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]
-        return setup, steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND), 0.0
+        return setup, steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND) + recording, 0.0
     fixed = (MPI_STEP_OVERHEAD if ranks > 1 else STEP_OVERHEAD) + (CUT_STEP_OVERHEAD if cut else 0.0)
     setup = dofs * SETUP_SECONDS_PER_DOF[kind] / ranks
     if scene["fe.operator"] == "matrix-free":  # gathers and small products, not the sparse product the probe times:
         # at its measured rate, unscaled (42.9k axisymmetric DOFs, 2026-12-06: 1.03e6 DOF-steps/s, where 7.8e5 x
         # the probe's 2.91 planned 66.6 s for a 151 s run)
-        return setup, steps * (fixed + dofs / (MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND[kind] * ranks)), 0.0
+        return setup, steps * (fixed + dofs / (MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND[kind] * ranks)) + recording, 0.0
     bound = steps * dofs / (DOF_STEPS_PER_SECOND[kind] * ranks)
-    return setup, steps * fixed + bound, bound
+    return setup, steps * fixed + recording + bound, bound
 
 
 def probe_rows(kind: str, dofs: float, ranks: int) -> int:

@@ -252,10 +252,12 @@ def test_calibration_scales_the_rate_bound_part_at_each_runs_working_set(scene_w
     loop = fast.wall_time - fast.setup_time
     assert loop == pytest.approx(
         fast.steps * (cost.STEP_OVERHEAD + fast.dofs / (2 * cost.DOF_STEPS_PER_SECOND["axisymmetric"]))
+        + fast.samples * cost.RECORD_ROW_SECONDS
     )
     on_two = cost.fe_cost(scene_with("fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"), 2)
     assert on_two.probe_rows == 1 << 18  # each rank's half of the working set
-    per_step = (on_two.wall_time - on_two.setup_time - on_two.memory_bound_time) / on_two.steps
+    rows = on_two.samples * cost.RECORD_ROW_SECONDS
+    per_step = (on_two.wall_time - on_two.setup_time - on_two.memory_bound_time - rows) / on_two.steps
     assert per_step == pytest.approx(cost.MPI_STEP_OVERHEAD)
 
 
@@ -491,6 +493,7 @@ def test_a_gpu_run_is_estimated_at_the_gpu_rates(scene_with):
     cpu, gpu = (cost.fe_cost(scene_with(*paper_3d, f"fe.backend={b}")) for b in ("petsc", "cupy"))
     assert gpu.dofs == cpu.dofs and gpu.steps == cpu.steps
     loop = gpu.steps * (cost.GPU_STEP_OVERHEAD + gpu.dofs / cost.GPU_DOF_STEPS_PER_SECOND)
+    loop += gpu.samples * cost.RECORD_ROW_SECONDS  # the recorder's rows, on the host
     assert gpu.setup_time == pytest.approx(gpu.dofs * cost.GPU_SETUP_SECONDS_PER_DOF["3d"])
     assert gpu.wall_time == pytest.approx(gpu.setup_time + loop)
     assert 60.0 < gpu.wall_time < 1200.0 < 3600.0 < cpu.wall_time  # [s] minutes against hours
@@ -508,6 +511,7 @@ def test_the_matrix_free_loop_is_planned_at_its_own_rate_not_the_probes(scene_wi
     sc = scene_with("fe.backend='numpy'", "fe.operator='matrix-free'", "simulation.end_time=6e-5")
     c = cost.fe_cost(sc)
     loop = c.steps * (cost.STEP_OVERHEAD + c.dofs / cost.MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND["axisymmetric"])
+    loop += c.samples * cost.RECORD_ROW_SECONDS
     assert c.probe_rows == 0 and c.memory_bound_time == 0.0
     assert c.wall_time == pytest.approx(c.setup_time + loop)
     assert cost.calibrated([c])[0].wall_time == c.wall_time  # no probe scales it
