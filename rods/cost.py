@@ -295,8 +295,9 @@ class Cost:
         )
         return (
             f"cost of {self.what}: {mesh}, "
-            f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, memory "
-            f"{self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}{machine}"
+            f"{self.samples:.3g} samples ({self.values:.3g} history values){fields}, files {_size(self.file_bytes)}, "
+            f"memory {self.memory / 1e9:.3g} GB on {self.ranks} rank(s), wall time about {_duration(self.wall_time)}"
+            f"{machine}"
             f"{caveat}"
         )
 
@@ -329,6 +330,14 @@ def total(costs: Sequence[Cost]) -> str | None:
     if share > DEAREST_SHARE and dearest.remedy:
         line += f", {share:.0%} of it {dearest.what} (to leave it out: {dearest.remedy})"
     return line
+
+
+def _size(b: float) -> str:
+    """``b`` [B] in kB, MB or GB, three digits."""
+    for unit, scale in (("GB", 1e9), ("MB", 1e6)):
+        if b >= scale:
+            return f"{b / scale:.3g} {unit}"
+    return f"{b / 1e3:.3g} kB"
 
 
 def _duration(s: float) -> str:
