@@ -1091,3 +1091,13 @@ def test_a_colour_coded_disk_error_is_one_plain_line():
     line = _cli.one_line(_cli._disk_full(e))
     assert "\x1b" not in line and line.startswith("writing the results: no space left on device; free space")
     assert _cli._disk_full(ValueError("x")) is None
+
+
+def test_an_fe_entry_point_takes_a_folder_name_that_is_not_utf8(tmp_path):
+    """DOLFINx hands sys.argv to C++ as it loads, which took valid UTF-8 only: a Latin-1 folder name (a byte Python
+    keeps as a surrogate) failed every FE entry point with a TypeError; the folder is the one given, byte for byte."""
+    out = os.fsencode(tmp_path) + b"/g\xffx"
+    p = subprocess.run([str(PY), str(W / "global.py"), *TINY, "--set", "simulation.end_time=2e-5", "--out", out],
+                       cwd=tmp_path, capture_output=True, timeout=300)  # fmt: skip
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert (Path(os.fsdecode(out)) / "summary.json").exists()

@@ -15,10 +15,34 @@ Importing this package loads the PyPI wheel's ``dolfinx_solver`` shim first when
 (it must precede dolfinx/petsc4py there); any other DOLFINx 0.11 install works without it.
 """
 
+import sys as _sys
+
 try:  # wheel-specific, optional
     import dolfinx_solver  # noqa: F401
 except ImportError:  # pragma: no cover
     pass
+
+
+def _utf8(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # a byte Python kept as a surrogate
+        return False
+    return True
+
+
+if not all(map(_utf8, _sys.argv)):
+    # DOLFINx hands sys.argv to C++ as it loads (init_logging), which takes valid UTF-8 only: an argument that is not
+    # (a Latin-1 folder name) failed every FE entry point with a TypeError. Loaded here with such arguments made
+    # printable, PETSc too; the command line itself stays as given (it names the folder).
+    _argv = _sys.argv
+    _sys.argv = [a.encode("utf-8", "surrogateescape").decode("utf-8", "replace") for a in _argv]
+    try:
+        import dolfinx  # noqa: F401
+        from petsc4py import PETSc  # noqa: F401
+    finally:
+        _sys.argv = _argv
+
 
 DOLFINX_SERIES = (0, 11)  # the DOLFINx release series this package is written against (its API: forms, CSR, io)
 STACK_REMEDY = (
@@ -50,3 +74,26 @@ def check_stack() -> None:
         raise InputError("PETSc scalar type", scalar.name, "rods needs real float64 PETSc", STACK_REMEDY)
     if importlib.util.find_spec("slepc4py") is None:
         raise InputError("slepc4py", "not importable", "the stable step's eigenvalue solve needs SLEPc", STACK_REMEDY)
+    _check_form_cache()
+
+
+def _check_form_cache() -> None:
+    """DOLFINx compiles the forms into its cache (``$XDG_CACHE_HOME/fenics``, default ``~/.cache/fenics``): one that
+    does not exist and cannot be made (a read-only HOME on a cluster node) failed the set-up with a PermissionError,
+    after the plan, naming no remedy."""
+    import os
+    from pathlib import Path
+
+    from dolfinx.jit import get_options
+
+    from rods.preflight import InputError
+
+    cache = Path(get_options()["cache_dir"])
+    probe = cache
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if not cache.exists() and not os.access(probe, os.W_OK | os.X_OK):
+        raise InputError(
+            "DOLFINx's form cache", cache, f"cannot be made ({probe} is not writable): the models compile their forms "
+            "there", "set XDG_CACHE_HOME to a writable folder (XDG_CACHE_HOME=/tmp/$USER-cache)",
+        )  # fmt: skip

@@ -461,3 +461,25 @@ def test_a_stack_the_models_cannot_run_on_is_refused_before_the_set_up(monkeypat
         ExplicitModel(load_scene(PAPER, ["simulation.end_time=1e-6"]), MPI.COMM_SELF)
     line = refused(in_process("global.py", "--out", str(tmp_path / "g"), cwd=tmp_path), *words)
     assert "dolfinx-real-mode" in line and not (tmp_path / "g").exists()
+
+
+def test_a_form_cache_that_cannot_be_made_is_refused_before_the_plan(monkeypatch, tmp_path):
+    """A read-only HOME (a cluster node): DOLFINx's form cache ~/.cache/fenics could not be made, and the set-up
+    failed with a PermissionError after the plan; now exit 2 naming XDG_CACHE_HOME, nothing written. An existing
+    cache, or one that can be made, passes."""
+    import os
+
+    import dolfinx.jit
+
+    from ..conftest import in_process
+    from ..test_cli_errors import refused
+
+    home = tmp_path / "home"
+    home.mkdir()
+    options = dict(dolfinx.jit.get_options(), cache_dir=home / ".cache" / "fenics")
+    monkeypatch.setattr(dolfinx.jit, "get_options", lambda *a, **k: options)
+    backend.select("petsc", 1)  # can be made
+    access = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode: False if str(p) == str(home) else access(p, mode))  # read-only
+    line = refused(in_process("global.py", "--out", str(tmp_path / "g"), cwd=tmp_path), "form cache", "XDG_CACHE_HOME")
+    assert str(home) in line and not (tmp_path / "g").exists()
