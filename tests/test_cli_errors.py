@@ -137,6 +137,16 @@ CASES = {  # name -> (script, arguments, words the line must name)
     # a broken link ran the whole run, then failed making the folder (FileExistsError, exit 1): a fuzz, 2026-12-07
     "out a broken link": ("global.py", ["--out", "scratch"], ["--out", "purged", "does not resolve", "its target"]),
     "out under a broken link": ("run.py", ["--out", "scratch/sub"], ["--out", "scratch", "purged"]),
+    "sweep table points not JSON": (
+        "sweep_table.py",
+        ["--out", "o/t.csv", "--points", "[1.0", "--record", "r.csv"],
+        ["--points", "JSON list"],
+    ),
+    "sweep table point without its run": (
+        "sweep_table.py",
+        ["--out", "o/t.csv", "--points", '[["nowhere/summary.json", "speed=1.0"]]', "--record", "r.csv"],
+        ["--points", "nowhere/summary.json", "'speed=1.0' has no summary", "run the sweep's runs first"],
+    ),
     "out with an unexpanded ~": ("analytical.py", ["--out=~/x"], ["--out", "'~/x'", "did not expand", "full path"]),
     "station rod 1.0": ("analytical.py", ["--scene", "station.toml", "--out", "o"], ["station[0].rod", "1.0"]),
     "record-until -1": ("global.py", ["--record-cut", "--record-until", "-1", "--out", "o"], ["--record-until", "-1"]),
@@ -612,7 +622,8 @@ def test_bad_input_is_one_line_and_leaves_no_folder(here, case):
 # one case per entry point, the cheapest of its cases (each refused before any model is built)
 FROM_THE_SHELL = ["out is a file", "out under a file", "submodel dt abc", "compare missing", "study fe.degree 2",
                   "verify unstable step", "convergence empty out", "report out a folder", "paper empty results",
-                  "fig4 missing run", "accuracy-cost without runs", "contact picture without fields"]  # fmt: skip
+                  "fig4 missing run", "accuracy-cost without runs", "contact picture without fields",
+                  "sweep table points not JSON"]  # fmt: skip
 
 
 def test_every_entry_point_has_a_shell_case():
