@@ -258,6 +258,8 @@ def hold(out: Path, comm: Any = None) -> None:
     """Hold ``out`` for this run from here to its end (rods.preflight.FolderClaim, rank 0's): a second run into the
     folder is refused on every rank, exit 2, before it writes anything; from here on a missing file is a failed run
     (exit 1), not a path given wrong."""
+    while _HELD:  # an earlier run's in this process (a caller of main without guarded(): it has ended)
+        _HELD.pop().release()
     refusal = None
     if comm.rank == 0 if comm is not None else _is_rank0():  # a script without a communicator: the launcher's rank 0
         try:
