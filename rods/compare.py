@@ -124,7 +124,7 @@ def plateau_radius_error(
     force: np.ndarray, radius: np.ndarray, E_star: float, R_star: float, fraction: float = PLATEAU
 ) -> tuple[float, float]:
     """Mean and standard deviation of a(t)/a_H(F(t)) - 1 [-] over the force plateau F >= ``fraction`` F_max:
-    the contact radius against Hertz (Johnson Eq. 4.22) at the *same* force, sample by sample.
+    the contact radius against Hertz (a = (3FR*/4E*)^(1/3), Johnson 1985 §4.2) at the *same* force, sample by sample.
 
     At one instant the FE radius jumps as the patch edge passes a node; averaging over the plateau (hundreds
     of samples, the edge moving across a fraction of an element) gives a steadier measure of the

@@ -12,11 +12,12 @@ estimates"):
 
 * memory of one rank: 170 MB base (Python, DOLFINx, PETSc, gmsh) + 0.85 kB per DOF axisymmetric (3.9k, 51.5k
   and 198k DOFs: 176, 215, 334 MB peak RSS), 2.2 kB per DOF in 3D (128k DOFs: 448 MB) + 9 bytes per step
-  (the per-step force and the output mask) + the histories (8 bytes per value, about 25 more for the CSV text);
+  (the per-step force and the output mask) + the histories (:data:`BYTES_PER_VALUE`: the recorder's and the CSV
+  writer's copies, the text written a chunk at a time);
 * time step: Δt ≈ fe.dt_fraction x h_min / c_d (measured Δt / (h_min/c_d) = 0.80 at fe.dt_fraction 0.8),
   h_min ≈ 0.85 x the smallest requested size (the cap shortens the tip cells), times :data:`CAP_STEP_FACTOR`
-  for a strongly curved axisymmetric tip (down to 0.46: its rim cells are the most distorted; a submodel's uniform
-  mesh has its own :data:`SUBMODEL_CAP_STEP_FACTOR`, down to 0.29); under the penalty law the
+  for a strongly curved axisymmetric tip (down to 0.47: its rim cells are the most distorted; a submodel's uniform
+  mesh has its own :data:`SUBMODEL_CAP_STEP_FACTOR`, down to 0.51); under the penalty law the
   contact-switching limit 1/ω_c (rods.fe.explicit) when it is shorter: a pair of lumped masses ρ_i a h_n/2 on
   the spring ε a, ε = factor x E*/h_n, has ω_c² = 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n², h_n the tip element normal
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
@@ -225,14 +226,14 @@ CAP_STEP_FACTOR = (
 )
 # the same for a radially graded butterfly (rods.fe.layout.graded_butterfly), measured 2026-11-29 at 0.1, 0.5 and
 # 2.197 m/s (6.75, 6.5 and 6.35 mm tips, graded forced; the three speeds within 2%), 1.1x to 1.7x the uniform's
-GRADED_CAP_STEP_FACTOR = (
+GRADED_CAP_STEP_FACTOR = (  # [deg, -]
     (70.2, 0.768),
     (77.7, 0.750),
     (90.0, 0.729),
 )
 # an axisymmetric submodel's butterfly (uniform size h, rods.fe.submodel.submodel_scene), measured at h = 0.25 and
 # 0.125 mm (the same to 2%; the lower kept) on the paper rods
-SUBMODEL_CAP_STEP_FACTOR = (
+SUBMODEL_CAP_STEP_FACTOR = (  # [deg, -]
     (70.2, 0.51),
     (74.2, 0.57),
     (82.9, 0.62),
@@ -240,7 +241,7 @@ SUBMODEL_CAP_STEP_FACTOR = (
 )
 # the same, graded (rods.fe.submodel.submodel_grading), measured 2026-12-06 with grading forced at h = 0.25 and 0.125
 # mm (the same to 3%), the lower of the two x 0.99
-GRADED_SUBMODEL_CAP_STEP_FACTOR = (
+GRADED_SUBMODEL_CAP_STEP_FACTOR = (  # [deg, -]
     (70.2, 0.51),
     (74.2, 0.765),
     (90.0, 0.637),

@@ -271,8 +271,9 @@ def rigid_impact_duration(m: float, v: float, E_star: float, R_star: float) -> f
 def rigid_impact_force(m: float, v: float, E_star: float, R_star: float) -> float:
     """Largest force [N] of Hertz's impact of two rigid bodies of reduced mass ``m`` [kg] closing at ``v`` [m/s]:
     F_m = K δ_m^{3/2}, δ_m as in :func:`rigid_impact_duration` (Johnson 1985, §11.4). The rods' elasticity (their
-    waves, a series compliance) lowers it: the quasi-static bound of a slow contact on stubby rods (a hemisphere on
-    30 mm rods at 0.1 m/s: 61.9 N, the FE's 60.7 N), far above the impedance bound on slender ones."""
+    waves, a series compliance) lowers it, nearly: the quasi-static bound of a slow contact on stubby rods (the
+    paper's rods cut to 30 mm, a hemispherical tip, 0.1 m/s: 60.5 N at the rods' masses, caps counted; the FE's
+    60.7 N, its contact stiffened a little by the rods' end term), far above the impedance bound on slender ones."""
     delta_m = (15.0 * m * v**2 / (16.0 * E_star * math.sqrt(R_star))) ** 0.4  # [m]
     return 4.0 / 3.0 * E_star * math.sqrt(R_star) * delta_m**1.5
 
@@ -432,7 +433,7 @@ class HertzContact:
 # Pressure and stresses (Johnson §3.9, Eqs. 3.39-3.45)
 # --------------------------------------------------------------------------------------------
 def pressure(r: ArrayLike, a: float, p0: float) -> FloatOrArray:
-    """Hertz pressure p(r) = p0 sqrt(1 - r²/a²) for r <= a, 0 outside [Pa] (Johnson Eq. 4.22 / 3.39).
+    """Hertz pressure p(r) = p0 sqrt(1 - r²/a²) for r <= a, 0 outside [Pa] (Johnson 1985, §3.4 and §4.2).
 
     r [m] is the radial distance from the contact centre; vectorised. Assumes frictionless,
     elastic half-spaces.

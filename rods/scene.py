@@ -269,14 +269,14 @@ def _rod_schema(n: int) -> dict[str, tuple[str, Any, Callable | None]]:
 # slower rod (a first contact ends within them: the striker's wave returns after one). The paper's rods: 1.507 ms, the
 # 1.5 ms its Fig. 4 spans; it was 1.5 ms on every scene (2 m rods: 1.9 of their five periods, 3 of 5 plateaus;
 # 3 cm rods ran 23 times the 64 µs they need).
-END_PERIODS = 5
-END_CONTACT_ROUND_TRIPS = 2
+END_PERIODS = 5  # [-]
+END_CONTACT_ROUND_TRIPS = 2  # [-]
 END_MARGIN = 1.1  # [-]
 # simulation.output_interval = "auto" (auto_output_interval): this many samples a diameter's transit d/c of the thinner
 # rod's (the period scale of the lateral ringing that shapes the force's rise and the midpoint's plateau fronts,
 # rods.checks): the paper's rods 0.248 µs, the 0.25 µs it states; it was 0.25 µs on every scene (a 2 mm rod's d/c,
 # 0.4 µs, got under two samples) ...
-SAMPLES_PER_DIAMETER_TRANSIT = 10
+SAMPLES_PER_DIAMETER_TRANSIT = 10  # [-]
 AUTO_SAMPLES_MAX = 2e5  # ... and at most this many over the run (a soft rod's long run: its histories) [-]
 # field frames when the "fields" effect asks without fe.field_interval: this many a round trip 2 L/c of the rod whose
 # round trip is the shortest (a wave crosses it in five frames: the paper's Rod 1, 97.6 µs, a frame every 9.76 µs;
@@ -806,7 +806,7 @@ class Scene:
         """``fe.radial_size`` resolved [m]. "auto": :attr:`patch_elements` (4 to 13.7) elements across the Hertz radius
         a_P at the impedance-bound force P = s1 Z1 Z2/(Z1 + Z2) (Z = ρ c A), at most the thinner rod's radius /
         :data:`BAR_ELEMENTS`. P bounds the first contact's force: the compression rate δ' = s1 - P (1/Z1 + 1/Z2)
-        until the first reflection returns, so the force stops rising at P or before (paper scene: P = 5557 N, the
+        until the first reflection returns, so the force stops rising at P or before (paper scene: P = 5556 N, the
         analytical peak 5556 N), and a_P bounds the patch (a ∝ P^(1/3)). Measured on the paper rods' default
         kinematic contact, peak force against the analytical model: 4.4 elements across the patch +0.05%, 2.2
         elements -0.40%, 1 element (0.05 m/s at 0.25 mm) +2.3%; 4 elements at 0.05 m/s (0.077 mm) +0.11%, at 0.1 m/s

@@ -25,10 +25,10 @@ __all__ = ["PAPER_UNCERTAINTY", "Band", "propagate"]
 # key -> (kind, amount): "abs" adds ± amount, "rel" scales by (1 ± amount); applied to both rods where named rodN
 PAPER_UNCERTAINTY: dict[str, tuple[str, float]] = {
     "impact.speed": ("abs", 0.02),  # [m/s]
-    "rod*.material.youngs_modulus": ("rel", 0.01),
-    "rod*.material.density": ("rel", 0.003),
-    "rod*.material.poisson_ratio": ("abs", 0.01),
-    "rod1.tip_radius": ("rel", 0.01),
+    "rod*.material.youngs_modulus": ("rel", 0.01),  # [-]
+    "rod*.material.density": ("rel", 0.003),  # [-]
+    "rod*.material.poisson_ratio": ("abs", 0.01),  # [-]
+    "rod1.tip_radius": ("rel", 0.01),  # [-]
 }
 
 

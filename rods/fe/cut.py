@@ -74,7 +74,7 @@ __all__ = [
     "recorded_until",
 ]
 
-INTERPOLATION_TOL = 1e-6  # the cut weights' non-matching interpolation tolerance (DOLFINx interpolate_nonmatching)
+INTERPOLATION_TOL = 1e-6  # [m] the cut weights' non-matching interpolation tolerance (interpolate_nonmatching)
 # most negative interpolation weight accepted [-]: a cut node at most ~this fraction of a band cell outside it
 # (3D: a finer submodel's circle bulges past the band's polygonal section by its sagitta, 0.03 mm on 1 mm cells)
 MAX_EXTRAPOLATION = 0.1

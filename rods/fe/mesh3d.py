@@ -60,7 +60,7 @@ QUADRANTS = {"full": (0, 1, 2, 3), "half": (0, 1), "quarter": (0,)}  # quadrant 
 MULTIPLICITY = {"full": 1, "half": 2, "quarter": 4}  # full rod / modelled part [-]
 # gmsh builds Rod 1's tip at z = -1/64 m, clear of Rod 2's (the built-in kernel merges coincident
 # entities, which also makes the extruded quadrants share their faces); the nodes are moved back.
-_Z0 = {1: -0.015625, 2: 0.0}
+_Z0 = {1: -0.015625, 2: 0.0}  # [m]
 
 
 @dataclass(frozen=True)
