@@ -9,10 +9,11 @@ centre (the cap's apex) relative to the bar's 1D displacement field extrapolated
 
     u_z(apex) - ū_1D(z_e) = (1 - ν²) 3F/(4aE) + χ(ν, b/R, a/b) F/(E b),
 
-the first term being the half-space's centre displacement under p = p0 sqrt(1 - r²/a²), π p0 a (1 - ν²)/(2E) with
-p0 = 3F/(2πa²) (Johnson, Contact Mechanics, §3.4), the second the rod's end correction. The 1D bar's end z_e is
-where the bar of the rod's mass ends (:attr:`rods.scene.Rod.bar_offset`: a spherical cap of radius R and height h holds less than the
-cylinder of height h, so the equal-mass bar ends V_cap/(π b²) beyond the cap's base, ΔL = h - V_cap/(π b²) from
+the first term being the half-space's centre displacement under p = p0 sqrt(1 - r²/a²), that is
+π p0 a (1 - ν²)/(2E) with p0 = 3F/(2πa²) (Johnson, Contact Mechanics, §3.4), the second the rod's end correction.
+The 1D bar's end z_e is where the bar of the rod's mass ends (:attr:`rods.scene.Rod.bar_offset`: a spherical cap of
+radius R and height h holds less than the cylinder of height h, so the equal-mass bar ends V_cap/(π b²) beyond the
+cap's base, ΔL = h - V_cap/(π b²) from
 its apex; 0 for a flat end). For a flat end (b/R = 0) χ does not depend on a for a << b (the load acts as a point
 load seen from the far field; checked in tests/fe/test_end_compliance.py) and is < 0: the end is stiffer than
 the half-space. A cap is softer (χ rises to -0.42 on a hemisphere at ν = 0.3 and a = 0.05 b) and its χ grows
