@@ -45,3 +45,29 @@ def test_checkpoint_files_are_readable_by_the_group(tmp_path, umask):
     want = 0o666 & ~umask
     assert _mode(tmp_path / checkpoint.MANIFEST) == want
     assert _mode(tmp_path / "checkpoint-10-r0.npz") == want
+
+
+def test_a_path_this_user_cannot_reach_is_bad_input(tmp_path):
+    """A folder on an --out or --global path that this user cannot search: exit 2 naming the path (it was exit 1,
+    PermissionError). As root, run without the override capabilities (setpriv), as a user would be."""
+    import shutil
+    import subprocess
+
+    from .conftest import PY, ROOT
+
+    prefix = []
+    if os.geteuid() == 0:
+        if shutil.which("setpriv") is None:
+            pytest.skip("root without setpriv: permissions are not enforced")
+        prefix = ["setpriv", "--bounding-set", "-dac_override,-dac_read_search", "--"]
+    closed = tmp_path / "closed"
+    (closed / "inner").mkdir(parents=True)
+    closed.chmod(0)
+    try:
+        for script, args in (("analytical.py", ["--out", str(closed / "inner" / "x")]),
+                             ("compare.py", ["--global", str(closed / "inner")])):  # fmt: skip
+            p = subprocess.run([*prefix, str(PY), str(ROOT / "workflows" / script), *args], capture_output=True,
+                               text=True, timeout=120)  # fmt: skip
+            assert p.returncode == 2 and "permission denied" in p.stderr and str(closed) in p.stderr, p.stderr
+    finally:
+        closed.chmod(0o755)

@@ -411,6 +411,11 @@ def guarded(
             if not _HELD:  # an input path given wrong; in a run (a file removed under it) a failure, below
                 fail(f"{e.filename or e}: no such file or folder (check the path)")
             return _abort(f"{e.filename or e}: removed while the run used it (run again)", EXIT_FAILED)
+        except PermissionError as e:
+            if not _HELD:  # a path given that this user cannot reach (a folder on it not searchable)
+                fail(f"{e.filename or e}: permission denied (a folder on its path cannot be read or searched by this "
+                     "user); give a path you can reach")  # fmt: skip
+            return _abort(f"PermissionError: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
         except KeyboardInterrupt:
             return _interrupted()
         except Exception as e:
