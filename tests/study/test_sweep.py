@@ -134,6 +134,13 @@ def test_snakemake_stops_at_parse_time_with_one_line(tmp_path):
     lines = p.stderr.strip().splitlines()
     assert p.returncode == 2 and len(lines) == 1, p.stderr[-2000:]
     assert "above the work budget" in lines[0] and "point kind=axisymmetric, level=tiny" in lines[0]
+    # from another folder: its paths are the repository's (it said the config "cannot be read ... a UTF-8 YAML file")
+    p = subprocess.run(
+        [str(SNAKEMAKE), "-s", str(ROOT / "workflows" / "Snakefile"), "--cores", "1", "-n", "speed_sweep"],
+        cwd=tmp_path, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "run snakemake from the repository's root" in lines[0], p.stderr
 
 
 def test_a_sweep_row_carries_its_runs_status_and_what_its_warnings_name(tmp_path):
