@@ -233,6 +233,31 @@ def scene_folder(scene: Any, overridden: bool) -> str:
 
 
 LOCK = ".rods-lock"  # the file a run holds locked in its output folder while it writes there
+LOCK_TRIES = 5  # opens of the lock file before a claim gives up on one that keeps being replaced [-]
+LOCK_DEPTH = 2  # folder levels below a run's folder whose locks a claim checks (a study's stage folders) [-]
+
+
+def _nested_locks(out: Path) -> list[Path]:
+    """The lock files above ``out`` and up to :data:`LOCK_DEPTH` levels below it."""
+    out = Path(out).absolute()
+    above = [q / LOCK for q in out.parents]
+    below = [f for depth in range(1, LOCK_DEPTH + 1) for f in out.glob("/".join(["*"] * depth) + "/" + LOCK)]
+    return [f for f in (*above, *below) if f.is_file()]
+
+
+def _held(lock: Path) -> bool:
+    """Whether a running process holds ``lock`` (a file left by a killed one is not held)."""
+    try:
+        fd = os.open(lock, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except OSError as e:
+        return e.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES)
+    finally:
+        os.close(fd)  # drops the shared lock taken
+    return False
 
 
 class FolderClaim:
@@ -247,23 +272,34 @@ class FolderClaim:
 
     def __init__(self, out: Path, what: str = "--out"):
         out = Path(out)
+        for other in _nested_locks(out):  # a study's stage folder, or a study over a running stage's folder
+            if _held(other):
+                raise InputError(
+                    what, out, f"another run is writing {other.parent} (it holds {LOCK} there), which this run's "
+                    "folder is inside or holds", "wait for it to end, or give a folder outside it",
+                )  # fmt: skip
         self.made = [q for q in (out, *out.parents) if not q.exists()]  # deepest first
         out.mkdir(parents=True, exist_ok=True)
-        self.path = out / LOCK
-        self.fd: int | None = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError as e:
-            os.close(self.fd)
-            self.fd = None
-            if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):  # no locks here: not held
-                with contextlib.suppress(OSError):
-                    self.path.unlink()
-                return
-            raise InputError(
-                what, out, f"another run is writing this folder (it holds {LOCK} there)",
-                "wait for it to end, or give another folder",
-            ) from None  # fmt: skip
+        self.path, self.fd = out / LOCK, None
+        for _ in range(LOCK_TRIES):  # the file locked must be the one at the path: a run ending removes its file
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError as e:
+                os.close(fd)
+                if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):  # no locks here: not held
+                    with contextlib.suppress(OSError):
+                        self.path.unlink()
+                    return
+                raise InputError(
+                    what, out, f"another run is writing this folder (it holds {LOCK} there)",
+                    "wait for it to end, or give another folder",
+                ) from None  # fmt: skip
+            with contextlib.suppress(OSError):
+                if os.fstat(fd).st_ino == os.stat(self.path).st_ino:
+                    self.fd = fd
+                    return
+            os.close(fd)  # removed (or replaced) between the open and the lock: again
 
     def release(self) -> None:
         """Unlock and remove the lock file, then the folders the claim made where nothing else was written."""

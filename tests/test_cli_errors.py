@@ -1112,3 +1112,42 @@ def test_an_fe_entry_point_takes_a_folder_name_that_is_not_utf8(tmp_path):
                        cwd=tmp_path, capture_output=True, timeout=300)  # fmt: skip
     assert p.returncode == 0, p.stderr[-2000:]
     assert (Path(os.fsdecode(out)) / "summary.json").exists()
+
+
+def test_a_folder_inside_or_around_a_running_run_is_refused_and_a_stale_lock_stops_nobody(tmp_path, monkeypatch):
+    """A global into a running study's stage folder deleted the study's checkpoint log and left another speed's
+    summary there (a fuzz, 2026-12-07): a folder inside or holding a held one (two levels down) is refused; a
+    restart into a held folder is refused for that, before it reads the checkpoint being replaced; a lock file left
+    by a killed run is not held; a lock file removed between a claim's open and its lock is opened again."""
+    import fcntl
+
+    from rods.preflight import LOCK, FolderClaim, InputError
+
+    study = FolderClaim(tmp_path / "st")
+    try:
+        with pytest.raises(InputError, match="another run is writing .*st .*inside or holds"):
+            FolderClaim(tmp_path / "st" / "global")
+        refused(in_process("global.py", "--out", str(tmp_path / "st"), "--restart", cwd=tmp_path), "another run is")
+    finally:
+        study.release()
+    stage = FolderClaim(tmp_path / "s2" / "submodel" / "fine")
+    try:
+        with pytest.raises(InputError, match="inside or holds"):
+            FolderClaim(tmp_path / "s2")
+    finally:
+        stage.release()
+    (tmp_path / "old").mkdir()
+    (tmp_path / "old" / LOCK).write_text("")  # a killed run's
+    FolderClaim(tmp_path / "old" / "global").release()
+    real, calls = fcntl.flock, []
+
+    def racing(fd, op):  # another run's release between this claim's open and its lock, the first time
+        if not calls:
+            (tmp_path / "raced" / LOCK).unlink()
+        calls.append(op)
+        return real(fd, op)
+
+    monkeypatch.setattr(fcntl, "flock", racing)
+    claim = FolderClaim(tmp_path / "raced")
+    assert len(calls) == 2 and os.fstat(claim.fd).st_ino == os.stat(tmp_path / "raced" / LOCK).st_ino
+    claim.release()

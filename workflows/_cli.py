@@ -252,14 +252,18 @@ def scene_default(args: argparse.Namespace, stage: str, scene: Scene) -> Path:
 
 
 _HELD: list[FolderClaim] = []  # the output folder this process's run holds (rank 0's), released by guarded()
+_HOLDING: list[Path] = []  # the folder held, on every rank (the same decisions on all)
 
 
 def hold(out: Path, comm: Any = None) -> None:
     """Hold ``out`` for this run from here to its end (rods.preflight.FolderClaim, rank 0's): a second run into the
     folder is refused on every rank, exit 2, before it writes anything; from here on a missing file is a failed run
-    (exit 1), not a path given wrong."""
+    (exit 1), not a path given wrong. Held already (a restart holds it before reading its checkpoint): kept."""
+    if _HOLDING and _HOLDING[-1] == Path(out).absolute():
+        return
     while _HELD:  # an earlier run's in this process (a caller of main without guarded(): it has ended)
         _HELD.pop().release()
+    _HOLDING[:] = [Path(out).absolute()]
     refusal = None
     if comm.rank == 0 if comm is not None else _is_rank0():  # a script without a communicator: the launcher's rank 0
         try:
@@ -433,6 +437,7 @@ def guarded(
         finally:  # the command: ignored at once, no default SIGTERM between (a repeat killed a rank with 15)
             while _HELD:
                 _HELD.pop().release()
+            _HOLDING.clear()
             interrupt.uninstall({s: signal.SIG_IGN for s in previous} if ignore_after else previous)
             signal.signal(signal.SIGPIPE, pipe)
 

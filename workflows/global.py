@@ -42,7 +42,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     options = {"driver": args.driver, "record_cut": args.record_cut, "record_until": args.record_until,
                "record_every": args.record_every, "restart": args.restart}  # fmt: skip
     stages.check_cut_options(scene, **options)  # before any cost: the step is checked below, from the estimate
-    if args.restart:
+    if args.restart:  # the folder held first: a run still writing it replaces its checkpoint under the read
+        _cli.hold(out, comm)
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
     if args.driver:  # its phase runs the analytical model to the first contact: within its budgets first

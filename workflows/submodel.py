@@ -171,7 +171,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     with _named_by_options(args):  # an end time below one step: --end-time's
         c = cost.fe_cost(scene, comm.size, what=what, size=h, axial_size=args.axial_size, end_time=end, dt=dt,
                          remedy=remedy, cut_record_bytes=record)  # fmt: skip
-    if args.restart:
+    if args.restart:  # the folder held first: a run still writing it replaces its checkpoint under the read
+        _cli.hold(out, comm)
         checkpoint.precheck(out, comm.size, own)  # before the set-up: exit 2 naming the remedy
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes
     log(f"{plan.fe_stage(own, what, end_time=end, size=h)} -> {out}")

@@ -62,6 +62,10 @@ def _log_name(first: int, rank: int) -> str:
 
 
 LOG_GLOB = "checkpoint-log-*.bin"
+# a checkpoint's files by pattern, what :func:`discard` removes besides the manifest's own: the logs, an older step's
+# states (a kill after the manifest's rewrite, before their removal), the temporary names of a save cut short (a
+# fuzz, 2026-12-07: 21 of 55 killed-and-resumed runs kept such files after they finished)
+ORPHANS = (LOG_GLOB, "checkpoint-*-r*.npz", ".checkpoint-*-r*.npz.tmp", f".{MANIFEST}.*.tmp")
 
 
 class Appended:
@@ -85,6 +89,8 @@ class Tail:
 def _append(out: Path, step: int, rank: int, arrays: dict[str, np.ndarray], tail: Tail | None) -> Tail:
     """Append to the rank's log, after ``tail`` (the previous checkpoint's; None: a new log, named by ``step``), each
     array's entries past its length there, as .npy records (its name, then the entries); one fsync."""
+    if tail is not None and (not (out / tail.log).is_file() or (out / tail.log).stat().st_size < tail.size):
+        tail = None  # the log gone or cut under the run (another run's discard): a new one, whole (not a sparse file)
     tail = tail or Tail(_log_name(step, rank), 0, 0, {})
     buf = io.BytesIO()
     for key, a in arrays.items():
@@ -109,8 +115,10 @@ def _read_log(out: Path, state: dict[str, np.ndarray]) -> None:
     path, size, crc = Path(out) / str(state.pop("@log")), int(state.pop("@log_bytes")), int(state.pop("@log_crc"))
     with open(path, "rb") as f:
         data = f.read(size)
-    if len(data) != size or zlib.crc32(data) != crc:
-        raise ValueError(f"{path}: {len(data)} bytes read where the checkpoint wrote {size}, or their CRC differs")
+    if len(data) != size:
+        raise ValueError(f"{path}: {len(data)} bytes read where the checkpoint wrote {size}")
+    if zlib.crc32(data) != crc:
+        raise ValueError(f"{path}: its bytes' CRC-32 differs from the checkpoint's")
     blocks: dict[str, list[np.ndarray]] = {}
     buf = io.BytesIO(data)
     while buf.tell() < size:
@@ -218,8 +226,9 @@ def discard(out: Path, comm: MPI.Comm) -> None:
         if old:
             for r in range(int(old["ranks"])):
                 (Path(out) / _name(old["step"], r)).unlink(missing_ok=True)
-        for f in Path(out).glob(LOG_GLOB):
-            f.unlink(missing_ok=True)
+        for pattern in ORPHANS:  # what a kill between two of a save's steps leaves (each kill left its own)
+            for f in Path(out).glob(pattern):
+                f.unlink(missing_ok=True)
     comm.Barrier()
 
 

@@ -74,7 +74,7 @@ XML_INTERVAL = 2.0  # [s] longest wall time between two rewrites of fields.xdmf 
 XML_LAG = 0.1  # frames fields.xdmf may leave unlisted during a run, per frame it lists [-] (XdmfSeries)
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
 # a run folder's field files (module docstring; fields.h5: an older version's XDMF data), removed by a run afresh
-SERIES_FILES = ("fields.xdmf", "fields.h5", "fields", "fields.bp", "fields-restart-*.bp")
+SERIES_FILES = ("fields.xdmf", "fields.h5", "fields", "fields.bp", "fields-restart-*.bp", ".fields.xdmf.*.tmp")
 
 
 def discard(out: str | Path, comm) -> None:

@@ -191,3 +191,26 @@ def test_checkpoints_append_what_is_new_and_a_restart_reads_what_its_checkpoint_
         checkpoint.load(tmp_path, comm, "key")
     checkpoint.discard(tmp_path, comm)
     assert not list(tmp_path.glob("checkpoint*"))
+
+
+def test_a_finished_or_fresh_run_leaves_no_checkpoint_file_a_kill_left_and_a_lost_log_starts_anew(tmp_path):
+    """A kill between a save's steps left an older step's states or a save's temporary files, which a finished run
+    kept (21 of 55 killed-and-resumed runs in a fuzz): discard removes them all. A log removed under a run (another
+    run's discard) is started anew, whole, not written past its end as a sparse file."""
+    from mpi4py import MPI
+
+    from rods.fe import checkpoint
+
+    for name in ("checkpoint-891-r0.npz", "checkpoint-891-r1.npz", ".checkpoint-778-r0.npz.tmp",
+                 ".checkpoint.json.x1y2.tmp", "checkpoint-log-5-r0.bin"):  # fmt: skip
+        (tmp_path / name).write_bytes(b"x")
+    checkpoint.discard(tmp_path, MPI.COMM_SELF)
+    assert not list(tmp_path.iterdir())
+    force = np.arange(100.0)
+    tail = checkpoint.save(tmp_path, 9, 1e-8, {"force": checkpoint.Appended(force[:10])}, MPI.COMM_SELF, "k")
+    (tmp_path / tail.log).unlink()
+    tail = checkpoint.save(
+        tmp_path, 19, 2e-8, {"force": checkpoint.Appended(force[:20])}, MPI.COMM_SELF, "k", tail=tail
+    )
+    assert tail.log == "checkpoint-log-19-r0.bin"
+    np.testing.assert_array_equal(checkpoint.load(tmp_path, MPI.COMM_SELF, "k")["force"], force[:20])
