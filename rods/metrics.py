@@ -134,6 +134,21 @@ def smoothing(scene: Scene) -> float:
     return SMOOTHING_TRANSITS * shorter_transit(scene)
 
 
+def late_impulse(t: ArrayLike, force: ArrayLike, after: float, min_gap: float) -> float:
+    """The share [-] of the first contact's impulse ∫P dt (:func:`contact_episodes`) delivered later than ``after``
+    [s] from its start: 0 for a contact that ends sooner (where the returning reflection meets a contact still
+    pushing, rods.checks.plateau_warning); NaN without a contact."""
+    episodes = contact_episodes(t, force, min_gap)
+    if not episodes:
+        return float("nan")
+    start, end = episodes[0]
+    t, f = np.asarray(t, float), np.abs(np.asarray(force, float))
+    inside = (t >= start) & (t <= end)
+    total = float(np.trapezoid(f[inside], t[inside]))
+    late = inside & (t >= start + after)
+    return float(np.trapezoid(f[late], t[late])) / total if total > 0 and late.sum() > 1 else 0.0
+
+
 def contact_episodes(
     t: ArrayLike, force: ArrayLike, min_gap: float, threshold: float = CONTACT_THRESHOLD
 ) -> list[tuple[float, float]]:

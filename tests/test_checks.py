@@ -118,6 +118,9 @@ def test_plateaus_that_are_not_separate_passes_of_a_pulse_warn():
     w = checks.plateau_warning(t, passes, period=0.125, contact=0.13)  # a contact 4% longer than the round trip
     assert "outlasts Rod 2's round trip 2 L2/c2 = 1.25e+05 µs" in w and "not its separate passes" in w
     assert checks.plateau_warning(t, passes, period=0.125, contact=0.12) is None
+    # by a tail (the verification's titanium Rod 2: 0.3% of its impulse after the round trip) the passes stand
+    assert checks.plateau_warning(t, passes, period=0.125, contact=0.13, late=0.003) is None
+    assert "5.0% of its impulse after it" in checks.plateau_warning(t, passes, period=0.125, contact=0.13, late=0.05)
 
 
 def test_a_midpoint_the_wave_never_reaches_has_a_null_speed(scene_with):

@@ -244,3 +244,14 @@ def test_a_history_reaches_its_end_within_one_output_interval(scene_with):
     assert metrics.reaches_end(np.arange(0.0, sc.end_time + dt / 2, dt), sc)
     assert metrics.reaches_end([0.0, sc.end_time - dt], sc)
     assert not metrics.reaches_end([0.0, 7.4e-5], sc) and not metrics.reaches_end([], sc)
+
+
+def test_late_impulse_is_the_share_of_the_first_contact_after_a_time():
+    """A half-sine pulse of 100 µs: half its impulse after 50 µs from its start, none after 100 µs; a second
+    contact later does not count; no contact: NaN."""
+    t = np.linspace(0.0, 400e-6, 40001)  # [s]
+    pulse = np.where((t > 10e-6) & (t < 110e-6), np.sin(np.pi * (t - 10e-6) / 100e-6), 0.0)  # [N]
+    second = np.where((t > 200e-6) & (t < 300e-6), 1.0, 0.0)
+    assert metrics.late_impulse(t, pulse + second, 50e-6, 1e-6) == pytest.approx(0.5, abs=2e-3)
+    assert metrics.late_impulse(t, pulse, 100e-6, 1e-6) == pytest.approx(0.0, abs=1e-3)
+    assert np.isnan(metrics.late_impulse(t, 0 * t, 50e-6, 1e-6))
