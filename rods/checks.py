@@ -250,11 +250,7 @@ NU_LOCKING = 0.485
 SMALL_STRAIN = 1e-2
 # the remedy of a run too short for its contact or plateaus: the end time these rods need (rods.scene.auto_end_time)
 AUTO_END = "simulation.end_time = 'auto' runs the first contact and five periods 2 L2/c2 of these rods"
-TAIL_FRACTION = 0.01  # the level, of the peak force, below which the end of a contact is its tail [-]
-# longest tail of the first contact of an "ok" run, in the thinner rod's diameter transits d/c (paper rods: 39.7 µs;
-# 2% of it, 0.32 d/c, inside AGREE_TRANSITS); in the scene's time scale, not in seconds: a scene scaled by λ in
-# length has its tail x λ (a fixed 40 µs warned on the paper scene at 10 m/s scaled x 2, 66 µs, not at x 1, 33 µs) [-]
-TAIL_TRANSITS = 16.0
+TAIL_FRACTION, TAIL_TRANSITS = metrics.TAIL_FRACTION, metrics.TAIL_TRANSITS  # a contact's tail (rods.metrics)
 # a study's agreement, global FE against analytical (issue 13's verification targets, rods.study.verification)
 AGREE_FORCE = PEAK_FORCE_TARGET  # largest |F_FE / F_analytical - 1| of the peak contact force in an "ok" study [-]
 # largest |first contact duration, FE - analytical| in an "ok" study, in the thinner rod's d/c (the paper rods: 1.99

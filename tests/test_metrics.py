@@ -255,3 +255,21 @@ def test_late_impulse_is_the_share_of_the_first_contact_after_a_time():
     assert metrics.late_impulse(t, pulse + second, 50e-6, 1e-6) == pytest.approx(0.5, abs=2e-3)
     assert metrics.late_impulse(t, pulse, 100e-6, 1e-6) == pytest.approx(0.0, abs=1e-3)
     assert np.isnan(metrics.late_impulse(t, 0 * t, 50e-6, 1e-6))
+
+
+def test_a_low_touch_soon_after_a_contact_is_its_tail_not_a_contact():
+    """An audit's first contact read 367.5 µs where a touch at 0.7% of the peak 3.6 µs later ran its low tail to
+    394 µs (FE 324-394 µs by the mesh, tip radii 35-45 mm flipping it): such a touch within the tail's window is the
+    episode's tail; a second impact of its own (30% of the peak), or a low touch past the window, is an episode."""
+    t = np.linspace(0.0, 1e-3, 100001)  # [s]
+    d = 12.7e-3 / 5100.0  # [s] a diameter transit
+    gap = metrics.MIN_GAP_TRANSITS * d  # [s] min_gap
+    main = np.where(t < 367.5e-6, np.sin(np.pi * t / 367.5e-6), 0.0)  # [N/N_peak]
+
+    def touch(start: float, height: float) -> np.ndarray:
+        return np.where((t > start) & (t < start + 20e-6), height * np.sin(np.pi * (t - start) / 20e-6), 0.0)
+
+    assert metrics.contact_episodes(t, main + touch(371.1e-6, 0.007), gap)[0][1] == pytest.approx(391.1e-6, abs=2e-7)
+    assert len(metrics.contact_episodes(t, main + touch(371.1e-6, 0.3), gap)) == 2
+    late = 367.5e-6 + 1.1 * metrics.TAIL_TRANSITS * d  # past the tail's window
+    assert len(metrics.contact_episodes(t, main + touch(late, 0.007), gap)) == 2
