@@ -165,6 +165,7 @@ __all__ = [
     "bar_theory_warning",
     "contact_layer_warning",
     "contact_warning",
+    "separation_warning",
     "driver_warning",
     "paper_law_warning",
     "patch_warning",
@@ -208,6 +209,9 @@ MIN_PLATEAU_FILL = 0.5
 # Rod 2 outlasts it by 3.6% with 0.3% of its impulse, random scenes by 1-3% with 0.4-0.5%; equal 0.35 m rods 9%, an
 # audit's titanium 0.25 m rod onto a 0.1 m steel one 31% (a ripple read as five plateaus)
 LATE_IMPULSE = 0.01
+# Rod 1's rigid velocity above Rod 2's by more than this of the impact speed: the rods close again (round-off of the
+# impulse lies far below: 1e-16 of the momentum in an audit's runs) [-]
+CLOSING = 1e-4
 SPIKE_QUANTILE = 0.95  # the plateau level that ringing spikes cannot set: this quantile of the motion above ½ max [-]
 SPIKE_SHIFT = 0.02  # largest change of the average peak speed at the quantile's threshold in an "ok" run [-]
 ENERGY_OK = 1e-2  # largest energy-balance error of a run whose status is "ok" [-]
@@ -770,18 +774,47 @@ def contact_warning(
     """A warning when the first contact episode has not ended by ``end_time`` [s]: the episodes above the contact
     threshold of ``history`` (rods.metrics.contact_episodes, the contact duration's own definition), else the
     summary's; ``remedy``: what sets the run's end (a submodel's is its --end-time, not the scene's)."""
-    last = end_time  # [s] where an open episode ends: the last sample of a history (end_time need not be one)
-    if (trace := _force_trace(history)) is not None:
-        t, F = trace
-        episodes, last = metrics.contact_episodes(t, F, metrics.min_gap(scene)), min(end_time, float(t[-1]))
-    else:
-        episodes = summary.get("contact_episodes") or []
+    episodes, last = _episodes(summary, end_time, scene, history)
     if metrics.first_contact_open(episodes, last):
         return (
             f"contact_duration: the first contact has not ended by end_time = {end_time:g} s (duration unknown, "
             f"written as null); {remedy}"
         )
     return None
+
+
+def _episodes(
+    summary: Mapping[str, Any], end_time: float, scene: Any, history: Mapping[str, np.ndarray] | None
+) -> tuple[list, float]:
+    """The contact episodes (rods.metrics.contact_episodes) of ``history``'s force, else the summary's, and the time
+    [s] an open one ends at: the history's last sample (end_time need not be one)."""
+    if (trace := _force_trace(history)) is not None:
+        t, F = trace
+        return metrics.contact_episodes(t, F, metrics.min_gap(scene)), min(end_time, float(t[-1]))
+    return summary.get("contact_episodes") or [], end_time
+
+
+def separation_warning(
+    summary: Mapping[str, Any], end_time: float, scene: Any, history: Mapping[str, np.ndarray] | None = None
+) -> str | None:
+    """A warning where the first contact is over but the rods have not parted for good by ``end_time`` [s]: a later
+    contact still open, or Rod 1's rigid velocity above Rod 2's (they meet again): ``rigid_velocity_rod1/2`` are then
+    the run's end's, not those after the last separation (an audit: a second episode open at end_time, its
+    velocities written without a word)."""
+    episodes, last = _episodes(summary, end_time, scene, history)
+    V1, V2 = summary.get("rigid_velocity_rod1"), summary.get("rigid_velocity_rod2")
+    if not episodes or metrics.first_contact_open(episodes, last) or V1 is None or V2 is None:
+        return None  # no contact, or the first still open (contact_warning), or no rigid velocities (a submodel)
+    if episodes[-1][1] >= last * (1 - 1e-9):
+        why = f"a later contact, from {episodes[-1][0] * 1e6:.4g} µs, is still open at end_time = {end_time:g} s"
+    elif V1 > V2 + CLOSING * scene.speed:
+        why = f"Rod 1's {V1:.4g} m/s is above Rod 2's {V2:.4g} m/s at end_time = {end_time:g} s: they meet again"
+    else:
+        return None
+    return (
+        f"rigid_velocity_rod1/2: {why}; they are the run's end's, not those after the last separation; lengthen "
+        f"simulation.end_time ({AUTO_END})"
+    )
 
 
 def tail_warning(history: Mapping[str, np.ndarray] | None, scene: Any) -> str | None:
@@ -1176,6 +1209,7 @@ def apply(
         found.append(w)
     elif (w := tail_warning(force, scene)) is not None:
         found.append(w)
+    found += _present(separation_warning(summary, end_time, scene, force))
     sampled = sampling_warning(summary, scene)
     found += _present(  # in this order (a check may null a key the next reads)
         _midpoint_check(summary, history, scene, sampled is not None, driver, force),

@@ -931,3 +931,27 @@ def test_the_papers_law_warns_where_what_it_leaves_out_is_not_small(scene_with):
     stubby = ("rod1.diameter=0.03", "rod2.diameter=0.03", "rod1.length=0.1", "rod2.length=0.1",
               "rod1.tip_radius=0.015", "impact.speed=0.1")  # fmt: skip
     assert "its bar of Rod 1, L from the apex, is 5.3% heavier than the rod" in warned(law, *stubby)
+
+
+def test_rods_that_have_not_parted_for_good_warn_on_their_rigid_velocities(scene_with):
+    """A short striker on a long aluminium rod touches four times; ended inside the second touch, the run wrote its
+    rigid velocities as if the rods had parted (an audit: not a word). A run whose Rod 1 still outruns Rod 2 at its
+    end (they meet again) says so too; one ended between touches with Rod 2 ahead, or after the last, does not."""
+    from rods import analytical
+
+    from .study.test_recipe import SHORT_STRIKER
+
+    def warned(end: str) -> list[str]:
+        sc = scene_with(*SHORT_STRIKER, f"simulation.end_time={end}")
+        r = analytical.simulate(sc)
+        checks.apply(r.summary, r.history, sc, sc.end_time, force=r.force_trace)
+        return [w for w in r.summary["warnings"] if w.startswith("rigid_velocity")]
+
+    (w,) = warned("2.4e-4")
+    assert "a later contact, from 219.3 µs, is still open at end_time = 0.00024 s" in w and "lengthen" in w
+    assert warned("4e-4") == [] and warned("2.183e-4") == []
+    sc = scene_with()
+    closing = {"contact_episodes": [[0.0, 2e-4]], "rigid_velocity_rod1": 0.9, "rigid_velocity_rod2": 0.5}
+    assert "Rod 1's 0.9 m/s is above Rod 2's 0.5 m/s" in checks.separation_warning(closing, 1e-3, sc)
+    assert checks.separation_warning({**closing, "rigid_velocity_rod1": 0.4}, 1e-3, sc) is None
+    assert checks.separation_warning({**closing, "rigid_velocity_rod1": None}, 1e-3, sc) is None  # a submodel's
