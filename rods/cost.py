@@ -169,6 +169,7 @@ CUT_SECONDS_PER_NODE = {"axisymmetric": 1e-3, "3d": 1e-3}
 # 5917 checkpoints 15.5 s (2.6 ms each, three fsyncs; with the histories rewritten whole, 21.6 s, growing with
 # the run's length squared)
 CHECKPOINT_SECONDS = 2.5e-3  # [s]
+LOG_RECORD_BYTES = 256.0  # [B] a checkpoint's record in its rank's log besides its entries (two .npy headers)
 CHECKPOINT_SECONDS_PER_DOF = 3.5e-8  # [s]
 FRAME_BUDGET = 1e4  # field frames of one run (the paper's contact picture: 51) [-]
 # a frame's time (projections, writes), measured on the paper scene's contact picture run (52 frames of 52.9k DOFs,
@@ -490,7 +491,8 @@ def _checkpoints(scene: Scene, ranks: int, dt: float, steps: int, dofs: float, v
 
     every = stride(scene["fe.checkpoint_interval"], dt)
     seconds = steps / every * (CHECKPOINT_SECONDS + CHECKPOINT_SECONDS_PER_DOF * dofs / ranks)
-    return seconds, 2 * CHECKPOINT_BYTES_PER_DOF * dofs + 8.0 * (values + steps) * ranks  # the log: rows and force
+    log = (8.0 * (values + steps) + LOG_RECORD_BYTES * steps / every) * ranks  # [B] rows, force, a record a save
+    return seconds, 2 * CHECKPOINT_BYTES_PER_DOF * dofs + log
 
 
 def _ranks_remedy(scene: Scene) -> str:

@@ -264,8 +264,10 @@ def hold(out: Path, comm: Any = None) -> None:
     while _HELD:  # an earlier run's in this process (a caller of main without guarded(): it has ended)
         _HELD.pop().release()
     _HOLDING[:] = [Path(out).absolute()]
+    if comm is None and (mpi := _mpi()) is not None:  # a script that loaded MPI without passing its communicator
+        comm = mpi.COMM_WORLD
     refusal = None
-    if comm.rank == 0 if comm is not None else _is_rank0():  # a script without a communicator: the launcher's rank 0
+    if comm.rank == 0 if comm is not None else _is_rank0():  # a script without MPI: the launcher's rank 0
         try:
             _HELD.append(FolderClaim(out))
         except InputError as e:
@@ -412,11 +414,11 @@ def guarded(
         except (SceneError, InputError) as e:
             fail(str(e))
         except FileNotFoundError as e:
-            if not _HELD:  # an input path given wrong; in a run (a file removed under it) a failure, below
+            if not _HOLDING:  # an input path given wrong; in a run (a file removed under it) a failure, below
                 fail(f"{e.filename or e}: no such file or folder (check the path)")
             return _abort(f"{e.filename or e}: removed while the run used it (run again)", EXIT_FAILED)
         except PermissionError as e:
-            if not _HELD:  # a path given that this user cannot reach (a folder on it not searchable)
+            if not _HOLDING:  # a path given that this user cannot reach (a folder on it not searchable)
                 fail(f"{e.filename or e}: permission denied (a folder on its path cannot be read or searched by this "
                      "user); give a path you can reach")  # fmt: skip
             return _abort(f"PermissionError: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)

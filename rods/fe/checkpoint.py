@@ -69,11 +69,13 @@ ORPHANS = (LOG_GLOB, "checkpoint-*-r*.npz", ".checkpoint-*-r*.npz.tmp", f".{MANI
 
 
 class Appended:
-    """A state array whose entries, once there, never change between checkpoints and whose length only grows (a
-    history's rows, the per-step force): :func:`save` appends its new entries to the rank's log."""
+    """A 1D float64 state array whose entries, once there, never change between checkpoints and whose length only
+    grows (a history's column, the per-step force): :func:`save` appends its new entries to the rank's log."""
 
     def __init__(self, values: np.ndarray):
-        self.values = np.ascontiguousarray(values)
+        self.values = np.ascontiguousarray(values, dtype=np.float64)
+        if self.values.ndim != 1:
+            raise ValueError(f"an Appended array is 1D, not of shape {self.values.shape}")
 
 
 @dataclass(frozen=True)
@@ -86,16 +88,25 @@ class Tail:
     lengths: dict[str, int]
 
 
+def _log_lost(out: Path, tail: Tail | None) -> bool:
+    """Whether this rank's log is gone or cut under the run (another run's discard): its next save starts anew."""
+    return tail is not None and (not (out / tail.log).is_file() or (out / tail.log).stat().st_size < tail.size)
+
+
 def _append(out: Path, step: int, rank: int, arrays: dict[str, np.ndarray], tail: Tail | None) -> Tail:
-    """Append to the rank's log, after ``tail`` (the previous checkpoint's; None: a new log, named by ``step``), each
-    array's entries past its length there, as .npy records (its name, then the entries); one fsync."""
-    if tail is not None and (not (out / tail.log).is_file() or (out / tail.log).stat().st_size < tail.size):
-        tail = None  # the log gone or cut under the run (another run's discard): a new one, whole (not a sparse file)
+    """Append to the rank's log, after ``tail`` (the previous checkpoint's; None: a new log, named by ``step``), one
+    record of each array's entries past its length there: two .npy arrays, the counts per key (in ``arrays``' order)
+    and the entries one after another as float64 (a record per key cost ~256 B of headers a checkpoint); one fsync,
+    none where nothing is new."""
     tail = tail or Tail(_log_name(step, rank), 0, 0, {})
+    counts = np.array([len(a) - tail.lengths.get(k, 0) for k, a in arrays.items()], dtype=np.int64)
+    lengths = {k: len(a) for k, a in arrays.items()}
+    if tail.size and not counts.any():
+        return Tail(tail.log, tail.size, tail.crc, lengths)
     buf = io.BytesIO()
-    for key, a in arrays.items():
-        np.lib.format.write_array(buf, np.asarray(key))
-        np.lib.format.write_array(buf, a[tail.lengths.get(key, 0) :])
+    np.lib.format.write_array(buf, counts)
+    parts = [np.asarray(a[tail.lengths.get(k, 0) :], dtype=np.float64).ravel() for k, a in arrays.items()]
+    np.lib.format.write_array(buf, np.concatenate(parts) if parts else np.zeros(0))
     data = buf.getvalue()
     path = out / tail.log
     with open(path, "r+b" if path.exists() and tail.size else "w+b") as f:
@@ -104,27 +115,31 @@ def _append(out: Path, step: int, rank: int, arrays: dict[str, np.ndarray], tail
         f.truncate()
         f.flush()
         os.fsync(f.fileno())
-    return Tail(tail.log, tail.size + len(data), zlib.crc32(data, tail.crc), {k: len(a) for k, a in arrays.items()})
+    return Tail(tail.log, tail.size + len(data), zlib.crc32(data, tail.crc), lengths)
 
 
 def _read_log(out: Path, state: dict[str, np.ndarray]) -> None:
-    """Replace a loaded ``state``'s log entries (``@log``, ``@log_bytes``, ``@log_crc``) by its Appended arrays,
-    read from the first ``@log_bytes`` of the log (a ValueError names a log that is short or whose CRC differs)."""
+    """Replace a loaded ``state``'s log entries (``@log``, ``@log_bytes``, ``@log_crc``, ``@log_keys``) by its
+    Appended arrays, read from the first ``@log_bytes`` of the log (a ValueError names a log that is short or whose
+    CRC differs)."""
     if "@log" not in state:
         return
     path, size, crc = Path(out) / str(state.pop("@log")), int(state.pop("@log_bytes")), int(state.pop("@log_crc"))
+    keys = [str(k) for k in state.pop("@log_keys")]
     with open(path, "rb") as f:
         data = f.read(size)
     if len(data) != size:
         raise ValueError(f"{path}: {len(data)} bytes read where the checkpoint wrote {size}")
     if zlib.crc32(data) != crc:
         raise ValueError(f"{path}: its bytes' CRC-32 differs from the checkpoint's")
-    blocks: dict[str, list[np.ndarray]] = {}
+    blocks: dict[str, list[np.ndarray]] = {k: [] for k in keys}
     buf = io.BytesIO(data)
     while buf.tell() < size:
-        key = str(np.lib.format.read_array(buf, allow_pickle=False))
-        blocks.setdefault(key, []).append(np.lib.format.read_array(buf, allow_pickle=False))
-    state.update({key: np.concatenate(b) for key, b in blocks.items()})
+        counts = np.lib.format.read_array(buf, allow_pickle=False)
+        values = np.lib.format.read_array(buf, allow_pickle=False)
+        for k, part in zip(keys, np.split(values, np.cumsum(counts)[:-1]), strict=True):
+            blocks[k].append(part)
+    state.update({k: np.concatenate(b) if b else np.zeros(0) for k, b in blocks.items()})
 
 
 class CheckpointError(InputError):
@@ -251,9 +266,11 @@ def save(
     out.mkdir(parents=True, exist_ok=True)
     plain = {k: np.asarray(v) for k, v in state.items() if not isinstance(v, Appended)}
     arrays = {k: v.values for k, v in state.items() if isinstance(v, Appended)}
+    if comm.allreduce(_log_lost(out, tail), op=MPI.LOR):  # every rank anew, named alike (rank 0 keeps that name's)
+        tail = None
     if arrays:
         tail = _append(out, step, comm.rank, arrays, tail)
-        plain.update({"@log": tail.log, "@log_bytes": tail.size, "@log_crc": tail.crc})
+        plain.update({"@log": tail.log, "@log_bytes": tail.size, "@log_crc": tail.crc, "@log_keys": list(arrays)})
     tmp = out / f".{_name(step, comm.rank)}.tmp"
     with open(tmp, "wb") as f:
         np.savez(f, **plain)
