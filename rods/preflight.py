@@ -26,6 +26,7 @@ import json
 import os
 import re
 import tempfile
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -233,7 +234,8 @@ def scene_folder(scene: Any, overridden: bool) -> str:
 
 
 LOCK = ".rods-lock"  # the file a run holds locked in its output folder while it writes there
-LOCK_TRIES = 5  # opens of the lock file before a claim gives up on one that keeps being replaced [-]
+LOCK_TRIES = 5  # locks of the lock file before a claim gives up on one held or replaced [-]
+LOCK_WAIT = 0.05  # [s] between two (another claim's probe holds it shared for microseconds)
 LOCK_DEPTH = 2  # folder levels below a run's folder whose locks a claim checks (a study's stage folders) [-]
 
 
@@ -272,16 +274,22 @@ class FolderClaim:
 
     def __init__(self, out: Path, what: str = "--out"):
         out = Path(out)
-        for other in _nested_locks(out):  # a study's stage folder, or a study over a running stage's folder
+        self.made = [q for q in (out, *out.parents) if not q.exists()]  # deepest first
+        out.mkdir(parents=True, exist_ok=True)
+        self.path, self.fd = out / LOCK, None
+        self._lock(out, what)
+        for other in _nested_locks(out):  # after its own: two claims at once refuse each other, never both pass
             if _held(other):
+                self.release()
                 raise InputError(
                     what, out, f"another run is writing {other.parent} (it holds {LOCK} there), which this run's "
                     "folder is inside or holds", "wait for it to end, or give a folder outside it",
                 )  # fmt: skip
-        self.made = [q for q in (out, *out.parents) if not q.exists()]  # deepest first
-        out.mkdir(parents=True, exist_ok=True)
-        self.path, self.fd = out / LOCK, None
-        for _ in range(LOCK_TRIES):  # the file locked must be the one at the path: a run ending removes its file
+
+    def _lock(self, out: Path, what: str) -> None:
+        """The exclusive lock on :attr:`path`: again where the file was replaced between the open and the lock (a run
+        ending removes its file), or briefly held shared (another claim's probe, :func:`_held`)."""
+        for attempt in range(LOCK_TRIES):
             fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -291,6 +299,10 @@ class FolderClaim:
                     with contextlib.suppress(OSError):
                         self.path.unlink()
                     return
+                if attempt < LOCK_TRIES - 1:
+                    time.sleep(LOCK_WAIT)
+                    continue
+                self.release()
                 raise InputError(
                     what, out, f"another run is writing this folder (it holds {LOCK} there)",
                     "wait for it to end, or give another folder",

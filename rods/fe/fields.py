@@ -456,10 +456,14 @@ class FieldOutput:
         return self.vtx is not None and self.comm.size > 1
 
     def finish(self) -> None:
-        if self.series is not None:
-            self.series.flush()
+        self.finish_alone()
         if self.vtx is not None:
             self.vtx.close()
+
+    def finish_alone(self) -> None:
+        """Rank 0's XML of every frame written (also where this rank stops alone: the ADIOS2 close is collective)."""
+        if self.series is not None:
+            self.series.flush()
 
 
 def _vtx(comm, out: Path, funcs: list, step0: int):

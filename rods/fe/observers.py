@@ -36,8 +36,8 @@ def march(
     (collective closes: the ADIOS2 writer's). Anything else (a second Ctrl-C, an error) stops this rank alone while
     the others are mid-step: there an observer's collective finish waited forever (a double SIGTERM hung a 2-rank run
     in VTXWriter.close, a fuzz, 2026-12-07), so only the rank's own finishes run and the entry point aborts all. A
-    library caller under MPI whose loop raises so is left with the ADIOS2 copy unclosed (the XDMF series, written a
-    frame at a time, is whole)."""
+    library caller under MPI whose loop raises so is left with the ADIOS2 copy unclosed (the XDMF series' XML is
+    written whole by its rank-0 part, ``finish_alone``)."""
     try:
         for step in steps:
             stepper.step(keep[step])
@@ -56,9 +56,13 @@ def march(
 
 def _finish(observers: Sequence[Observer], alone: bool = False) -> None:
     """Each observer's ``finish``; ``alone`` (this rank stops without the others): not the collective ones
-    (an observer's ``collective`` true)."""
+    (an observer's ``collective`` true), whose ``finish_alone`` runs instead where they have one (this rank's own
+    part: the field series' XML)."""
     for o in observers:
-        if hasattr(o, "finish") and not (alone and getattr(o, "collective", False)):
+        if alone and getattr(o, "collective", False):
+            if hasattr(o, "finish_alone"):
+                o.finish_alone()
+        elif hasattr(o, "finish"):
             o.finish()
 
 
