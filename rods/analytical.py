@@ -59,7 +59,9 @@ from numpy.typing import ArrayLike, NDArray
 from rods import hertz, metrics
 from rods.scene import SCHEMA, Rod, Scene, impedance_force
 
-__all__ = ["PAPER_LAW", "AnalyticalResult", "WaveModel", "contact_compliance", "force_trace", "simulate"]
+__all__ = [
+    "PAPER_LAW", "AnalyticalResult", "WaveModel", "contact_compliance", "force_trace", "rod_end_term", "simulate",
+]  # fmt: skip
 
 PAPER_LAW = "analytical.contact=hertz"  # the paper's half-space Hertz (Eq. 8), as a scene override
 END_TERM_LIMIT = 0.25  # smallest dδ/dδ_H at which the rod-end term is still a correction [-]
@@ -405,6 +407,12 @@ def contact_compliance(scene: Scene) -> float:
     the two rods' end corrections for "hertz-rod" (module docstring)."""
     if scene["analytical.contact"] == "hertz":
         return 0.0
+    return rod_end_term(scene)
+
+
+def rod_end_term(scene: Scene) -> float:
+    """c = Σ_i χ_i/(E_i b_i) [m/N]: the two rods' end corrections at the scene's impedance-bound patch (module
+    docstring), the "hertz-rod" law's linear term, which the paper's law leaves out."""
     return sum(hertz.rod_end_compliance(rod, scene.impedance_patch_radius) for rod in scene.rods)
 
 

@@ -507,7 +507,9 @@ def paper_law_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     problems = []
     P, K = summary.get("peak_contact_force"), summary.get("hertz", {}).get("K")
     if P and K:
-        c = sum(hertz.rod_end_compliance(rod, scene.impedance_patch_radius) for rod in scene.rods)  # [m/N]
+        from rods.analytical import rod_end_term
+
+        c = rod_end_term(scene)  # [m/N]
         if (share := abs(c) * P / (P / K) ** (2 / 3)) > PAPER_LAW_END_TERM:
             problems.append(f"the rods' end term it leaves out is {share:.0%} of its Hertz approach at the peak force")
     i, heavy = max(enumerate((r.bar_offset / r.bar_length for r in scene.rods), 1), key=lambda x: x[1])
@@ -867,18 +869,20 @@ def plateau_warning(
             f"({AUTO_END})"
         )
     v = np.asarray(v, float)
+    outlasts = contact is not None and contact >= period  # its pulse meets its own reflection at the midpoint
     problems = [
-        _plateau_count_problem(t, runs, period, contact),
-        _plateau_shape_problem(t, v, runs, gap, period, contact)
-        or _plateau_passes_problem(v, runs, period, contact, late),
+        _plateau_count_problem(t, runs, period, contact, outlasts),
+        _plateau_shape_problem(t, v, runs, gap, period, contact, outlasts)
+        or _plateau_passes_problem(v, runs, period, contact, outlasts and (late is None or late > LATE_IMPULSE), late),
     ]
     problems = [p for p in problems if p]
     return f"midpoint_peak_speed: {'; '.join(problems)}; the average is unreliable" if problems else None
 
 
-def _plateau_count_problem(t: np.ndarray, runs: list, period: float, contact: float | None) -> str | None:
+def _plateau_count_problem(
+    t: np.ndarray, runs: list, period: float, contact: float | None, outlasts: bool
+) -> str | None:
     """plateau_warning's count: too few plateaus, and whether a longer run would find the rest."""
-    outlasts = contact is not None and contact >= period
     span = (t[-1] - t[0]) / period  # [-] Rod 2's round trips the run holds
     # a longer run cannot help past five round trips, nor where a contact that outlasts one left fewer plateaus than
     # round trips (a fuzz: 1 in 3.5, contact 522 against 431 µs; equal 2 m rods, 806 against 782 µs, find 3 in 1.9
@@ -903,7 +907,7 @@ def _plateau_count_problem(t: np.ndarray, runs: list, period: float, contact: fl
 
 
 def _plateau_passes_problem(
-    v: np.ndarray, runs: list, period: float, contact: float | None, late: float | None = None
+    v: np.ndarray, runs: list, period: float, contact: float | None, outlasts: bool, late: float | None
 ) -> str | None:
     """plateau_warning's meaning: all the plateaus found, but not a pulse's separate passes of the midpoint. Where the
     first contact outlasts Rod 2's round trip 2 L2/c2 its pulse meets its own reflection there; where the speed between
@@ -916,7 +920,7 @@ def _plateau_passes_problem(
     passes as they are (the verification's titanium Rod 2: 0.3%, the models' speeds 0.45% apart)."""
     if len(runs) < metrics.PLATEAU_COUNT:  # the count's problem names the cause
         return None
-    if contact is not None and contact >= period and (late is None or late > LATE_IMPULSE):
+    if outlasts:  # with more than LATE_IMPULSE of its impulse after the round trip, where that is known
         share = "" if late is None else f", {late:.1%} of its impulse after it"
         return (
             f"the first contact, {contact * 1e6:.4g} µs, outlasts Rod 2's round trip 2 L2/c2 = {period * 1e6:.4g} µs"
@@ -932,10 +936,9 @@ def _plateau_passes_problem(
 
 
 def _plateau_shape_problem(
-    t: np.ndarray, v: np.ndarray, runs: list, gap: float, period: float, contact: float | None
+    t: np.ndarray, v: np.ndarray, runs: list, gap: float, period: float, contact: float | None, outlasts: bool
 ) -> str | None:
     """plateau_warning's shape: plateaus too short, too sparse or lifted by spikes above their level."""
-    outlasts = contact is not None and contact >= period
     shortest = min(r.stop - r.start for r in runs)
     level = metrics.plateau_level(np.asarray(v, float))
     fill = min(float(np.mean(v[r] >= level)) for r in runs)
@@ -1163,12 +1166,8 @@ def _midpoint_check(
         return None
     period = scene.rod2.transit_time  # [s] 2 L2/c2
     arrival, gap = metrics.plateau_bounds(scene)  # [m/s], [s]
-    force = force or history  # the contact's, for the share of its impulse after the round trip
-    late = (
-        metrics.late_impulse(force["time"], force["contact_force"], period, metrics.min_gap(scene))
-        if "contact_force" in force
-        else None
-    )
+    trace = _force_trace(force or history)  # the contact's, for the share of its impulse after the round trip
+    late = None if trace is None else metrics.late_impulse(*trace, period, metrics.min_gap(scene))
     w = plateau_warning(history["time"], history[mid], period, arrival, gap, summary.get("contact_duration"), late)
     if w is None:
         return None

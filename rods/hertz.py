@@ -264,8 +264,14 @@ def rigid_impact_duration(m: float, v: float, E_star: float, R_star: float) -> f
     11.23-11.24; the contact force F = K δ^{3/2} of paper Eq. 8 on the masses, their waves neglected). The
     quasi-static limit of a rod impact: a contact slow against the rods' transits lasts it (two stubby rods drawn
     at random: 132.0 and 151.2 µs against the analytical model's 132.4 and 151.0 µs)."""
-    delta_m = (15.0 * m * v**2 / (16.0 * E_star * math.sqrt(R_star))) ** 0.4  # [m]
-    return RIGID_IMPACT_TIME * delta_m / v
+    return RIGID_IMPACT_TIME * rigid_approach(m, v, E_star, R_star) / v
+
+
+def rigid_approach(m: float, v: float, E_star: float, R_star: float) -> float:
+    """δ_m = (15 m v²/(16 E* R*^½))^(2/5) [m]: the largest approach of Hertz's impact of rigid bodies of reduced
+    mass ``m`` [kg] at ``v`` [m/s] (Johnson 1985, §11.4: their kinetic energy stored as the contact's,
+    8/15 K δ^(5/2))."""
+    return (15.0 * m * v**2 / (16.0 * E_star * math.sqrt(R_star))) ** 0.4
 
 
 def rigid_impact_force(m: float, v: float, E_star: float, R_star: float) -> float:
@@ -274,8 +280,7 @@ def rigid_impact_force(m: float, v: float, E_star: float, R_star: float) -> floa
     waves, a series compliance) lowers it, nearly: the quasi-static bound of a slow contact on stubby rods (the
     paper's rods cut to 30 mm, a hemispherical tip, 0.1 m/s: 60.5 N at the rods' masses, caps counted; the FE's
     60.7 N, its contact stiffened a little by the rods' end term), far above the impedance bound on slender ones."""
-    delta_m = (15.0 * m * v**2 / (16.0 * E_star * math.sqrt(R_star))) ** 0.4  # [m]
-    return 4.0 / 3.0 * E_star * math.sqrt(R_star) * delta_m**1.5
+    return contact_stiffness(E_star, R_star) * rigid_approach(m, v, E_star, R_star) ** 1.5
 
 
 def tangent_stiffness(F: ArrayLike, E_star: float, R_star: float) -> FloatOrArray:

@@ -30,7 +30,7 @@ from __future__ import annotations
 from typing import Any
 
 from rods import checks, hertz, metrics
-from rods.scene import END_PERIODS, auto_end_time
+from rods.scene import END_PERIODS, auto_end_time, reduced_mass
 
 __all__ = ["outlook"]
 
@@ -44,7 +44,7 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
     the run compares the wave response over the scene's end time (not a driving global's or a submodel's contact
     phase, whose plans said it would fall short of plateaus they do not measure: a fuzz, 2026-12-06)."""
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
-    m = scene.rod1.mass * scene.rod2.mass / (scene.rod1.mass + scene.rod2.mass)  # [kg] the reduced mass
+    m = reduced_mass(scene.rods)  # [kg]
     # [N] the lower bound of the two: the bars' (slender rods) or the rigid masses' Hertz (stubby rods, a slow contact:
     # P = 253 N said "may yield, 2482 MPa" on an audit's hemisphere on 30 mm rods whose force peaks at 61 N)
     P = min(scene.impedance_force, RIGID_MARGIN * hertz.rigid_impact_force(m, scene.speed, E_star, R_star))

@@ -1148,6 +1148,11 @@ def by_key(overrides: Iterable[str]) -> tuple[str, ...]:
     return tuple(sorted(overrides, key=lambda text: text.split("=", 1)[0].strip()))
 
 
+def reduced_mass(rods: tuple[Rod, Rod]) -> float:
+    """m1 m2/(m1 + m2) [kg] of the rods (:attr:`Rod.mass`, caps counted): their impact as rigid bodies."""
+    return rods[0].mass * rods[1].mass / (rods[0].mass + rods[1].mass)
+
+
 def auto_end_time(rods: tuple[Rod, Rod], speed: float) -> float:
     """``simulation.end_time = "auto"`` [s] at the impact ``speed`` [m/s]: END_MARGIN x max(END_PERIODS x Rod 2's
     round trip 2 L2/c2, the first contact's bound), within the schema's 1 s (module constants' comment). The
@@ -1157,8 +1162,7 @@ def auto_end_time(rods: tuple[Rod, Rod], speed: float) -> float:
     from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
     periods = END_PERIODS * rods[1].transit_time
-    m = rods[0].mass * rods[1].mass / (rods[0].mass + rods[1].mass)  # [kg] the reduced mass
-    quasi_static = hertz.rigid_impact_duration(m, speed, *hertz.contact_constants(*rods))
+    quasi_static = hertz.rigid_impact_duration(reduced_mass(rods), speed, *hertz.contact_constants(*rods))
     contact = max(END_CONTACT_ROUND_TRIPS * max(r.transit_time for r in rods), quasi_static)
     return min(END_MARGIN * max(periods, contact), 1.0)
 

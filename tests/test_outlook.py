@@ -141,8 +141,9 @@ def test_stubby_rods_are_judged_at_the_rigid_masses_hertz_force(scene_with):
     from rods import hertz, outlook, plan
 
     sc = scene_with("rod1.length=0.03", "rod2.length=0.03", "rod1.tip_radius=0.00635", "impact.speed=0.1")
-    m = sc.rod1.mass * sc.rod2.mass / (sc.rod1.mass + sc.rod2.mass)
-    rigid = hertz.rigid_impact_force(m, sc.speed, *hertz.contact_constants(sc.rod1, sc.rod2))
+    from rods.scene import reduced_mass
+
+    rigid = hertz.rigid_impact_force(reduced_mass(sc.rods), sc.speed, *hertz.contact_constants(sc.rod1, sc.rod2))
     peak = plan.first_contact_summary(sc)["peak_contact_force"]
     assert rigid < sc.impedance_force / 4 and peak <= outlook.RIGID_MARGIN * rigid and peak > 0.97 * rigid
     assert not [line for line in outlook.outlook(sc) if line.startswith("yield")]
