@@ -91,7 +91,8 @@ def output_dir(path: str | Path, what: str = "--out") -> Path:
     if p.parts and p.parts[0].startswith("~"):  # `--out=~/x`: the shell expands no ~ after '=' (a folder named '~')
         raise InputError(
             what, p, "starts with a '~' the shell did not expand",
-            "give the full path (the shell expands '~' at a word's start: a space after the option, not '=')",
+            "give the full path (the shell expands '~' at a word's start: a space after the option, not '='; a "
+            "folder named so: ./~x)",
         )  # fmt: skip
     _name_lengths(p, what)  # before exists(), which raises on such a name
     if p.exists() and not p.is_dir():

@@ -1076,8 +1076,9 @@ def test_a_folder_another_run_writes_is_refused_and_left_as_it_was(tmp_path):
 
 
 def test_a_full_disk_is_one_line_naming_the_file_exit_1(tmp_path):
-    """A file-size limit (ulimit -f; a full disk or quota alike): exit 1, one line naming the file and the remedy,
-    no summary.json (it said OSError: [Errno 27] File too large, nothing named)."""
+    """A file-size limit (ulimit -f; a full disk or quota alike): exit 1, one line naming the file (where the error
+    names it) or the run's folder, and the remedy, no summary.json (it said OSError: [Errno 27] File too large,
+    nothing named)."""
     import resource
 
     def small_files() -> None:
