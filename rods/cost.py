@@ -437,11 +437,7 @@ def fe_cost(
     values = samples * (12 + 2 * len(scene.stations) + (4 if kind == "3d" else 0))
     parts = _memory_of(scene, ranks, dofs, steps, values, size)
     if size is not None:  # [B] on every rank
-        record = _driver_record_bytes(scene, end) if cut_record_bytes is None else cut_record_bytes
-        parts["the driver's cut record, read by every rank"] = (
-            ranks * record,
-            "fewer ranks, or a driver recorded at coarser sizes",
-        )
+        parts.update(_driver_record_memory(scene, ranks, end, cut_record_bytes))
     setup, loop, bound = _fe_time(scene, ranks, steps, dofs, size is not None, samples)
     if size is not None:  # the submodel's cut driver: the recorded band located at each cut node
         setup += _cut_nodes(scene, h_r) * CUT_SECONDS_PER_NODE[kind]
@@ -530,6 +526,14 @@ def _memory_parts(parts: Mapping[str, tuple[float, str]]) -> str:
 
 
 STEP_ESTIMATE_MARGIN = 1.1  # the estimated stable step over the exact one, at most (0.68-1.05 measured) [-]
+
+
+def _driver_record_memory(scene: Scene, ranks: int, end: float, known: float | None) -> dict[str, tuple[float, str]]:
+    """A submodel's memory part [B] for its driver's cut record, read whole by every rank: the file's size where it is
+    ``known``, else the record the scene's driving global writes to ``end`` [s] (:func:`_driver_record_bytes`)."""
+    record = _driver_record_bytes(scene, end) if known is None else known
+    return {"the driver's cut record, read by every rank": (ranks * record, "fewer ranks, or a driver recorded at "
+                                                              "coarser sizes")}  # fmt: skip
 
 
 def _fe_files(
