@@ -265,6 +265,7 @@ class ExplicitModel:
         progress: Callable[[int, int, float], None] | None = None,
         observers: Sequence[Observer] = (),
         restart: bool = False,
+        keep_checkpoint: bool = False,
     ) -> FEResult:
         """March the central-difference scheme to the scene's end time (collective).
 
@@ -276,7 +277,9 @@ class ExplicitModel:
         when the scene asks (a run afresh first removes an earlier run's there, :func:`rods.fe.fields.discard`;
         a restart appends to them), and ``progress(step, total, elapsed)``. An observer with ``state(step)`` and
         ``restore(state)`` (a submodel's cut driver) is checkpointed with the stepper and the recorder, and one with
-        ``checkpoint_identity`` (its input file) enters the checkpoint's key.
+        ``checkpoint_identity`` (its input file) enters the checkpoint's key. A finished run removes its checkpoint
+        (it resumes nothing), unless ``keep_checkpoint``: a caller that writes the results removes it after them
+        (rods.study.stages: a kill between the last step and the files had left neither, nothing to --restart).
         """
         stepper = self.stepper()
         recorder = self.recorder(observers)
@@ -287,6 +290,9 @@ class ExplicitModel:
         if step0 == 0 and out is not None:  # afresh: an earlier run's verdict and field series here are not this run's
             if self.comm.rank == 0:  # its summary.json beside this run's partial series (killed) read as finished
                 (Path(out) / "summary.json").unlink(missing_ok=True)
+                for tmp in Path(out).glob(".*.tmp"):  # a result file's temporary name a kill left mid-write
+                    if not tmp.name.startswith((".checkpoint", ".fields")):  # theirs: checkpoint and fields discard
+                        tmp.unlink(missing_ok=True)
             fields.discard(out, self.comm)  # (a barrier)
         # a run whose record a checkpoint cannot hold (the driver's cut band: rods.fe.cut.CutRecorder) writes none
         resumable = all(getattr(o, "resumable", True) for o in observers)
@@ -308,7 +314,7 @@ class ExplicitModel:
             except Exception:  # too little recorded for a summary: the message alone must do
                 failure.partial = None
             raise failure
-        if out is not None:  # finished: its checkpoint resumes nothing (a --restart reran from it, "ok"; disk)
+        if out is not None and not keep_checkpoint:  # finished: it resumes nothing (a --restart reran from it, "ok")
             checkpoint.discard(out, self.comm)
         return fe_result(self, recorder, recorder.k, self.steps + 1, wall_loop)
 

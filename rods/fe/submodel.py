@@ -325,14 +325,16 @@ def run_submodel(
     level: str = "",
     out: Path | None = None,
     restart: bool = False,
+    keep_checkpoint: bool = False,
 ) -> SubmodelResult:
     """Set up and run the submodel of ``scene`` (the *global* scene) at size h [m], driven by ``cut_file``;
-    checkpoints into ``out`` when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one)."""
+    checkpoints into ``out`` when ``fe.checkpoint_interval`` > 0 (``restart``: resume from the last one;
+    ``keep_checkpoint``: rods.fe.model.ExplicitModel.run's)."""
     sub = submodel_scene(scene, h, h_axial, end_time, dt)
     model = ExplicitModel(sub, comm)
     driver = make_driver(model, cut_file, scene["submodel.driving"])  # first: it sets v_{n+1/2} before any record
     peak = PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
-    res = model.run(out, progress, observers=(driver, peak), restart=restart)
+    res = model.run(out, progress, observers=(driver, peak), restart=restart, keep_checkpoint=keep_checkpoint)
     sig = surface_gauss_stress(model, peak.u)
     s = res.summary
     s["model"] = submodel_name(level)

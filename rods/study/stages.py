@@ -227,6 +227,7 @@ def global_model(
     caller has set it up already (a benchmark that times its stepper first). ``resume`` (a study's restart): a
     run finished in ``out`` for ``scene`` is kept (:func:`finished`), else the run resumes from a checkpoint
     there where it can (not while recording the cut, which is not checkpointed) or starts afresh."""
+    from rods.fe import checkpoint
     from rods.fe.cut import CutRecorder
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
@@ -249,7 +250,7 @@ def global_model(
     if comm.rank == 0:  # an earlier run's record in this folder would drive another scene, also when this run, which
         (out / "cut.h5").unlink(missing_ok=True)  # records its own, stops before writing it (a fuzz, 2026-12-06)
     try:
-        res = model.run(out, progress, observers=(recorder,) if recorder else (), restart=restart)
+        res = model.run(out, progress, observers=(recorder,) if recorder else (), restart=restart, keep_checkpoint=True)
     except SimulationError as e:
         if e.partial is not None:
             _write_fe(out, e.partial, comm)
@@ -260,6 +261,7 @@ def global_model(
     # status, warnings (yield at the FE force); the force checks read every step's force, not the output samples
     checks.apply(res.summary, res.history, scene, scene.end_time, force=res.force_trace, driver=_drives(scene, extra))
     _write_fe(out, res, comm, extra)
+    checkpoint.discard(out, comm)  # the results written: it resumes nothing now (a kill before them keeps it)
     return Stage(name, out, scene, {**res.summary, **(extra or {})}, res.history, cut)
 
 
@@ -352,7 +354,7 @@ def submodel(
             return dataclasses.replace(kept, scene=scene)
         restart = True
     try:
-        sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart)
+        sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart, True)
     except SimulationError as e:  # a guard's stop or an interrupt: the histories so far, readable, as a global's
         if e.partial is not None:
             e.partial.summary["model"] = submodel_name(name)
@@ -366,7 +368,9 @@ def _finish_submodel(
     sr: Any, scene: Scene, cut_file: Path, end: float, phase: int | None, driver_summary: Any, out: Path, comm: Any
 ) -> None:
     """Annotate the submodel run ``sr`` (rods.fe.submodel.run_submodel's) with its driver, phase member and checks
-    against ``scene`` (the driving global's) up to ``end`` [s], and write its files into ``out`` (rank 0)."""
+    against ``scene`` (the driving global's) up to ``end`` [s], and write its files into ``out`` (rank 0), then remove
+    its checkpoint (collective)."""
+    from rods.fe import checkpoint
     from rods.io import cut_identity
 
     sr.summary["cut_file"] = str(cut_file)
@@ -391,6 +395,7 @@ def _finish_submodel(
         io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, PROFILE_UNITS)
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
         io.write_summary(out / "summary.json", sr.summary)
+    checkpoint.discard(out, comm)  # the results written: it resumes nothing now (a kill before them keeps it)
 
 
 # what the comparison stage writes into its folder (rods.preflight.output_names checks them before it runs)
