@@ -807,7 +807,7 @@ def separation_warning(
     V1, V2 = summary.get("rigid_velocity_rod1"), summary.get("rigid_velocity_rod2")
     if not episodes or metrics.first_contact_open(episodes, last) or V1 is None or V2 is None:
         return None  # no contact, or the first still open (contact_warning), or no rigid velocities (a submodel)
-    if episodes[-1][1] >= last * (1 - 1e-9):
+    if metrics.first_contact_open(episodes[-1:], last):  # the last episode open
         why = f"a later contact, from {episodes[-1][0] * 1e6:.4g} µs, is still open at end_time = {end_time:g} s"
     elif V1 > V2 + CLOSING * scene.speed:
         why = f"Rod 1's {V1:.4g} m/s is above Rod 2's {V2:.4g} m/s at end_time = {end_time:g} s: they meet again"

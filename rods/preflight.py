@@ -238,6 +238,7 @@ LOCK = ".rods-lock"  # the file a run holds locked in its output folder while it
 LOCK_TRIES = 5  # locks of the lock file before a claim gives up on one held or replaced [-]
 LOCK_WAIT = 0.05  # [s] between two (another claim's probe holds it shared for microseconds)
 LOCK_DEPTH = 2  # folder levels below a run's folder whose locks a claim checks (a study's stage folders) [-]
+BUSY = (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES)  # a non-blocking flock's errors where another process holds it
 
 
 def _nested_locks(out: Path) -> list[Path]:
@@ -257,7 +258,7 @@ def _held(lock: Path) -> bool:
     try:
         fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
     except OSError as e:
-        return e.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES)
+        return e.errno in BUSY
     finally:
         os.close(fd)  # drops the shared lock taken
     return False
@@ -296,7 +297,7 @@ class FolderClaim:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError as e:
                 os.close(fd)
-                if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):  # no locks here: not held
+                if e.errno not in BUSY:  # no locks on this file system: not held
                     with contextlib.suppress(OSError):
                         self.path.unlink()
                     return

@@ -261,9 +261,8 @@ def hold(out: Path, comm: Any = None) -> None:
     (exit 1), not a path given wrong. Held already (a restart holds it before reading its checkpoint): kept."""
     if _HOLDING and _HOLDING[-1] == Path(out).absolute():
         return
-    while _HELD:  # an earlier run's in this process (a caller of main without guarded(): it has ended)
-        _HELD.pop().release()
-    _HOLDING[:] = [Path(out).absolute()]
+    _release()  # an earlier run's in this process (a caller of main without guarded(): it has ended)
+    _HOLDING.append(Path(out).absolute())
     if comm is None and (mpi := _mpi()) is not None:  # a script that loaded MPI without passing its communicator
         comm = mpi.COMM_WORLD
     refusal = None
@@ -276,6 +275,13 @@ def hold(out: Path, comm: Any = None) -> None:
         refusal = comm.bcast(refusal, root=0)
     if refusal is not None:
         raise InputError(*refusal)
+
+
+def _release() -> None:
+    """Release the folder this process's run holds (:func:`hold`), on every rank."""
+    while _HELD:
+        _HELD.pop().release()
+    _HOLDING.clear()
 
 
 def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
@@ -347,8 +353,7 @@ def _abort(message: str, code: int, at_once: bool = False) -> int:
     if mpi is None or mpi.COMM_WORLD.size == 1:
         print(f"error: {one_line(message)}", file=sys.stderr, flush=True)
         if at_once:
-            while _HELD:
-                _HELD.pop().release()
+            _release()
             sys.stdout.flush()
             os._exit(code)
         return code
@@ -437,9 +442,7 @@ def guarded(
                 return _interrupted()
             return _abort(f"{type(e).__name__}: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
         finally:  # the command: ignored at once, no default SIGTERM between (a repeat killed a rank with 15)
-            while _HELD:
-                _HELD.pop().release()
-            _HOLDING.clear()
+            _release()
             interrupt.uninstall({s: signal.SIG_IGN for s in previous} if ignore_after else previous)
             signal.signal(signal.SIGPIPE, pipe)
 

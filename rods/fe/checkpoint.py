@@ -99,14 +99,13 @@ def _append(out: Path, step: int, rank: int, arrays: dict[str, np.ndarray], tail
     and the entries one after another as float64 (a record per key cost ~256 B of headers a checkpoint); one fsync,
     none where nothing is new."""
     tail = tail or Tail(_log_name(step, rank), 0, 0, {})
-    counts = np.array([len(a) - tail.lengths.get(k, 0) for k, a in arrays.items()], dtype=np.int64)
+    new = [a[tail.lengths.get(k, 0) :] for k, a in arrays.items()]  # Appended: 1D float64
     lengths = {k: len(a) for k, a in arrays.items()}
-    if tail.size and not counts.any():
+    if tail.size and not any(len(a) for a in new):
         return Tail(tail.log, tail.size, tail.crc, lengths)
     buf = io.BytesIO()
-    np.lib.format.write_array(buf, counts)
-    parts = [np.asarray(a[tail.lengths.get(k, 0) :], dtype=np.float64).ravel() for k, a in arrays.items()]
-    np.lib.format.write_array(buf, np.concatenate(parts) if parts else np.zeros(0))
+    np.lib.format.write_array(buf, np.array([len(a) for a in new], dtype=np.int64))
+    np.lib.format.write_array(buf, np.concatenate(new))
     data = buf.getvalue()
     path = out / tail.log
     with open(path, "r+b" if path.exists() and tail.size else "w+b") as f:

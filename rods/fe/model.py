@@ -82,8 +82,8 @@ def loop_blas() -> contextlib.AbstractContextManager:
     return threadpool_limits(LOOP_BLAS_THREADS, "blas") if threadpool_limits else contextlib.nullcontext()
 
 
-# 3: the histories and the force appended to series files (rods.fe.checkpoint.Appended); 2: the state after a step is
-# (u_n, v_{n+1/2}) (deferred drift); 1 held u_{n+1}
+# 3: the histories and the force appended to a log per rank (rods.fe.checkpoint.Appended); 2: the state after a step
+# is (u_n, v_{n+1/2}) (deferred drift); 1 held u_{n+1}
 CHECKPOINT_FORMAT = 3
 
 
