@@ -1,6 +1,6 @@
 """Edge scatter of the submodel's contact radius: how much of a level's radius/area error is where its nodes fall.
 
-    python benchmarks/edge_scatter.py [--sizes 0.058e-3 0.0625e-3 ...] [--out results/edge-scatter]
+    python benchmarks/edge_scatter.py [--levels fine extra-fine ...] [--work DIR] [--out results/edge-scatter]
 
 The submodel's contact radius is placed from the nodal gaps around the edge (rods.fe.kinematic.edge_radius); the
 discrete contact set closes node by node, so the radius at one element size depends on where the Hertz edge falls

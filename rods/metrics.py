@@ -29,7 +29,7 @@
   average where the analytical model had a whole plateau (1.270 m/s). On scenes whose plateaus stand clear of the
   threshold (the paper's) no dip is that short, and the value is the plain runs' mean.
 * Smoothed peak force: the largest value of the force averaged over a sliding window (:func:`smoothing`:
-  ``SMOOTHING_TRANSITS`` = 0.8 of the thinner rod's d/c, 1.99 µs on the paper's rods, below the experiment's
+  ``SMOOTHING_TRANSITS`` = 0.8 of the shorter diameter transit d/c, 1.99 µs on the paper's rods, below the experiment's
   2.26 µs sampling). Stiff penalties make contact nodes rattle and add nanosecond spikes to the raw force; the
   smoothed peak is what a sensor would see.
 * RMS strain difference (Table 2): over the first five periods 2 L2/c2 of the midpoint strain,
@@ -90,7 +90,7 @@ TAIL_FRACTION = 0.01  # the level, of the peak force, below which the end of a c
 # 33 µs) [-]. A touch whose force stays below TAIL_FRACTION of the episode's peak before it, within this of it, is that
 # episode's tail, not a contact of its own (:func:`contact_episodes`)
 TAIL_TRANSITS = 16.0
-SMOOTHING_TRANSITS = 0.8  # sliding-average window of the smoothed peak force, in the thinner rod's d/c [-]
+SMOOTHING_TRANSITS = 0.8  # sliding-average window of the smoothed peak force, in the shorter diameter transit d/c [-]
 PATCH_ELEMENTS_MIN = 2.0  # fewest elements across the contact radius that resolve a patch [-]
 # a picture of the contact's half-width in contact radii [-]: the patch and the stress under it (Hertz's largest
 # von Mises stress lies 0.48 a deep, its field fades over a few a); the paper scene's 1.09 mm patch: 2.7 mm

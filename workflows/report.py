@@ -4,7 +4,8 @@ r"""REPORT.md: every table and figure of the paper job, with what agrees and wha
         [--contact-study results/contact-study.json]
 
 Reads table2.json, table3.json, fig4.json and accuracy-cost.json from --results (default: the folder of
---out) and the contact study's record; the main job passes --out results/REPORT.md.
+--out), with contact-fields, verification, convergence, driver-study and edge-scatter JSON there where present
+(rods.paper.report.OPTIONAL_SOURCES), and the contact study's record; the main job passes --out results/REPORT.md.
 """
 
 from __future__ import annotations

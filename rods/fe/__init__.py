@@ -6,8 +6,11 @@ its stable step), :mod:`~rods.fe.observers` (the loop's observer protocol), :mod
 (named histories, energy balance, peak), :mod:`~rods.fe.guards`, :mod:`~rods.fe.checkpoint`,
 :mod:`~rods.fe.fields` (observers), :mod:`~rods.fe.contact` (penalty contact), :mod:`~rods.fe.probes`,
 :mod:`~rods.fe.forms`, :mod:`~rods.fe.layout` (the axisymmetric mesh laid out and counted), :mod:`~rods.fe.mesh`
-(built) / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.submodel` (cut recording and driving, σ_r at the Gauss points,
-levels), :mod:`~rods.fe.backend` (the array backends of the
+(built) / :mod:`~rods.fe.mesh3d`, :mod:`~rods.fe.kinematic` (penalty-free kinematic contact), :mod:`~rods.fe.timestep`
+(the step's limits and the step), :mod:`~rods.fe.end_compliance` (the rod-end correction of the Hertz approach),
+:mod:`~rods.fe.submodel` (the submodel scene and run, σ_r at the Gauss points, levels), :mod:`~rods.fe.cut` (the
+band the global records, the displacement driver), :mod:`~rods.fe.traction` (traction and mixed driving at the
+cuts), :mod:`~rods.fe.backend` (the array backends of the
 stepper: PETSc Mat/Vec, NumPy/SciPy, CuPy), :mod:`~rods.fe.matrixfree` (K applied element by element on the array
 backends, ``fe.operator = "matrix-free"``).
 

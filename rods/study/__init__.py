@@ -9,6 +9,9 @@
   midpoint speed and strain and contact force (``fig4.json``, ``.md``, ``.png``).
 * :mod:`rods.study.sweep` — one CSV row per run of a parameter sweep.
 * :mod:`rods.study.console` — rank 0's log and progress bar for the entry points.
+* :mod:`rods.study.jobs` — a stage's cost (rods.cost) and the cluster's request from it (tasks, memory, runtime).
+* :mod:`rods.study.verification` — the verification matrix: the global at default settings against the
+  analytical model on its scenes (``results/verification.{json,md}``).
 
 The recipe itself (contact phase, the driver's settings, the most-refined rule) is :mod:`rods.plan`; the
 comparison math (Richardson level choice, σ_r error band) is :mod:`rods.compare`. Importing this package
