@@ -112,3 +112,47 @@ def test_the_readme_names_the_folder_an_override_gets():
     assert m, "the README's folder example moved: update this test"
     scene = load_scene(ROOT / "workflows" / "scenes" / "paper.toml", [m.group(2)])
     assert m.group(1) == scene_folder(scene, True)
+
+
+def _reference_texts() -> dict[str, str]:
+    return {"README.md": (ROOT / "README.md").read_text()} | {f"docs/{p.name}": p.read_text() for p in REFERENCE}
+
+
+def _resolves(name: str) -> bool:
+    """``rods.a.b.c``: the longest importable module prefix, then attributes."""
+    import importlib
+
+    parts = name.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        try:
+            for attr in parts[i:]:
+                obj = getattr(obj, attr)
+        except AttributeError:
+            return False
+        return True
+    return False
+
+
+def test_the_library_names_the_docs_quote_exist():
+    """Every backticked ``rods.…`` name in README.md and docs/models.md imports (an audit, 2026-12-07, found module
+    maps and names that had drifted; a renamed function must take its docs along)."""
+    quoted = {n for t in _reference_texts().values() for n in re.findall(r"`(rods(?:\.\w+)+)(?:\(\))?`", t)}
+    assert len(quoted) > 30
+    assert not sorted(n for n in quoted if not _resolves(n))
+    assert not _resolves("rods.scene.no_such_name")  # the check can fail
+
+
+def test_the_scene_keys_the_docs_quote_exist():
+    """Every backticked scene key (``fe.radial_size``, ``analytical.rtol``...) in README.md and docs/models.md is a
+    key of the schema (rods.scene.SCHEMA)."""
+    from rods.scene import SCHEMA
+
+    prefixes = "|".join(sorted({k.split(".")[0] for k in SCHEMA if "." in k}))
+    quoted = {k for t in _reference_texts().values() for k in re.findall(rf"`((?:{prefixes})\.[a-z_0-9]+)(?![.\w])", t)}
+    quoted = {k for k in quoted if not k.endswith(".py")}  # workflows/analytical.py, a file
+    assert len(quoted) > 20
+    assert not sorted(quoted - set(SCHEMA))
