@@ -67,6 +67,7 @@ __all__ = [
     "analytical_steps",
     "available_disk",
     "available_memory",
+    "local_memory",
     "calibrated",
     "check",
     "check_disk",
@@ -837,8 +838,16 @@ def analytical_steps(scene: Scene) -> float:
     return STEPS_PER_STIFFNESS * λ * scene.end_time
 
 
-def available_memory() -> float:
-    """MemAvailable of /proc/meminfo [B] (inf where unknown)."""
+def available_memory(comm: Any = None) -> float:
+    """MemAvailable of /proc/meminfo [B] (inf where unknown); with ``comm``, the least of its ranks' (a collective:
+    every rank then refuses alike; one rank refused alone, on a node with less free memory, left the others waiting
+    in the next collective, a hang: an audit, 2026-12-07)."""
+    free = local_memory()
+    return min(comm.allgather(free)) if comm is not None and comm.size > 1 else free
+
+
+def local_memory() -> float:
+    """MemAvailable of this process's /proc/meminfo [B] (inf where unknown)."""
     try:
         for line in Path("/proc/meminfo").read_text().splitlines():
             if line.startswith("MemAvailable:"):
@@ -908,7 +917,7 @@ def _probe(rows: int) -> float:
     nodes = np.array([-501, -500, -499, -1, 0, 1, 499, 500, 501])  # a node's neighbours, 500 nodes a mesh row
     offsets = (2 * nodes[:, None] + np.arange(2)).ravel()  # [-] 2 components per node
     n, k = rows, offsets.size
-    if available_memory() < 4 * n * k * 12:  # values (8 B) and column indices (4 B), with room to spare
+    if local_memory() < 4 * n * k * 12:  # values (8 B) and column indices (4 B), with room to spare
         return 1.0
     columns = ((np.arange(n)[:, None] + offsets) % n).astype(np.int32).ravel()
     a = scipy.sparse.csr_matrix((np.ones(n * k), columns, np.arange(0, n * k + 1, k, dtype=np.int32)), shape=(n, n))
@@ -969,11 +978,15 @@ def busy_note(ranks: int, load: float | None = None, cores: int | None = None) -
     )
 
 
-def check(cost: Cost, force: bool = False, memory: bool = True, forced_by: str | None = "--force") -> Cost:
+def check(
+    cost: Cost, force: bool = False, memory: bool = True, forced_by: str | None = "--force", comm: Any = None
+) -> Cost:
     """Refuse ``cost`` above the available memory (where ``memory``: this machine runs it; a cluster job's memory is
     its node's, asked of the scheduler) or the step, work, frame, value and time budgets (unless ``force``; the
-    remedy names ``forced_by``, the option that lifts them, where there is one)."""
-    free = available_memory()
+    remedy names ``forced_by``, the option that lifts them, where there is one). Under MPI pass ``comm`` (every rank
+    calls it): the memory is then the least of the ranks' (:func:`available_memory`), the budgets follow from the
+    cost, alike on every rank."""
+    free = available_memory(comm) if memory else math.inf
     fe = cost.dofs > 0  # else the analytical model, whose steps a contact stiff against thin rods sets
     first = "".join(f"{r}, " for r in (cost.remedy, cost.cheaper) if r)
     if memory and cost.memory > free:

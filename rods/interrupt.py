@@ -6,27 +6,45 @@ of them together (the partial histories are written, status "interrupted", exit 
 loop, or at a second signal :data:`REPEAT_GRACE` or more after the first, the signal raises KeyboardInterrupt
 at once (the entry point exits 130, under MPI after aborting every rank). :func:`install` is called by the
 entry points only: a library user keeps Python's default handling.
+
+Python runs a handler only when the main thread is back in the interpreter: a rank waiting in a collective that
+another rank has left (a hang) never ran it, and SIGTERM and Ctrl-C did nothing; only SIGKILL ended it (an audit,
+2026-12-07). So :func:`install` also starts a watcher thread woken through :func:`signal.set_wakeup_fd`, which
+Python's C-level handler writes at once: where the handler has not run :data:`STUCK_GRACE` after a signal, the
+watcher stops the process itself (one line, exit 130; under MPI every rank aborted). It needs the main thread to
+have released the GIL, as MPI's blocking calls through mpi4py do.
 """
 
 from __future__ import annotations
 
+import os
 import signal
+import socket
+import sys
+import threading
 import time
 from contextlib import contextmanager
 from typing import Any
 
 __all__ = ["armed", "install", "requested", "reset", "uninstall"]
 
-_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0}
+_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0}
 # a signal repeated within this time of the first is the same stop request [s]: a SLURM time limit's SIGTERM reaches
 # each rank directly and again through mpirun, milliseconds apart, and the second raised KeyboardInterrupt on that
 # rank alone (no checkpoint; a hang where the others waited in a collective: a fuzz, 2026-12-07). A Ctrl-C pressed
 # again later still stops at once.
 REPEAT_GRACE = 5.0
+# a signal whose Python handler has not run this long after it arrived finds the main thread stuck in a call (a
+# collective another rank left) or in a long one (a 3D mesh's generation): the watcher stops the process [s]
+STUCK_GRACE = 10.0
+RACE = 0.5  # [s] see _watcher
+EXIT_INTERRUPTED = 130
+_watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wakeup fd it replaced
 
 
 def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     now = time.monotonic()  # [s]
+    _state["handled"] = now  # the main thread is in the interpreter: the watcher stands down
     if _state["since"] and now - _state["since"] < REPEAT_GRACE:
         return  # a repeat of a request taken within the grace: the same stop, also once the loop has acted on it
     if _state["armed"] and not _state["signal"]:  # the loop stops at its next check, on every rank together
@@ -37,16 +55,71 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
 
 
 def install() -> dict[int, Any]:
-    """Route SIGINT and SIGTERM through the request flag (main thread only); the previous handlers."""
+    """Route SIGINT and SIGTERM through the request flag (main thread only), with the watcher (module docstring);
+    the previous handlers."""
     _state["installed"] = 1
-    return {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    if not _watch:
+        reader, writer = socket.socketpair()
+        writer.setblocking(False)  # the C-level handler must never block on it
+        _watch["old_fd"] = signal.set_wakeup_fd(writer.fileno(), warn_on_full_buffer=False)
+        _watch["sockets"] = (reader, writer)
+        _watch["thread"] = threading.Thread(target=_watcher, args=(reader,), name="rods-interrupt", daemon=True)
+        _watch["thread"].start()
+    return previous
 
 
 def uninstall(previous: dict[int, Any]) -> None:
-    """Back to the ``previous`` handlers (an entry point called in-process, e.g. by a test)."""
+    """Back to the ``previous`` handlers (an entry point called in-process, e.g. by a test); the watcher stopped."""
     _state["installed"] = 0
     for s, h in previous.items():
         signal.signal(s, h)
+    if _watch:
+        signal.set_wakeup_fd(_watch["old_fd"])
+        reader, writer = _watch["sockets"]
+        writer.close()  # the watcher's read returns empty: it ends
+        _watch["thread"].join(timeout=1.0)
+        reader.close()
+        _watch.clear()
+
+
+def _watcher(reader: socket.socket) -> None:
+    """Wait for SIGINT/SIGTERM's wakeup bytes; where the handler has not run within :data:`STUCK_GRACE`, stop."""
+    while True:
+        try:
+            data = reader.recv(64)
+        except OSError:
+            return
+        if not data:
+            return
+        if not {signal.SIGINT, signal.SIGTERM} & set(data):
+            continue
+        # [s] the handler may have run before this thread woke (it takes the GIL after the main thread's next
+        # switch, milliseconds): a handling within RACE before the wake counts as this signal's
+        arrived = time.monotonic() - RACE
+        while time.monotonic() - arrived < STUCK_GRACE:
+            if _state["handled"] >= arrived or not _watch:
+                break
+            time.sleep(0.1)
+        else:
+            _stuck()
+
+
+def _stuck() -> None:
+    """The signal's handler never ran: the main thread does not return from a call. One line, then exit 130 (under
+    MPI every rank aborted: the others may wait for this one)."""
+    mpi = sys.modules.get("mpi4py.MPI")
+    several = mpi is not None and mpi.Is_initialized() and not mpi.Is_finalized() and mpi.COMM_WORLD.size > 1
+    rank = f" on rank {mpi.COMM_WORLD.rank}" if several else ""
+    print(
+        f"error{rank}: interrupted, but this process did not return from a call within {STUCK_GRACE:g} s (another "
+        "rank waiting in a collective this one left, or a long set-up step): stopped without writing",
+        file=sys.stderr,
+        flush=True,
+    )
+    if several:
+        mpi.COMM_WORLD.Abort(EXIT_INTERRUPTED)
+    os._exit(EXIT_INTERRUPTED)
 
 
 def requested() -> int:

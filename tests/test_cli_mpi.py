@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
 import textwrap
+import time
 
 import pytest
 
@@ -115,3 +117,79 @@ def test_files_beyond_any_disk_are_refused_once_by_every_rank(tmp_path):
     assert p.returncode == 2 and len(lines) == 1, p.stderr[-2000:]
     assert lines[0].startswith("error: --out = ") and "GB of files" in lines[0] and "GB are free" in lines[0]
     assert not out.exists()
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("script", ["global.py", "analytical.py"])
+def test_memory_short_on_one_rank_is_refused_by_every_rank(tmp_path, script):
+    """One rank's node with less free memory (rods.cost.local_memory 1 MB on rank 1): every rank refuses (exit 2,
+    one line, nothing written). Each rank read its own /proc/meminfo: rank 1 refused alone and rank 0 waited in the
+    next collective, both spinning until killed, SIGTERM too (an audit, 2026-12-07)."""
+    wrapper = tmp_path / "short_on_rank1.py"
+    wrapper.write_text(
+        textwrap.dedent(
+            f"""
+            import runpy, sys
+            sys.path.insert(0, {str(ROOT / "workflows")!r})
+            from mpi4py import MPI
+            import rods.cost
+            if MPI.COMM_WORLD.rank == 1:
+                rods.cost.local_memory = lambda: 1e6
+            sys.argv = [{str(ROOT / "workflows" / script)!r}, *sys.argv[1:]]
+            runpy.run_path(sys.argv[0], run_name="__main__")
+            """
+        )
+    )
+    out = tmp_path / "run"
+    cmd = [str(MPIRUN), "-n", "2", sys.executable, str(wrapper), "--out", str(out)]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120, stdin=subprocess.DEVNULL)
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1, p.stderr[-2000:]
+    assert "needs more memory than available (0.001 GB)" in lines[0], lines[0]
+    assert not out.exists()
+
+
+@pytest.mark.mpi
+def test_a_signal_ends_a_rank_stuck_in_a_collective(tmp_path):
+    """Rank 1 leaves (as one rank's refusal did), rank 0 waits in a barrier for ever: SIGTERM to mpirun still ends
+    the job, one line, exit 130, within rods.interrupt.STUCK_GRACE (2 s here). Python's handler never runs in a rank
+    blocked in MPI: SIGTERM did nothing, only SIGKILL ended such a hang (an audit, 2026-12-07)."""
+    script = tmp_path / "stuck_on_rank0.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            import sys
+            sys.path.insert(0, {str(ROOT / "workflows")!r})
+            from mpi4py import MPI
+            import _cli
+            from rods import interrupt
+
+            interrupt.STUCK_GRACE = 2.0
+
+            def main(argv=None):
+                print("started", flush=True)
+                if MPI.COMM_WORLD.rank == 1:
+                    raise SystemExit(2)  # leaves without the others, as a refusal on one rank did
+                MPI.COMM_WORLD.barrier()  # for ever
+                return 0
+
+            _cli.entry(main)
+            """
+        )
+    )
+    p = subprocess.Popen(
+        [str(MPIRUN), "-n", "2", sys.executable, str(script)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
+    )  # fmt: skip
+    try:
+        assert p.stdout.readline().strip() == "started"
+        time.sleep(2.0)  # both ranks in main, rank 0 in the barrier
+        t0 = time.monotonic()
+        p.send_signal(signal.SIGTERM)
+        out, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 130, err[-2000:]
+    assert time.monotonic() - t0 < 30
+    assert "error on rank 0: interrupted, but this process did not return from a call within 2 s" in err

@@ -364,7 +364,7 @@ def test_a_memory_refusal_names_what_the_memory_goes_to(scene_with, monkeypatch)
     assert cost.fe_cost(sc).memory_parts.startswith("the ranks' interpreters and libraries")  # 170 MB vs 16 MB
     fine = cost.fe_cost(scene_with("fe.axial_size=2e-5", "fe.radial_size=2e-5"))
     assert fine.memory_parts.startswith("the mesh") and fine.memory_parts.endswith("coarser sizes")
-    monkeypatch.setattr(cost, "available_memory", lambda: 0.5 * recording.memory)
+    monkeypatch.setattr(cost, "local_memory", lambda: 0.5 * recording.memory)
     with pytest.raises(InputError, match="the cut record .* GB: coarser sizes") as e:
         cost.check(recording)
     assert "simulation.output_interval" not in str(e.value)
@@ -531,11 +531,11 @@ def test_a_study_level_above_the_machine_names_submodel_levels(scene_with, monke
     costs = {c.what: c for c in stage_costs(sc, plan.make_plan(sc), 1)}
     fine = costs["the submodel fine"]
     assert fine.remedy.startswith("submodel.levels without 'fine'") and costs["the global"].remedy == ""
-    monkeypatch.setattr(cost, "available_memory", lambda: 0.5 * fine.memory)
+    monkeypatch.setattr(cost, "local_memory", lambda: 0.5 * fine.memory)
     with pytest.raises(InputError, match=r"more memory .*; submodel.levels without 'fine' \(the plan's: coarse, mid"):
         cost.check(fine)
     monkeypatch.setattr(cost, "STEP_BUDGET", 0.5 * fine.steps)
-    monkeypatch.setattr(cost, "available_memory", lambda: 2.0 * fine.memory)
+    monkeypatch.setattr(cost, "local_memory", lambda: 2.0 * fine.memory)
     with pytest.raises(InputError, match=r"step budget .*\); submodel.levels without 'fine'"):
         cost.check(fine)
 

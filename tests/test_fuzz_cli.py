@@ -31,7 +31,7 @@ TINY = ["fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5"]
 # the harness's budgets: about 20 s of stepping and 1.5 GB at most for a run it lets through, and 20 s of estimated
 # wall time (a draw of simulation.end_time=1 with a coarse output interval ran the analytical model for minutes)
 SMALL = {"STEP_BUDGET": 2e5, "WORK_BUDGET": 2e8, "VALUE_BUDGET": 1e6, "TIME_BUDGET": 20.0,
-         "available_memory": lambda: 1.5e9}  # fmt: skip
+         "local_memory": lambda: 1.5e9}  # fmt: skip
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -43,7 +43,7 @@ def small_budgets():
         for name, value in SMALL.items():
             mp.setattr(cost, name, value)
         # a drawn --force must not lift them: with simulation.end_time=1 it ran the analytical model for minutes
-        mp.setattr(cost, "check", lambda c, force=False: check(c, False))
+        mp.setattr(cost, "check", lambda c, force=False, **kw: check(c, False, **kw))
         yield
 
 

@@ -139,7 +139,7 @@ def test_a_plans_analytical_run_records_a_bounded_history(scene_with, monkeypatc
     assert fine.end_time == plain.end_time
     assert fine.end_time / fine.output_interval == pytest.approx(plan.PLAN_SAMPLES)
     assert plain.output_interval == scene_with().output_interval  # the paper's 6001 samples: as the scene says
-    monkeypatch.setattr(cost, "available_memory", lambda: 1e6)  # [B]
+    monkeypatch.setattr(cost, "local_memory", lambda: 1e6)  # [B]
     with pytest.raises(InputError, match="analytical model"):
         plan.planning_summary(scene_with())
 

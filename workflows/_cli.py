@@ -153,12 +153,12 @@ def afford(
     from rods import cost
 
     for c in costs:  # the memory first (--force never lifts it): no probe for a run that cannot start
-        cost.check(c, force=True)
+        cost.check(c, force=True, comm=comm)
     if out is not None:  # nor the disk's room (rank 0's view: the ranks write into one folder)
         cost.check_disk(costs, out, comm)
     calibrated = cost.calibrated(costs, comm)
     for c in calibrated:
-        cost.check(c, args.force)
+        cost.check(c, args.force, memory=False)  # the memory checked above, on every rank alike
         log(c.describe())
     if line := cost.total(calibrated):  # several stages: their sum, and the one that is most of it
         log(line)
@@ -359,6 +359,7 @@ def _abort(message: str, code: int, at_once: bool = False) -> int:
         return code
     rank = mpi.COMM_WORLD.rank
     print(f"error on rank {rank}: {one_line(message)}; aborting all ranks", file=sys.stderr, flush=True)
+    _release()  # the folder's lock (rank 0's): the abort skips the teardown that releases it
     time.sleep(ABORT_GRACE)
     mpi.COMM_WORLD.Abort(code)
     return code
@@ -392,6 +393,7 @@ def _interrupted() -> int:
     code = _abort(
         "interrupted (in the set-up, the writing, or by a second signal: nothing partial to write)", EXIT_INTERRUPTED
     )
+    _release()  # the folder's lock, and the folder where the run wrote nothing yet (os._exit skips the teardown)
     sys.stderr.flush()
     sys.stdout.flush()
     os._exit(code)

@@ -32,7 +32,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         f"stations: {', '.join(s.name for s in scene.stations)} -> {out}"
     )
     _cli.outlook(scene, log)
-    _cli.afford(args, cost.analytical_cost(scene), log=log, out=out)
+    _cli.afford(args, cost.analytical_cost(scene), log=log, comm=comm, out=out)
     s = stages.analytical(scene, out, comm).summary
     log(json.dumps({k: s[k] for k in [*io.SUMMARY_KEYS[2:], "rigid_velocity_rod1", "rigid_velocity_rod2"]}, indent=1))
     _cli.status(s, comm.rank)

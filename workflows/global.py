@@ -47,7 +47,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
     if args.driver:  # its phase runs the analytical model to the first contact: within its budgets first
-        log(_cli.planning(cost.check(cost.analytical_cost(scene), args.force)))
+        log(_cli.planning(cost.check(cost.analytical_cost(scene), args.force, comm=comm)))
     phase = plan.driver_phase(scene) if args.driver else None  # [s] the driver's record, the submodels' end
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase
     _cli.backend(scene, comm.size)  # refusals before the plan, which names a folder a refused run never makes

@@ -35,7 +35,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     log, progress = _cli.rank0(comm)
     cases = args.case or list(verification.CASES)
     distinct(cases, "--case")  # a case given twice would run twice into its one folder
-    costs = [c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size, args.force)]
+    costs = [
+        c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size, args.force, comm)
+    ]
     for name in cases:
         _cli.backend(verification.case_scene(base, name, args.overrides), comm.size)
     log(f"plan: verification matrix, {len(cases)} case(s) of scene '{base.name}' ({', '.join(cases)}) -> {out}")

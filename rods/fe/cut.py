@@ -174,33 +174,48 @@ class CutRecorder:
         keys, coords, cells_local, places = _band_layout(meta)
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".h5.tmp")
-        m = self.model
-        with h5py.File(tmp, "w") as f:
-            f["times"] = self.times[:n]
-            for tag, (name, record) in enumerate(records):
-                ordered = np.empty((n, keys.size, gd))
-                for r, (to, rows) in enumerate(places):
-                    part = record[:n] if r == 0 else comm.recv(source=r, tag=tag)
-                    ordered[:, to] = part.reshape(n, -1, gd)[:, rows]
-                    del part
-                f[name] = ordered
-                del ordered
-            f["nodes"] = coords
-            f["cells"] = cells_local.astype(np.int64)
-            f.attrs["cell_type"] = self.cell_type
-            f.attrs["gdim"] = gd
-            f.attrs["kind"] = m.kind
-            f.attrs["axial"] = self.axial
-            f.attrs["dt"] = m.dt
-            f.attrs["every"] = self.every
-            f.attrs["halfwidth"] = self.halfwidth
-            f.attrs["cut_planes"] = np.array(self.planes)
-            f.attrs["scene_values"] = json.dumps(m.scene.as_dict())
-            f.attrs["note"] = "u = u_n [m], v = v_{n+1/2} [m/s] at t_n = times; nodes [m]"
-            f.attrs["record_id"] = uuid.uuid4().hex  # this recording's identity, wherever the file is copied
+        # a dot name, as the result files' (rods.io): a later run into the folder sweeps one a kill left
+        tmp = path.with_name(f".{path.name}.tmp")
+        try:
+            with h5py.File(tmp, "w") as f:
+                f["times"] = self.times[:n]
+                for tag, (name, record) in enumerate(records):  # one ordered copy at a time
+                    f[name] = _ordered(record[:n], places, keys.size, gd, comm, tag)
+                f["nodes"] = coords
+                f["cells"] = cells_local.astype(np.int64)
+                self._attributes(f)
+        except BaseException:  # a full disk: no half-written record left beside the results
+            tmp.unlink(missing_ok=True)
+            raise
         tmp.replace(path)
         comm.barrier()
+
+    def _attributes(self, f: Any) -> None:
+        """The record's attributes (module docstring), on the open HDF5 file ``f``."""
+        m = self.model
+        f.attrs["cell_type"] = self.cell_type
+        f.attrs["gdim"] = self.gdim
+        f.attrs["kind"] = m.kind
+        f.attrs["axial"] = self.axial
+        f.attrs["dt"] = m.dt
+        f.attrs["every"] = self.every
+        f.attrs["halfwidth"] = self.halfwidth
+        f.attrs["cut_planes"] = np.array(self.planes)
+        f.attrs["scene_values"] = json.dumps(m.scene.as_dict())
+        f.attrs["note"] = "u = u_n [m], v = v_{n+1/2} [m/s] at t_n = times; nodes [m]"
+        f.attrs["record_id"] = uuid.uuid4().hex  # this recording's identity, wherever the file is copied
+
+
+def _ordered(own: np.ndarray, places: list, n_keys: int, gd: int, comm: MPI.Comm, tag: int) -> np.ndarray:
+    """Rank 0's record (n samples x band entries) in the band's key order: its own part ``own`` and each other
+    rank's, received in turn (tag ``tag``) and placed (``places``: rank -> (key positions, its rows))."""
+    n = own.shape[0]
+    ordered = np.empty((n, n_keys, gd))
+    for r, (to, rows) in enumerate(places):
+        part = own if r == 0 else comm.recv(source=r, tag=tag)
+        ordered[:, to] = part.reshape(n, -1, gd)[:, rows]
+        del part
+    return ordered
 
 
 def _band_layout(

@@ -63,8 +63,10 @@ def _capped_rod(rod: Rod, a: float, refine: float) -> tuple[dolfinx.mesh.Mesh, d
     distance threshold)."""
     import gmsh
 
+    from rods.fe.mesh import start_gmsh
+
     h = rod.cap_height
-    gmsh.initialize()
+    start_gmsh()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("rod_end")

@@ -56,9 +56,23 @@ from petsc4py import PETSc
 from rods.fe.backend import PETSC, Backend
 from rods.stability import SWITCHING, stable_step, switching_step  # the closed forms (no PETSc)
 
-__all__ = ["EIGEN_TOL", "SWITCHING", "CentralDifference", "largest_eigenvalue", "stable_step", "switching_step"]
+__all__ = [
+    "EIGEN_TOL",
+    "SWITCHING",
+    "CentralDifference",
+    "NotConverged",
+    "largest_eigenvalue",
+    "stable_step",
+    "switching_step",
+]
 
 EIGEN_TOL = 1e-4  # relative residual of the ω_max² Ritz pair [-] (see the module docstring, "Stability")
+
+
+class NotConverged(RuntimeError):
+    """An eigenvalue iteration that did not converge: its test is on reduced quantities, so every rank raises it
+    together (not any RuntimeError: PETSc's errors are RuntimeErrors too, and one raised on one rank only, caught
+    as this, left that rank marching on while the others waited in SLEPc, a hang: an audit, 2026-12-07)."""
 
 
 class _Shell:
@@ -84,7 +98,7 @@ def largest_eigenvalue(
     residual, so a result that must not depend on the rank count starts from a function of the node positions
     (:func:`rods.fe.timestep.start_vector`).
 
-    RuntimeError if SLEPc does not converge (:func:`rods.fe.timestep.time_step` then marches at the Gershgorin
+    :class:`NotConverged` if SLEPc does not converge (:func:`rods.fe.timestep.time_step` then marches at the Gershgorin
     bound, a true upper bound).
     """
     from slepc4py import SLEPc
@@ -109,7 +123,7 @@ def largest_eigenvalue(
     eps.destroy()
     A.destroy()
     if not converged:
-        raise RuntimeError(f"Krylov-Schur: largest eigenvalue not converged to {tol:g} in {its} restarts")
+        raise NotConverged(f"Krylov-Schur: largest eigenvalue not converged to {tol:g} in {its} restarts")
     return float(λ)
 
 

@@ -344,6 +344,25 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     return info
 
 
+def start_gmsh() -> None:
+    """``gmsh.initialize`` keeping this process's SIGINT and SIGTERM handlers (rods.interrupt's): gmsh sets SIGTERM's
+    C-level handler back to the default, so a SIGTERM during the set-up (a SLURM time limit in a 3D mesh's
+    generation) killed the rank, exit 15, no line, the folder's lock left (an audit, 2026-12-07; Python's record of
+    the handler stayed, so reinstalling it restores the C-level one). Not interruptible: gmsh's own SIGINT handler
+    would leave the mesh half-built without telling Python."""
+    import signal
+    import threading
+
+    import gmsh
+
+    keep = threading.current_thread() is threading.main_thread()  # only the main thread may set handlers
+    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)} if keep else {}
+    gmsh.initialize(interruptible=False)
+    for s, handler in handlers.items():
+        if handler is not None:  # None: set from outside Python, nothing to put back
+            signal.signal(s, handler)
+
+
 def gmsh_to_dolfinx(build: Callable[[], Any], comm: MPI.Comm, gdim: int) -> tuple[Any, Any]:
     """Run ``build()`` (which fills the current gmsh model) on rank 0 only, broadcast what it returns,
     and distribute the mesh with dolfinx.io.gmsh.model_to_mesh; returns (MeshData, build's result)."""
@@ -353,7 +372,7 @@ def gmsh_to_dolfinx(build: Callable[[], Any], comm: MPI.Comm, gdim: int) -> tupl
     started = False
     if comm.rank == 0:
         if not gmsh.isInitialized():
-            gmsh.initialize(interruptible=False)
+            start_gmsh()
             started = True
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("rods")

@@ -33,7 +33,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from rods.fe.backend import Backend
-from rods.fe.explicit import EIGEN_TOL, largest_eigenvalue
+from rods.fe.explicit import EIGEN_TOL, NotConverged, largest_eigenvalue
 from rods.fe.forms import assemble_csr
 from rods.fe.mesh import cell_sizes
 from rods.fe.mesh3d import cell_sizes_3d
@@ -167,7 +167,7 @@ def largest_eigenvalue_on(
     the residual direction is appended. Converged when the largest Ritz pair's residual
     ‖A y - θ y‖ = β |s_last| <= ``tol`` θ (SLEPc's relative criterion and the same tolerance as
     :func:`rods.fe.explicit.largest_eigenvalue`), returned as θ + β |s_last|; the same deterministic start
-    vector (or ``start``). RuntimeError after 100 n_cv products without convergence.
+    vector (or ``start``). :class:`rods.fe.explicit.NotConverged` after 100 n_cv products without convergence.
     (CuPy's own ``eigsh`` tests an absolute residual, which an operator of norm ~1e14 never meets.)"""
     xp = backend.xp
     ncv = max(2, min(ncv, n))
@@ -197,7 +197,7 @@ def largest_eigenvalue_on(
         if residual <= tol * abs(θ[-1]) or β == 0.0:
             return float(θ[-1] + residual)
         if products >= 100 * ncv:
-            raise RuntimeError(f"Lanczos: largest eigenvalue not converged after {products} products")
+            raise NotConverged(f"Lanczos: largest eigenvalue not converged after {products} products")
         top = S[:, -keep:]  # thick restart: the keep largest Ritz vectors, then the residual direction
         V[:keep] = backend.asarray(np.ascontiguousarray(top.T)) @ V
         V[keep] = w / β
@@ -249,7 +249,7 @@ def _omega_or_bound(model: SetUpModel, with_contact: bool, K_device: Any, ω_bou
     does not converge (a smaller, safe step: never a Ritz value that may lie below ω_max)."""
     try:
         return omega_max(model, with_contact, K_device)
-    except RuntimeError as e:
+    except NotConverged as e:
         warnings.warn(f"{e}; the step is set from the Gershgorin bound (smaller, safe)", RuntimeWarning, stacklevel=2)
         return ω_bound
 

@@ -136,7 +136,9 @@ def case_scene(base: Scene, name: str, extra: Sequence[str] = ()) -> Scene:
         ) from None  # fmt: skip
 
 
-def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int, force: bool = False) -> list[Any]:
+def case_costs(
+    base: Scene, name: str, extra: Sequence[str], ranks: int, force: bool = False, comm: Any = None
+) -> list[Any]:
     """The estimated costs (rods.cost) of case ``name``'s runs: its analytical model, its global model and the
     finer global over the contact phase (:func:`finer`); a refused setting raises as the run would, before it,
     and so does an ``end_time`` the analytical first contact outlasts (SceneError: no duration to compare). The
@@ -145,7 +147,7 @@ def case_costs(base: Scene, name: str, extra: Sequence[str], ranks: int, force: 
     from rods import cost
 
     sc = case_scene(base, name, extra)
-    analytical = cost.check(cost.analytical_cost(sc), force)
+    analytical = cost.check(cost.analytical_cost(sc), force, comm=comm)  # comm: every rank refuses alike
     first = plan.first_contact_summary(sc)
     if checks.contact_warning(first, sc.end_time, sc) is not None:  # the matrix compares its duration: it must end
         raise SceneError(

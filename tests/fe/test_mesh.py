@@ -215,3 +215,36 @@ def test_the_tip_row_is_the_meshers_own(overrides, submodel):
         row = tip_row(layout) * np.array([1.0, sign])  # Rod 1 lies at z < 0
         found = np.linalg.norm(x[None, :, :] - row.reshape(-1, 1, 2), axis=2).min(axis=1)
         assert found.max() < 1e-9 * layout.rod.diameter, found.max()
+
+
+def _caught(sig: int) -> bool:
+    """Whether this process has a handler installed for ``sig`` at the C level (/proc/self/status, SigCgt)."""
+    for line in open("/proc/self/status"):
+        if line.startswith("SigCgt:"):
+            return bool(int(line.split()[1], 16) >> (sig - 1) & 1)
+    pytest.skip("no /proc/self/status")
+
+
+def test_gmsh_keeps_the_interrupt_handlers():
+    """rods.fe.mesh.start_gmsh: gmsh.initialize reset SIGTERM's C-level handler to the default (SIGTERM in a mesh's
+    generation killed the rank, exit 15, no line); the handlers set before it stay, Python's and the C level's."""
+    import signal
+
+    import gmsh
+
+    from rods.fe.mesh import start_gmsh
+
+    def handler(*_):
+        pass
+
+    before = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        start_gmsh()
+        try:
+            assert _caught(signal.SIGTERM) and _caught(signal.SIGINT)
+            assert signal.getsignal(signal.SIGTERM) is handler and signal.getsignal(signal.SIGINT) is handler
+        finally:
+            gmsh.finalize()
+    finally:
+        for s, h in before.items():
+            signal.signal(s, h)

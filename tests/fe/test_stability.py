@@ -125,9 +125,10 @@ def test_an_unconverged_eigenvalue_solve_marches_at_the_gershgorin_bound(scene_w
     """Where Krylov-Schur does not converge (a Ritz value may then lie below ω_max), the step comes from the
     Gershgorin bound, a true upper bound of ω_max, with a warning: a smaller step, never an unstable one."""
     from rods.fe import timestep
+    from rods.fe.explicit import NotConverged
 
     def fail(*_args, **_kw):
-        raise RuntimeError("Krylov-Schur: largest eigenvalue not converged")
+        raise NotConverged("Krylov-Schur: largest eigenvalue not converged")
 
     ref = ExplicitModel(scene_with(*COARSE))
     monkeypatch.setattr(timestep, "largest_eigenvalue", fail)
@@ -135,6 +136,22 @@ def test_an_unconverged_eigenvalue_solve_marches_at_the_gershgorin_bound(scene_w
         fe = ExplicitModel(scene_with(*COARSE))
     assert fe.dt_critical == pytest.approx(fe.dt_gershgorin, rel=1e-14) and fe.dt_gershgorin < ref.dt_critical
     assert fe.dt == pytest.approx(0.8 * fe.dt_gershgorin)
+
+
+def test_another_error_in_the_eigenvalue_solve_is_no_fallback(scene_with, monkeypatch):
+    """A PETSc error (a RuntimeError, raised on one rank only where its cause is local) is not a solve that did not
+    converge: it propagates (the entry point aborts every rank); taken as one, that rank marched on at the
+    Gershgorin step while the others waited in SLEPc (an audit, 2026-12-07)."""
+    from petsc4py import PETSc
+
+    from rods.fe import timestep
+
+    def fail(*_args, **_kw):
+        raise PETSc.Error(55)  # out of memory
+
+    monkeypatch.setattr(timestep, "largest_eigenvalue", fail)
+    with pytest.raises(PETSc.Error):
+        ExplicitModel(scene_with(*COARSE))
 
 
 @pytest.mark.slow  # 11-14 s: why the limit exists; the limit's refusal is in the default suite
