@@ -35,8 +35,10 @@ _state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0}
 # again later still stops at once.
 REPEAT_GRACE = 5.0
 # a signal whose Python handler has not run this long after it arrived finds the main thread stuck in a call (a
-# collective another rank left) or in a long one (a 3D mesh's generation): the watcher stops the process [s]
-STUCK_GRACE = 10.0
+# collective another rank left) or in a long one (a 3D mesh's generation): the watcher stops the process [s]. Longer
+# than a rank may wait in a collective for another's file (a 3D field frame of 7.6M DOFs is ~0.7 GB, a cut record
+# several GB): a loop's stop at its next check, checkpointed, is worth the wait; SLURM's default KillWait is as long
+STUCK_GRACE = 30.0
 RACE = 0.5  # [s] see _watcher
 EXIT_INTERRUPTED = 130
 _watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wakeup fd it replaced
