@@ -23,6 +23,7 @@ import socket
 import sys
 import threading
 import time
+from collections.abc import Callable
 from contextlib import contextmanager
 from typing import Any
 
@@ -56,12 +57,15 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     raise KeyboardInterrupt
 
 
-def install() -> dict[int, Any]:
-    """Route SIGINT and SIGTERM through the request flag (main thread only), with the watcher (module docstring);
-    the previous handlers."""
+def install(cleanup: Callable[[], None] | None = None) -> dict[int, Any]:
+    """Route SIGINT and SIGTERM through the request flag (main thread only), with the watcher (module docstring),
+    which calls ``cleanup`` before it stops the process (the entry points release their folder); the previous
+    handlers."""
     _state["installed"] = 1
+    if cleanup is not None:
+        _watch["cleanup"] = cleanup
     previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
-    if not _watch:
+    if "thread" not in _watch:
         reader, writer = socket.socketpair()
         writer.setblocking(False)  # the C-level handler must never block on it
         _watch["old_fd"] = signal.set_wakeup_fd(writer.fileno(), warn_on_full_buffer=False)
@@ -76,7 +80,7 @@ def uninstall(previous: dict[int, Any]) -> None:
     _state["installed"] = 0
     for s, h in previous.items():
         signal.signal(s, h)
-    if _watch:
+    if "thread" in _watch:
         signal.set_wakeup_fd(_watch["old_fd"])
         reader, writer = _watch["sockets"]
         writer.close()  # the watcher's read returns empty: it ends
@@ -100,7 +104,7 @@ def _watcher(reader: socket.socket) -> None:
         # switch, milliseconds): a handling within RACE before the wake counts as this signal's
         arrived = time.monotonic() - RACE
         while time.monotonic() - arrived < STUCK_GRACE:
-            if _state["handled"] >= arrived or not _watch:
+            if _state["handled"] >= arrived or "thread" not in _watch:
                 break
             time.sleep(0.1)
         else:
@@ -119,6 +123,11 @@ def _stuck() -> None:
         file=sys.stderr,
         flush=True,
     )
+    if (cleanup := _watch.get("cleanup")) is not None:
+        try:
+            cleanup()
+        except Exception:  # noqa: BLE001, S110  (the stop must happen whatever the cleanup meets)
+            pass
     if several:
         mpi.COMM_WORLD.Abort(EXIT_INTERRUPTED)
     os._exit(EXIT_INTERRUPTED)

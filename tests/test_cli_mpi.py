@@ -152,8 +152,9 @@ def test_memory_short_on_one_rank_is_refused_by_every_rank(tmp_path, script):
 @pytest.mark.mpi
 def test_a_signal_ends_a_rank_stuck_in_a_collective(tmp_path):
     """Rank 1 leaves (as one rank's refusal did), rank 0 waits in a barrier for ever: SIGTERM to mpirun still ends
-    the job, one line, exit 130, within rods.interrupt.STUCK_GRACE (2 s here). Python's handler never runs in a rank
-    blocked in MPI: SIGTERM did nothing, only SIGKILL ended such a hang (an audit, 2026-12-07)."""
+    the job, one line, exit 130, within rods.interrupt.STUCK_GRACE (2 s here), the folder released. Python's
+    handler never runs in a rank blocked in MPI: SIGTERM did nothing, only SIGKILL ended such a hang (an audit,
+    2026-12-07)."""
     script = tmp_path / "stuck_on_rank0.py"
     script.write_text(
         textwrap.dedent(
@@ -167,7 +168,10 @@ def test_a_signal_ends_a_rank_stuck_in_a_collective(tmp_path):
             interrupt.STUCK_GRACE = 2.0
 
             def main(argv=None):
-                print("started", flush=True)
+                from pathlib import Path
+                _cli.hold(Path({str(tmp_path / "run")!r}), MPI.COMM_WORLD)
+                if MPI.COMM_WORLD.rank == 0:
+                    print("started", flush=True)
                 if MPI.COMM_WORLD.rank == 1:
                     raise SystemExit(2)  # leaves without the others, as a refusal on one rank did
                 MPI.COMM_WORLD.barrier()  # for ever
@@ -193,3 +197,43 @@ def test_a_signal_ends_a_rank_stuck_in_a_collective(tmp_path):
     assert p.returncode == 130, err[-2000:]
     assert time.monotonic() - t0 < 30
     assert "error on rank 0: interrupted, but this process did not return from a call within 2 s" in err
+    assert not (tmp_path / "run").exists()  # the watcher released the folder (made for the run, empty) first
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("who", ["rank 1", "every rank"])
+def test_a_refusal_after_the_folder_is_held_never_hangs(tmp_path, who):
+    """An input refused after the folder is held (a checkpoint's, a cut record's): refused by every rank alike, one
+    line, exit 2; by one rank alone (its node's view of a file), that rank aborts the others, exit 2, its line. Rank
+    0 waited for ever in its next collective while rank 1 had exited 2 (an audit, 2026-12-07)."""
+    script = tmp_path / "refuse_after_hold.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            import sys
+            from pathlib import Path
+            sys.path.insert(0, {str(ROOT / "workflows")!r})
+            from mpi4py import MPI
+            import _cli
+            from rods.preflight import InputError
+
+            def main(argv=None):
+                comm = MPI.COMM_WORLD
+                _cli.hold(Path({str(tmp_path / "run")!r}), comm)
+                if {who!r} == "every rank" or comm.rank == 1:
+                    raise InputError("--restart", "x", "a checkpoint of another scene", "run afresh")
+                comm.barrier()  # for ever without the agreement
+                return 0
+
+            _cli.entry(main)
+            """
+        )
+    )
+    cmd = [str(MPIRUN), "-n", "2", sys.executable, str(script)]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL)
+    assert p.returncode == 2, p.stderr[-2000:]
+    errors = [ln for ln in p.stderr.splitlines() if ln.startswith("error")]
+    expected = "error: " if who == "every rank" else "error on rank 1: "
+    assert len(errors) == 1 and errors[0].startswith(expected + "--restart = 'x': a checkpoint"), p.stderr
+    if who == "every rank":
+        assert not (tmp_path / "run").exists()  # released and removed, as it was made for the run

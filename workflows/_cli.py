@@ -253,6 +253,10 @@ def scene_default(args: argparse.Namespace, stage: str, scene: Scene) -> Path:
 
 _HELD: list[FolderClaim] = []  # the output folder this process's run holds (rank 0's), released by guarded()
 _HOLDING: list[Path] = []  # the folder held, on every rank (the same decisions on all)
+_AGREE: list[Any] = []  # a duplicate of the run's communicator, made as it holds the folder: see _refused_by_all
+# [s] how long a rank refusing input after the folder is held waits for the others to refuse too (they check the same
+# files at the same point, milliseconds apart) before it takes its refusal for its own and aborts them all
+AGREE_WAIT = 2.0
 
 
 def hold(out: Path, comm: Any = None) -> None:
@@ -273,8 +277,26 @@ def hold(out: Path, comm: Any = None) -> None:
             refusal = (e.what, e.value, e.problem, e.remedy)
     if comm is not None and comm.size > 1:
         refusal = comm.bcast(refusal, root=0)
+        if not _AGREE:  # collective, as this is: every rank holds the folder together
+            _AGREE.append(comm.Dup())
     if refusal is not None:
         raise InputError(*refusal)
+
+
+def _refused_by_all() -> bool:
+    """Whether every rank refuses the input too (each reaches a barrier on :data:`_AGREE` within
+    :data:`AGREE_WAIT`): the refusals after the folder is held are decided on every rank alike, but one taken by
+    one rank alone (its node's view of a file) left the others waiting in their next collective, a hang (an audit,
+    2026-12-07). True without several ranks. On a duplicate communicator: the barrier never meets the run's own
+    collectives."""
+    if not _AGREE:
+        return True
+    request, deadline = _AGREE[0].Ibarrier(), time.monotonic() + AGREE_WAIT
+    while not request.Test():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.01)
+    return True
 
 
 def _release() -> None:
@@ -282,6 +304,7 @@ def _release() -> None:
     while _HELD:
         _HELD.pop().release()
     _HOLDING.clear()
+    _AGREE.clear()  # not freed (collective): MPI's finalisation does
 
 
 def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
@@ -358,6 +381,8 @@ def _abort(message: str, code: int, at_once: bool = False) -> int:
             os._exit(code)
         return code
     rank = mpi.COMM_WORLD.rank
+    if rank and code == EXIT_INTERRUPTED:  # a signal reaches every rank: rank 0's line and abort first, one line
+        time.sleep(2 * ABORT_GRACE)
     print(f"error on rank {rank}: {one_line(message)}; aborting all ranks", file=sys.stderr, flush=True)
     _release()  # the folder's lock (rank 0's): the abort skips the teardown that releases it
     time.sleep(ABORT_GRACE)
@@ -414,11 +439,13 @@ def guarded(
         # planning, printed PETSc's "Caught signal number 15" block and MPI_Abort(59) instead of exit 130)
         if "rods.fe" in sys.modules:
             from petsc4py import PETSc  # noqa: F401
-        previous = interrupt.install()
+        previous = interrupt.install(cleanup=_release)
         pipe = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
         try:
             return main(argv)
         except (SceneError, InputError) as e:
+            if _HOLDING and not _refused_by_all():  # this rank's alone: the others must not wait for it
+                return _abort(str(e), EXIT_BAD_INPUT)
             fail(str(e))
         except FileNotFoundError as e:
             if not _HOLDING:  # an input path given wrong; in a run (a file removed under it) a failure, below
