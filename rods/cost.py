@@ -67,11 +67,11 @@ __all__ = [
     "analytical_steps",
     "available_disk",
     "available_memory",
-    "local_memory",
     "calibrated",
     "check",
     "check_disk",
     "fe_cost",
+    "local_memory",
     "machine_speed",
     "total",
 ]

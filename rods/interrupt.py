@@ -11,8 +11,9 @@ Python runs a handler only when the main thread is back in the interpreter: a ra
 another rank has left (a hang) never ran it, and SIGTERM and Ctrl-C did nothing; only SIGKILL ended it (an audit,
 2026-12-07). So :func:`install` also starts a watcher thread woken through :func:`signal.set_wakeup_fd`, which
 Python's C-level handler writes at once: where the handler has not run :data:`STUCK_GRACE` after a signal, the
-watcher stops the process itself (one line, exit 130; under MPI every rank aborted). It needs the main thread to
-have released the GIL, as MPI's blocking calls through mpi4py do.
+watcher stops the process itself (one line, exit 130; under MPI every rank aborted), through the entry point's own
+stop where it gave one (:func:`install`). It needs the main thread to have released the GIL, as MPI's blocking
+calls through mpi4py do: a call that holds it (SLEPc's solve) is not covered.
 """
 
 from __future__ import annotations
@@ -38,10 +39,13 @@ REPEAT_GRACE = 5.0
 # a signal whose Python handler has not run this long after it arrived finds the main thread stuck in a call (a
 # collective another rank left) or in a long one (a 3D mesh's generation): the watcher stops the process [s]. Longer
 # than a rank may wait in a collective for another's file (a 3D field frame of 7.6M DOFs is ~0.7 GB, a cut record
-# several GB): a loop's stop at its next check, checkpointed, is worth the wait; SLURM's default KillWait is as long
-STUCK_GRACE = 30.0
-RACE = 0.5  # [s] see _watcher
-EXIT_INTERRUPTED = 130
+# several GB): a loop's stop at its next check, checkpointed, is worth the wait. Below SLURM's default KillWait (30 s),
+# whose SIGKILL would otherwise come first, without the line or the folder's release
+STUCK_GRACE = 20.0
+# [s] how long before the watcher woke the handler may have run for this signal: the watcher takes the GIL after the
+# main thread's next switch (milliseconds), so a handler that ran just before it woke counts as this signal's
+HANDLER_LAG = 0.5
+EXIT_INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT)
 _watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wakeup fd it replaced
 
 
@@ -57,13 +61,13 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     raise KeyboardInterrupt
 
 
-def install(cleanup: Callable[[], None] | None = None) -> dict[int, Any]:
+def install(stop: Callable[[str, int], Any] | None = None) -> dict[int, Any]:
     """Route SIGINT and SIGTERM through the request flag (main thread only), with the watcher (module docstring),
-    which calls ``cleanup`` before it stops the process (the entry points release their folder); the previous
-    handlers."""
+    which stops a stuck process by ``stop(message, 130)`` (an entry point's abort: its line, its folder released,
+    every rank aborted; default: the line and exit); the previous handlers."""
     _state["installed"] = 1
-    if cleanup is not None:
-        _watch["cleanup"] = cleanup
+    if stop is not None:
+        _watch["stop"] = stop
     previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
     if "thread" not in _watch:
         reader, writer = socket.socketpair()
@@ -100,35 +104,34 @@ def _watcher(reader: socket.socket) -> None:
             return
         if not {signal.SIGINT, signal.SIGTERM} & set(data):
             continue
-        # [s] the handler may have run before this thread woke (it takes the GIL after the main thread's next
-        # switch, milliseconds): a handling within RACE before the wake counts as this signal's
-        arrived = time.monotonic() - RACE
-        while time.monotonic() - arrived < STUCK_GRACE:
-            if _state["handled"] >= arrived or "thread" not in _watch:
-                break
+        earliest = time.monotonic() - HANDLER_LAG  # [s] the signal arrived after this
+        while _waiting(earliest) and time.monotonic() - earliest < STUCK_GRACE:
             time.sleep(0.1)
-        else:
+        if _waiting(earliest):  # checked once more after the last sleep: a handler that ran in it stands it down
             _stuck()
 
 
+def _waiting(earliest: float) -> bool:
+    """Whether the handler has not run since ``earliest`` [s] and the watcher is still wanted (installed)."""
+    return _state["handled"] < earliest and "thread" in _watch
+
+
 def _stuck() -> None:
-    """The signal's handler never ran: the main thread does not return from a call. One line, then exit 130 (under
-    MPI every rank aborted: the others may wait for this one)."""
-    mpi = sys.modules.get("mpi4py.MPI")
-    several = mpi is not None and mpi.Is_initialized() and not mpi.Is_finalized() and mpi.COMM_WORLD.size > 1
-    rank = f" on rank {mpi.COMM_WORLD.rank}" if several else ""
-    print(
-        f"error{rank}: interrupted, but this process did not return from a call within {STUCK_GRACE:g} s (another "
-        "rank waiting in a collective this one left, or a long set-up step): stopped without writing",
-        file=sys.stderr,
-        flush=True,
+    """The signal's handler never ran: the main thread does not return from a call. Stop: the entry point's
+    ``stop`` (:func:`install`), else one line and exit 130 (under MPI every rank aborted: the others may wait for
+    this one)."""
+    message = (
+        f"interrupted, but this process did not return from a call within {STUCK_GRACE:g} s (another rank waiting "
+        "in a collective this one left, or a long set-up step): stopped without writing"
     )
-    if (cleanup := _watch.get("cleanup")) is not None:
+    if (stop := _watch.get("stop")) is not None:
         try:
-            cleanup()
-        except Exception:  # noqa: BLE001, S110  (the stop must happen whatever the cleanup meets)
+            stop(message, EXIT_INTERRUPTED)
+        except BaseException:  # noqa: BLE001, S110  (the stop below must happen whatever this one met)
             pass
-    if several:
+    print(f"error: {message}", file=sys.stderr, flush=True)
+    mpi = sys.modules.get("mpi4py.MPI")
+    if mpi is not None and mpi.Is_initialized() and not mpi.Is_finalized() and mpi.COMM_WORLD.size > 1:
         mpi.COMM_WORLD.Abort(EXIT_INTERRUPTED)
     os._exit(EXIT_INTERRUPTED)
 
@@ -148,8 +151,8 @@ def reset() -> None:
 @contextmanager
 def armed():
     """While a time loop runs: signals are requests, checked collectively by the loop. Where the entry point
-    installed the handler, it is installed again here: the mesher (gmsh) resets the C-level SIGTERM handler
-    to the default during the set-up while Python's record of it stays unchanged."""
+    installed the handler, it is installed again here, a fallback: a C library that resets the C-level handler
+    while Python's record of it stays (gmsh does, rods.fe.mesh.start_gmsh puts it back) leaves it in place again."""
     if _state["installed"]:
         install()
     _state["armed"] += 1

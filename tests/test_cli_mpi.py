@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import select
 import signal
 import subprocess
 import sys
@@ -186,6 +187,7 @@ def test_a_signal_ends_a_rank_stuck_in_a_collective(tmp_path):
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
     )  # fmt: skip
     try:
+        assert select.select([p.stdout], [], [], 60)[0], "the ranks did not start within 60 s"
         assert p.stdout.readline().strip() == "started"
         time.sleep(2.0)  # both ranks in main, rank 0 in the barrier
         t0 = time.monotonic()

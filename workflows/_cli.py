@@ -36,7 +36,8 @@ from rods.scene import RESULT_NEUTRAL, Scene, SceneError, load_scene, parse_over
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
 SCENES = Path(__file__).resolve().parent / "scenes"
-EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED = 2, 1, 130
+EXIT_BAD_INPUT, EXIT_FAILED = 2, 1
+EXIT_INTERRUPTED = interrupt.EXIT_INTERRUPTED
 
 
 class _Parser(argparse.ArgumentParser):
@@ -253,10 +254,10 @@ def scene_default(args: argparse.Namespace, stage: str, scene: Scene) -> Path:
 
 _HELD: list[FolderClaim] = []  # the output folder this process's run holds (rank 0's), released by guarded()
 _HOLDING: list[Path] = []  # the folder held, on every rank (the same decisions on all)
-_AGREE: list[Any] = []  # a duplicate of the run's communicator, made as it holds the folder: see _refused_by_all
-# [s] how long a rank refusing input after the folder is held waits for the others to refuse too (they check the same
-# files at the same point, milliseconds apart) before it takes its refusal for its own and aborts them all
-AGREE_WAIT = 2.0
+_AGREE: list[Any] = []  # a duplicate of MPI's world, made as a command starts under MPI: see _refused_by_all
+# [s] how long a rank refusing input waits for the others to refuse too (they check the same input at the same point,
+# milliseconds apart) before it takes its refusal for its own and aborts them all
+AGREE_WAIT = 5.0
 
 
 def hold(out: Path, comm: Any = None) -> None:
@@ -277,26 +278,35 @@ def hold(out: Path, comm: Any = None) -> None:
             refusal = (e.what, e.value, e.problem, e.remedy)
     if comm is not None and comm.size > 1:
         refusal = comm.bcast(refusal, root=0)
-        if not _AGREE:  # collective, as this is: every rank holds the folder together
-            _AGREE.append(comm.Dup())
     if refusal is not None:
         raise InputError(*refusal)
 
 
 def _refused_by_all() -> bool:
     """Whether every rank refuses the input too (each reaches a barrier on :data:`_AGREE` within
-    :data:`AGREE_WAIT`): the refusals after the folder is held are decided on every rank alike, but one taken by
-    one rank alone (its node's view of a file) left the others waiting in their next collective, a hang (an audit,
-    2026-12-07). True without several ranks. On a duplicate communicator: the barrier never meets the run's own
-    collectives."""
+    :data:`AGREE_WAIT`): refusals are decided on every rank alike, but one taken by one rank alone (its node's free
+    memory, its view of a file) left the others waiting in their next collective, a hang (an audit, 2026-12-07).
+    True without several ranks. On a duplicate communicator: the barrier never meets the command's own collectives.
+    A signal while it waits stops the command (exit 130)."""
     if not _AGREE:
         return True
     request, deadline = _AGREE[0].Ibarrier(), time.monotonic() + AGREE_WAIT
-    while not request.Test():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.01)
+    try:
+        while not request.Test():
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.01)
+    except KeyboardInterrupt:
+        _interrupted()
     return True
+
+
+def _refuse(message: str) -> int:
+    """Exit 2 with one line where every rank refuses alike (:func:`fail`), else this rank's line and every rank
+    aborted (:func:`_refused_by_all`)."""
+    if not _refused_by_all():  # this rank's alone: the others must not wait for it
+        return _abort(message, EXIT_BAD_INPUT)
+    fail(message)
 
 
 def _release() -> None:
@@ -304,7 +314,6 @@ def _release() -> None:
     while _HELD:
         _HELD.pop().release()
     _HOLDING.clear()
-    _AGREE.clear()  # not freed (collective): MPI's finalisation does
 
 
 def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
@@ -369,7 +378,7 @@ def _abort(message: str, code: int, at_once: bool = False) -> int:
     ``at_once``: one process ends here too, without the teardown (a writer whose file failed throws again as it is
     destroyed: ADIOS2's on a full disk ended the process by SIGABRT, exit 134, after the line)."""
     mpi = _mpi()
-    if os.environ.get("RODS_TRACEBACK"):
+    if os.environ.get("RODS_TRACEBACK") and sys.exc_info()[0] is not None:
         import traceback
 
         traceback.print_exc()
@@ -439,29 +448,29 @@ def guarded(
         # planning, printed PETSc's "Caught signal number 15" block and MPI_Abort(59) instead of exit 130)
         if "rods.fe" in sys.modules:
             from petsc4py import PETSc  # noqa: F401
-        previous = interrupt.install(cleanup=_release)
+        previous = interrupt.install(stop=lambda message, code: _abort(message, code, at_once=True))
         pipe = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+        if (mpi := _mpi()) is not None and mpi.COMM_WORLD.size > 1 and not _AGREE:  # every rank starts here
+            _AGREE.append(mpi.COMM_WORLD.Dup())  # kept for the process: freeing it is collective too
         try:
             return main(argv)
         except (SceneError, InputError) as e:
-            if _HOLDING and not _refused_by_all():  # this rank's alone: the others must not wait for it
-                return _abort(str(e), EXIT_BAD_INPUT)
-            fail(str(e))
+            return _refuse(str(e))
         except FileNotFoundError as e:
             if not _HOLDING:  # an input path given wrong; in a run (a file removed under it) a failure, below
-                fail(f"{e.filename or e}: no such file or folder (check the path)")
+                return _refuse(f"{e.filename or e}: no such file or folder (check the path)")
             return _abort(f"{e.filename or e}: removed while the run used it (run again)", EXIT_FAILED)
         except PermissionError as e:
             if not _HOLDING:  # a path given that this user cannot reach (a folder on it not searchable)
-                fail(f"{e.filename or e}: permission denied (a folder on its path cannot be read or searched by this "
-                     "user); give a path you can reach")  # fmt: skip
+                return _refuse(f"{e.filename or e}: permission denied (a folder on its path cannot be read or "
+                               "searched by this user); give a path you can reach")  # fmt: skip
             return _abort(f"PermissionError: {e} (RODS_TRACEBACK=1 shows where)", EXIT_FAILED)
         except KeyboardInterrupt:
             return _interrupted()
         except Exception as e:
             if isinstance(e, OSError) and e.errno == errno.ENAMETOOLONG:  # a path given (--scene, --global, base)
-                fail(f"{short(str(e.filename))}: a name in this path is longer than the file system allows (give a "
-                     "shorter one)")  # fmt: skip
+                return _refuse(f"{short(str(e.filename))}: a name in this path is longer than the file system allows "
+                               "(give a shorter one)")  # fmt: skip
             code = _stopped(e)
             if code is not None:
                 return code
