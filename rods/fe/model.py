@@ -212,32 +212,17 @@ class ExplicitModel:
         if self.scene["fe.contact"] == "penalty" and self.scene["fe.contact_damping"] > 0:
             self.contact.set_damping(self.scene["fe.contact_damping"], self.inv_mass, self.dt)
 
-    def _contact_text(self) -> str:
-        sc = self.scene
-        if sc["fe.contact"] == "kinematic":
-            return "kinematic (forward-increment Lagrange multipliers, no penalty; dissipation counted)"
-        return (
-            f"penalty {self.ε_pen:.4g} Pa/m ({sc['fe.penalty']:g} x E*/h, "
-            f"E* = {self.E_star:.4g} Pa, h = {self.h_normal:.4g} m)"
-        )
-
     def plan(self) -> dict[str, Any]:
         """What will run (printed by the workflow before the time loop)."""
         sc, rm = self.scene, self.rm
-        mesh_text = getattr(rm, "description", None) or (
-            f"{rm.n_radial} radial{' at the tips' if any(rm.coarsened) else ''} x ({rm.n_axial[0]} + {rm.n_axial[1]}) "
-            f"axial Q{sc['fe.degree']} cells, "
-            f"h_r = {rm.h_radial * 1e3:.4g} mm, h_z = {rm.h_axial * 1e3:.4g} mm (tip {rm.h_tip * 1e3:.4g} mm)"
-            + _grading_text(rm)
-        )
         return {
             "model": self.model_name,
             "scene": sc.label,
-            "mesh": mesh_text,
+            "mesh": _mesh_text(rm, sc["fe.degree"]),
             "cells": rm.mesh.topology.index_map(rm.mesh.topology.dim).size_global,
             "dofs": self.n_global,
             "ranks": self.comm.size,
-            "contact": self._contact_text(),
+            "contact": _contact_text(self),
             "dt": self.dt,
             "dt_critical": self.dt_critical,
             "dt_critical_without_contact": self.dt_critical_no_contact,
@@ -496,6 +481,27 @@ def _edge_period(model: ExplicitModel, hist: dict[str, np.ndarray], a_peak: floa
         "contact_area_edge_mean": np.pi * a * a,
         "edge_period": {"spacing": spacing, "ratio_to_hertz": ratio, "samples": n},
     }
+
+
+def _mesh_text(rm: RodsMesh, degree: int) -> str:
+    """The plan's line on the mesh: the 3D mesh's own description, else the axisymmetric cells and sizes."""
+    return getattr(rm, "description", None) or (
+        f"{rm.n_radial} radial{' at the tips' if any(rm.coarsened) else ''} x ({rm.n_axial[0]} + {rm.n_axial[1]}) "
+        f"axial Q{degree} cells, "
+        f"h_r = {rm.h_radial * 1e3:.4g} mm, h_z = {rm.h_axial * 1e3:.4g} mm (tip {rm.h_tip * 1e3:.4g} mm)"
+        + _grading_text(rm)
+    )
+
+
+def _contact_text(model: ExplicitModel) -> str:
+    """The plan's line on the contact law: kinematic, or the penalty with its stiffness [Pa/m] and what sets it."""
+    sc = model.scene
+    if sc["fe.contact"] == "kinematic":
+        return "kinematic (forward-increment Lagrange multipliers, no penalty; dissipation counted)"
+    return (
+        f"penalty {model.ε_pen:.4g} Pa/m ({sc['fe.penalty']:g} x E*/h, "
+        f"E* = {model.E_star:.4g} Pa, h = {model.h_normal:.4g} m)"
+    )
 
 
 def _grading_text(rm: RodsMesh) -> str:
