@@ -462,8 +462,10 @@ def _edge_term(s: NDArray[np.float64]) -> NDArray[np.float64]:
 def subsurface_stresses(
     r: ArrayLike, z: ArrayLike, a: float, p0: float, nu: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """(σ_r, σ_θ, σ_z) [Pa] at radius r > 0 and depth z >= 0 [m] below a Hertz pressure p0, radius a: the paper
-    computed this closed form at the FE integration points (Fig. 6), which lie ~0.21 h below the surface.
+    """(σ_r, σ_θ, σ_z) [Pa] at radius r >= 0 and depth z >= 0 [m] below a Hertz pressure p0, radius a: the paper
+    computed this closed form at the FE integration points (Fig. 6), which lie ~0.21 h below the surface. On the
+    axis r = 0, where the form's a²/r² term is 0/0, its limit :func:`axis_stresses` (Eq. 3.45; a profile starting
+    at r = 0 read NaN there, and its σ_r error with it).
 
     Johnson (Contact Mechanics, 1985) Eq. 3.44 (Huber 1904), u = ½[(r² + z² - a²) + sqrt((r² + z² - a²)² + 4 a² z²)]:
 
@@ -476,6 +478,8 @@ def subsurface_stresses(
     0 outside). Frictionless, elastic half-space. Vectorised.
     """
     r, z = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(z, dtype=float))
+    axis = r == 0.0
+    r = np.where(axis, a, r)  # any r > 0 there: its value is replaced below
     s = r * r + z * z - a * a
     u = 0.5 * (s + np.sqrt(s * s + 4.0 * a * a * z * z))
     inside = u <= 0.0  # z = 0, r <= a
@@ -492,6 +496,9 @@ def subsurface_stresses(
     σ_r = edge + t3 + q * ((1.0 - nu) * g + (1.0 + nu) * atan_term - 2.0)
     σ_θ = -edge - q * (2.0 * nu + (1.0 - nu) * g - (1.0 + nu) * atan_term)
     σ_z = -t3
+    if axis.any():
+        az, ar, _ = axis_stresses(np.where(axis, z, 0.0), a, 1.0, nu)
+        σ_r, σ_θ, σ_z = (np.where(axis, on_axis, σ) for on_axis, σ in ((ar, σ_r), (ar, σ_θ), (az, σ_z)))
     return p0 * σ_r, p0 * σ_θ, p0 * σ_z
 
 

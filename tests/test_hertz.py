@@ -306,3 +306,21 @@ def test_rigid_impact_duration_is_the_hertz_oscillators_half_period(m, v):
     t = rigid_impact_duration(m, v, E_star, R_star)
     sol = solve_ivp(rhs, (0.0, 3 * t), [0.0, v], events=released, rtol=1e-11, atol=1e-18, max_step=t / 200)
     assert sol.t_events[0][0] == pytest.approx(t, rel=1e-4)
+
+
+def test_subsurface_stresses_on_the_axis_are_the_axis_limit():
+    """At r = 0 the closed form's a²/r² term is 0/0 (a NaN with a divide warning, and a σ_r error of a profile
+    starting on the axis read NaN): there it takes Eq. 3.45's axis values, the limit r -> 0 of Eq. 3.44."""
+    import warnings
+
+    a, p0, nu = 1e-3, 1e9, 0.3  # [m], [Pa], [-]
+    z = np.array([0.0, 0.1e-3, 0.48e-3, 1e-3, 3e-3])  # [m]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        on = hertz.subsurface_stresses(np.zeros_like(z), z, a, p0, nu)
+    near = hertz.subsurface_stresses(np.full_like(z, 1e-3 * a), z, a, p0, nu)
+    for got, lim in zip(on, near, strict=True):  # the form near the axis, where a²/r² (1 - q³) cancels (above)
+        assert np.all(np.isfinite(got))
+        assert np.allclose(got, lim, rtol=1e-2, atol=1e-3 * p0)
+    σ_z, σ_r, _ = hertz.axis_stresses(z, a, p0, nu)
+    assert np.array_equal(on[0], on[1]) and np.allclose(on[0], σ_r) and np.allclose(on[2], σ_z)
