@@ -63,7 +63,7 @@ def main(out: Path = ROOT / "output" / "demos" / "global_model") -> dict:
 
     rod2, s, h = scene.rod2, result.summary, result.history
     t, v = np.array(end.t), np.array(end.v)
-    v_bar = 2.0 / rod2.impedance * np.interp(t - rod2.transit_time / 2, h["time"], h["contact_force"])
+    v_bar = 2.0 / rod2.impedance * np.interp(t - rod2.round_trip_time / 2, h["time"], h["contact_force"])
     v_max = 2.0 * impedance_force(scene.speed, scene.rod1, rod2) / rod2.impedance  # [m/s]
     numbers = {
         "peak_contact_force": s["peak_contact_force"],  # [N]

@@ -1164,7 +1164,7 @@ def _midpoint_check(
     if driver:  # not its result: the wave response is the scene's own global's (a driver alone read "warnings" for
         summary["midpoint_peak_speed"] = summary["midpoint_peak_strain"] = None  # a check of what it never ran)
         return None
-    period = scene.rod2.transit_time  # [s] 2 L2/c2
+    period = scene.rod2.round_trip_time  # [s] 2 L2/c2
     arrival, gap = metrics.plateau_bounds(scene)  # [m/s], [s]
     trace = _force_trace(force or history)  # the contact's, for the share of its impulse after the round trip
     late = None if trace is None else metrics.late_impulse(*trace, period, metrics.min_gap(scene))

@@ -325,7 +325,7 @@ def midpoint_peak_speed(
 def strain_window(rod2: Rod, periods: int = STRAIN_PERIODS) -> tuple[float, float]:
     """Time window [s] of the strain RMS difference: the first ``periods`` periods 2 L2/c2 of the Rod-2
     midpoint strain, counted from impact (a wave needs 2 L2/c2 to cross Rod 2 and come back)."""
-    return (0.0, periods * rod2.transit_time)
+    return (0.0, periods * rod2.round_trip_time)
 
 
 def rms_difference(t: ArrayLike, a: ArrayLike, t_b: ArrayLike, b: ArrayLike, window: tuple[float, float]) -> float:

@@ -76,7 +76,7 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
         )
     if (strain := checks.strain_warning(scene)) is not None:  # closed form already: the run's own line
         lines.append(strain)
-    periods = scene.end_time / scene.rod2.transit_time  # Rod 2's round trips 2 L2/c2 the run holds [-]
+    periods = scene.end_time / scene.rod2.round_trip_time  # Rod 2's round trips 2 L2/c2 the run holds [-]
     if wave and "wave_response" in scene.effects and periods < END_PERIODS:
         lines.append(
             f"midpoint_peak_speed: end_time = {scene.end_time:g} s holds {periods:.2g} of the {END_PERIODS} periods "

@@ -110,7 +110,7 @@ def first_contact_summary(scene: Scene) -> dict[str, Any]:
     """The analytical model's summary over a window that holds the first contact (what the contact phase needs):
     :data:`FIRST_CONTACT_ROUND_TRIPS` x the slower rod's round trip 2L/c, or the whole run where that is shorter or
     the first contact outlasts the window (a 1 s paper scene: 0.34 s instead of minutes)."""
-    window = FIRST_CONTACT_ROUND_TRIPS * max(r.transit_time for r in scene.rods)  # [s]
+    window = FIRST_CONTACT_ROUND_TRIPS * max(r.round_trip_time for r in scene.rods)  # [s]
     if window < scene.end_time:
         over = (f"simulation.end_time={window!r}", f"simulation.output_interval={min(scene.output_interval, window)!r}")
         s = planning_summary(scene.with_overrides(*over))

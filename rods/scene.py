@@ -638,11 +638,16 @@ class Rod:
         return self.material.density * self.material.wave_speed * self.area
 
     @property
-    def transit_time(self) -> float:
+    def round_trip_time(self) -> float:
         """Round-trip time of a bar wave, 2 L_bar/c [s] (:attr:`bar_length`): the delay of Eqs. 2 and 4 under the
         default rod-end law; the paper's own law (analytical.contact = "hertz") delays by 2 L/c of the whole rod
         (rods.analytical.WaveModel.T)."""
         return 2 * self.bar_length / self.material.wave_speed
+
+    @property
+    def transit_time(self) -> float:
+        """:attr:`round_trip_time`'s former name (a round trip, where every other "transit" here is one way)."""
+        return self.round_trip_time
 
     @property
     def diameter_transit(self) -> float:
@@ -753,7 +758,7 @@ class Scene:
             return float(self.values["fe.field_interval"])
         if "fields" not in self.effects:
             return 0.0
-        round_trip = min(rod.transit_time for rod in self.rods)  # [s]
+        round_trip = min(rod.round_trip_time for rod in self.rods)  # [s]
         return max(round_trip / FIELD_FRAMES_PER_ROUND_TRIP, self.end_time / FIELD_FRAMES_DEFAULT_MAX)
 
     @property
@@ -871,7 +876,7 @@ class Scene:
         from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
         # t_P > 0 on every valid scene: the schema refuses two flat tips and a speed of 0
-        return hertz.bar_rise(min(r.transit_time for r in self.rods) / self.estimated_rise)
+        return hertz.bar_rise(min(r.round_trip_time for r in self.rods) / self.estimated_rise)
 
     @property
     def bar_axial_size(self) -> float:
@@ -1161,9 +1166,9 @@ def auto_end_time(rods: tuple[Rod, Rod], speed: float) -> float:
     slow against the transits, stubby rods, lasts it; 2 of 60 drawn scenes outlasted the round trips alone)."""
     from rods import hertz  # lazy: the scene validates without scipy's optimisers loaded
 
-    periods = END_PERIODS * rods[1].transit_time
+    periods = END_PERIODS * rods[1].round_trip_time
     quasi_static = hertz.rigid_impact_duration(reduced_mass(rods), speed, *hertz.contact_constants(*rods))
-    contact = max(END_CONTACT_ROUND_TRIPS * max(r.transit_time for r in rods), quasi_static)
+    contact = max(END_CONTACT_ROUND_TRIPS * max(r.round_trip_time for r in rods), quasi_static)
     return min(END_MARGIN * max(periods, contact), 1.0)
 
 

@@ -33,7 +33,7 @@ def test_stiff_contact_limit_equal_impedance(scene_with):
     c = s.rod2.material.wave_speed
     x = s.rod2.length / 2
     # middle of the first pulse passing the midpoint: arrives at x/c, lasts 2 L1/c
-    t = x / c + np.linspace(0.2, 0.8, 50) * s.rod1.transit_time
+    t = x / c + np.linspace(0.2, 0.8, 50) * s.rod1.round_trip_time
     v, ε = m.station(2, x, t)
     assert np.allclose(v, s.speed / 2, rtol=2e-3)
     assert np.allclose(ε, -s.speed / (2 * c), rtol=2e-3)
@@ -47,7 +47,7 @@ def test_stiff_contact_force_is_the_impedance_bound(scene_with):
     s = scene_with("rod1.tip_radius=1000.0", "rod2.material.youngs_modulus=114e9", "rod2.material.density=4430.0",
                    "rod2.material.poisson_ratio=0.34", "simulation.end_time=1.2e-4")  # fmt: skip
     m = WaveModel(s.rod1, s.rod2, s.speed).run(s.end_time)
-    t = np.linspace(0.3, 0.9, 40) * s.rod1.transit_time  # [s]
+    t = np.linspace(0.3, 0.9, 40) * s.rod1.round_trip_time  # [s]
     P = impedance_force(s.speed, s.rod1, s.rod2)  # [N]
     assert np.allclose(m.force(t), P, rtol=2e-3)
     assert impedance_force(s.speed, s.rod1, s.rod1) == pytest.approx(s.speed * s.rod1.impedance / 2, rel=1e-15)

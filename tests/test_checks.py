@@ -385,7 +385,7 @@ def test_a_force_still_rising_when_a_thick_rods_reflection_returns_warns(scene_w
 
 def test_the_reflection_returns_at_the_round_trip_of_the_law_that_ran(scene_with):
     """The analytical summary's round trips are its bars' 2 L/c at the law it ran (the paper's: the whole rod; the
-    default "hertz-rod": the bar of the rod's mass, Rod.transit_time), and the reflection check reads them: the
+    default "hertz-rod": the bar of the rod's mass, Rod.round_trip_time), and the reflection check reads them: the
     thick scene's warning names the return at Rod 1's own round trip under each law (they differ by 2 ΔL/c)."""
     off = ("rod1.material.yield_strength=none", "rod2.material.yield_strength=none", "impact.speed=2.0")
     thick = ("rod1.diameter=0.04", "rod2.diameter=0.04")
@@ -393,11 +393,11 @@ def test_the_reflection_returns_at_the_round_trip_of_the_law_that_ran(scene_with
         sc = scene_with(*off, *thick, f"analytical.contact='{law}'")
         r = simulate(sc)
         full = [2 * rod.length / rod.material.wave_speed for rod in sc.rods]  # [s]
-        want = [rod.transit_time for rod in sc.rods] if law == "hertz-rod" else full
+        want = [rod.round_trip_time for rod in sc.rods] if law == "hertz-rod" else full
         assert r.summary["round_trip_times"] == pytest.approx(want, rel=1e-12)
         w = checks.reflection_warning(r.summary, r.history, sc)
         assert w is not None and f"({want[0] * 1e6:.4g} µs after first contact)" in w, w
-    assert sc.rod1.transit_time < full[0]  # the two laws' returns differ
+    assert sc.rod1.round_trip_time < full[0]  # the two laws' returns differ
 
 
 def test_a_peak_resting_on_the_contact_stiffness_warns_on_a_mesh_that_does_not_resolve_it(scene_with):

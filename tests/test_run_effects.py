@@ -294,7 +294,7 @@ def test_fields_only_when_asked(tmp_path):
     _, s = run(tmp_path, "['fields']")
     xdmf = tmp_path / "run" / "global" / "fields.xdmf"
     assert s["plan"]["fields"] and xdmf.exists()
-    interval = scene_from_summary(s["scene_values"]).rod1.transit_time / FIELD_FRAMES_PER_ROUND_TRIP  # [s]
+    interval = scene_from_summary(s["scene_values"]).rod1.round_trip_time / FIELD_FRAMES_PER_ROUND_TRIP  # [s]
     assert interval == pytest.approx(9.764e-6, rel=1e-3)
     times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', xdmf.read_text())]
     requested = [t for t in times if abs(t / interval - round(t / interval)) < 1e-6]

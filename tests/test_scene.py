@@ -346,7 +346,7 @@ def test_patch_elements_follow_the_peaks_stiffness_sensitivity(scene_with):
     from rods.scene import PATCH_ELEMENTS, PATCH_ELEMENTS_STIFF, PATCH_RIPPLE, PEAK_SHARE, SENSITIVITY_RAMP
 
     paper = scene_with()
-    τ = min(r.transit_time for r in paper.rods) / paper.estimated_rise
+    τ = min(r.round_trip_time for r in paper.rods) / paper.estimated_rise
     assert paper.stiffness_sensitivity == hertz.bar_rise(τ)[1]
     assert 6.0 < τ < 6.6 and paper.stiffness_sensitivity < SENSITIVITY_RAMP[0]
     assert paper.patch_elements == PATCH_ELEMENTS
@@ -549,7 +549,8 @@ def test_a_rods_wave_times_are_its_bar_wave_over_its_length_and_diameter():
     rod = load_scene(SCENES / "paper.toml").rod1
     c = math.sqrt(204.3e9 / 7803.0)  # [m/s]
     assert rod.bar_length == pytest.approx(0.24980, abs=5e-6)
-    assert rod.transit_time == pytest.approx(2 * rod.bar_length / c, rel=1e-12)
+    assert rod.round_trip_time == pytest.approx(2 * rod.bar_length / c, rel=1e-12)
+    assert rod.transit_time == rod.round_trip_time  # the former name, kept for scripts
     assert rod.diameter_transit == pytest.approx(0.0127 / c, rel=1e-12)
     assert rod.diameter_transit == pytest.approx(2.482e-6, rel=1e-3)
 
@@ -654,7 +655,7 @@ def test_the_1d_bar_holds_the_rods_mass(scene_with, R_over_b):
     assert rod.cap_volume == pytest.approx(volume, rel=1e-7, abs=1e-18)
     assert rod.bar_length * rod.area == pytest.approx((rod.length - h) * rod.area + volume, rel=1e-9)
     assert rod.mass == pytest.approx(rod.material.density * rod.area * rod.bar_length, rel=1e-12)
-    assert rod.transit_time == pytest.approx(2 * rod.bar_length / rod.material.wave_speed, rel=1e-12)
+    assert rod.round_trip_time == pytest.approx(2 * rod.bar_length / rod.material.wave_speed, rel=1e-12)
     if R_over_b == 1.0:
         assert rod.bar_offset == pytest.approx(b / 3, rel=1e-9)
     elif R_over_b >= 1e4:
@@ -670,10 +671,10 @@ def test_the_default_field_interval_follows_the_rods_waves(scene_with):
 
     fields = 'effects=["fields"]'
     paper = scene_with(fields)
-    assert paper.field_interval == pytest.approx(paper.rod1.transit_time / FIELD_FRAMES_PER_ROUND_TRIP)
+    assert paper.field_interval == pytest.approx(paper.rod1.round_trip_time / FIELD_FRAMES_PER_ROUND_TRIP)
     assert 9.7e-6 < paper.field_interval < 9.8e-6  # [s] the paper's Rod 1 (97.6 µs a round trip)
     short = scene_with(fields, "rod2.length=0.05", "simulation.end_time=2e-4")  # Rod 2 the shorter now
-    assert short.field_interval == pytest.approx(short.rod2.transit_time / FIELD_FRAMES_PER_ROUND_TRIP)
+    assert short.field_interval == pytest.approx(short.rod2.round_trip_time / FIELD_FRAMES_PER_ROUND_TRIP)
     long_run = scene_with(fields, "rod2.length=0.05", "simulation.end_time=1e-2")  # 10 ms: the frame count bounds it
     assert long_run.field_interval == pytest.approx(1e-2 / FIELD_FRAMES_DEFAULT_MAX)
     assert scene_with(fields, "fe.field_interval=2e-6").field_interval == 2e-6
@@ -690,13 +691,13 @@ def test_the_auto_end_time_is_what_the_effects_need(scene_with):
 
     assert END_PERIODS == metrics.STRAIN_PERIODS == metrics.PLATEAU_COUNT
     auto = scene_with("simulation.end_time='auto'")
-    assert auto.end_time == pytest.approx(END_MARGIN * END_PERIODS * auto.rod2.transit_time)
+    assert auto.end_time == pytest.approx(END_MARGIN * END_PERIODS * auto.rod2.round_trip_time)
     assert auto.end_time == pytest.approx(1.5e-3, rel=0.01)  # [s] the paper's own choice for these rods
     assert auto["simulation.end_time"] == auto.end_time and auto.as_dict()["simulation"]["end_time"] == auto.end_time
     longer = auto.with_overrides("rod2.length=2.0")  # re-resolved, not the 1.5 ms carried along
-    assert longer.end_time == pytest.approx(END_MARGIN * END_PERIODS * longer.rod2.transit_time)
+    assert longer.end_time == pytest.approx(END_MARGIN * END_PERIODS * longer.rod2.round_trip_time)
     striker = auto.with_overrides("rod1.length=1.0", "rod2.length=0.1")  # the striker's round trips bound it
-    assert striker.end_time == pytest.approx(END_MARGIN * END_CONTACT_ROUND_TRIPS * striker.rod1.transit_time)
+    assert striker.end_time == pytest.approx(END_MARGIN * END_CONTACT_ROUND_TRIPS * striker.rod1.round_trip_time)
     assert auto_end_time((striker.rod1, striker.rod2), striker.speed) == striker.end_time
     with pytest.raises(SceneError, match="simulation.end_time 'auto'"):
         auto.with_overrides("rod1.length=0.01", "rod2.length=0.01", "rod1.diameter=0.004", "rod2.diameter=0.004",
