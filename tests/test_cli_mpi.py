@@ -13,27 +13,29 @@ import pytest
 
 from .conftest import MPIRUN, ROOT
 
+# what every script below starts with: the entry points' module on the path, MPI and _cli loaded
+PREAMBLE = f"import sys\nsys.path.insert(0, {str(ROOT / 'workflows')!r})\nfrom mpi4py import MPI\nimport _cli\n"
+
+
+def mpi_script(path, body: str):
+    """``path`` written as a script for mpirun: :data:`PREAMBLE`, then ``body`` (dedented); returns ``path``."""
+    path.write_text(PREAMBLE + textwrap.dedent(body))
+    return path
+
 
 @pytest.mark.mpi
 def test_failure_on_one_rank_aborts_all(tmp_path):
-    script = tmp_path / "fail_on_rank1.py"
-    script.write_text(
-        textwrap.dedent(
-            f"""
-            import sys
-            sys.path.insert(0, {str(ROOT / "workflows")!r})
-            from mpi4py import MPI
-            import _cli
+    script = mpi_script(
+        tmp_path / "fail_on_rank1.py",
+        """
+        def main(argv=None):
+            if MPI.COMM_WORLD.rank == 1:
+                raise RuntimeError("mesh inverted on rank 1")
+            MPI.COMM_WORLD.barrier()  # rank 0 waits here forever unless rank 1 aborts the job
+            return 0
 
-            def main(argv=None):
-                if MPI.COMM_WORLD.rank == 1:
-                    raise RuntimeError("mesh inverted on rank 1")
-                MPI.COMM_WORLD.barrier()  # rank 0 waits here forever unless rank 1 aborts the job
-                return 0
-
-            _cli.entry(main)
-            """
-        )
+        _cli.entry(main)
+        """,
     )
     p = subprocess.run(
         [str(MPIRUN), "-n", "2", sys.executable, str(script)], capture_output=True, text=True, timeout=60
@@ -75,27 +77,22 @@ def test_a_ctrl_c_in_the_teardown_after_the_run_is_no_error(tmp_path):
     traceback. Before rods' entry (_cli.entry) ignored it there, this printed a KeyboardInterrupt traceback (checked
     with the old `sys.exit(_cli.guarded(main)())`), and a key later in the teardown killed the ranks by SIGINT, which
     mpirun reported as exit 2, the bad-input code."""
-    script = tmp_path / "late_ctrl_c.py"
-    script.write_text(
-        textwrap.dedent(
-            f"""
-            import atexit, os, signal, sys, time
-            sys.path.insert(0, {str(ROOT / "workflows")!r})
-            from mpi4py import MPI
-            import _cli
+    script = mpi_script(
+        tmp_path / "late_ctrl_c.py",
+        """
+        import atexit, os, signal, time
 
-            def late():
-                os.kill(os.getpid(), signal.SIGINT)
-                time.sleep(0.2)
+        def late():
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.2)
 
-            def main(argv=None):
-                atexit.register(late)
-                print("status: ok", flush=True)
-                return 0
+        def main(argv=None):
+            atexit.register(late)
+            print("status: ok", flush=True)
+            return 0
 
-            _cli.entry(main)
-            """
-        )
+        _cli.entry(main)
+        """,
     )
     p = subprocess.run(
         [str(MPIRUN), "-n", "2", sys.executable, str(script)], capture_output=True, text=True, timeout=60
@@ -126,20 +123,16 @@ def test_memory_short_on_one_rank_is_refused_by_every_rank(tmp_path, script):
     """One rank's node with less free memory (rods.cost.local_memory 1 MB on rank 1): every rank refuses (exit 2,
     one line, nothing written). Each rank read its own /proc/meminfo: rank 1 refused alone and rank 0 waited in the
     next collective, both spinning until killed, SIGTERM too (an audit, 2026-12-07)."""
-    wrapper = tmp_path / "short_on_rank1.py"
-    wrapper.write_text(
-        textwrap.dedent(
-            f"""
-            import runpy, sys
-            sys.path.insert(0, {str(ROOT / "workflows")!r})
-            from mpi4py import MPI
-            import rods.cost
-            if MPI.COMM_WORLD.rank == 1:
-                rods.cost.local_memory = lambda: 1e6
-            sys.argv = [{str(ROOT / "workflows" / script)!r}, *sys.argv[1:]]
-            runpy.run_path(sys.argv[0], run_name="__main__")
-            """
-        )
+    wrapper = mpi_script(
+        tmp_path / "short_on_rank1.py",
+        f"""
+        import runpy
+        import rods.cost
+        if MPI.COMM_WORLD.rank == 1:
+            rods.cost.local_memory = lambda: 1e6
+        sys.argv = [{str(ROOT / "workflows" / script)!r}, *sys.argv[1:]]
+        runpy.run_path(sys.argv[0], run_name="__main__")
+        """,
     )
     out = tmp_path / "run"
     cmd = [str(MPIRUN), "-n", "2", sys.executable, str(wrapper), "--out", str(out)]
@@ -156,31 +149,25 @@ def test_a_signal_ends_a_rank_stuck_in_a_collective(tmp_path):
     the job, one line, exit 130, within rods.interrupt.STUCK_GRACE (2 s here), the folder released. Python's
     handler never runs in a rank blocked in MPI: SIGTERM did nothing, only SIGKILL ended such a hang (an audit,
     2026-12-07)."""
-    script = tmp_path / "stuck_on_rank0.py"
-    script.write_text(
-        textwrap.dedent(
-            f"""
-            import sys
-            sys.path.insert(0, {str(ROOT / "workflows")!r})
-            from mpi4py import MPI
-            import _cli
-            from rods import interrupt
+    script = mpi_script(
+        tmp_path / "stuck_on_rank0.py",
+        f"""
+        from rods import interrupt
 
-            interrupt.STUCK_GRACE = 2.0
+        interrupt.STUCK_GRACE = 2.0
 
-            def main(argv=None):
-                from pathlib import Path
-                _cli.hold(Path({str(tmp_path / "run")!r}), MPI.COMM_WORLD)
-                if MPI.COMM_WORLD.rank == 0:
-                    print("started", flush=True)
-                if MPI.COMM_WORLD.rank == 1:
-                    raise SystemExit(2)  # leaves without the others, as a refusal on one rank did
-                MPI.COMM_WORLD.barrier()  # for ever
-                return 0
+        def main(argv=None):
+            from pathlib import Path
+            _cli.hold(Path({str(tmp_path / "run")!r}), MPI.COMM_WORLD)
+            if MPI.COMM_WORLD.rank == 0:
+                print("started", flush=True)
+            if MPI.COMM_WORLD.rank == 1:
+                raise SystemExit(2)  # leaves without the others, as a refusal on one rank did
+            MPI.COMM_WORLD.barrier()  # for ever
+            return 0
 
-            _cli.entry(main)
-            """
-        )
+        _cli.entry(main)
+        """,
     )
     p = subprocess.Popen(
         [str(MPIRUN), "-n", "2", sys.executable, str(script)],
@@ -208,28 +195,22 @@ def test_a_refusal_after_the_folder_is_held_never_hangs(tmp_path, who):
     """An input refused after the folder is held (a checkpoint's, a cut record's): refused by every rank alike, one
     line, exit 2; by one rank alone (its node's view of a file), that rank aborts the others, exit 2, its line. Rank
     0 waited for ever in its next collective while rank 1 had exited 2 (an audit, 2026-12-07)."""
-    script = tmp_path / "refuse_after_hold.py"
-    script.write_text(
-        textwrap.dedent(
-            f"""
-            import sys
-            from pathlib import Path
-            sys.path.insert(0, {str(ROOT / "workflows")!r})
-            from mpi4py import MPI
-            import _cli
-            from rods.preflight import InputError
+    script = mpi_script(
+        tmp_path / "refuse_after_hold.py",
+        f"""
+        from pathlib import Path
+        from rods.preflight import InputError
 
-            def main(argv=None):
-                comm = MPI.COMM_WORLD
-                _cli.hold(Path({str(tmp_path / "run")!r}), comm)
-                if {who!r} == "every rank" or comm.rank == 1:
-                    raise InputError("--restart", "x", "a checkpoint of another scene", "run afresh")
-                comm.barrier()  # for ever without the agreement
-                return 0
+        def main(argv=None):
+            comm = MPI.COMM_WORLD
+            _cli.hold(Path({str(tmp_path / "run")!r}), comm)
+            if {who!r} == "every rank" or comm.rank == 1:
+                raise InputError("--restart", "x", "a checkpoint of another scene", "run afresh")
+            comm.barrier()  # for ever without the agreement
+            return 0
 
-            _cli.entry(main)
-            """
-        )
+        _cli.entry(main)
+        """,
     )
     cmd = [str(MPIRUN), "-n", "2", sys.executable, str(script)]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL)

@@ -354,7 +354,9 @@ def submodel(
             return dataclasses.replace(kept, scene=scene)
         restart = True
     try:
-        sr = run_submodel(scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart, True)
+        sr = run_submodel(
+            scene, cut_file, h, axial_size, end, dt, comm, progress, name, out, restart, keep_checkpoint=True
+        )
     except SimulationError as e:  # a guard's stop or an interrupt: the histories so far, readable, as a global's
         if e.partial is not None:
             e.partial.summary["model"] = submodel_name(name)
