@@ -291,7 +291,7 @@ class FolderClaim:
     def _lock(self, out: Path, what: str) -> None:
         """The exclusive lock on :attr:`path`: again where the file was replaced between the open and the lock (a run
         ending removes its file), or briefly held shared (another claim's probe, :func:`_held`)."""
-        for attempt in range(LOCK_TRIES):
+        for _ in range(LOCK_TRIES):
             fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -301,19 +301,18 @@ class FolderClaim:
                     with contextlib.suppress(OSError):
                         self.path.unlink()
                     return
-                if attempt < LOCK_TRIES - 1:
-                    time.sleep(LOCK_WAIT)
-                    continue
-                self.release()
-                raise InputError(
-                    what, out, f"another run is writing this folder (it holds {LOCK} there)",
-                    "wait for it to end, or give another folder",
-                ) from None  # fmt: skip
+                time.sleep(LOCK_WAIT)
+                continue
             with contextlib.suppress(OSError):
                 if os.fstat(fd).st_ino == os.stat(self.path).st_ino:
                     self.fd = fd
                     return
             os.close(fd)  # removed (or replaced) between the open and the lock: again
+        self.release()  # held, or replaced under every try: another run is busy there either way, never unheld
+        raise InputError(
+            what, out, f"another run is writing this folder (it holds {LOCK} there)",
+            "wait for it to end, or give another folder",
+        )  # fmt: skip
 
     def release(self) -> None:
         """Unlock and remove the lock file, then the folders the claim made where nothing else was written."""

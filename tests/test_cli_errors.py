@@ -1152,3 +1152,23 @@ def test_a_folder_inside_or_around_a_running_run_is_refused_and_a_stale_lock_sto
     claim = FolderClaim(tmp_path / "raced")
     assert len(calls) == 2 and os.fstat(claim.fd).st_ino == os.stat(tmp_path / "raced" / LOCK).st_ino
     claim.release()
+
+
+def test_a_lock_file_replaced_under_every_try_is_refused_never_left_unheld(tmp_path, monkeypatch):
+    """A claim whose lock file another process removes between each open and lock gives up as held (exit 2), never
+    returns without the lock (before 2026-12-07 it returned unlocked after :data:`LOCK_TRIES` such tries)."""
+    import fcntl
+
+    from rods.preflight import LOCK, LOCK_TRIES, FolderClaim, InputError
+
+    real, calls = fcntl.flock, []
+
+    def racing(fd, op):  # another run releases (removes the file) between this claim's open and its lock, every time
+        (tmp_path / "raced" / LOCK).unlink()
+        calls.append(op)
+        return real(fd, op)
+
+    monkeypatch.setattr(fcntl, "flock", racing)
+    with pytest.raises(InputError, match="another run is writing"):
+        FolderClaim(tmp_path / "raced")
+    assert len(calls) == LOCK_TRIES and not (tmp_path / "raced").exists()  # the folder it made is gone again
