@@ -57,7 +57,10 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     if _state["armed"] and not _state["signal"]:  # the loop stops at its next check, on every rank together
         _state["signal"], _state["since"] = signum, now
         return
-    _state["signal"] = signum  # raised inside a C extension, the interrupt may surface as another error
+    # a stop at once; a repeat within the grace (mpirun's forwarded copy of a SLURM SIGTERM, milliseconds later) is
+    # the same, not a second raise inside the stop's own prints and waits (a review, 2026-12-07). Raised inside a C
+    # extension, the interrupt may surface as another error
+    _state["signal"], _state["since"] = signum, now
     raise KeyboardInterrupt
 
 
@@ -96,6 +99,9 @@ def uninstall(previous: dict[int, Any]) -> None:
 def _watcher(reader: socket.socket) -> None:
     """Wait for SIGINT/SIGTERM's wakeup bytes; where the handler has not run within :data:`STUCK_GRACE`, stop."""
     while True:
+        # [s] the signal came after this: a handler run since then was for it, however late the watcher wakes (the
+        # main thread may hold the GIL in a long C call right after the handler: a 3D step; a review, 2026-12-07)
+        started = time.monotonic()
         try:
             data = reader.recv(64)
         except OSError:
@@ -104,8 +110,9 @@ def _watcher(reader: socket.socket) -> None:
             return
         if not {signal.SIGINT, signal.SIGTERM} & set(data):
             continue
-        earliest = time.monotonic() - HANDLER_LAG  # [s] the signal arrived after this
-        while _waiting(earliest) and time.monotonic() - earliest < STUCK_GRACE:
+        woke = time.monotonic()  # [s]
+        earliest = min(started, woke - HANDLER_LAG)  # [s] the signal arrived after this
+        while _waiting(earliest) and time.monotonic() - woke < STUCK_GRACE:
             time.sleep(0.1)
         if _waiting(earliest):  # checked once more after the last sleep: a handler that ran in it stands it down
             _stuck()
@@ -146,6 +153,11 @@ def reset() -> None:
     :data:`REPEAT_GRACE` (the loop's stop writes the histories after the check: mpirun's forwarded copy arriving then
     aborted every rank before they were written, a review, 2026-12-07)."""
     _state["signal"] = 0
+    # the grace runs on every rank, also on one stopped by another's request whose own copy comes later: from this
+    # rank's request where it made one just now, else from the stop (a review, 2026-12-07)
+    now = time.monotonic()  # [s]
+    if now - _state["since"] >= REPEAT_GRACE:
+        _state["since"] = now
 
 
 @contextmanager

@@ -220,3 +220,31 @@ def test_a_refusal_after_the_folder_is_held_never_hangs(tmp_path, who):
     assert len(errors) == 1 and errors[0].startswith(expected + "--restart = 'x': a checkpoint"), p.stderr
     if who == "every rank":
         assert not (tmp_path / "run").exists()  # released and removed, as it was made for the run
+
+
+@pytest.mark.mpi
+def test_a_scene_refused_on_one_rank_alone_never_hangs(tmp_path):
+    """One rank's view of the scene file refused (a stale network copy): that rank aborts the others, exit 2, its
+    line. `_cli.load` exited 2 on that rank alone and the other waited for ever in its next collective, SIGTERM
+    then ending it 20 s later (a review, 2026-12-07)."""
+    wrapper = mpi_script(
+        tmp_path / "scene_refused_on_rank1.py",
+        f"""
+        import runpy
+        import rods.scene
+        if MPI.COMM_WORLD.rank == 1:
+            def unreadable(*args, **kwargs):
+                raise rods.scene.SceneError("scene", "paper.toml", "must be readable on every rank")
+            _cli.load_scene = unreadable
+        sys.argv = [{str(ROOT / "workflows" / "global.py")!r}, *sys.argv[1:]]
+        runpy.run_path(sys.argv[0], run_name="__main__")
+        """,
+    )
+    out = tmp_path / "run"
+    cmd = [str(MPIRUN), "-n", "2", sys.executable, str(wrapper), "--out", str(out)]
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL)
+    assert p.returncode == 2, p.stderr[-2000:]
+    assert time.monotonic() - t0 < 30
+    assert "must be readable on every rank" in p.stderr
+    assert not out.exists()

@@ -76,7 +76,7 @@ def test_a_rank_stopping_alone_skips_the_collective_finishes():
 def test_a_repeat_after_the_loop_acted_on_the_request_is_still_the_same(armed, monkeypatch):
     """The ranks agree to stop (reset) and the loop disarms before it writes the histories: mpirun's forwarded copy of
     the SIGTERM arriving then raised on that rank and aborted every rank before the histories were written."""
-    clock = iter([100.0, 100.01, 100.0 + interrupt.REPEAT_GRACE + 0.1])
+    clock = iter([100.0, 100.005, 100.01, 100.0 + interrupt.REPEAT_GRACE + 0.1])
     monkeypatch.setattr(interrupt.time, "monotonic", lambda: next(clock))
     interrupt._handler(signal.SIGTERM, None)
     interrupt.reset()  # the collective check honoured it
@@ -84,3 +84,57 @@ def test_a_repeat_after_the_loop_acted_on_the_request_is_still_the_same(armed, m
     interrupt._handler(signal.SIGTERM, None)  # 10 ms later: ignored, the stop goes on
     with pytest.raises(KeyboardInterrupt):  # a signal later than the grace, outside a loop: at once
         interrupt._handler(signal.SIGINT, None)
+
+
+def test_outside_a_loop_a_repeat_within_the_grace_raises_no_second_time(armed, monkeypatch):
+    """A SLURM SIGTERM in the set-up: the rank's own copy raises (the entry point stops, exit 130); mpirun's
+    forwarded copy milliseconds later raised again inside the stop's own prints and sleeps (a traceback, or the
+    rank killed by it, in 6 of 18 tries: a review, 2026-12-07). It is the same request."""
+    armed["armed"] = 0
+    clock = iter([100.0, 100.003, 100.0 + interrupt.REPEAT_GRACE + 0.1])
+    monkeypatch.setattr(interrupt.time, "monotonic", lambda: next(clock))
+    with pytest.raises(KeyboardInterrupt):
+        interrupt._handler(signal.SIGTERM, None)
+    interrupt._handler(signal.SIGTERM, None)  # the forwarded copy: no second raise
+    with pytest.raises(KeyboardInterrupt):  # pressed again later: at once
+        interrupt._handler(signal.SIGINT, None)
+
+
+def test_a_rank_stopped_by_another_takes_its_own_late_copy_as_the_same_request(armed, monkeypatch):
+    """Rank 0 got the signal, the ranks agreed to stop (reset on every rank): rank 1's own copy arriving after that
+    raised (it had no request of its own, so no grace) and aborted every rank before the histories were written."""
+    armed["since"] = 40.0  # an earlier stop's, long ago: no grace of its own now
+    clock = iter([100.0, 100.02])
+    monkeypatch.setattr(interrupt.time, "monotonic", lambda: next(clock))
+    interrupt.reset()  # rank 1: the loop's collective check found rank 0's request
+    armed["armed"] = 0  # the loop disarmed, the histories being written
+    interrupt._handler(signal.SIGTERM, None)  # its own copy, 20 ms later: no raise
+    assert interrupt.requested() == 0
+
+
+def test_the_watcher_stands_down_for_a_handler_that_ran_long_before_it_woke(monkeypatch):
+    """The handler ran at once, then the main thread held the GIL in a long C call (a large 3D step) before the
+    watcher could wake: the watcher took the handler for an earlier signal's and stopped a healthy run after
+    STUCK_GRACE (a review, 2026-12-07). A handler run since the watcher began waiting counts."""
+    import socket
+    import threading
+    import time
+
+    stuck = []
+    monkeypatch.setattr(interrupt, "_state", {"armed": 1, "signal": 0, "installed": 1, "since": 0.0, "handled": 0.0})
+    monkeypatch.setattr(interrupt, "_watch", {"thread": object()})
+    monkeypatch.setattr(interrupt, "HANDLER_LAG", 0.05)
+    monkeypatch.setattr(interrupt, "STUCK_GRACE", 0.3)
+    monkeypatch.setattr(interrupt, "_stuck", lambda: stuck.append(1))
+    reader, writer = socket.socketpair()
+    watcher = threading.Thread(target=interrupt._watcher, args=(reader,), daemon=True)
+    watcher.start()
+    time.sleep(0.1)  # the watcher waits
+    interrupt._state["handled"] = time.monotonic()  # the handler ran ...
+    time.sleep(0.3)  # ... and the watcher woke only after a long hold
+    writer.send(bytes([signal.SIGTERM]))
+    time.sleep(0.6)  # past STUCK_GRACE after the wake
+    writer.close()
+    watcher.join(timeout=2.0)
+    reader.close()
+    assert not stuck

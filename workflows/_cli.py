@@ -214,7 +214,7 @@ def load(args: argparse.Namespace) -> Scene:
     try:
         return load_scene(args.scene, args.overrides)
     except SceneError as e:
-        fail(str(e) + _scene_remedy(e, args))
+        _refuse(str(e) + _scene_remedy(e, args))  # one rank's alone (its view of the file): every rank aborted
 
 
 def _scene_remedy(e: SceneError, args: argparse.Namespace) -> str:
