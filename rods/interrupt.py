@@ -28,9 +28,9 @@ from collections.abc import Callable
 from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["armed", "install", "requested", "reset", "uninstall"]
+__all__ = ["armed", "install", "requested", "reset", "stopping", "uninstall"]
 
-_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0}
+_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0, "raised": 0, "stopping": 0}
 # a signal repeated within this time of the first is the same stop request [s]: a SLURM time limit's SIGTERM reaches
 # each rank directly and again through mpirun, milliseconds apart, and the second raised KeyboardInterrupt on that
 # rank alone (no checkpoint; a hang where the others waited in a collective: a fuzz, 2026-12-07). A Ctrl-C pressed
@@ -52,16 +52,26 @@ _watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wake
 def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     now = time.monotonic()  # [s]
     _state["handled"] = now  # the main thread is in the interpreter: the watcher stands down
-    if _state["since"] and now - _state["since"] < REPEAT_GRACE:
-        return  # a repeat of a request taken within the grace: the same stop, also once the loop has acted on it
+    if _state["stopping"]:
+        return  # the entry point's stop is under way: the same stop, never a raise inside its prints and waits
+    if _state["since"] and now - _state["since"] < REPEAT_GRACE and not _state["raised"]:
+        return  # a repeat of a request the loop takes (or took) within the grace: the same stop
     if _state["armed"] and not _state["signal"]:  # the loop stops at its next check, on every rank together
         _state["signal"], _state["since"] = signum, now
         return
-    # a stop at once; a repeat within the grace (mpirun's forwarded copy of a SLURM SIGTERM, milliseconds later) is
-    # the same, not a second raise inside the stop's own prints and waits (a review, 2026-12-07). Raised inside a C
-    # extension, the interrupt may surface as another error
-    _state["signal"], _state["since"] = signum, now
+    # a stop at once. A repeat before the stop began (mpirun's forwarded copy of a SLURM SIGTERM) raises again: the
+    # first raise may have been lost, Python drops one that lands in a weakref callback or a __del__ ("Exception
+    # ignored in", once in ~30 SIGTERMs in the set-up: that rank went on while the others aborted it; a review,
+    # 2026-12-07). Raised inside a C extension, the interrupt may surface as another error
+    _state["signal"], _state["since"], _state["raised"] = signum, now, 1
     raise KeyboardInterrupt
+
+
+def stopping() -> None:
+    """The entry point's stop (its line, its folder's release, the ranks' abort) has begun: a signal from here on is
+    the same stop, not raised inside it (a second raise there printed a traceback, or ended the rank before it
+    released its folder: a review, 2026-12-07)."""
+    _state["stopping"] = 1
 
 
 def install(stop: Callable[[str, int], Any] | None = None) -> dict[int, Any]:
@@ -83,8 +93,9 @@ def install(stop: Callable[[str, int], Any] | None = None) -> dict[int, Any]:
 
 
 def uninstall(previous: dict[int, Any]) -> None:
-    """Back to the ``previous`` handlers (an entry point called in-process, e.g. by a test); the watcher stopped."""
-    _state["installed"] = 0
+    """Back to the ``previous`` handlers (an entry point called in-process, e.g. by a test); the watcher stopped, the
+    command's requests and stop forgotten (a next command in the process starts afresh)."""
+    _state.update(installed=0, signal=0, since=0.0, raised=0, stopping=0)
     for s, h in previous.items():
         signal.signal(s, h)
     if "thread" in _watch:

@@ -14,7 +14,9 @@ from rods import interrupt
 @pytest.fixture
 def armed(monkeypatch):
     """The handler's state inside a time loop, restored after the test."""
-    monkeypatch.setattr(interrupt, "_state", {"armed": 1, "signal": 0, "installed": 0, "since": 0.0})
+    monkeypatch.setattr(
+        interrupt, "_state", {"armed": 1, "signal": 0, "installed": 0, "since": 0.0, "raised": 0, "stopping": 0}
+    )
     return interrupt._state
 
 
@@ -86,18 +88,22 @@ def test_a_repeat_after_the_loop_acted_on_the_request_is_still_the_same(armed, m
         interrupt._handler(signal.SIGINT, None)
 
 
-def test_outside_a_loop_a_repeat_within_the_grace_raises_no_second_time(armed, monkeypatch):
-    """A SLURM SIGTERM in the set-up: the rank's own copy raises (the entry point stops, exit 130); mpirun's
-    forwarded copy milliseconds later raised again inside the stop's own prints and sleeps (a traceback, or the
-    rank killed by it, in 6 of 18 tries: a review, 2026-12-07). It is the same request."""
+def test_outside_a_loop_a_repeat_raises_until_the_stop_begins(armed, monkeypatch):
+    """A SLURM SIGTERM in the set-up: the rank's own copy raises (the entry point stops, exit 130). Its raise may be
+    lost (Python drops one landing in a weakref callback: "Exception ignored in", once in ~30 tries; that rank went
+    on while the others aborted it), so mpirun's forwarded copy raises again until the stop has begun; from then on
+    a signal is the stop's own (raised inside its prints and sleeps it printed a traceback, exit 2, a lock left: a
+    review, 2026-12-07)."""
     armed["armed"] = 0
-    clock = iter([100.0, 100.003, 100.0 + interrupt.REPEAT_GRACE + 0.1])
-    monkeypatch.setattr(interrupt.time, "monotonic", lambda: next(clock))
+    monkeypatch.setattr(interrupt.time, "monotonic", iter([100.0, 100.003, 100.004, 100.5]).__next__)
     with pytest.raises(KeyboardInterrupt):
         interrupt._handler(signal.SIGTERM, None)
-    interrupt._handler(signal.SIGTERM, None)  # the forwarded copy: no second raise
-    with pytest.raises(KeyboardInterrupt):  # pressed again later: at once
-        interrupt._handler(signal.SIGINT, None)
+    with pytest.raises(KeyboardInterrupt):  # the forwarded copy, the first raise perhaps lost: again
+        interrupt._handler(signal.SIGTERM, None)
+    interrupt.stopping()  # the entry point's stop (_cli._abort) has begun
+    interrupt._handler(signal.SIGTERM, None)  # no raise inside it
+    interrupt._handler(signal.SIGINT, None)
+    assert interrupt.requested() == signal.SIGTERM
 
 
 def test_a_rank_stopped_by_another_takes_its_own_late_copy_as_the_same_request(armed, monkeypatch):
@@ -121,7 +127,11 @@ def test_the_watcher_stands_down_for_a_handler_that_ran_long_before_it_woke(monk
     import time
 
     stuck = []
-    monkeypatch.setattr(interrupt, "_state", {"armed": 1, "signal": 0, "installed": 1, "since": 0.0, "handled": 0.0})
+    monkeypatch.setattr(
+        interrupt,
+        "_state",
+        {"armed": 1, "signal": 0, "installed": 1, "since": 0.0, "handled": 0.0, "raised": 0, "stopping": 0},
+    )
     monkeypatch.setattr(interrupt, "_watch", {"thread": object()})
     monkeypatch.setattr(interrupt, "HANDLER_LAG", 0.05)
     monkeypatch.setattr(interrupt, "STUCK_GRACE", 0.3)

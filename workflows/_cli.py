@@ -134,12 +134,12 @@ def planning(analytical: Any) -> str:
     return f"planning: the analytical model to its first contact ({limit})"
 
 
-def outlook(scene: Scene, log: Callable[..., None] = print, wave: bool = True) -> None:
+def outlook(scene: Scene, log: Callable[..., None] = print, wave: bool = True, fe: bool = False) -> None:
     """Print, before the cost estimate, the checks a run of ``scene`` will likely fail (rods.outlook: foreseen from
-    closed forms, before anything runs; nothing for a scene inside the models' range); ``wave``: as there."""
+    closed forms, before anything runs; nothing for a scene inside the models' range); ``wave``, ``fe``: as there."""
     from rods.outlook import outlook as foreseen
 
-    for line in foreseen(scene, wave):
+    for line in foreseen(scene, wave, fe):
         log(f"outlook: {line}")
 
 
@@ -377,6 +377,7 @@ def _abort(message: str, code: int, at_once: bool = False) -> int:
     """One line naming the rank; under MPI with several ranks, abort them all (none hangs in a collective).
     ``at_once``: one process ends here too, without the teardown (a writer whose file failed throws again as it is
     destroyed: ADIOS2's on a full disk ended the process by SIGABRT, exit 134, after the line)."""
+    interrupt.stopping()  # a signal from here on is this stop's, never raised inside it
     mpi = _mpi()
     if os.environ.get("RODS_TRACEBACK") and sys.exc_info()[0] is not None:
         import traceback
@@ -433,6 +434,19 @@ def _interrupted() -> int:
     os._exit(code)
 
 
+def _start_gmsh() -> None:
+    """gmsh started before the interrupt's handlers go in, as PETSc is: its initialize puts its own SIGTERM handler
+    in place for ~2 ms (rods.fe.mesh.start_gmsh puts ours back after it), which in the set-up ended a rank with 15,
+    no line (one in ~15 SLURM-style stops at the set-up's start: a review, 2026-12-07). Started here, the mesh
+    finds it started (rods.fe.mesh.gmsh_to_dolfinx) and the window lies before any handler of ours."""
+    import gmsh
+
+    from rods.fe.mesh import start_gmsh
+
+    if not gmsh.isInitialized():
+        start_gmsh()
+
+
 def guarded(
     main: Callable[[Sequence[str] | None], int], ignore_after: bool = False
 ) -> Callable[[Sequence[str] | None], int]:
@@ -448,6 +462,8 @@ def guarded(
         # planning, printed PETSc's "Caught signal number 15" block and MPI_Abort(59) instead of exit 130)
         if "rods.fe" in sys.modules:
             from petsc4py import PETSc  # noqa: F401
+
+            _start_gmsh()
         previous = interrupt.install(stop=lambda message, code: _abort(message, code, at_once=True))
         pipe = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
         if (mpi := _mpi()) is not None and mpi.COMM_WORLD.size > 1 and not _AGREE:  # every rank starts here
