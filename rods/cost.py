@@ -96,11 +96,17 @@ SECONDS_PER_VALUE = 1e-6  # [s]
 STEPS_PER_STIFFNESS = 0.45  # [-]
 SECONDS_PER_STEP = 2.5e-4  # [s]
 BYTES_PER_SOLVER_STEP = 1e3  # [B]
-BASE_MEMORY = 170e6  # [B] one rank's interpreter, DOLFINx, PETSc, gmsh
+# [B] one rank's interpreter, DOLFINx, PETSc, gmsh, and [B] per DOF: fitted 2026-12-07 to the ranks' summed peak RSS
+# (`mpirun -n 2 /usr/bin/time -f %M python workflows/global.py ... --set simulation.end_time=2e-6`, the set-up's
+# peak): axisymmetric 19.3k / 49k / 1.24M / 4.88M DOFs 0.371 / 0.406 / 1.53 / 4.74 GB; 3D 132k / 255k / 1.61M
+# (quarter) / 1.93M DOFs 0.708 / 1.04 / 4.41 / 5.38 GB. Before, 170 MB, 850 B and 2200 B had planned the 1.93M-DOF
+# 3D run at 4.59 GB: a default 3D plan of 20.9 GB passed a 23 GB machine's 21 GB free, where ~24 GB would be used
+# (a helper's audit)
+BASE_MEMORY = 190e6
 # [B] the analytical model's process: the interpreter, numpy, scipy, mpi4py (109 MB max RSS on the paper scene,
 # 2026-12-07; 60 MB had been planned)
 ANALYTICAL_BASE_MEMORY = 105e6
-BYTES_PER_DOF = {"axisymmetric": 850.0, "3d": 2200.0}  # [B]
+BYTES_PER_DOF = {"axisymmetric": 900.0, "3d": 2600.0}  # [B]
 BYTES_PER_STEP = 9.0  # [B] per-step force (float64) and output mask (bool)
 # [B] a history value in memory: the recorder's column (8), the CSV writer's table (8) and its share of the heap's
 # growth (the CSV's text is formatted a chunk at a time, rods.io.write_history: as one string it took 61 B a value, an
@@ -290,6 +296,8 @@ class Cost:
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
         machine = "" if self.speed is None else f" (this machine's probed rate {self.speed:.2f} x the reference's)"
         caveat = f"; {self.caveat}" if self.caveat else ""
+        if self.cheaper and self.wall_time > CHEAPER_NOTE:  # a long full 3D run named its twin only when refused
+            caveat += f"; for less: {self.cheaper}"
         # the analytical model's: the solver steps a stiff contact forces (analytical_steps), not all its steps
         mesh = (
             f"{self.cells:.3g} cells, {self.dofs:.3g} DOFs, {self.steps:.3g} steps"
@@ -315,6 +323,7 @@ class Cost:
         return asdict(self)
 
 
+CHEAPER_NOTE = 600.0  # [s] a plan above this names the same model for less (its ``cheaper``: a 3D run's twin)
 DEAREST_SHARE = 0.5  # a stage above this share of a run's estimated wall time is named in its total [-]
 
 
