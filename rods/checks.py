@@ -168,6 +168,7 @@ __all__ = [
     "separation_warning",
     "driver_warning",
     "paper_law_warning",
+    "patch_resolution",
     "patch_warning",
     "core_warning",
     "resolution_warning",
@@ -178,6 +179,7 @@ __all__ = [
     "rim_edge",
     "rim_remedy",
     "centric_warning",
+    "coarse_warning",
     "MISALIGNED_REMEDY",
     "rim_where",
     "front_spread",
@@ -694,10 +696,7 @@ def patch_warning(summary: Mapping[str, Any], scene: Any = None) -> str | None:
         a_H = hertz.at_force(summary["peak_contact_force"], E_star, R_star)["contact_radius"]
         a = min(a, a_H) if math.isfinite(a_H) else a
     if a / h < PATCH_ELEMENTS_OK:
-        return (
-            f"contact_radius: {a / h:.3g} elements across the {a * 1e3:.3g} mm contact radius (h = {h * 1e3:.3g} mm): "
-            "the patch's radius, area and pressure are not resolved; refine (fe.radial_size, or a finer submodel level)"
-        )
+        return patch_resolution(a, h, scene)
     h_z = summary.get("mesh", {}).get("tip_axial_size") or 0.0  # [m] the elements' depth under the patch
     if h_z > a:  # Hertz's stress decays over about a below the patch: an element deeper than that cannot carry it
         return (
@@ -705,6 +704,19 @@ def patch_warning(summary: Mapping[str, Any], scene: Any = None) -> str | None:
             f"{a * 1e3:.3g} mm contact radius (across: {a / h:.3g} elements of {h * 1e3:.3g} mm): the patch's radius, "
             "area and pressure are the mesh's; refine the axial size at the tip (fe.axial_size, submodel.py "
             "--axial-size) to the radial one"
+        )
+    return patch_resolution(a, h, scene)
+
+
+def patch_resolution(a: float, h: float, scene: Any = None) -> str | None:
+    """The patch-resolution rules of :func:`patch_warning` on a contact radius ``a`` [m] and a radial size ``h`` [m]:
+    fewer than :data:`PATCH_ELEMENTS_OK` elements across ``a``, or in 3D one node ring 2h/a above
+    :data:`RING_STEP_OK` of the area; None where neither. The plan's outlook asks it at Hertz's radius at the bound
+    force (rods.outlook), which bounds the run's: where it answers there, the run warns."""
+    if a / h < PATCH_ELEMENTS_OK:
+        return (
+            f"contact_radius: {a / h:.3g} elements across the {a * 1e3:.3g} mm contact radius (h = {h * 1e3:.3g} mm): "
+            "the patch's radius, area and pressure are not resolved; refine (fe.radial_size, or a finer submodel level)"
         )
     if scene is not None and scene["fe.kind"] == "3d" and 2 * h / a > RING_STEP_OK:
         # a misaligned impact has no axisymmetric model (it refuses one): its finer 3D submodel levels (a fuzz)
@@ -741,6 +753,11 @@ def resolution_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     The submodels' levels and "auto" itself pass; the warning names the key, the ratio and the size to refine to."""
     if not _fe(summary) or _fe(summary, "fe-submodel") or scene is None:
         return None
+    return coarse_warning(scene)
+
+
+def coarse_warning(scene: Any) -> str | None:
+    """:func:`resolution_warning` on the scene alone (a global FE run's; the plan's outlook asks it before the run)."""
     coarse = {}
     for key, auto in (("fe.radial_size", scene.auto_radial_size), ("fe.axial_size", scene.auto_axial_size)):
         h = scene[key]

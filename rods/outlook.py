@@ -14,7 +14,11 @@ contact), and the rise time δ_P/s1 the impedance bound implies (rods.scene.Scen
 * **impact strain**: rod i's bar front strain P/(Z_i c_i) against :data:`rods.checks.SMALL_STRAIN`
   (:func:`rods.checks.strain_warning` on the scene alone: the run's check at its own midpoint follows);
 * **end time**: a wave response whose end time holds fewer than :data:`rods.scene.END_PERIODS` periods 2 L2/c2
-  (the plateaus and the strain window: fewer plateaus than averaged, the run's warning).
+  (the plateaus and the strain window: fewer plateaus than averaged, the run's warning);
+* **the global's mesh** (FE runs): sizes above :data:`rods.checks.COARSE_OK` x auto (rods.checks.coarse_warning, the
+  run's own line), and the patch at Hertz's radius at P (rods.checks.patch_resolution: too few elements across it,
+  or in 3D a node ring above :data:`rods.checks.RING_STEP_OK` of its area, as every 3D run this machine can afford
+  has: resolving it takes elements of ~27 µm on the paper scene).
 
 P bounds the analytical force from above and that force reaches it where it rises before a reflection returns
 (the paper scene's peak 1.3e-5 below it; a 6.5 mm tip at 0.5 m/s, rising longer, 5.3% below), so a rim or yield
@@ -39,10 +43,11 @@ __all__ = ["outlook"]
 RIGID_MARGIN = 1.02
 
 
-def outlook(scene: Any, wave: bool = True) -> list[str]:
+def outlook(scene: Any, wave: bool = True, fe: bool = False) -> list[str]:
     """The checks a run of ``scene`` will likely fail (module docstring), one line each; empty where none. ``wave``:
     the run compares the wave response over the scene's end time (not a driving global's or a submodel's contact
-    phase, whose plans said it would fall short of plateaus they do not measure: a fuzz, 2026-12-06)."""
+    phase, whose plans said it would fall short of plateaus they do not measure: a fuzz, 2026-12-06). ``fe``: the
+    run holds a global FE model (its mesh checks, below)."""
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
     m = reduced_mass(scene.rods)  # [kg]
     # [N] the lower bound of the two: the bars' (slender rods) or the rigid masses' Hertz (stubby rods, a slow contact:
@@ -76,6 +81,9 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
         )
     if (strain := checks.strain_warning(scene)) is not None:  # closed form already: the run's own line
         lines.append(strain)
+    if fe:  # the global's mesh: its sizes against auto (the scene alone), its patch at Hertz's radius at P, which
+        # bounds the run's (a default 3D plan of 5-9 h said nothing of the node-ring warning every such run gives)
+        lines += [w for w in (checks.coarse_warning(scene), _patch_line(at_P["contact_radius"], P, scene)) if w]
     periods = scene.end_time / scene.rod2.round_trip_time  # Rod 2's round trips 2 L2/c2 the run holds [-]
     if wave and "wave_response" in scene.effects and periods < END_PERIODS:
         lines.append(
@@ -84,3 +92,11 @@ def outlook(scene: Any, wave: bool = True) -> list[str]:
             f"'auto' runs {auto_end_time(scene.rods, scene.speed):.3g} s"
         )
     return lines
+
+
+def _patch_line(a_P: float, P: float, scene: Any) -> str | None:
+    """The global's patch check (rods.checks.patch_resolution) at Hertz's radius ``a_P`` [m] at the bound force ``P``
+    [N]: the run's radius is at most that, so where this warns the run does."""
+    if (w := checks.patch_resolution(a_P, scene.radial_size, scene)) is None:
+        return None
+    return f"{w} (at Hertz's radius at the bound force P = {P:.4g} N, the most the run's can be)"

@@ -770,3 +770,16 @@ def test_a_step_near_the_penalty_switching_estimate_is_valid_only_as_far_as_the_
     near = cost.fe_cost(sc.with_overrides(f"fe.dt={0.98 * switching!r}"))
     assert "switching limit" in near.caveat and "refuses a step above it" in near.caveat
     assert cost.fe_cost(sc.with_overrides(f"fe.dt={0.5 * switching!r}")).caveat == ""
+
+
+def test_a_long_full_3d_plan_names_its_quarter_twin(scene_with):
+    """A centric full 3D plan of hours named fe.symmetry = 'quarter' (a quarter of the DOFs) only when refused for
+    memory (a helper's audit, 2026-12-07); a plan above CHEAPER_NOTE names it, a short or a quarter one does not."""
+    from rods.study import jobs
+
+    full = jobs.global_cost(scene_with("fe.kind=3d"), 1)
+    assert full.wall_time > cost.CHEAPER_NOTE and "for less: fe.symmetry = 'quarter'" in full.describe()
+    quarter = jobs.global_cost(scene_with("fe.kind=3d", "fe.symmetry=quarter"), 1)
+    assert "for less" not in quarter.describe()
+    coarse = jobs.global_cost(scene_with("fe.kind=3d", "fe.radial_size=1e-3", "fe.axial_size=4e-3"), 1)
+    assert coarse.wall_time < cost.CHEAPER_NOTE and "for less" not in coarse.describe()

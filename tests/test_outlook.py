@@ -148,3 +148,37 @@ def test_stubby_rods_are_judged_at_the_rigid_masses_hertz_force(scene_with):
     assert rigid < sc.impedance_force / 4 and peak <= outlook.RIGID_MARGIN * rigid and peak > 0.97 * rigid
     assert not [line for line in outlook.outlook(sc) if line.startswith("yield")]
     assert [line for line in outlook.outlook(scene_with("impact.speed=4"))][0].startswith("yield")
+
+
+@pytest.mark.parametrize("case", ["paper", "speed-4.0", "titanium-rod2", "tip-20mm", "equal-0.35m"])
+def test_the_global_at_auto_sizes_foresees_no_mesh_warning(scene_with, case):
+    """The verification matrix's globals (axisymmetric, auto sizes) gave no patch or resolution warning: a global's
+    plan foresees none either."""
+    from rods.study.verification import CASES
+
+    sc = scene_with(*CASES[case][1])
+    assert outlook(sc, fe=True) == outlook(sc)
+
+
+def test_a_3d_global_foresees_its_node_ring_warning(scene_with):
+    """A 3D global at auto sizes on the paper scene (6.6M DOFs, hours): one node ring is 2h/a = 50% of the patch at
+    Hertz's radius at P (1.09 mm, h = 0.273 mm); every 3D run this machine affords warns of it (a helper's runs of
+    five scenes at coarse to 2 x auto sizes, 2026-12-07), and its plan said nothing. Only for an FE global."""
+    sc = scene_with("fe.kind=3d")
+    lines = outlook(sc, fe=True)
+    assert _keys(lines) == ["contact_area"] and "one ring 2h/a = 50% of its area" in lines[0]
+    assert "the most the run's can be" in lines[0] and "from the axisymmetric model" in lines[0]
+    assert outlook(sc) == []  # the analytical model's plan
+    a_P = hertz.at_force(sc.impedance_force, *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"]
+    for a in (a_P, 0.8 * a_P):  # the run's radius is at most a_P: its own check warns too
+        assert checks.patch_resolution(a, sc.radial_size, sc).startswith("contact_area")
+
+
+def test_a_coarse_global_foresees_its_resolution_and_patch_warnings(scene_with):
+    """The coarse 3D scene's sizes (1 mm across, 4 mm along: 3.67 and 4 x auto) give the run's resolution warning,
+    the scene's alone, and 1.09 elements across Hertz's radius at P (its run: 1.09 across the radius, 2026-12-06)."""
+    sc = scene_with("fe.kind=3d", "fe.radial_size=1e-3", "fe.axial_size=4e-3")
+    lines = outlook(sc, fe=True)
+    assert _keys(lines) == ["fe.radial_size", "contact_radius"]
+    assert lines[0] == checks.coarse_warning(sc)
+    assert "1.09 elements across the 1.09 mm contact radius" in lines[1]

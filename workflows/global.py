@@ -56,7 +56,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     step = sc.end_time / max(c.steps, 1.0)  # [s] the estimate's stable step (the set-up solves it exactly)
     stages.check_cut_options(scene, **options, step=step)
     log(f"{plan.fe_stage(sc, c.what)} -> {out}")  # c.what: the driving global or the global (rods.study.jobs)
-    _cli.outlook(scene, log, wave=not args.driver)  # a driver stops after the contact phase
+    _cli.outlook(scene, log, wave=not args.driver, fe=True)  # a driver stops after the contact phase
     _cli.afford(args, c, log=log, comm=comm, out=out)
     if args.driver:
         s = stages.driver(scene, out, comm, phase, progress=progress, log=log).summary

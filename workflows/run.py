@@ -46,7 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     p = plan.study_plan(scene)  # run_study's plan, from the analytical model to its first contact
     if args.dry_run:  # a real run prints the plan from run_study, after the analytical stage
         log(f"plan for scene '{scene.label}' -> {out}\n{p.describe()}")
-    _cli.outlook(scene, log)
+    _cli.outlook(scene, log, fe=p.global_model)
     if args.restart:
         log("restart: FE stages finished in the folder for this scene are kept; the costs below are a whole run's")
     _cli.afford(args, analytical, *stage_costs(scene, p, comm.size), log=log, comm=comm, out=out)
