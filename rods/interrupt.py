@@ -30,7 +30,7 @@ from typing import Any
 
 __all__ = ["armed", "install", "requested", "reset", "stopping", "uninstall"]
 
-_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0, "raised": 0, "stopping": 0}
+_state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0, "raised": 0.0, "stopping": 0}
 # a signal repeated within this time of the first is the same stop request [s]: a SLURM time limit's SIGTERM reaches
 # each rank directly and again through mpirun, milliseconds apart, and the second raised KeyboardInterrupt on that
 # rank alone (no checkpoint; a hang where the others waited in a collective: a fuzz, 2026-12-07). A Ctrl-C pressed
@@ -45,6 +45,11 @@ STUCK_GRACE = 20.0
 # [s] how long before the watcher woke the handler may have run for this signal: the watcher takes the GIL after the
 # main thread's next switch (milliseconds), so a handler that ran just before it woke counts as this signal's
 HANDLER_LAG = 0.5
+# [s] how long after a signal's raise the entry point's stop must have begun (:func:`stopping`): Python drops a
+# KeyboardInterrupt that lands in a weakref callback or a __del__ ("Exception ignored in", about one SIGTERM in 30 at
+# the set-up's start: that rank went on while the others aborted it, a review, 2026-12-07); on its way a raise takes
+# microseconds to the stop, through the finishes it passes
+LOST_GRACE = 2.0
 EXIT_INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT)
 _watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wakeup fd it replaced
 
@@ -54,23 +59,22 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     _state["handled"] = now  # the main thread is in the interpreter: the watcher stands down
     if _state["stopping"]:
         return  # the entry point's stop is under way: the same stop, never a raise inside its prints and waits
-    if _state["since"] and now - _state["since"] < REPEAT_GRACE and not _state["raised"]:
-        return  # a repeat of a request the loop takes (or took) within the grace: the same stop
+    if _state["since"] and now - _state["since"] < REPEAT_GRACE:
+        return  # a repeat within the grace: the same stop, also once the loop has acted on it or the stop has raised
     if _state["armed"] and not _state["signal"]:  # the loop stops at its next check, on every rank together
         _state["signal"], _state["since"] = signum, now
         return
-    # a stop at once. A repeat before the stop began (mpirun's forwarded copy of a SLURM SIGTERM) raises again: the
-    # first raise may have been lost, Python drops one that lands in a weakref callback or a __del__ ("Exception
-    # ignored in", once in ~30 SIGTERMs in the set-up: that rank went on while the others aborted it; a review,
-    # 2026-12-07). Raised inside a C extension, the interrupt may surface as another error
-    _state["signal"], _state["since"], _state["raised"] = signum, now, 1
+    # a stop at once. A repeat within the grace (mpirun's forwarded copy of a SLURM SIGTERM) is the same, not a second
+    # raise on its way to the stop (a traceback, a rank gone before its line: a review, 2026-12-07); a raise Python
+    # drops (one landing in a weakref callback) is the watcher's (:data:`LOST_GRACE`). Raised inside a C extension,
+    # the interrupt may surface as another error
+    _state["signal"], _state["since"], _state["raised"] = signum, now, now
     raise KeyboardInterrupt
 
 
 def stopping() -> None:
     """The entry point's stop (its line, its folder's release, the ranks' abort) has begun: a signal from here on is
-    the same stop, not raised inside it (a second raise there printed a traceback, or ended the rank before it
-    released its folder: a review, 2026-12-07)."""
+    the same stop, not raised inside it, and the watcher knows the raise arrived (a review, 2026-12-07)."""
     _state["stopping"] = 1
 
 
@@ -95,7 +99,7 @@ def install(stop: Callable[[str, int], Any] | None = None) -> dict[int, Any]:
 def uninstall(previous: dict[int, Any]) -> None:
     """Back to the ``previous`` handlers (an entry point called in-process, e.g. by a test); the watcher stopped, the
     command's requests and stop forgotten (a next command in the process starts afresh)."""
-    _state.update(installed=0, signal=0, since=0.0, raised=0, stopping=0)
+    _state.update(installed=0, signal=0, since=0.0, raised=0.0, stopping=0)
     for s, h in previous.items():
         signal.signal(s, h)
     if "thread" in _watch:
@@ -127,6 +131,16 @@ def _watcher(reader: socket.socket) -> None:
             time.sleep(0.1)
         if _waiting(earliest):  # checked once more after the last sleep: a handler that ran in it stands it down
             _stuck()
+        while _lost(earliest) and time.monotonic() - woke < LOST_GRACE:
+            time.sleep(0.05)
+        if _lost(earliest):
+            _stuck(lost=True)
+
+
+def _lost(earliest: float) -> bool:
+    """Whether the handler raised for a signal since ``earliest`` [s] and the entry point's stop has not begun
+    (:func:`stopping`), the watcher still wanted: the raise may have been dropped."""
+    return _state["raised"] >= earliest and not _state["stopping"] and "thread" in _watch
 
 
 def _waiting(earliest: float) -> bool:
@@ -134,13 +148,16 @@ def _waiting(earliest: float) -> bool:
     return _state["handled"] < earliest and "thread" in _watch
 
 
-def _stuck() -> None:
-    """The signal's handler never ran: the main thread does not return from a call. Stop: the entry point's
-    ``stop`` (:func:`install`), else one line and exit 130 (under MPI every rank aborted: the others may wait for
-    this one)."""
+def _stuck(lost: bool = False) -> None:
+    """The signal's handler never ran: the main thread does not return from a call; or (``lost``) its raise never
+    reached the entry point's stop. Stop: the entry point's ``stop`` (:func:`install`), else one line and exit 130
+    (under MPI every rank aborted: the others may wait for this one)."""
     message = (
-        f"interrupted, but this process did not return from a call within {STUCK_GRACE:g} s (another rank waiting "
-        "in a collective this one left, or a long set-up step): stopped without writing"
+        f"interrupted, but the stop did not begin within {LOST_GRACE:g} s of the signal (its KeyboardInterrupt lost "
+        "in a callback): stopped without writing"
+        if lost
+        else f"interrupted, but this process did not return from a call within {STUCK_GRACE:g} s (another rank "
+        "waiting in a collective this one left, or a long set-up step): stopped without writing"
     )
     if (stop := _watch.get("stop")) is not None:
         try:
