@@ -10,8 +10,9 @@ the wall time; :func:`analytical_cost` the samples and memory of the analytical 
 Rates and sizes measured on this machine (2 cores, DOLFINx 0.11, the paper scene; docs/models.md, "Cost
 estimates"):
 
-* memory of one rank: 170 MB base (Python, DOLFINx, PETSc, gmsh) + 0.85 kB per DOF axisymmetric (3.9k, 51.5k
-  and 198k DOFs: 176, 215, 334 MB peak RSS), 2.2 kB per DOF in 3D (128k DOFs: 448 MB) + 9 bytes per step
+* memory of one rank: 190 MB base (Python, DOLFINx, PETSc, gmsh) + 0.9 kB per DOF axisymmetric, 2.6 kB per DOF
+  in 3D (fitted 2026-12-07 to the summed peak RSS of 2-rank runs of 19k to 4.9M DOFs, :data:`BASE_MEMORY`) + 9 bytes
+  per step
   (the per-step force and the output mask) + the histories (:data:`BYTES_PER_VALUE`: the recorder's and the CSV
   writer's copies, the text written a chunk at a time);
 * time step: Δt ≈ fe.dt_fraction x h_min / c_d (measured Δt / (h_min/c_d) = 0.80 at fe.dt_fraction 0.8),

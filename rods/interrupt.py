@@ -51,6 +51,7 @@ HANDLER_LAG = 0.5
 # microseconds to the stop, through the finishes it passes
 LOST_GRACE = 2.0
 EXIT_INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT)
+_STOP = threading.Lock()  # the stop's flag, set by the main thread (an entry point's abort) or the watcher
 _watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wakeup fd it replaced
 
 
@@ -72,10 +73,13 @@ def _handler(signum: int, frame: Any) -> None:  # noqa: ARG001
     raise KeyboardInterrupt
 
 
-def stopping() -> None:
-    """The entry point's stop (its line, its folder's release, the ranks' abort) has begun: a signal from here on is
-    the same stop, not raised inside it, and the watcher knows the raise arrived (a review, 2026-12-07)."""
-    _state["stopping"] = 1
+def stopping() -> bool:
+    """The entry point's stop (its line, its folder's release, the ranks' abort) begins: a signal from here on is
+    the same stop, not raised inside it, and the watcher knows the raise arrived (a review, 2026-12-07). Whether this
+    call began it (the main thread's and the watcher's, one of the two first: :data:`_STOP`)."""
+    with _STOP:
+        first, _state["stopping"] = not _state["stopping"], 1
+    return first
 
 
 def install(stop: Callable[[str, int], Any] | None = None) -> dict[int, Any]:
@@ -131,9 +135,10 @@ def _watcher(reader: socket.socket) -> None:
             time.sleep(0.1)
         if _waiting(earliest):  # checked once more after the last sleep: a handler that ran in it stands it down
             _stuck()
-        while _lost(earliest) and time.monotonic() - woke < LOST_GRACE:
+        # from the raise, not the wake: a handler held back by a long call raises seconds after the watcher woke
+        while _lost(earliest) and time.monotonic() - _state["raised"] < LOST_GRACE:
             time.sleep(0.05)
-        if _lost(earliest):
+        if _lost(earliest) and stopping():  # the stop is the watcher's only where the main thread's has not begun
             _stuck(lost=True)
 
 

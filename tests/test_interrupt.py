@@ -104,9 +104,10 @@ def test_outside_a_loop_a_repeat_within_the_grace_raises_no_second_time(armed, m
     assert interrupt.requested() == signal.SIGTERM
 
 
-def _watch_one_signal(monkeypatch, act) -> list[bool]:
-    """The watcher on a socket pair with short graces; ``act(state)`` plays the handler's part, then the signal's
-    wakeup byte is sent; returns the ``lost`` flag of each stop the watcher made."""
+def _watch_one_signal(monkeypatch, act, after=None) -> list[bool]:
+    """The watcher on a socket pair with short graces; ``act(state)`` plays the handler's part before the signal's
+    wakeup byte is sent, ``after(state)`` after it (a handler held back by a long call); returns the ``lost`` flag of
+    each stop the watcher made."""
     import socket
     import threading
     import time
@@ -115,7 +116,7 @@ def _watch_one_signal(monkeypatch, act) -> list[bool]:
     state = {"armed": 0, "signal": 0, "installed": 1, "since": 0.0, "handled": 0.0, "raised": 0.0, "stopping": 0}
     monkeypatch.setattr(interrupt, "_state", state)
     monkeypatch.setattr(interrupt, "_watch", {"thread": object()})
-    monkeypatch.setattr(interrupt, "STUCK_GRACE", 0.3)
+    monkeypatch.setattr(interrupt, "STUCK_GRACE", 1.0)
     monkeypatch.setattr(interrupt, "LOST_GRACE", 0.3)
     monkeypatch.setattr(interrupt, "_stuck", lambda lost=False: stops.append(lost))
     reader, writer = socket.socketpair()
@@ -124,9 +125,11 @@ def _watch_one_signal(monkeypatch, act) -> list[bool]:
     time.sleep(0.05)
     act(state)
     writer.send(bytes([signal.SIGTERM]))
+    if after is not None:
+        after(state)
     time.sleep(0.6)
     writer.close()
-    watcher.join(timeout=2.0)
+    watcher.join(timeout=3.0)
     reader.close()
     return stops
 
@@ -146,6 +149,29 @@ def test_the_watcher_stops_a_process_whose_raise_was_lost(monkeypatch):
 
     assert _watch_one_signal(monkeypatch, lost) == [True]
     assert _watch_one_signal(monkeypatch, delivered) == []
+
+
+def test_the_lost_grace_runs_from_the_raise_not_from_the_watchers_wake(monkeypatch):
+    """The signal came while the main thread was in a long call (an MPI wait, a 3D mesh's generation): the handler
+    ran and raised when it returned, later than LOST_GRACE after the watcher woke, and its stop began 0.1 s after the
+    raise. The watcher measured the grace from its wake and stopped that healthy stop at once, racing it (two lines,
+    two releases of the folder: a review, 2026-12-07)."""
+    import time
+
+    def late(state):
+        time.sleep(0.5)  # the long call: past LOST_GRACE (0.3 s) after the wake, within STUCK_GRACE (1 s)
+        state["handled"] = state["raised"] = state["since"] = time.monotonic()
+        time.sleep(0.1)
+        interrupt.stopping()  # the main thread's stop
+
+    assert _watch_one_signal(monkeypatch, lambda state: None, late) == []
+
+
+def test_the_stop_is_begun_once(monkeypatch):
+    """The main thread's stop and the watcher's: whichever comes first begins it, the other learns it came second."""
+    monkeypatch.setattr(interrupt, "_state", {"stopping": 0})
+    assert interrupt.stopping() is True
+    assert interrupt.stopping() is False
 
 
 def test_a_rank_stopped_by_another_takes_its_own_late_copy_as_the_same_request(armed, monkeypatch):

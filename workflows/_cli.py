@@ -10,11 +10,13 @@ README's "When something goes wrong" lists the classes and their messages.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import os
 import re
 import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -340,6 +342,9 @@ def _mpi():
 # abort tears down, and on a loaded machine the line was lost (once, in the suite's abort test under load; MPICH's
 # own issues report the same), leaving the user an abort without its reason
 ABORT_GRACE = 0.2
+# [s] how long the main thread waits where the watcher's stop came first (rods.interrupt.stopping): it ends the
+# process at once; the wait only keeps the main thread from a second line and a second release of the folder
+STOP_WAIT = 10.0
 LAUNCHER_RANKS = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "SLURM_PROCID")
 
 
@@ -377,7 +382,8 @@ def _abort(message: str, code: int, at_once: bool = False) -> int:
     """One line naming the rank; under MPI with several ranks, abort them all (none hangs in a collective).
     ``at_once``: one process ends here too, without the teardown (a writer whose file failed throws again as it is
     destroyed: ADIOS2's on a full disk ended the process by SIGABRT, exit 134, after the line)."""
-    interrupt.stopping()  # a signal from here on is this stop's, never raised inside it
+    if not interrupt.stopping() and threading.current_thread() is threading.main_thread():
+        time.sleep(STOP_WAIT)  # the watcher's stop came first (it took this one's raise for lost): it ends the process
     mpi = _mpi()
     if os.environ.get("RODS_TRACEBACK") and sys.exc_info()[0] is not None:
         import traceback
@@ -435,15 +441,17 @@ def _interrupted() -> int:
 
 
 def _start_gmsh() -> None:
-    """gmsh started before the interrupt's handlers go in, as PETSc is: its initialize puts its own SIGTERM handler
-    in place for ~2 ms (rods.fe.mesh.start_gmsh puts ours back after it), which in the set-up ended a rank with 15,
-    no line (one in ~15 SLURM-style stops at the set-up's start: a review, 2026-12-07). Started here, the mesh
-    finds it started (rods.fe.mesh.gmsh_to_dolfinx) and the window lies before any handler of ours."""
+    """gmsh started before the interrupt's handlers go in, as PETSc is, on rank 0, which meshes: its initialize puts
+    its own SIGTERM handler in place for ~2 ms (rods.fe.mesh.start_gmsh puts ours back after it), which in the set-up
+    ended a rank with 15, no line (one in ~15 SLURM-style stops at the set-up's start: a review, 2026-12-07).
+    Started here, the mesh finds it started (rods.fe.mesh.gmsh_to_dolfinx) and the window lies before any handler of
+    ours. It also sets SIGSEGV, SIGFPE, SIGBUS and SIGILL to the default, as meshing always did on rank 0: the other
+    ranks keep PETSc's crash handlers."""
     import gmsh
 
     from rods.fe.mesh import start_gmsh
 
-    if not gmsh.isInitialized():
+    if _is_rank0() and not gmsh.isInitialized():  # the ranks that mesh: the others keep PETSc's crash handlers
         start_gmsh()
 
 
@@ -463,7 +471,8 @@ def guarded(
         if "rods.fe" in sys.modules:
             from petsc4py import PETSc  # noqa: F401
 
-            _start_gmsh()
+            with contextlib.suppress(Exception):  # a gmsh that cannot start fails in the mesh, with its own line
+                _start_gmsh()
         previous = interrupt.install(stop=lambda message, code: _abort(message, code, at_once=True))
         pipe = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
         if (mpi := _mpi()) is not None and mpi.COMM_WORLD.size > 1 and not _AGREE:  # every rank starts here

@@ -66,6 +66,8 @@ def _capped_rod(rod: Rod, a: float, refine: float) -> tuple[dolfinx.mesh.Mesh, d
     from rods.fe.mesh import start_gmsh
 
     h = rod.cap_height
+    if gmsh.isInitialized():  # an entry point's (workflows/_cli.py): afresh, its options and fields are this mesh's
+        gmsh.finalize()
     start_gmsh()
     try:
         gmsh.option.setNumber("General.Terminal", 0)

@@ -34,7 +34,7 @@ __all__ = ["MEMORY_MARGIN", "MEMORY_MIN", "RUNTIME_MARGIN", "RUNTIME_START", "gl
 RUNTIME_MARGIN = 3.0  # the plan's wall time x this: a node a third as fast as the reference day's [-]
 RUNTIME_START = 10.0  # [min] start-up beyond the plan: interpreter, JIT compilation, file system, the plan's probe
 MEMORY_MARGIN = 1.5  # the plan's memory x this: the mesher's and the assembly's transients [-]
-MEMORY_MIN = 2000.0  # [MB] at least this: an interpreter with DOLFINx, PETSc and gmsh per rank is ~170 MB
+MEMORY_MIN = 2000.0  # [MB] at least this: an interpreter with DOLFINx, PETSc and gmsh per rank is ~190 MB
 
 
 def global_cost(
