@@ -96,7 +96,8 @@ def outlook(scene: Any, wave: bool = True, fe: bool = False) -> list[str]:
 
 def _patch_line(a_P: float, P: float, scene: Any) -> str | None:
     """The global's patch check (rods.checks.patch_resolution) at Hertz's radius ``a_P`` [m] at the bound force ``P``
-    [N]: the run's radius is at most that, so where this warns the run does."""
+    [N]: the run's radius is at most that (but for ringing that lifts its peak above P, a fraction of a percent: the
+    module docstring), so where this warns the run does, unless near the threshold."""
     if (w := checks.patch_resolution(a_P, scene.radial_size, scene)) is None:
         return None
-    return f"{w} (at Hertz's radius at the bound force P = {P:.4g} N, the most the run's can be)"
+    return f"{w} (at Hertz's radius at the bound force P = {P:.4g} N, which bounds the run's but for its ringing)"
