@@ -250,14 +250,15 @@ def test_calibration_scales_the_rate_bound_part_at_each_runs_working_set(scene_w
     assert fast.speed == 2.0 and "probed rate 2.00 x the reference's" in fast.describe()
     assert small.speed == same.speed == 3.0
     loop = fast.wall_time - fast.setup_time
+    bias = cost.STEP_COUNT_BIAS["axisymmetric"]  # the plan's steps over the run's: the time is the run's steps'
     assert loop == pytest.approx(
-        fast.steps * (cost.STEP_OVERHEAD + fast.dofs / (2 * cost.DOF_STEPS_PER_SECOND["axisymmetric"]))
+        fast.steps / bias * (cost.STEP_OVERHEAD + fast.dofs / (2 * cost.DOF_STEPS_PER_SECOND["axisymmetric"]))
         + fast.samples * cost.RECORD_ROW_SECONDS
     )
     on_two = cost.fe_cost(scene_with("fe.axial_size=0.25e-3", "fe.radial_size=0.125e-3"), 2)
     assert on_two.probe_rows == 1 << 18  # each rank's half of the working set
     rows = on_two.samples * cost.RECORD_ROW_SECONDS
-    per_step = (on_two.wall_time - on_two.setup_time - on_two.memory_bound_time - rows) / on_two.steps
+    per_step = (on_two.wall_time - on_two.setup_time - on_two.memory_bound_time - rows) / (on_two.steps / bias)
     assert per_step == pytest.approx(cost.MPI_STEP_OVERHEAD)
 
 
@@ -510,7 +511,8 @@ def test_the_matrix_free_loop_is_planned_at_its_own_rate_not_the_probes(scene_wi
     101 s planned, 109 s run)."""
     sc = scene_with("fe.backend='numpy'", "fe.operator='matrix-free'", "simulation.end_time=6e-5")
     c = cost.fe_cost(sc)
-    loop = c.steps * (cost.STEP_OVERHEAD + c.dofs / cost.MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND["axisymmetric"])
+    run_steps = c.steps / cost.STEP_COUNT_BIAS["axisymmetric"]  # the time is the steps the run will take
+    loop = run_steps * (cost.STEP_OVERHEAD + c.dofs / cost.MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND["axisymmetric"])
     loop += c.samples * cost.RECORD_ROW_SECONDS
     assert c.probe_rows == 0 and c.memory_bound_time == 0.0
     assert c.wall_time == pytest.approx(c.setup_time + loop)
@@ -783,3 +785,19 @@ def test_a_long_full_3d_plan_names_its_quarter_twin(scene_with):
     assert "for less" not in quarter.describe()
     coarse = jobs.global_cost(scene_with("fe.kind=3d", "fe.radial_size=1e-3", "fe.axial_size=4e-3"), 1)
     assert coarse.wall_time < cost.CHEAPER_NOTE and "for less" not in coarse.describe()
+
+
+def test_the_plans_time_counts_the_steps_the_run_will_take(scene_with):
+    """The estimated stable step errs low by design (a stable given fe.dt is never refused), so the plan's step count
+    runs 1.10-1.34 x the run's on 20 drawn axisymmetric globals and 1.11-1.13 on the verification matrix (2026-12-07);
+    the per-step costs are per step run, so the time took that bias whole (plans 1.5 x the runs that day). The plan
+    keeps its count for the checks; its time is the central count's. 3D and submodels unmeasured: unchanged."""
+    assert 1.10 <= cost.STEP_COUNT_BIAS["axisymmetric"] <= 1.2
+    assert "3d" not in cost.STEP_COUNT_BIAS
+    sc = scene_with("simulation.end_time=3e-4")
+    c = cost.fe_cost(sc)
+    unbiased = cost._fe_time(sc, 1, c.steps, c.dofs, cut=False, rows=c.samples)
+    biased = cost._fe_time(sc, 1, c.steps * cost.STEP_COUNT_BIAS["axisymmetric"], c.dofs, cut=False, rows=c.samples)
+    assert biased[1] == pytest.approx(unbiased[1] * cost.STEP_COUNT_BIAS["axisymmetric"], rel=0.05)
+    sub = cost._fe_time(sc, 1, c.steps, c.dofs, cut=True, rows=0)  # a submodel's: its own count, no bias known
+    assert sub[1] > unbiased[1]
