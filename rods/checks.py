@@ -695,10 +695,10 @@ def patch_warning(summary: Mapping[str, Any], scene: Any = None) -> str | None:
         E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)
         a_H = hertz.at_force(summary["peak_contact_force"], E_star, R_star)["contact_radius"]
         a = min(a, a_H) if math.isfinite(a_H) else a
-    if a / h < PATCH_ELEMENTS_OK:
-        return patch_resolution(a, h, scene)
     h_z = summary.get("mesh", {}).get("tip_axial_size") or 0.0  # [m] the elements' depth under the patch
-    if h_z > a:  # Hertz's stress decays over about a below the patch: an element deeper than that cannot carry it
+    # Hertz's stress decays over about a below the patch: an element deeper than that cannot carry it (said where the
+    # patch has its elements across; else their count, patch_resolution's first line)
+    if a / h >= PATCH_ELEMENTS_OK and h_z > a:
         return (
             f"contact_radius: the elements under the patch are {h_z * 1e3:.3g} mm deep, deeper than the "
             f"{a * 1e3:.3g} mm contact radius (across: {a / h:.3g} elements of {h * 1e3:.3g} mm): the patch's radius, "

@@ -349,9 +349,10 @@ def start_gmsh() -> None:
     C-level handler back to the default, so a SIGTERM during the set-up (a SLURM time limit in a 3D mesh's
     generation) killed the rank, exit 15, no line, the folder's lock left (an audit, 2026-12-07; Python's record of
     the handler stayed, so reinstalling it restores the C-level one). Not interruptible: gmsh's own SIGINT handler
-    would leave the mesh half-built without telling Python. Left: a SIGTERM within gmsh.initialize itself (~2 ms,
-    the default in place) still ends the rank with 15; blocking the signal in the main thread does not hold it back,
-    the process's other threads (BLAS) take it."""
+    would leave the mesh half-built without telling Python. A SIGTERM within gmsh.initialize itself (~2 ms, gmsh's
+    handler in place) ends the rank with 15 (blocking the signal in the main thread does not hold it back: the
+    process's other threads take it), so the entry points start gmsh on rank 0 before their handlers go in
+    (workflows/_cli.py ``_start_gmsh``); a start here afresh keeps that window."""
     import signal
     import threading
 
