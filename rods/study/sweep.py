@@ -53,6 +53,19 @@ FIELDS = (
     "status",  # "ok" or "warnings": a row is only as good as its run's checks (rods.checks)
     "warnings",  # the keys the run's warnings name, "; "-separated (the texts are in its summary.json)
 )
+# the header's units, ``name [unit]`` as in every history CSV (rods.io.write_history); words and counts have none
+FIELD_UNITS = {
+    "impact_speed": "m/s",
+    "peak_contact_force": "N",
+    "contact_radius": "m",
+    "contact_duration": "s",
+    "midpoint_peak_speed": "m/s",
+    "midpoint_peak_strain": "-",
+    "wall_time": "s",
+    "dofs": "-",
+    "dt": "s",
+    "energy_error": "-",
+}
 
 
 CONFIG_KEYS = (
@@ -295,12 +308,16 @@ def warning_key(text: str) -> str:
 
 
 def read_record(path: str | Path) -> dict[str, dict[str, str]]:
-    """Rows of a published table by key ({} for a missing file or a table from before keys)."""
+    """Rows of a published table by key, by the columns' bare names (units stripped from the header; {} for a
+    missing file or a table from before keys)."""
     p = Path(path)
     if not p.exists():
         return {}
     with p.open(newline="") as f:
-        return {row["key"]: row for row in csv.DictReader(f) if row.get("key")}
+        reader = csv.reader(f)
+        names = [h.split(" [")[0] for h in next(reader, [])]
+        rows = (dict(zip(names, r, strict=False)) for r in reader)
+        return {row["key"]: row for row in rows if row.get("key")}
 
 
 def sync_text(path: str | Path, text: str) -> None:
@@ -317,11 +334,15 @@ def write_sweep_table(
     fields: Sequence[str] = FIELDS,
 ) -> None:
     """Write ``path``: one row per (summary path, key) of ``points``, in order: the ``record``'s row of that
-    key where it has one, else ``fields`` read from the summary (empty if absent)."""
+    key where it has one, else ``fields`` read from the summary (empty if absent). The header names each
+    column's SI unit (:data:`FIELD_UNITS`)."""
     record = record or {}
     buf = _io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=["path", *fields, "key"], lineterminator="\r\n", extrasaction="ignore")
-    w.writeheader()
+    names = ["path", *fields, "key"]
+    csv.writer(buf, lineterminator="\r\n").writerow(
+        [f"{n} [{FIELD_UNITS[n]}]" if n in FIELD_UNITS else n for n in names]
+    )
+    w = csv.DictWriter(buf, fieldnames=names, lineterminator="\r\n", extrasaction="ignore")
     for p, key in points:
         if key in record:
             w.writerow(record[key])

@@ -176,6 +176,38 @@ def test_a_sweep_row_carries_its_runs_status_and_what_its_warnings_name(tmp_path
     assert (rows["hot"]["status"], rows["hot"]["warnings"]) == ("warnings", "yield; contact_radius")
 
 
+def test_a_sweep_tables_header_names_the_units_and_its_record_reads_back(tmp_path):
+    """Every number column's header carries its SI unit, ``name [unit]`` as in the histories (a sweep table's
+    had none, 2026-12-07); a record read back, with units or from before them, gives the rows by bare name, and a
+    table written from that record is the same table."""
+    import json
+
+    from rods.study.sweep import FIELD_UNITS, FIELDS, read_record, write_sweep_table
+
+    s = {"model": "fe-axisymmetric", "impact_speed": 2.197, "peak_contact_force": 5562.4, "contact_duration": 2.04e-4,
+         "dofs": 13636, "status": "ok"}  # fmt: skip
+    (tmp_path / "summary.json").write_text(json.dumps(s))
+    write_sweep_table(tmp_path / "t.csv", [(tmp_path / "summary.json", "k1")])
+    header = (tmp_path / "t.csv").read_text().splitlines()[0].split(",")
+    assert "peak_contact_force [N]" in header and "contact_duration [s]" in header and "impact_speed [m/s]" in header
+    assert {h.split(" [")[0] for h in header if " [" not in h} == {
+        "path",
+        "model",
+        "scene",
+        "status",
+        "warnings",
+        "key",
+    }
+    assert set(FIELD_UNITS) | {"model", "scene", "status", "warnings"} == set(FIELDS)
+    record = read_record(tmp_path / "t.csv")
+    assert record["k1"]["peak_contact_force"] == "5562.4" and record["k1"]["dofs"] == "13636"
+    write_sweep_table(tmp_path / "again.csv", [(tmp_path / "absent.json", "k1")], record)  # from the record alone
+    assert (tmp_path / "again.csv").read_bytes() == (tmp_path / "t.csv").read_bytes()
+    old = (tmp_path / "t.csv").read_text().replace(" [N]", "").replace(" [s]", "").replace(" [m/s]", "")
+    (tmp_path / "old.csv").write_text(old.replace(" [-]", ""))
+    assert read_record(tmp_path / "old.csv") == record
+
+
 def test_a_sweep_point_is_one_key_however_its_numbers_are_spelled():
     """--config's "4.0e-3" arrives as text and is the yaml's 0.004: one point, not a rerun (a probe, 2026-11-25);
     another value or a word is another point."""
