@@ -129,7 +129,7 @@ def driver_phase(scene: Scene) -> float:
 
 def check_first_contact(scene: Scene, analytical_summary: Mapping[str, Any]) -> None:
     """Refuse (SceneError, before any FE run) an end time that the analytical model's first contact outlasts, where
-    a study's submodels need that contact whole, compared whole by its comparison (rods.paper.data refuses an open
+    a study's submodels need that contact whole, compared whole by its comparison (rods.study.runs refuses an open
     contact, after the runs: a fuzz, 2026-12-07, ran a contact study to 10 µs of a 204 µs contact, "ok" but for
     warnings, and compare.py refused its folders). A driver alone may stop in the loading (:func:`driver_phase`)."""
     if checks.contact_warning(analytical_summary, scene.end_time, scene) is None:

@@ -223,13 +223,12 @@ def default_folder(stage: str, scene: Any, overridden: bool) -> Path:
 def scene_folder(scene: Any, overridden: bool) -> str:
     """The default folder name of a run of ``scene`` (rods.scene.Scene): :func:`safe_name` of its name, and when
     ``overridden`` (``--set`` given) "-" and 8 hex digits of the SHA-1 of its resolved values (Scene.as_dict,
-    keys sorted: the same scene whatever the order of the overrides), e.g. ``paper-3f1c09a2``."""
+    keys sorted, less what changes no result: Scene.result_values; the same scene whatever the order of the
+    overrides), e.g. ``paper-3f1c09a2``."""
     name = safe_name(scene.name)
     if not overridden:
         return name
-    from rods.scene import RESULT_NEUTRAL, values_without  # a restart may turn checkpoints on: the same folder
-
-    values = values_without(scene.as_dict(), RESULT_NEUTRAL, default=True)  # the digest of a scene that left them
+    values = scene.result_values(default=True)  # a restart may turn checkpoints on: the same folder
     digest = hashlib.sha1(json.dumps(values, sort_keys=True).encode()).hexdigest()[:8]
     return f"{name[: MAX_FOLDER_NAME - 9]}-{digest}"
 

@@ -735,7 +735,7 @@ class Scene:
     @property
     def scene_file(self) -> str | None:
         """The absolute path of the scene file the scene was read from, None for one built otherwise (from a dict, a
-        run's summary): the owner of the scene's default output folder (rods.paper.data.check_owner)."""
+        run's summary): the owner of the scene's default output folder (rods.study.runs.check_owner)."""
         p = Path(self.source) if self.source else None
         return str(p.resolve()) if p is not None and p.suffix == ".toml" and p.is_file() else None
 
@@ -953,6 +953,12 @@ class Scene:
     @property
     def rods(self) -> tuple[Rod, Rod]:
         return self.rod1, self.rod2
+
+    def result_values(self, default: bool = False) -> dict[str, Any]:
+        """:meth:`as_dict` less :data:`RESULT_NEUTRAL`, the keys that change no result: what a checkpoint, a rerun
+        and a run's folder are told apart by (``default``: set to their schema defaults instead of dropped, the
+        digest of rods.preflight.scene_folder, which stays that of a scene that never set them)."""
+        return values_without(self.as_dict(), RESULT_NEUTRAL, default)
 
     def as_dict(self, json_safe: bool = True) -> dict[str, Any]:
         """Nested plain dict of the validated scene (``json_safe``: inf as "inf", for summary.json)."""

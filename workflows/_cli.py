@@ -34,7 +34,7 @@ from rods.preflight import (  # noqa: F401  (for scripts)
     scene_folder,
     short,
 )
-from rods.scene import RESULT_NEUTRAL, Scene, SceneError, load_scene, parse_override, values_without
+from rods.scene import Scene, SceneError, load_scene, parse_override
 from rods.study.console import progress_bar, rank0  # noqa: F401  (the entry points' console)
 
 SCENES = Path(__file__).resolve().parent / "scenes"
@@ -236,8 +236,8 @@ def _scene_remedy(e: SceneError, args: argparse.Namespace) -> str:
 def out_dir(args: argparse.Namespace, model: str, scene: Scene) -> Path:
     """--out, or output/<model>/<scene folder> (rods.preflight.scene_folder: the scene's name, with a digest of its
     values where --set changed it); checked usable (rods.preflight) and, for a stage that writes a summary.json,
-    not holding another kind of run's (rods.paper.data.check_reuse)."""
-    from rods.paper.data import check_owner, check_reuse, stage_kind
+    not holding another kind of run's (rods.study.runs.check_reuse)."""
+    from rods.study.runs import check_owner, check_reuse, stage_kind
 
     default = default_folder(model, scene, _overridden(args, scene))
     out = output_dir(args.out if args.out is not None else default)
@@ -325,9 +325,7 @@ def _overridden(args: argparse.Namespace, scene: Scene) -> bool:
     if not args.overrides:
         return False
     try:
-        return values_without(load_scene(args.scene).as_dict(), RESULT_NEUTRAL) != values_without(
-            scene.as_dict(), RESULT_NEUTRAL
-        )
+        return load_scene(args.scene).result_values() != scene.result_values()
     except SceneError:  # the file alone is not a valid scene: the overrides made it one
         return True
 

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import _cli
 from rods.paper import accuracy_cost
-from rods.paper.data import parse_run, read_run
 from rods.preflight import InputError, distinct
+from rods.study.runs import parse_run, read_run
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -18,16 +18,16 @@ from pathlib import Path
 
 import _cli
 from rods import cost
-from rods.paper.data import check_driven_by, read_run, read_summary
 from rods.preflight import distinct, output_names
 from rods.scene import Scene
 from rods.study import stages, table3
+from rods.study.runs import check_driven_by, read_run, read_summary
 from rods.study.table3 import ModelRun
 
 
 def _run(role: str, folder: str, scene: Scene) -> ModelRun:
     """A run's summary (and a submodel's history); a missing, unreadable, wrong-kind or other scene's one is bad
-    input (exit 2, rods.paper.data.read_summary)."""
+    input (exit 2, rods.study.runs.read_summary)."""
     if role == "submodel":  # its first contact ended, as the globals' (a submodel cut short reads a force still rising)
         run = read_run(folder, flag="--submodel", kinds=("submodel",), scene=scene, whole_contact=True)
         return ModelRun(role, run.summary, run.history)

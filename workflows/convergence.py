@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import _cli
 from rods.paper import convergence
-from rods.paper.data import parse_run, read_summary
 from rods.preflight import InputError, distinct, output_names
+from rods.study.runs import parse_run, read_summary
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -13,10 +13,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import _cli
-from rods.paper.data import parse_run, read_run
 from rods.preflight import distinct
 from rods.scene import scene_from_summary
 from rods.study import fig4
+from rods.study.runs import parse_run, read_run
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -31,7 +31,6 @@ import _cli
 from rods import cost, plan
 from rods.fe import checkpoint
 from rods.fe.submodel import REPLACED_KEYS, submodel_label, submodel_scene
-from rods.paper.data import driver_end, read_driver
 from rods.preflight import InputError
 from rods.scene import (
     SUBMODEL_LEVELS,
@@ -42,6 +41,7 @@ from rods.scene import (
     scene_from_summary,
 )
 from rods.study import stages
+from rods.study.runs import driver_end, read_driver
 
 # the option that sets each scene key the submodel replaces (rods.fe.submodel.REPLACED_KEYS): a --set of one is
 # refused, it would be ignored; fe.field_interval has none (a submodel writes no fields)
@@ -63,8 +63,8 @@ def _step(text: str) -> float | str:
 
 def _driver(args: argparse.Namespace, argv: Sequence[str] | None) -> tuple[Path, dict, Scene, float]:
     """(folder, summary, the submodel's scene, its end time [s]) of the driving global --global, checked before
-    anything runs (rods.paper.data.read_driver), the scene's rods, impact and cut its own
-    (rods.plan.check_driven_scene), the end within its cut record (rods.paper.data.driver_end)."""
+    anything runs (rods.study.runs.read_driver), the scene's rods, impact and cut its own
+    (rods.plan.check_driven_scene), the end within its cut record (rods.study.runs.driver_end)."""
     gdir, gsum, driver, recorded = read_driver(args.global_dir, "--global")
     given = any(a.startswith("--scene") for a in (argv if argv is not None else sys.argv[1:]))
     if given:

@@ -40,7 +40,7 @@ from mpi4py import MPI
 
 from rods.io import atomic_write_text
 from rods.preflight import InputError, one_line, short
-from rods.scene import RESULT_NEUTRAL, first_difference, values_without
+from rods.scene import RESULT_NEUTRAL, first_difference
 
 __all__ = ["Appended", "CheckpointError", "Checkpoints", "load", "precheck", "save", "scene_hash", "stride"]
 
@@ -153,7 +153,7 @@ def state_values(scene: Any) -> dict[str, Any]:
     """The scene's validated values (Scene.as_dict, JSON's types) less rods.scene.RESULT_NEUTRAL: what a
     checkpoint's state depends on (a restart that turned periodic checkpoints on, as the README offers, was refused
     as "another scene": a fuzz, 2026-12-07)."""
-    return values_without(scene.as_dict(), RESULT_NEUTRAL)
+    return scene.result_values()
 
 
 def scene_hash(scene: Any) -> str:

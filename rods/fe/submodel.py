@@ -309,7 +309,7 @@ def submodel_label(level: str, size: float | None = None) -> str:
 
 
 def submodel_name(level: str) -> str:
-    """The ``model`` a submodel's summary names (rods.paper.data.run_kind tells it by its prefix)."""
+    """The ``model`` a submodel's summary names (rods.study.runs.run_kind tells it by its prefix)."""
     return f"fe-submodel-{level}" if level else "fe-submodel"
 
 

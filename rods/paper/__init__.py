@@ -1,7 +1,6 @@
 """The paper job's tables, figures and report: each stage computes its result as data, writes it as JSON,
 and renders its markdown and figures from that data.
 
-* :mod:`rods.paper.data` — the runs later stages read (checked as bad input), percentage cells.
 * :mod:`rods.paper.table2` — Table 2: the analytical model on the six trials against the paper and the
   experiment, with uncertainty bands (``table2.json``, ``.csv``, ``.md``, ``.png``, ``fig4-analytical.png``).
 * :mod:`rods.paper.accuracy_cost` — every model's error against its cost, Pareto fronts
@@ -12,5 +11,6 @@ and renders its markdown and figures from that data.
   ``edge-scatter.json``). Fig. 4 is any scene's wave
   response figure, :mod:`rods.study.fig4`, which the paper job draws for its own runs.
 
-The paper's published numbers enter only through :func:`rods.paper_data.load`, by named keys.
+The runs later stages read (checked as bad input) are :mod:`rods.study.runs` (here as ``rods.paper.data`` before
+2026-12-07). The paper's published numbers enter only through :func:`rods.paper_data.load`, by named keys.
 """

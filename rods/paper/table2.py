@@ -23,9 +23,9 @@ from rods.analytical import PAPER_LAW, AnalyticalResult, simulate
 from rods.compare import percent
 from rods.hertz import YieldWarning
 from rods.io import write_data
-from rods.paper.data import pct
 from rods.scene import Scene, load_scene
 from rods.study.figures import pyplot
+from rods.study.runs import pct
 from rods.uncertainty import PAPER_UNCERTAINTY, propagate
 
 __all__ = ["compute", "plot", "plot_fig4_analytical", "render_csv", "render_md", "run_trials", "write"]

@@ -8,6 +8,8 @@
 * :mod:`rods.study.fig4` — Fig. 4 of a scene (its wave response): FE runs over the analytical model, their Rod-2
   midpoint speed and strain and contact force (``fig4.json``, ``.md``, ``.png``).
 * :mod:`rods.study.sweep` — one CSV row per run of a parameter sweep.
+* :mod:`rods.study.runs` — the runs later stages read, checked as bad input (folder, summary, kind of run, scene),
+  and percentage cells.
 * :mod:`rods.study.console` — rank 0's log and progress bar for the entry points.
 * :mod:`rods.study.jobs` — a stage's cost (rods.cost) and the cluster's request from it (tasks, memory, runtime).
 * :mod:`rods.study.verification` — the verification matrix: the global at default settings against the

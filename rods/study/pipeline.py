@@ -23,6 +23,7 @@ from rods import checks, cost, io, plan
 from rods.preflight import short
 from rods.scene import RESULT_NEUTRAL, SUBMODEL_LEVEL_SIZES, Scene, cut_record_end, first_difference
 from rods.study import stages
+from rods.study.runs import check_reuse, stage_kind
 
 __all__ = ["Study", "run_study", "stage_costs"]
 
@@ -142,7 +143,6 @@ def run_study(
     global that records the cut), the rest run; the analytical model and the comparison always run (seconds). Nothing is
     written before the global's set-up has accepted the scene (:func:`_set_up_global`): a refused input leaves no
     half study and deletes nothing."""
-    from rods.paper.data import check_reuse, stage_kind
     from rods.preflight import output_dir
 
     t0 = time.perf_counter()

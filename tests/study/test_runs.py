@@ -1,10 +1,10 @@
-"""The runs later stages read (rods.paper.data): percentage cells, run specs."""
+"""The runs later stages read (rods.study.runs): percentage cells, run specs."""
 
 from __future__ import annotations
 
 import math
 
-from rods.paper import data
+from rods.study import runs as data
 
 
 def test_percentage_cells():
@@ -20,14 +20,18 @@ def test_run_spec_keeps_equal_signs_in_the_label():
 
 
 def test_names_callers_imported_before_the_move_still_work(tmp_path):
-    """A caller's script from before 2026-11-28 (Run, load, write_json, dump from here; Fig. 4 from rods.paper) runs
-    unchanged on the same functions: rods.io's data files and rods.study.fig4."""
+    """A caller's script from before 2026-11-28 (Run, load, write_json, dump from rods.paper.data; Fig. 4 from
+    rods.paper) and one from before 2026-12-07 (this module's names from rods.paper.data) run unchanged on the same
+    functions: rods.io's data files, rods.study.fig4 and this module."""
     from rods import io
+    from rods.paper import data as old_data
     from rods.paper import fig4 as old_fig4
     from rods.paper.data import Run, dump, load, write_json
     from rods.study import fig4
 
     assert old_fig4 is fig4 and (Run, dump, load, write_json) == (io.Run, io.dumps, io.read_data, io.write_data)
+    names = [*data.__all__, "STAGE_KINDS", "STOPPED", "stage_kind"]
+    assert all(getattr(old_data, n) is getattr(data, n) for n in names)
     write_json(tmp_path / "x.json", {"a": math.nan})
     assert math.isnan(load(tmp_path / "x.json")["a"])
 
@@ -51,7 +55,7 @@ def test_each_stage_writes_the_run_kind_its_folder_is_kept_for(tmp_path):
 
 
 def test_a_stopped_run_is_named_by_the_statuses_the_guards_write():
-    """rods.paper.data.STOPPED (the statuses a reading stage refuses; a literal, as rods.fe.guards loads PETSc) is
+    """rods.study.runs.STOPPED (the statuses a reading stage refuses; a literal, as rods.fe.guards loads PETSc) is
     exactly the statuses a guard's and an interrupt's stop write."""
     from rods.fe.guards import Interrupted, SimulationError
 
