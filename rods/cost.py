@@ -31,8 +31,8 @@ estimates"):
   (:func:`calibrated`): a sparse product of the run's own per-rank working set (:attr:`Cost.probe_rows`: in cache
   where the run's mesh is, out of it where it is not) timed on every rank at once (milliseconds for a small run,
   about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against :data:`PROBE_RATE_REFERENCE`: the
-  reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (2026-12-06, idle,
-  serial: 2.5e7 axisymmetric, 6.8e6 in 3D). Set-up 1.2e-5 s per DOF axisymmetric and 6e-5 in 3D over the ranks
+  reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (idle: 3.5e7
+  axisymmetric, long runs serial and on 2 ranks, 2026-12-07; 6.8e6 in 3D, serial, 2026-12-06). Set-up 1.2e-5 s per DOF axisymmetric and 6e-5 in 3D over the ranks
   (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s at 132k on 2026-11-27, 6.4 s on 2026-11-28:
   :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at 398k);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
@@ -119,8 +119,14 @@ BYTES_PER_VALUE = 33.0
 # paper rods, coarsened, 600 steps, best of 2; the probe at each mesh's probe_rows, best of 5): axisymmetric 3.0e7
 # at 23k DOFs, 2.8e7 at 103k, 2.1e7 at 299k, 2.3e7 at 398k (the loop 8.6e7, 6.9e7, 5.4e7, 6.1e7; the probe 101 to
 # 117 M rows/s); 3D 6.7e6 at 132k, 6.8e6 at 83k (the loop 1.78e7, 1.81e7). 2026-11-27: 3.3e7 and 8.5e6 at the 1M-row
-# probe alone
-DOF_STEPS_PER_SECOND = {"axisymmetric": 2.5e7, "3d": 6.8e6}  # [1/s]
+# probe alone. Axisymmetric 3.5e7 since 2026-12-07: those 600-step runs carry the loop's one-off costs (first
+# touches, the last step's output) in their steps, and the runs users make are long; the plans of long runs (1.3
+# contact phases of drawn scenes, 5k-49k steps) came out 1.31x (seed 61213, 2 ranks, 2026-12-07) and 1.46x, 1.52x
+# (seed 61214, 2 ranks and serial, the same day) of the measured global stage, median, at 2.5e7: the loop's rate
+# there, x 4.0e7 / the probe's, was 4.3e7 serial (10 drawn scenes and the paper scene's default run; 2.9e7 for the
+# 600-step runs of the same day) and 5.6e7 per rank on 2 ranks (the ranks' concurrent probe reads low). 3.5e7 puts
+# those long runs near 1.1x and a short run near 0.8x
+DOF_STEPS_PER_SECOND = {"axisymmetric": 3.5e7, "3d": 6.8e6}  # [1/s]
 # the probe (machine_speed): a banded CSR matrix, each row the 18 entries of an axisymmetric stiffness row (9 nodes x
 # 2 components), y = A x, of as many rows as a run's per-rank working set (PROBE_ROWS_PER_DOF), rounded up to a power
 # of two so that a study's stages share probes, within PROBE_MIN_ROWS (a few ms with its build) and PROBE_ROWS (~0.22
