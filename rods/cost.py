@@ -32,9 +32,10 @@ estimates"):
   where the run's mesh is, out of it where it is not) timed on every rank at once (milliseconds for a small run,
   about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against :data:`PROBE_RATE_REFERENCE`: the
   reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (idle: 3.5e7
-  axisymmetric, long runs serial and on 2 ranks, 2026-12-07; 6.8e6 in 3D, serial, 2026-12-06). Set-up 1.2e-5 s per DOF axisymmetric and 6e-5 in 3D over the ranks
-  (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s at 132k on 2026-11-27, 6.4 s on 2026-11-28:
-  :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at 398k);
+  axisymmetric, long runs serial and on 2 ranks, 2026-12-07; 6.8e6 in 3D, serial, 2026-12-06). Set-up 1.2e-5 s
+  per DOF axisymmetric and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s
+  at 132k on 2026-11-27, 6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at
+  398k);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells and DOFs: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene), 2 DOFs
