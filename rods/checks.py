@@ -275,7 +275,7 @@ VERIFY_ENERGY = 1e-3
 # tips curved, at 4.5 m/s (wave draw 61207): +2.01% at the auto mesh, +2.09% at half its sizes (65k, 246k DOFs): the
 # FE's largest speed is a ringing spike 10% above the plateau (4.02 m/s against 3.65), so 0.9 x it takes the
 # ringing's tops, 2.5-3.7 µs of each 22 µs plateau (2026-12-06)
-AGREE_PEAK_SPEED = 0.01
+AGREE_PEAK_SPEED = 0.01  # [-]
 # largest |error| against Hertz at its own force, and largest change by the last refinement, of the finest submodel
 # level's contact area and peak pressure in an "ok" study (issue 13: 2% at fine, paper scene fine -0.12%/-0.76%) [-]
 HERTZ_OK = 0.02

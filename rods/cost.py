@@ -105,7 +105,7 @@ BYTES_PER_SOLVER_STEP = 1e3  # [B]
 # (quarter) / 1.93M DOFs 0.708 / 1.04 / 4.41 / 5.38 GB. Before, 170 MB, 850 B and 2200 B had planned the 1.93M-DOF
 # 3D run at 4.59 GB: a default 3D plan of 20.9 GB passed a 23 GB machine's 21 GB free, where ~24 GB would be used
 # (a helper's audit)
-BASE_MEMORY = 190e6
+BASE_MEMORY = 190e6  # [B]
 # [B] the analytical model's process: the interpreter, numpy, scipy, mpi4py (109 MB max RSS on the paper scene,
 # 2026-12-07; 60 MB had been planned)
 ANALYTICAL_BASE_MEMORY = 105e6
@@ -223,7 +223,7 @@ CUT_BYTES_PER_ENTRY_RECORD = 16.0  # [B]
 # 0.1 mm across, serial: 690 MB at the write's peak against 56 MB before the record was allocated, 1.9 x its 331 MB
 # file; 3.8 x while the write gathered u and v whole, concatenated and reordered them). The record counted here errs
 # high, by the band's fifth row and the step estimate's margin, so this bounds the peak
-CUT_RECORD_COPIES = 2.0
+CUT_RECORD_COPIES = 2.0  # [-]
 DT_PER_ELEMENT_STEP = 1.0  # Δt / (fe.dt_fraction h_min / c_d) [-] (measured 0.80 / 0.8)
 H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 # a requested fe.dt above this x the estimated limit is refused before the set-up (the estimate lies at 0.68 to 1.05

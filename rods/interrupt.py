@@ -35,13 +35,13 @@ _state = {"armed": 0, "signal": 0, "installed": 0, "since": 0.0, "handled": 0.0,
 # each rank directly and again through mpirun, milliseconds apart, and the second raised KeyboardInterrupt on that
 # rank alone (no checkpoint; a hang where the others waited in a collective: a fuzz, 2026-12-07). A Ctrl-C pressed
 # again later still stops at once.
-REPEAT_GRACE = 5.0
+REPEAT_GRACE = 5.0  # [s]
 # a signal whose Python handler has not run this long after it arrived finds the main thread stuck in a call (a
 # collective another rank left) or in a long one (a 3D mesh's generation): the watcher stops the process [s]. Longer
 # than a rank may wait in a collective for another's file (a 3D field frame of 7.6M DOFs is ~0.7 GB, a cut record
 # several GB): a loop's stop at its next check, checkpointed, is worth the wait. Below SLURM's default KillWait (30 s),
 # whose SIGKILL would otherwise come first, without the line or the folder's release
-STUCK_GRACE = 20.0
+STUCK_GRACE = 20.0  # [s]
 # [s] how long before the watcher woke the handler may have run for this signal: the watcher takes the GIL after the
 # main thread's next switch (milliseconds), so a handler that ran just before it woke counts as this signal's
 HANDLER_LAG = 0.5
@@ -49,7 +49,7 @@ HANDLER_LAG = 0.5
 # KeyboardInterrupt that lands in a weakref callback or a __del__ ("Exception ignored in", about one SIGTERM in 30 at
 # the set-up's start: that rank went on while the others aborted it, a review, 2026-12-07); on its way a raise takes
 # microseconds to the stop, through the finishes it passes
-LOST_GRACE = 2.0
+LOST_GRACE = 2.0  # [s]
 EXIT_INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT)
 _STOP = threading.Lock()  # the stop's flag, set by the main thread (an entry point's abort) or the watcher
 _watch: dict[str, Any] = {}  # the watcher: its socket pair, thread and the wakeup fd it replaced

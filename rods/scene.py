@@ -308,7 +308,7 @@ AXIAL_PER_DIAMETER = 12.7  # fe.axial_size = "auto": at most the thinner rod's d
 # contact's Saint-Venant zone (about one diameter), where the section's stress is the bar's (the paper's 14 mm cut
 # on its 12.7 mm rods, so the paper scene's auto is its 14 mm exactly); > 2 cap heights by construction (a cap is
 # at most a radius high)
-SUBMODEL_DIAMETERS = 14e-3 / 12.7e-3
+SUBMODEL_DIAMETERS = 14e-3 / 12.7e-3  # [-]
 # the submodel's cut band (rods.fe.cut: the global's recorded nodes around each cut plane, the driver's interpolation
 # and traction support) reaches this many global axial elements either side of the plane [-]
 BAND_ELEMENTS = 2

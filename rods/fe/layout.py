@@ -55,8 +55,8 @@ GROWTH = 1.2  # target size ratio between neighbouring elements in a graded bloc
 # 0.47 mm) gave a 6 mm rod striking a 25 mm one the same contact on half the DOFs (+0.140% against +0.156% uniform,
 # 101k DOFs against 211k) but moved the thick rod's midpoint response (velocity history 1.3% RMS, peak speed -0.93%;
 # 2026-11-29), where 1 moves a graded rod's by less than halving the uniform mesh's radial size does
-RIM_ASPECT = 1.0
-GRADED_SHARE = 0.5  # fe.radial_grading "auto": a rod is graded where that leaves at most this share of its elements
+RIM_ASPECT = 1.0  # [-]
+GRADED_SHARE = 0.5  # [-] fe.radial_grading "auto": a rod is graded where that leaves at most this share of its elements
 # across [-]: above it the uniform mesh, the one results/verification.md measured, is kept (the paper rods: 19 of 24)
 
 

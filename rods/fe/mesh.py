@@ -63,7 +63,7 @@ TAGS = {
 # slanted sides then meet the columns' at 45°; half way up, a 1 mm layer over 0.024 mm elements had 2.8° corners.
 # Either way the step stays the tip's (paper rods at 0.1 and 2.197 m/s, a hemispherical tip at 0.1: Δt_crit within
 # 3e-6 of the uncoarsened mesh's at 0.5, 1, 2 and 100, 2026-12-06)
-SLANT = 1.0
+SLANT = 1.0  # [-]
 
 
 @dataclass
