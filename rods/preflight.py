@@ -223,8 +223,8 @@ def default_folder(stage: str, scene: Any, overridden: bool) -> Path:
 def scene_folder(scene: Any, overridden: bool) -> str:
     """The default folder name of a run of ``scene`` (rods.scene.Scene): :func:`safe_name` of its name, and when
     ``overridden`` (``--set`` given) "-" and 8 hex digits of the SHA-1 of its resolved values (Scene.as_dict,
-    keys sorted, less what changes no result: Scene.result_values; the same scene whatever the order of the
-    overrides), e.g. ``paper-3f1c09a2``."""
+    keys sorted, with what changes no result at its default: Scene.result_values(default=True); the same scene
+    whatever the order of the overrides), e.g. ``paper-3f1c09a2``."""
     name = safe_name(scene.name)
     if not overridden:
         return name

@@ -5,6 +5,6 @@ scripts; so do the data files' writer and reader and the run record, which lived
 
 from rods import io
 from rods.study.runs import *  # noqa: F403
-from rods.study.runs import STAGE_KINDS, STOPPED, stage_kind  # noqa: F401  (not in its __all__)
+from rods.study.runs import DRIVER_REMEDY, RERUN_DRIVER, STAGE_KINDS, STOPPED, stage_kind  # noqa: F401  (not in its __all__)
 
 Run, dump, load, write_json = io.Run, io.dumps, io.read_data, io.write_data

@@ -24,6 +24,7 @@ from rods.scene import PAPER_SCENE  # the main job's scene, which its global mes
 __all__ = [
     "CONFIG_KEYS",
     "FIELDS",
+    "FIELD_UNITS",
     "ConfigError",
     "check_config",
     "code_key",

@@ -30,7 +30,7 @@ def test_names_callers_imported_before_the_move_still_work(tmp_path):
     from rods.study import fig4
 
     assert old_fig4 is fig4 and (Run, dump, load, write_json) == (io.Run, io.dumps, io.read_data, io.write_data)
-    names = [*data.__all__, "STAGE_KINDS", "STOPPED", "stage_kind"]
+    names = [*data.__all__, "DRIVER_REMEDY", "RERUN_DRIVER", "STAGE_KINDS", "STOPPED", "stage_kind"]
     assert all(getattr(old_data, n) is getattr(data, n) for n in names)
     write_json(tmp_path / "x.json", {"a": math.nan})
     assert math.isnan(load(tmp_path / "x.json")["a"])
