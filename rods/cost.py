@@ -22,8 +22,9 @@ estimates"):
   contact-switching limit 1/ω_c (rods.fe.explicit) when it is shorter: a pair of lumped masses ρ_i a h_n/2 on
   the spring ε a, ε = factor x E*/h_n, has ω_c² = 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n², h_n the tip element normal
   to the face (measured 9.96 and 22.3 ns against 10.4 and 23.3 ns estimated at 10 and 2 x E*/h, paper scene);
-* time: set-up (mesh, assembly, the contact's data) + steps x (a fixed cost per step + DOFs / (rate x ranks)), an
-  axisymmetric global's steps counted centrally (:data:`STEP_COUNT_BIAS`: the step above errs low for the checks).
+* time: set-up (mesh, assembly, the contact's data) + steps x (a fixed cost per step + DOFs / (rate x ranks)), a
+  global's and a submodel's steps counted centrally (:data:`STEP_COUNT_BIAS`, :data:`SUBMODEL_STEP_COUNT_BIAS`: the
+  step above errs low for the checks).
   The fixed cost (contact, recorder, Python; the ghosts' exchange and the reductions under MPI; a submodel's cut
   driving: :data:`STEP_OVERHEAD`, :data:`MPI_STEP_OVERHEAD`, :data:`CUT_STEP_OVERHEAD`) dominates small models.
   The rate is the machine's, and it moves: the same 396k-DOF loop ran 9.9e7 DOF-steps/s on 2026-11-22, 3.3e7 on
@@ -146,9 +147,14 @@ PROBE_MAX_AGE = 60.0
 # the plan's step count over the run's, centrally, per kind of global [-]: the estimated stable step errs low by design
 # (TIP_STEP_FRACTION; the checks and the step budget keep that count), and the per-step costs below are per step run,
 # so the time took the bias whole. Axisymmetric globals at auto sizes, 2026-12-07: 20 drawn scenes (scene_probe
-# --random 10, seeds 61212 and 61213) 1.10-1.34, median 1.175; the verification matrix's six 1.11-1.13. 3D and the
-# submodels unmeasured: none
-STEP_COUNT_BIAS = {"axisymmetric": 1.15}
+# --random 10, seeds 61212 and 61213) 1.10-1.34, median 1.175; the verification matrix's six 1.11-1.13. 3D globals,
+# 2026-12-07: 1.195-1.199 at the coarse scene's sizes (seven runs, full and quarter, serial and 2 ranks), 0.995-1.09
+# at finer quarter models (four): 1.1 between, each within 10%
+STEP_COUNT_BIAS = {"axisymmetric": 1.15, "3d": 1.1}
+# the same for a submodel (driven at its cuts, its own uniform mesh), axisymmetric, 2026-12-07: 1.10-1.16 over the
+# levels of four drawn studies (submodel_probe --random 4 --seed 61214: 13 levels, coarse to ultra-fine) and 1.09 on
+# the paper scene's coarse, mid and fine; 3D submodels unmeasured: none
+SUBMODEL_STEP_COUNT_BIAS = {"axisymmetric": 1.13}
 # the fixed cost of one step [s]: contact, recorder, Python (serial); with the ghosts' exchange and the reductions
 # under MPI; and a submodel's cut driving on top. Measured 2026-12-06, idle, the paper rods at 638 to 5.8k DOFs, 1500
 # steps, best of 3: 40 to 108 µs serial, 60 to 112 µs on 2 ranks; 2 ranks' loops from 13.6k to 398k DOFs lie 40 to
@@ -175,8 +181,9 @@ SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 6e-5}
 # fe.operator = "matrix-free" on the CPU (NumPy, serial; rods.fe.matrixfree): the element kernel's product, measured
 # 2026-11-28 on this 2-core machine, idle: 3D coarse (132k DOFs) 65.8 ms, 2.0e6 DOF-steps/s, 6.1x the CSR product
 # (benchmarks/gpu_throughput.py --backend numpy); the axisymmetric paper mesh (48k DOFs, 4 x 4 Gauss points) 61.6 ms,
-# 7.8e5, 25x the CSR product. On a GPU not measured: there the assembled rate below stands in for it
-MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND = {"axisymmetric": 7.8e5, "3d": 2.0e6}  # [1/s]
+# 7.8e5, 25x the CSR product. On a GPU not measured: there the assembled rate below stands in for it. Axisymmetric
+# whole runs, serial, idle: 1.03e6 (42.9k DOFs, 2026-12-06), 1.41e6 and 1.46e6 (19.3k and 40.2k, 2026-12-07): 1.0e6
+MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND = {"axisymmetric": 1.0e6, "3d": 2.0e6}  # [1/s]
 GPU_STEP_OVERHEAD = 1.86e-3  # [s] the host's kernel launches and the contact's copy per step
 GPU_DOF_STEPS_PER_SECOND = 3.5e9  # [1/s]
 GPU_SETUP_SECONDS_PER_DOF = {"axisymmetric": 1.2e-5, "3d": 2.1e-5}  # [s] (axisymmetric: the CPU's, not measured)
@@ -628,7 +635,7 @@ def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float, cut: bool, rows:
     (no bound), and the fixed costs per step and per row."""
     kind = scene["fe.kind"]
     recording = rows * RECORD_ROW_SECONDS
-    steps = steps / (1.0 if cut else STEP_COUNT_BIAS.get(kind, 1.0))  # the steps the run will take, centrally
+    steps = steps / (SUBMODEL_STEP_COUNT_BIAS if cut else STEP_COUNT_BIAS).get(kind, 1.0)  # the run's, centrally
     if _on_gpu(scene, ranks):
         setup = dofs * GPU_SETUP_SECONDS_PER_DOF[kind]
         return setup, steps * (GPU_STEP_OVERHEAD + dofs / GPU_DOF_STEPS_PER_SECOND) + recording, 0.0
