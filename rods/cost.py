@@ -33,7 +33,8 @@ estimates"):
   where the run's mesh is, out of it where it is not) timed on every rank at once (milliseconds for a small run,
   about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against :data:`PROBE_RATE_REFERENCE`: the
   reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (idle: 3.5e7
-  axisymmetric, long runs serial and on 2 ranks, 2026-12-07; 6.8e6 in 3D, serial, 2026-12-06). Set-up 1.2e-5 s
+  axisymmetric, long runs serial and on 2 ranks, 2026-12-07, and 2.8e7 past the cache, :func:`reference_rate`; 6.8e6
+  in 3D, serial, 2026-12-06). Set-up 1.2e-5 s
   per DOF axisymmetric and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s
   at 132k on 2026-11-27, 6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at
   398k);
@@ -129,6 +130,15 @@ BYTES_PER_VALUE = 33.0
 # 600-step runs of the same day) and 5.6e7 per rank on 2 ranks (the ranks' concurrent probe reads low). 3.5e7 puts
 # those long runs near 1.1x and a short run near 0.8x
 DOF_STEPS_PER_SECOND = {"axisymmetric": 3.5e7, "3d": 6.8e6}  # [1/s]
+# the same where a rank's loop is past the last-level cache [1/s]: the probe scales the rate by a product of the run's
+# working set, but the loop's rate over the probe's falls further out of cache. The paper rods at 398k DOFs (0.25 x
+# 0.125 mm, uncoarsened, 4672 steps; 2026-12-07, idle): 2.73e7 serially and on 2 ranks (199k DOFs a rank), planned
+# 0.85x and 0.76x of the measured run at 3.5e7; 496k DOFs (a helper's, 5.8k steps) 0.85x and 0.81x of its loop.
+# Between IN_CACHE and OUT_OF_CACHE (the working set per rank over CACHE_BYTES) the rate goes log-linearly from
+# DOF_STEPS_PER_SECOND to this; 3D keeps its one rate (its plans read 1.0-1.9x, none low)
+OUT_OF_CACHE_DOF_STEPS_PER_SECOND = {"axisymmetric": 2.8e7}  # [1/s]
+CACHE_BYTES = 32 * 2**20  # [B] this machine's last-level cache, where the rates were measured (AMD EPYC, 32 MiB L3)
+IN_CACHE, OUT_OF_CACHE = 0.65, 1.6  # a rank's working set (LOOP_BYTES_PER_DOF x DOFs) over CACHE_BYTES [-]
 # the probe (machine_speed): a banded CSR matrix, each row the 18 entries of an axisymmetric stiffness row (9 nodes x
 # 2 components), y = A x, of as many rows as a run's per-rank working set (PROBE_ROWS_PER_DOF), rounded up to a power
 # of two so that a study's stages share probes, within PROBE_MIN_ROWS (a few ms with its build) and PROBE_ROWS (~0.22
@@ -137,8 +147,8 @@ PROBE_ROWS = 1_000_000  # [-]
 PROBE_MIN_ROWS = 1 << 15  # [-]
 # a DOF's traffic per step over a probe row's (18 entries of 8 + 4 B, the row pointer, x and y: 236 B): its row's
 # entries, the row pointer and 48 B of vectors (rods.fe.backend), 268 B axisymmetric (18 entries), 1024 B in 3D (81)
-# [-]
-PROBE_ROWS_PER_DOF = {"axisymmetric": 268.0 / 236.0, "3d": 1024.0 / 236.0}
+LOOP_BYTES_PER_DOF = {"axisymmetric": 268.0, "3d": 1024.0}  # [B]
+PROBE_ROWS_PER_DOF = {kind: b / 236.0 for kind, b in LOOP_BYTES_PER_DOF.items()}  # [-]
 PROBE_RATE_REFERENCE = 4.0e7  # [rows/s] the probe's rate that DOF_STEPS_PER_SECOND is paired with
 ESTIMATE_METHOD = "working-set probe"  # how calibrated estimates a run (the probe benchmarks record it) [-]
 # [s] a probe older than this is measured again: one process planning many runs (the benchmarks, a notebook) tracks a
@@ -645,8 +655,20 @@ def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float, cut: bool, rows:
         # at its measured rate, unscaled (42.9k axisymmetric DOFs, 2026-12-06: 1.03e6 DOF-steps/s, where 7.8e5 x
         # the probe's 2.91 planned 66.6 s for a 151 s run)
         return setup, steps * (fixed + dofs / (MATRIX_FREE_CPU_DOF_STEPS_PER_SECOND[kind] * ranks)) + recording, 0.0
-    bound = steps * dofs / (DOF_STEPS_PER_SECOND[kind] * ranks)
+    bound = steps * dofs / (reference_rate(kind, dofs / ranks) * ranks)
     return setup, steps * fixed + recording + bound, bound
+
+
+def reference_rate(kind: str, dofs_per_rank: float) -> float:
+    """The loop's rate per rank [DOF-steps/s] where the probe reads PROBE_RATE_REFERENCE, at ``dofs_per_rank``: the
+    in-cache rate up to IN_CACHE x CACHE_BYTES of working set, the out-of-cache one from OUT_OF_CACHE x, log-linear in
+    the working set between (:data:`OUT_OF_CACHE_DOF_STEPS_PER_SECOND`)."""
+    rate, far = DOF_STEPS_PER_SECOND[kind], OUT_OF_CACHE_DOF_STEPS_PER_SECOND.get(kind)
+    share = LOOP_BYTES_PER_DOF[kind] * dofs_per_rank / CACHE_BYTES
+    if far is None or share <= IN_CACHE:
+        return rate
+    w = min(1.0, math.log(share / IN_CACHE) / math.log(OUT_OF_CACHE / IN_CACHE))
+    return rate ** (1.0 - w) * far**w
 
 
 def probe_rows(kind: str, dofs: float, ranks: int) -> int:
