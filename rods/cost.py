@@ -78,6 +78,7 @@ __all__ = [
     "fe_cost",
     "local_memory",
     "machine_speed",
+    "products_cost",
     "total",
 ]
 
@@ -325,6 +326,8 @@ class Cost:
     ranks_remedy: str = "more ranks"
 
     def describe(self) -> str:
+        if not (self.dofs or self.steps):  # a study's products (products_cost): rank 0's seconds, no model
+            return f"cost of {self.what}: wall time about {_duration(self.wall_time)}"
         fields = f", {self.frames:.3g} field frames ({self.field_bytes / 1e9:.3g} GB)" if self.frames else ""
         machine = "" if self.speed is None else f" (this machine's probed rate {self.speed:.2f} x the reference's)"
         caveat = f"; {self.caveat}" if self.caveat else ""
@@ -356,6 +359,21 @@ class Cost:
 
 
 CHEAPER_NOTE = 600.0  # [s] a plan above this names the same model for less (its ``cheaper``: a 3D run's twin)
+# a study's products from its stages' results, written on rank 0 after them [s]: Table 3 with Figs. 5c/6 (a submodel
+# study's comparison), Fig. 4 (the wave response's figure), the contact picture (the fields'). Each the study's wall
+# time less its stages' set-up and loops (2026-12-07, idle, serial, the paper scene, one study each: 1.75 s with one
+# coarse level, 0.75 s and 2.32 s), so the stages' hand-overs are in them; "cost in all" had left them out, and a
+# one-level study took 1.6-2.3 x its plan (a helper's audit)
+PRODUCT_SECONDS = {"the comparison": 1.5, "the wave figure": 0.6, "the contact picture": 2.0}
+
+
+def products_cost(names: Sequence[str], ranks: int) -> Cost:
+    """A study's products ``names`` (keys of :data:`PRODUCT_SECONDS`) as one more line of its plan: their seconds,
+    no mesh, no steps; the memory an interpreter with the figures' libraries takes."""
+    what = " and ".join(names)
+    return Cost(what, 0, 0, 0, 0, 0, ANALYTICAL_BASE_MEMORY, sum(PRODUCT_SECONDS[n] for n in names), ranks=ranks)
+
+
 DEAREST_SHARE = 0.5  # a stage above this share of a run's estimated wall time is named in its total [-]
 
 

@@ -274,6 +274,7 @@ def test_dry_run_prints_the_plan_and_costs_and_writes_nothing(tmp_path):
     )  # fmt: skip
     assert p.returncode == 0, p.stderr
     assert "submodel levels: coarse, mid, fine" in p.stdout and "cost of the submodel fine" in p.stdout
+    assert "\ncost of the comparison: wall time about " in p.stdout  # Table 3 and its figures, after the stages
     assert "\ncost in all: wall time about " in p.stdout  # the stages' sum under their costs
     assert "dry run" in p.stdout and not out.exists()
     for script in ("analytical.py", "global.py"):  # the single-model doors too

@@ -43,7 +43,8 @@ CONTACT_PICTURE = "contact-fields"  # compare/contact-fields.png, .json: the fie
 def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
     """The estimated costs (rods.cost.fe_cost) of the FE stages :func:`run_study` runs for plan ``p`` of ``scene``
     on ``ranks`` ranks: the global to the planned end time, a separate driving global only where the global does
-    not record the cut (rods.plan.global_drives), each submodel level on the driver's scene."""
+    not record the cut (rods.plan.global_drives), each submodel level on the driver's scene, and the products the
+    study makes from them on rank 0 (:func:`_finish`: Table 3 and its figures, Fig. 4, the contact picture)."""
     drives = plan.global_drives(p)  # the global records the cut to the contact phase
     until = p.contact_phase if drives else None
     costs = (
@@ -62,7 +63,10 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
             size = SUBMODEL_LEVEL_SIZES[lv]
             c = cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=size, remedy=remedy)
             costs.append(c if graded is None else _with_grading_remedy(c, graded, size))
-    return costs
+    products = [name for name, made in (("the comparison", bool(p.submodel_levels)),
+                                        ("the wave figure", "wave_response" in p.effects and p.global_model),
+                                        ("the contact picture", p.fields and p.global_model)) if made]  # fmt: skip
+    return costs + ([cost.products_cost(products, ranks)] if products else [])
 
 
 def _graded_alternative(driver: Scene) -> Scene | None:

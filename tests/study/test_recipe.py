@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from rods import compare, hertz
+from rods import compare, cost, hertz
 from rods.analytical import simulate
 from rods.plan import (
     CONTACT_MARGIN,
@@ -232,9 +232,10 @@ def test_a_fresh_study_forgets_the_stage_summaries_an_earlier_run_left(scene_wit
 
 
 def test_stage_costs_are_the_stages_the_plan_runs(scene_with):
-    """rods.study.pipeline.stage_costs: one cost per FE stage run_study runs. Wave and contact effects: the global
-    records the cut (no second driving global, rods.plan.global_drives), then each level, a finer level dearer;
-    contact alone: the same stages, the global to the contact phase only; wave alone: the global to the end."""
+    """rods.study.pipeline.stage_costs: one cost per FE stage run_study runs, and one for the products it makes from
+    them. Wave and contact effects: the global records the cut (no second driving global, rods.plan.global_drives),
+    then each level, a finer level dearer, then Table 3 and Fig. 4; contact alone: the same stages, the global to the
+    contact phase only, Table 3; wave alone: the global to the end, Fig. 4."""
     from rods.study.pipeline import stage_costs
 
     def costs(effects, levels="['coarse', 'mid']"):
@@ -246,7 +247,12 @@ def test_stage_costs_are_the_stages_the_plan_runs(scene_with):
         costs("['contact_patch']"),
         costs("['wave_response']"),
     )
-    assert [c.what for c in both] == ["the global", "the submodel coarse", "the submodel mid"]
-    assert [c.what for c in contact] == [c.what for c in both] and [c.what for c in wave] == ["the global"]
+    fe = ["the global", "the submodel coarse", "the submodel mid"]
+    assert [c.what for c in both] == [*fe, "the comparison and the wave figure"]
+    assert [c.what for c in contact] == [*fe, "the comparison"]
+    assert [c.what for c in wave] == ["the global", "the wave figure"]
+    products = cost.PRODUCT_SECONDS
+    assert both[-1].wall_time == products["the comparison"] + products["the wave figure"] and not both[-1].dofs
+    assert "cost of the comparison: wall time about" in contact[-1].describe()
     assert both[2].dofs > both[1].dofs and all(c.ranks == 2 for c in both)
     assert contact[0].steps < 0.5 * both[0].steps == 0.5 * wave[0].steps  # the paper scene's 1.5 ms vs ~0.25 ms
