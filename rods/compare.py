@@ -29,6 +29,7 @@ __all__ = [
     "Richardson",
     "cell",
     "difference",
+    "max_shear_error",
     "measured",
     "percent",
     "plateau_radius_error",
@@ -183,4 +184,28 @@ def sigma_r_error(profile: Mapping[str, Any], hertz_at_force: Mapping[str, float
         "surface": float(np.max(np.abs(σ - σ_s)[away]) / ref),
         "depth": float(np.max(np.abs(σ - σ_d)[away]) / ref),
         "gauss_depth": float(np.median(z)),
+    }
+
+
+def max_shear_error(profile: Mapping[str, Any], hertz_at_force: Mapping[str, float], nu: float) -> dict[str, float]:
+    """The largest shear below the contact against Hertz at the model's own force: ``profile`` is a submodel's axis
+    profile (rods.fe.submodel.axis_gauss_stress: depth, r [m], sigma_r, sigma_z, tau [Pa] at the Gauss points nearest
+    the axis), Hertz's τ = |σ_z - σ_r|/2 taken at the same points (Johnson Eq. 3.44, whose axis limit gives
+    τ_max ≈ 0.31 p0 at 0.48 a for ν = 0.3, the site of first yield). Returns the model's largest τ [Pa] and its depth
+    [m], Hertz's over the same points and its depth, and their relative difference (a fraction); NaN without a
+    Hertz contact (two flat tips) or points."""
+    a, p0 = hertz_at_force["contact_radius"], hertz_at_force["peak_pressure"]
+    r, z, τ = (np.asarray(profile[k], dtype=float) for k in ("r", "depth", "tau"))
+    if not (math.isfinite(a) and τ.size):
+        keys = ("max_shear", "max_shear_depth", "max_shear_hertz", "max_shear_depth_hertz", "max_shear_error")
+        return dict.fromkeys(keys, math.nan)
+    σ_r, _, σ_z = hertz.subsurface_stresses(r, np.maximum(z, 0.0), a, p0, nu)
+    τ_h = 0.5 * np.abs(σ_z - σ_r)
+    i, j = int(np.argmax(τ)), int(np.argmax(τ_h))
+    return {
+        "max_shear": float(τ[i]),
+        "max_shear_depth": float(z[i]),
+        "max_shear_hertz": float(τ_h[j]),
+        "max_shear_depth_hertz": float(z[j]),
+        "max_shear_error": float(τ[i] / τ_h[j] - 1.0),
     }

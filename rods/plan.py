@@ -7,7 +7,8 @@ A scene names the effects it needs (``effects = [...]``) and the workflow simula
 * ``contact_patch`` — contact area, radius and pressure: the global model only through the contact phase
   (it stops after the analytical contact end plus a margin), then the submodel levels, driven by the
   library's driving global (:func:`submodel_driver`), then the comparison (Table 3).
-* ``subsurface_stress`` — σ_r near the surface (Fig. 6): as contact_patch; the submodel also samples stresses.
+* ``subsurface_stress`` — σ_r near the surface (Fig. 6) and the field along the axis, whose largest shear (first
+  yield) the submodel compares with Hertz's: as contact_patch (every submodel samples both).
 * ``fields`` — displacement, velocity and stress fields for ParaView from the global model (nothing else
   writes field files).
 * ``misalignment`` — offset/tilted impact: needs the 3D model (``fe.kind = "3d"``, checked by the scene).

@@ -101,3 +101,27 @@ def test_sigma_r_is_judged_at_its_stored_fields_own_force():
     assert compare.sigma_r_error(profile, at_peak, nu)["surface"] > 1e-2
     del summary["stress_field_force"]
     assert compare.stress_field_hertz(summary)["force"] == 5600.0
+
+
+def test_the_largest_shear_below_a_hertz_contact_is_hertz_s_own():
+    """rods.compare.max_shear_error on a profile that is Hertz's own field near the axis: no error, τ_max = 0.31 p0 at
+    0.48 a for ν = 0.3 (Johnson §4.2, within the sampling); a model 3% above reads +3%; two flat tips: NaN."""
+    a, p0, nu = 1.1e-3, 2.2e9, 0.3  # [m, Pa, -]
+    z = np.linspace(0.01, 3.0, 600) * a
+    r = np.full_like(z, 1e-3 * a)
+    σ_r, _, σ_z = hertz.subsurface_stresses(r, z, a, p0, nu)
+    profile = {"r": r, "depth": z, "tau": 0.5 * np.abs(σ_z - σ_r)}
+    H = {"contact_radius": a, "peak_pressure": p0}
+    e = compare.max_shear_error(profile, H, nu)
+    assert e["max_shear_error"] == pytest.approx(0.0, abs=1e-12)
+    assert e["max_shear"] == pytest.approx(0.31 * p0, rel=0.01) and e["max_shear_depth"] == pytest.approx(
+        0.48 * a, rel=0.02
+    )
+    τ_max, z_max = hertz.max_shear(a, p0, nu)
+    assert e["max_shear_hertz"] == pytest.approx(τ_max, rel=1e-4) and e["max_shear_depth"] == pytest.approx(
+        z_max, abs=z[1] - z[0]
+    )
+    e = compare.max_shear_error(profile | {"tau": 1.03 * profile["tau"]}, H, nu)
+    assert e["max_shear_error"] == pytest.approx(0.03)
+    flat = compare.max_shear_error(profile, {"contact_radius": math.nan, "peak_pressure": math.nan}, nu)
+    assert all(math.isnan(v) for v in flat.values())

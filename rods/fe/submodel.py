@@ -27,7 +27,7 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
-from rods import hertz
+from rods import compare, hertz
 from rods.fe import forms
 from rods.fe.cut import CutDriver
 from rods.fe.layout import cap_depth
@@ -55,6 +55,7 @@ __all__ = [
     "submodel_scene",
     "contact_axis",
     "surface_gauss_stress",
+    "axis_gauss_stress",
 ]
 
 # element size across and along per level [m] (paper: coarse/mid/fine; finer: axisymmetric only): the scene's table
@@ -211,61 +212,100 @@ def contact_axis(model: ExplicitModel) -> tuple[np.ndarray, np.ndarray]:
     return C1, n
 
 
-def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
-    """σ_rr [Pa] at the Gauss points of the Rod-1 tip cells nearest the tip surface.
-
-    For each cell on the Rod-1 tip face, σ_rr of the displacement ``u_owned`` is evaluated at the
-    2^tdim Gauss points (reference coordinates ½ ± ½/√3 in each direction: 2x2 quadrilateral, 2x2x2
-    hexahedron); the half closest to the surface z_s(r) = -(r_k - sqrt(r_k² - r²)) is kept (one layer:
-    the cells' reference axis normal to the tip runs along z on both meshes; r, z in Rod 1's own frame,
-    :func:`_rod1_frame`). σ_rr is σ[0, 0] in the axisymmetric (r, θ, z) ordering and e_r·σ·e_r in 3D, e_r the
-    unit radial vector from the contact's axis and r the distance from it (:func:`contact_axis`; centric:
-    e_r = (x, y, 0)/sqrt(x² + y²), radial in the x-y plane). Returns, on every rank, sorted by r: r [m], depth
-    below the surface [m], sigma_r [Pa].
-    """
-    msh, rm = model.V.mesh, model.rm
-    fdim, tdim, gdim = msh.topology.dim - 1, msh.topology.dim, msh.geometry.dim
+def _gauss_stress(model: ExplicitModel, u_owned: np.ndarray, cells: np.ndarray) -> dict[str, np.ndarray]:
+    """σ_rr and σ_zz [Pa] of the displacement ``u_owned`` at the 2^tdim Gauss points (reference coordinates ½ ± ½/√3
+    in each direction: 2x2 quadrilateral, 2x2x2 hexahedron) of this rank's ``cells``, with each point's r [m] from
+    the contact's axis and depth [m] below Rod 1's tip surface z_s(r) = -(r_k - sqrt(r_k² - r²)) in Rod 1's own frame
+    (:func:`_rod1_frame`), each (cells, 2^tdim). Axisymmetric: σ[0, 0] and σ[2, 2] in the (r, θ, z) ordering; 3D:
+    e_r·σ·e_r and n·σ·n, n the contact's axis and e_r the unit radial vector from it (:func:`contact_axis`; centric:
+    the rods' axis)."""
+    msh = model.V.mesh
+    tdim, gdim = msh.topology.dim, msh.geometry.dim
     uf = dolfinx.fem.Function(model.V)
     uf.x.array[: model.n_local] = u_owned
     uf.x.scatter_forward()
-    facets = rm.facet_tags.find(model.tags["rod1_tip"])
-    cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim)
-    cells = cells[cells < msh.topology.index_map(tdim).size_local].astype(np.int32)
     g = 0.5 / math.sqrt(3.0)
     X = np.array(list(itertools.product((0.5 - g, 0.5 + g), repeat=tdim)))  # (2^tdim, tdim) Gauss points
     n_g = X.shape[0]
     x = ufl.SpatialCoordinate(msh)
     σ = forms.stress(forms.strain(uf, x, model.kind), model.mat.λ, model.mat.μ)
     if model.kind == "axisymmetric":
-        s_rr = σ[0, 0]
+        s_rr, s_zz = σ[0, 0], σ[2, 2]
     else:  # radial about the contact's axis (:func:`contact_axis`): the z axis if centric
         C, n = contact_axis(model)
         a = ufl.as_vector([float(v) for v in n])
         d = x - ufl.as_vector([float(v) for v in C])
         ρ = d - ufl.dot(d, a) * a
         e_r = ρ / ufl.sqrt(ufl.dot(ρ, ρ))
-        s_rr = ufl.dot(e_r, ufl.dot(σ, e_r))
-    s_expr = dolfinx.fem.Expression(s_rr, X)
-    x_expr = dolfinx.fem.Expression(x, X)
+        s_rr, s_zz = ufl.dot(e_r, ufl.dot(σ, e_r)), ufl.dot(a, ufl.dot(σ, a))
+    exprs = [dolfinx.fem.Expression(e, X) for e in (s_rr, s_zz, x)]
     if cells.size:
-        S = s_expr.eval(msh, cells).reshape(cells.size, n_g)
-        P = x_expr.eval(msh, cells).reshape(cells.size, n_g, gdim)
+        S_rr, S_zz = (e.eval(msh, cells).reshape(cells.size, n_g) for e in exprs[:2])
+        P = exprs[2].eval(msh, cells).reshape(cells.size, n_g, gdim)
     else:
-        S, P = np.zeros((0, n_g)), np.zeros((0, n_g, gdim))
+        S_rr, S_zz, P = np.zeros((0, n_g)), np.zeros((0, n_g)), np.zeros((0, n_g, gdim))
     r1, z = _rod1_frame(model, P)  # the depth below the tip's surface, in Rod 1's own frame
-    zs = -np.asarray(cap_depth(r1, model.scene.rod1.tip_radius))  # [m] the surface, the meshes' own profile
-    depth = zs - z
+    depth = -np.asarray(cap_depth(r1, model.scene.rod1.tip_radius)) - z  # the surface: the meshes' own profile
     if model.kind == "axisymmetric":
         r = r1
     else:  # [m] from the contact's axis (C, n above), as e_r
         d = P - C
         r = np.linalg.norm(d - (d @ n)[..., None] * n, axis=-1)
-    near = np.argsort(depth, axis=1)[:, : n_g // 2]
-    take = np.take_along_axis
-    out = np.column_stack([take(r, near, 1).ravel(), take(depth, near, 1).ravel(), take(S, near, 1).ravel()])
-    allrows = np.vstack(model.comm.allgather(out))
-    allrows = allrows[np.lexsort(allrows.T[::-1])]  # by r, then depth, σ: the same order on any rank count
-    return {"r": allrows[:, 0], "depth": allrows[:, 1], "sigma_r": allrows[:, 2]}
+    return {"r": r, "depth": depth, "sigma_r": S_rr, "sigma_z": S_zz}
+
+
+def _gathered(model: ExplicitModel, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """``columns`` (equal 1D arrays on each rank) from every rank, sorted by their values in order: the same rows
+    in the same order on any rank count, on every rank."""
+    rows = np.vstack(model.comm.allgather(np.column_stack(list(columns.values()))))
+    rows = rows[np.lexsort(rows.T[::-1])]
+    return {k: rows[:, i] for i, k in enumerate(columns)}
+
+
+def surface_gauss_stress(model: ExplicitModel, u_owned: np.ndarray) -> dict[str, np.ndarray]:
+    """σ_rr [Pa] at the Gauss points of the Rod-1 tip cells nearest the tip surface (the paper's Fig. 6: "the
+    element integration points closest to the surface").
+
+    For each cell on the Rod-1 tip face, σ_rr of ``u_owned`` at its Gauss points (:func:`_gauss_stress`); the half
+    closest to the surface is kept (one layer: the cells' reference axis normal to the tip runs along z on both
+    meshes). Returns, on every rank, sorted by r: r [m], depth below the surface [m], sigma_r [Pa].
+    """
+    msh, rm = model.V.mesh, model.rm
+    fdim, tdim = msh.topology.dim - 1, msh.topology.dim
+    facets = rm.facet_tags.find(model.tags["rod1_tip"])
+    cells = dolfinx.mesh.compute_incident_entities(msh.topology, facets, fdim, tdim)
+    cells = cells[cells < msh.topology.index_map(tdim).size_local].astype(np.int32)
+    f = _gauss_stress(model, u_owned, cells)
+    near = np.argsort(f["depth"], axis=1)[:, : f["depth"].shape[1] // 2]
+    return _gathered(model, {k: np.take_along_axis(f[k], near, 1).ravel() for k in ("r", "depth", "sigma_r")})
+
+
+AXIS_DEPTH = 3.0  # [-] the axis profile's depth below the tip surface, in Hertz contact radii (τ_max at 0.48 a)
+AXIS_COLUMN = 1.5  # [-] Gauss points within this x the nearest one's distance from the axis: the first column
+
+
+def axis_gauss_stress(model: ExplicitModel, u_owned: np.ndarray, depth: float) -> dict[str, np.ndarray]:
+    """σ_rr, σ_zz and the principal shear τ = |σ_zz - σ_rr|/2 [Pa] at the Gauss points nearest the contact's axis in
+    Rod 1, down to ``depth`` [m] below its tip surface: the subsurface field on the axis, which Hertz gives in closed
+    form (rods.hertz.axis_stresses, Johnson Eq. 3.45) and where its largest shear, the site of first yield, lies
+    (0.31 p0 at 0.48 a for ν = 0.3: rods.hertz.max_shear). The points are (½ - ½/√3) h from the axis (the first
+    column's Gauss points, :data:`AXIS_COLUMN`), so they read the field a fraction of an element off it; on the
+    axis σ_rr is a principal stress (σ_θθ its equal), so τ is the largest shear there. Returns, on every rank, sorted
+    by depth: r, depth [m], sigma_r, sigma_z, tau [Pa]."""
+    msh = model.V.mesh
+    tdim = msh.topology.dim
+    cells = model.rm.cell_tags.find(model.tags["rod1"])
+    cells = cells[cells < msh.topology.index_map(tdim).size_local].astype(np.int32)
+    mid = dolfinx.mesh.compute_midpoints(msh, tdim, cells)[:, : msh.geometry.dim]
+    r1, z = _rod1_frame(model, mid)
+    below = -np.asarray(cap_depth(r1, model.scene.rod1.tip_radius)) - z
+    cells = cells[(r1 < depth) & (below < 1.2 * depth)]  # a box about the axis, below the tip: the candidates
+    f = _gauss_stress(model, u_owned, cells)
+    r_min = model.comm.allreduce(float(f["r"].min()) if f["r"].size else math.inf, op=MPI.MIN)
+    keep = (f["r"] <= AXIS_COLUMN * r_min) & (f["depth"] <= depth)
+    out = {k: f[k][keep] for k in ("depth", "r", "sigma_r", "sigma_z")}
+    out["tau"] = 0.5 * np.abs(out["sigma_z"] - out["sigma_r"])
+    return _gathered(model, out)
 
 
 class PeakField:
@@ -336,10 +376,13 @@ def run_submodel(
     peak = PeakField(model, max(1, int(round(sub.output_interval / model.dt))))
     res = model.run(out, progress, observers=(driver, peak), restart=restart, keep_checkpoint=keep_checkpoint)
     sig = surface_gauss_stress(model, peak.u)
+    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)  # R* = inf: two flat tips, no Hertz
+    H_field = hertz.at_force(peak.F, E_star, R_star)  # the stored field's own force (rods.compare.stress_field_hertz)
+    a = H_field["contact_radius"]
+    axis = axis_gauss_stress(model, peak.u, AXIS_DEPTH * a) if math.isfinite(a) else None
     s = res.summary
     s["model"] = submodel_name(level)
     s.update(rigid_velocity_rod1=None, rigid_velocity_rod2=None)  # its rods are the cut region's, driven at the cuts
-    E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)  # R* = inf: two flat tips, no Hertz
     H = hertz.at_force(s["peak_contact_force"], E_star, R_star)
     s.update(
         {
@@ -359,6 +402,11 @@ def run_submodel(
                 "R_star": R_star,
             },
             "sigma_r_profile": {k: v.tolist() for k, v in sig.items()},
+            # the subsurface field on the axis and its largest shear against Hertz at the field's force (null: flat)
+            "axis_profile": None if axis is None else {k: v.tolist() for k, v in axis.items()},
+            "max_shear": None
+            if axis is None
+            else compare.max_shear_error(axis, H_field, scene.rod1.material.poisson_ratio),
             "plan": {k: v for k, v in model.plan().items() if k in ("mesh", "cells", "dofs", "dt", "steps")},
         }
     )

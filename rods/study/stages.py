@@ -156,6 +156,7 @@ def _read_finished(out: Path, scene: Scene, cut_until: float | None, ignore: Seq
 
 # pressure_profile.csv's columns (rods.fe.model.pressure_profile: x and y in 3D only)
 PROFILE_UNITS = {"r": "m", "x": "m", "y": "m", "p": "Pa"}
+AXIS_UNITS = {"depth": "m", "r": "m", "sigma_r": "Pa", "sigma_z": "Pa", "tau": "Pa"}  # a submodel's axis_stress.csv
 
 
 def _write_fe(out: Path, res: Any, comm: Any, extra: Mapping[str, Any] | None = None) -> None:
@@ -396,6 +397,8 @@ def _finish_submodel(
         io.write_history(out / "history.csv", sr.result.history, sr.result.units)
         io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, PROFILE_UNITS)
         io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
+        if (axis := sr.summary.get("axis_profile")) is not None:  # the subsurface field on the axis (none: flat tips)
+            io.write_history(out / "axis_stress.csv", axis, AXIS_UNITS)
         io.write_summary(out / "summary.json", sr.summary)
     checkpoint.discard(out, comm)  # the results written: it resumes nothing now (a kill before them keeps it)
 

@@ -172,6 +172,29 @@ def test_surface_gauss_stress_linear_field(kind):
     assert np.all((out["depth"] > 0.9 * g * 4e-3) & (out["depth"] < 1.02 * g * 4e-3))
 
 
+@pytest.mark.parametrize("kind", KINDS)
+def test_axis_gauss_stress_linear_field(kind):
+    """u = (a r e_r, b z): σ_rr = λ(2a + b) + 2μa, σ_zz = λ(2a + b) + 2μb and τ = μ|b - a| at every Gauss point
+    of the column nearest the axis, in Rod 1 down to the depth asked, sorted by depth (one code path, both kinds)."""
+    from rods.fe.submodel import axis_gauss_stress
+
+    extra = [*TINY["3d"]] if kind == "3d" else [s for s in TINY["3d"] if "kind" not in s and "symmetry" not in s]
+    m = ExplicitModel(submodel_scene(load_scene(PAPER, extra), 1e-3, 4e-3, end_time=1e-6))
+    a, b = 1e-4, -3e-4  # [-]
+    x = m.V.tabulate_dof_coordinates()[: m.n_local // m.bs]
+    u = np.zeros((x.shape[0], m.bs))
+    u[:, : m.bs - 1] = a * x[:, : m.bs - 1]
+    u[:, -1] = b * x[:, m.bs - 1]
+    out = axis_gauss_stress(m, u.ravel(), 1e-2)
+    λ, μ = m.scene.rod1.material.lame
+    assert out["depth"].size >= 4 and np.all(np.diff(out["depth"]) >= 0)
+    assert 0 < out["depth"][0] and out["depth"][-1] <= 1e-2
+    assert np.allclose(out["sigma_r"], λ * (2 * a + b) + 2 * μ * a, rtol=1e-9)
+    assert np.allclose(out["sigma_z"], λ * (2 * a + b) + 2 * μ * b, rtol=1e-9)
+    assert np.allclose(out["tau"], μ * abs(b - a), rtol=1e-9)
+    assert np.ptp(out["r"]) < 1e-12 + 0.05 * out["r"].max()  # one column of points, a fraction of h off the axis
+
+
 @pytest.mark.parametrize(("tilt", "R2"), [(0.0, math.inf), (0.02, math.inf), (0.02, 0.05)])
 def test_surface_gauss_stress_is_radial_about_the_contact_axis(tilt, R2):
     """A tilted 3D impact: σ_r and r about the contact's axis (the line of the tips' sphere centres; a flat Rod 2:
@@ -226,8 +249,8 @@ def global_dirs(tmp_path_factory):
     ],
 )  # 3D mixed/traction: the operator is checked serially in tests/fe/test_traction.py (the 2-rank build takes ~30 s)
 def test_serial_and_mpi_submodel_agree(global_dirs, tmp_path, kind, driving):
-    """CLI end to end: the non-nested submodel on 1 and 2 ranks agrees to round-off (force, σ_r), under either
-    cut driving (rods.fe.traction builds its operator from unit fields on whichever rank owns them)."""
+    """CLI end to end: the non-nested submodel on 1 and 2 ranks agrees to round-off (force, σ_r, the axis's τ), under
+    either cut driving (rods.fe.traction builds its operator from unit fields on whichever rank owns them)."""
     args = ["--global", str(global_dirs(kind)), "--size", str(H_NN), "--end-time", "6e-5"]
     args += ["--set", f"submodel.driving='{driving}'"]
     p1 = run_workflow("submodel.py", [*args, "--out", str(tmp_path / "s")])
@@ -247,6 +270,10 @@ def test_serial_and_mpi_submodel_agree(global_dirs, tmp_path, kind, driving):
     assert ended.endswith("a later --end-time of submodel.py, or none (the driver's contact phase)")
     σ1, σ2 = (io.read_history(tmp_path / d / "sigma_r.csv") for d in ("s", "p"))
     assert σ1["r"].size > 0 and np.allclose(σ1["sigma_r"], σ2["sigma_r"], rtol=1e-8, atol=1.0)
+    a1, a2 = s1["axis_profile"], s2["axis_profile"]  # the subsurface field on the axis: the same points, in order
+    assert (
+        len(a1["depth"]) > 0 and np.allclose(a1["depth"], a2["depth"]) and np.allclose(a1["tau"], a2["tau"], atol=1.0)
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -365,6 +392,10 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
     ref = 0.8 * p0
     assert np.max(np.abs(σ - hertz.surface_radial_stress(r, a, p0, 0.3))[away]) / ref < 0.05
     assert np.max(np.abs(σ - subsurface_stresses(r, z, a, p0, 0.3)[0])[away]) / ref < 0.05
+    τ = s["max_shear"]  # the largest shear below the contact, on the axis: Hertz's 0.31 p0 at 0.48 a
+    assert (
+        abs(τ["max_shear_error"]) < 0.02 and abs(τ["max_shear_depth"] - τ["max_shear_depth_hertz"]) < s["element_size"]
+    )
 
 
 THICK = ["rod2.diameter=0.04", "impact.speed=1.0"]  # the paper's Rod 1 onto a 40 mm Rod 2: a_P 1.02 mm, R2 20 mm
