@@ -44,6 +44,7 @@ COLUMNS = (
     "d_radius_vs_exp_pct",
     "sigma_r_err_surface_pct",
     "sigma_r_err_depth_pct",
+    "max_shear_err_pct",
     "paper_force_N",
     "paper_area_mm2",
 )
@@ -102,6 +103,9 @@ def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu
     an, exp = ref["analytical"], ref["experiment"]
     profile = s.get("sigma_r_profile")  # σ_r at its stored field's own force (rods.compare.stress_field_hertz)
     err = compare.sigma_r_error(profile, compare.stress_field_hertz(s), nu) if profile else {}
+    τ = (s.get("max_shear") or {}).get(
+        "max_shear_error"
+    )  # the largest shear below the patch (a submodel's; null: flat)
     key = run.level if run.role == "submodel" else run.role
     none = {"force": math.nan, "area": math.nan}
     pp = ref["paper"].get(key, none) if ref["paper_scene"] else none
@@ -126,6 +130,7 @@ def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu
         "d_radius_vs_exp_pct": compare.percent(a, exp["contact_radius"]),
         "sigma_r_err_surface_pct": 100 * err.get("surface", math.nan),
         "sigma_r_err_depth_pct": 100 * err.get("depth", math.nan),
+        "max_shear_err_pct": 100 * _num(τ),
         "paper_force_N": pp["force"],
         "paper_area_mm2": pp["area"] * 1e6,
     }
@@ -222,7 +227,8 @@ def render_csv(data: Mapping[str, Any]) -> str:
     w = csv.DictWriter(buf, fieldnames=list(COLUMNS), lineterminator="\r\n")
     w.writeheader()
     for r in data["rows"]:
-        w.writerow({k: (f"{_num(r[k]):.6g}" if isinstance(_num(r[k]), float) else r[k]) for k in COLUMNS})
+        row = {k: r.get(k, math.nan) for k in COLUMNS}  # a table3.json from before a column: NaN there
+        w.writerow({k: (f"{_num(v):.6g}" if isinstance(_num(v), float) else v) for k, v in row.items()})
     return buf.getvalue()
 
 
@@ -250,8 +256,8 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
     L = [
         "| model | F [N] | area [mm²] | a [mm] | p0 [GPa] | Hertz a [mm] | Hertz area [mm²] | Hertz p0 [GPa] "
         "| Δarea vs Hertz | Δp0 vs Hertz | ΔF vs anal. | Δarea vs anal. | Δarea vs exp. | σ_r err (surf / depth) "
-        "| paper F [N] | paper area [mm²] | DOFs | wall [s] |",
-        "|" + "---|" * 18,
+        "| Δτ_max vs Hertz | paper F [N] | paper area [mm²] | DOFs | wall [s] |",
+        "|" + "---|" * 19,
     ]
     for r in data["rows"]:
         L.append(
@@ -260,7 +266,7 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
             f"| {_pct(r['d_area_vs_hertz_pct'], 2)} | {_pct(r['d_p0_vs_hertz_pct'], 2)} "
             f"| {_pct(r['d_force_vs_analytical_pct'], 2)} "
             f"| {_pct(r['d_area_vs_analytical_pct'], 1)} | {_pct(r['d_area_vs_exp_pct'], 1)} "
-            f"| {_sigma_r_cell(r)} "
+            f"| {_sigma_r_cell(r)} | {_pct(r.get('max_shear_err_pct'), 2)} "
             f"| {_f(r['paper_force_N'], 0)} | {_f(r['paper_area_mm2'], 2)} | {r['dofs']} | {r['wall_s']:.1f} |"
         )
     an, exp, pa = data["analytical"], data["experiment"], data["paper"]
@@ -273,7 +279,7 @@ def _model_rows(data: Mapping[str, Any]) -> list[str]:
         f"| Analytical / Experimental | {an['peak_contact_force']:.0f} | {an['contact_area'] * 1e6:.3f} / "
         f"{_f(_num(exp['contact_area']) * 1e6)} | {an['contact_radius'] * 1e3:.4f} / "
         f"{_f(_num(exp['contact_radius']) * 1e3)} | "
-        f"{an['peak_contact_pressure'] / 1e9:.3f} | | | | | | | | | | {paper} | | |"
+        f"{an['peak_contact_pressure'] / 1e9:.3f} | | | | | | | | | | | {paper} | | |"
     )
     return L
 
@@ -351,7 +357,9 @@ def render_markdown(data: Mapping[str, Any]) -> str:
         "",
         "σ_r err: max |σ_r,FE − σ_r,Hertz| / |σ_r,Hertz(0)| over the Gauss points nearest the surface with "
         f"|r − a| > {compare.SIGMA_EDGE_BAND:g} a (away from the contact edge); closed form at the surface (Johnson "
-        "Eq. 3.41) and at the Gauss-point depth (Johnson Eq. 3.44). Δ: relative differences. "
+        "Eq. 3.41) and at the Gauss-point depth (Johnson Eq. 3.44). Δτ_max: the largest shear |σ_z − σ_r|/2 along "
+        "the axis (the site of first yield) against Hertz's at the same Gauss points (Johnson Eq. 3.44; 0.31 p0 at "
+        "0.48 a for ν = 0.3). Δ: relative differences. "
         + (
             f"Paper Table 3: {paper}."
             if data.get("paper_scene", True)

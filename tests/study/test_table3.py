@@ -89,6 +89,7 @@ def test_models_that_follow_hertz_have_no_hertz_error_and_richardson_finds_the_l
     subs = [r for r in d["rows"] if r["role"] == "submodel"]
     assert all(r["sigma_r_err_depth_pct"] < 1e-9 for r in subs)  # σ_r is the closed form at its depth
     assert math.isnan(d["rows"][0]["sigma_r_err_surface_pct"])  # globals sample no σ_r
+    assert all(math.isnan(r["max_shear_err_pct"]) for r in d["rows"])  # none sampled the axis here
     paper = paper_data.load()
     assert d["rows"][2]["paper_force_N"] == paper.table3["submodel_coarse"].force
     assert d["experiment"]["contact_radius"] == paper.fe_experiment.experimental_radius
@@ -309,3 +310,18 @@ def test_fig5c_of_a_tilted_3d_run_is_centred_on_its_patch(scene_with, tmp_path, 
     r_fe, p_fe = np.asarray(lines[0][0]) / 1e3, np.asarray(lines[0][1]) * 1e9  # [m], [Pa]
     assert np.allclose(p_fe, hertz.pressure(r_fe, a, p0), atol=1e-6 * p0)  # on Hertz's curve about the centroid
     assert (tmp_path / "fig5c-pressure.png").stat().st_size > 10_000
+
+
+def test_a_submodels_largest_shear_below_the_patch_is_its_own_column(runs):
+    """Δτ_max: a submodel's max_shear_error (rods.compare.max_shear_error) as a percentage in its row, the table and
+    its CSV; '–' for a row without one (a global; a table3.json from before the column renders and writes NaN)."""
+    sc, models = runs
+    fine = models[2]
+    models[2] = ModelRun("submodel", {**fine.summary, "max_shear": {"max_shear_error": 0.0054}}, fine.history)
+    d = table3(sc, ANALYTICAL, models)
+    (row,) = [r for r in d["rows"] if r["level"] == "fine"]
+    assert row["max_shear_err_pct"] == pytest.approx(0.54)
+    md = render_markdown(d)
+    assert "| Δτ_max vs Hertz |" in md and "| +0.54% |" in md
+    old = {**d, "rows": [{k: v for k, v in r.items() if k != "max_shear_err_pct"} for r in d["rows"]]}
+    assert "| +0.54% |" not in render_markdown(old) and render_csv(old).count("nan") >= len(d["rows"])
