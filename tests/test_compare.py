@@ -118,9 +118,10 @@ def test_the_largest_shear_below_a_hertz_contact_is_hertz_s_own():
         0.48 * a, rel=0.02
     )
     τ_max, z_max = hertz.max_shear(a, p0, nu)
-    assert e["max_shear_hertz"] == pytest.approx(τ_max, rel=1e-4) and e["max_shear_depth"] == pytest.approx(
-        z_max, abs=z[1] - z[0]
-    )
+    assert e["max_shear_hertz"] == pytest.approx(τ_max, rel=1e-4)
+    assert e["max_shear_depth"] == pytest.approx(z_max, abs=1e-3 * a)  # between the samples: the parabola's vertex
+    coarse = {k: v[::40] for k, v in profile.items()}  # samples 0.2 a apart: the vertex still finds 0.48 a
+    assert compare.max_shear_error(coarse, H, nu)["max_shear_depth"] == pytest.approx(z_max, abs=0.02 * a)
     e = compare.max_shear_error(profile | {"tau": 1.03 * profile["tau"]}, H, nu)
     assert e["max_shear_error"] == pytest.approx(0.03)
     flat = compare.max_shear_error(profile, {"contact_radius": math.nan, "peak_pressure": math.nan}, nu)

@@ -393,9 +393,8 @@ def test_targets_at_finest_axisymmetric_level(tmp_path):
     assert np.max(np.abs(σ - hertz.surface_radial_stress(r, a, p0, 0.3))[away]) / ref < 0.05
     assert np.max(np.abs(σ - subsurface_stresses(r, z, a, p0, 0.3)[0])[away]) / ref < 0.05
     τ = s["max_shear"]  # the largest shear below the contact, on the axis: Hertz's 0.31 p0 at 0.48 a
-    assert (
-        abs(τ["max_shear_error"]) < 0.02 and abs(τ["max_shear_depth"] - τ["max_shear_depth_hertz"]) < s["element_size"]
-    )
+    assert abs(τ["max_shear_error"]) < 0.02
+    assert abs(τ["max_shear_depth"] - τ["max_shear_depth_hertz"]) < 0.05 * a  # 0.48 a within 5% of a
 
 
 THICK = ["rod2.diameter=0.04", "impact.speed=1.0"]  # the paper's Rod 1 onto a 40 mm Rod 2: a_P 1.02 mm, R2 20 mm
