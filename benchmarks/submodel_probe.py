@@ -63,7 +63,7 @@ def _study_scene(overrides: tuple[str, ...]):
 
 
 def study_wall_time(overrides: tuple[str, ...]) -> float:
-    """The estimated wall time [s] of the FE stages of the contact-patch study of the paper scene with
+    """The estimated wall time [s] of the FE stages and the products of the contact-patch study of the paper scene with
     ``overrides``, on one rank (rods.study.pipeline.stage_costs of its plan, which runs the analytical model to
     its first contact: seconds)."""
     sc = _study_scene(overrides)

@@ -192,16 +192,23 @@ def max_shear_error(profile: Mapping[str, Any], hertz_at_force: Mapping[str, flo
     profile (rods.fe.submodel.axis_gauss_stress: depth, r [m], sigma_r, sigma_z, tau [Pa] at the Gauss points nearest
     the axis), Hertz's τ = |σ_z - σ_r|/2 taken at the same points (Johnson Eq. 3.44, whose axis limit gives
     τ_max ≈ 0.31 p0 at 0.48 a for ν = 0.3, the site of first yield). Returns the model's largest τ [Pa] and its depth
-    [m], Hertz's over the same points and its depth, and their relative difference (a fraction); NaN without a
-    Hertz contact (two flat tips) or points."""
+    [m], Hertz's over the same points and its depth, and their relative difference (a fraction); the points of one
+    depth averaged first; NaN without a Hertz contact (two flat tips), without points, or where either maximum lies
+    at an end of the profile (not bracketed: not a maximum)."""
     a, p0 = hertz_at_force["contact_radius"], hertz_at_force["peak_pressure"]
     r, z, τ = (np.asarray(profile[k], dtype=float) for k in ("r", "depth", "tau"))
+    keys = ("max_shear", "max_shear_depth", "max_shear_hertz", "max_shear_depth_hertz", "max_shear_error")
     if not (math.isfinite(a) and τ.size):
-        keys = ("max_shear", "max_shear_depth", "max_shear_hertz", "max_shear_depth_hertz", "max_shear_error")
         return dict.fromkeys(keys, math.nan)
     σ_r, _, σ_z = hertz.subsurface_stresses(r, np.maximum(z, 0.0), a, p0, nu)
     τ_h = 0.5 * np.abs(σ_z - σ_r)
+    # one value a depth: a 3D model's layer holds 1, 2 or 4 points (quarter, half, full), equal neighbours in depth
+    z, layer = np.unique(np.round(z, 12), return_inverse=True)
+    count = np.bincount(layer)
+    τ, τ_h = np.bincount(layer, τ) / count, np.bincount(layer, τ_h) / count
     i, j = int(np.argmax(τ)), int(np.argmax(τ_h))
+    if not (0 < i < len(z) - 1 and 0 < j < len(z) - 1):  # a maximum at an end of the profile is not bracketed
+        return dict.fromkeys(keys, math.nan)
     return {
         "max_shear": float(τ[i]),
         "max_shear_depth": _vertex(z, τ, i),
@@ -214,7 +221,8 @@ def max_shear_error(profile: Mapping[str, Any], hertz_at_force: Mapping[str, flo
 def _vertex(z: np.ndarray, f: np.ndarray, i: int) -> float:
     """The depth [m] of the largest ``f`` between samples: the vertex of the parabola through sample ``i`` (the
     largest) and its neighbours, ``z[i]`` at an end. The Gauss points lie ~h/2 apart in depth, so the sampled
-    maximum alone moves in half-element jumps (a model's depth read 0.6 h to 1.0 h off Hertz's over four levels)."""
+    maximum alone moves in half-element jumps (a model's depth read 0.6 h to 1.0 h off Hertz's over four levels).
+    ``z`` distinct, increasing."""
     if not 0 < i < len(z) - 1:
         return float(z[i])
     (z0, z1, z2), (f0, f1, f2) = z[i - 1 : i + 2], f[i - 1 : i + 2]

@@ -370,7 +370,7 @@ PRODUCT_SECONDS = {"the comparison": 1.5, "the wave figure": 0.6, "the contact p
 def products_cost(names: Sequence[str], ranks: int) -> Cost:
     """A study's products ``names`` (keys of :data:`PRODUCT_SECONDS`) as one more line of its plan: their seconds,
     no mesh, no steps; the memory an interpreter with the figures' libraries takes."""
-    what = " and ".join(names)
+    what = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 2 else names)
     return Cost(what, 0, 0, 0, 0, 0, ANALYTICAL_BASE_MEMORY, sum(PRODUCT_SECONDS[n] for n in names), ranks=ranks)
 
 

@@ -118,7 +118,8 @@ REMOVE = "remove it, or give another folder"  # the remedy of a name in the way
 
 # what the stages write into their folder (files) and a study into its own (stage folders): an entry of that name of
 # the other kind failed the run at its first write (IsADirectoryError, exit 1, a history.csv without its summary)
-RUN_FILES = ("summary.json", "history.csv", "pressure_profile.csv", "cut.h5", "fields.xdmf", "checkpoint.json")
+RUN_FILES = ("summary.json", "history.csv", "pressure_profile.csv", "sigma_r.csv", "axis_stress.csv", "cut.h5",
+             "fields.xdmf", "checkpoint.json")  # fmt: skip
 STAGE_FOLDERS = ("analytical", "global", "driver", "submodel")
 
 

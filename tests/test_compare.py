@@ -126,3 +126,7 @@ def test_the_largest_shear_below_a_hertz_contact_is_hertz_s_own():
     assert e["max_shear_error"] == pytest.approx(0.03)
     flat = compare.max_shear_error(profile, {"contact_radius": math.nan, "peak_pressure": math.nan}, nu)
     assert all(math.isnan(v) for v in flat.values())
+    full = {k: np.repeat(v, 4) for k, v in profile.items()}  # a full 3D model's layer: four points of one depth
+    assert compare.max_shear_error(full, H, nu) == pytest.approx(compare.max_shear_error(profile, H, nu), rel=1e-12)
+    shallow = {k: v[z < 0.3 * a] for k, v in profile.items()}  # the maximum past the profile's end: not bracketed
+    assert all(math.isnan(v) for v in compare.max_shear_error(shallow, H, nu).values())

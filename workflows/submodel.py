@@ -8,7 +8,8 @@ overrides; --phase K runs member K of the level's phase-averaged study, rods.sce
 driver's contact phase unless --end-time. A level is uniform at its size or, where the patch is small against a
 rod's section, graded outside it to the global's sizes (fe.radial_grading "auto", rods.fe.submodel.submodel_grading;
 --set "fe.radial_grading='uniform'" keeps it uniform, 'graded' grades it). Writes DIR/summary.json, history.csv,
-pressure_profile.csv and sigma_r.csv (rods.study.stages.submodel); default DIR output/submodel/<level>/<scene>.
+pressure_profile.csv, sigma_r.csv and axis_stress.csv (rods.study.stages.submodel); default DIR
+output/submodel/<level>/<scene>.
 A Ctrl-C/SIGTERM stop leaves a checkpoint in DIR (fe.checkpoint_interval > 0: one every interval too); --restart
 resumes there (same scene, level, rank count and cut record).
 """

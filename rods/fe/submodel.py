@@ -288,10 +288,12 @@ def axis_gauss_stress(model: ExplicitModel, u_owned: np.ndarray, depth: float) -
     """σ_rr, σ_zz and the principal shear τ = |σ_zz - σ_rr|/2 [Pa] at the Gauss points nearest the contact's axis in
     Rod 1, down to ``depth`` [m] below its tip surface: the subsurface field on the axis, which Hertz gives in closed
     form (rods.hertz.axis_stresses, Johnson Eq. 3.45) and where its largest shear, the site of first yield, lies
-    (0.31 p0 at 0.48 a for ν = 0.3: rods.hertz.max_shear). The points are (½ - ½/√3) h from the axis (the first
-    column's Gauss points, :data:`AXIS_COLUMN`), so they read the field a fraction of an element off it; on the
-    axis σ_rr is a principal stress (σ_θθ its equal), so τ is the largest shear there. Returns, on every rank, sorted
-    by depth: r, depth [m], sigma_r, sigma_z, tau [Pa]."""
+    (0.31 p0 at 0.48 a for ν = 0.3: rods.hertz.max_shear). A centric impact's (the contact's axis is Rod 1's, on
+    which the meshes' columns and the O-grid's centre lie): the points are (½ - ½/√3) h from the axis (the first
+    column's Gauss points, :data:`AXIS_COLUMN`; 1, 2 and 4 of them a layer in a quarter, half and full 3D model), so
+    they read the field a fraction of an element off it; on the axis σ_rr is a principal stress (σ_θθ its equal), so
+    τ is the largest shear there. A tilted or offset impact's axis crosses the mesh: :func:`run_submodel` samples
+    none there. Returns, on every rank, sorted by depth: r, depth [m], sigma_r, sigma_z, tau [Pa]."""
     msh = model.V.mesh
     tdim = msh.topology.dim
     cells = model.rm.cell_tags.find(model.tags["rod1"])
@@ -301,8 +303,9 @@ def axis_gauss_stress(model: ExplicitModel, u_owned: np.ndarray, depth: float) -
     below = -np.asarray(cap_depth(r1, model.scene.rod1.tip_radius)) - z
     cells = cells[(r1 < depth) & (below < 1.2 * depth)]  # a box about the axis, below the tip: the candidates
     f = _gauss_stress(model, u_owned, cells)
-    r_min = model.comm.allreduce(float(f["r"].min()) if f["r"].size else math.inf, op=MPI.MIN)
-    keep = (f["r"] <= AXIS_COLUMN * r_min) & (f["depth"] <= depth)
+    within = f["depth"] <= depth  # the nearest column is the nearest above that depth (a deeper cell may be nearer)
+    r_min = model.comm.allreduce(float(f["r"][within].min()) if within.any() else math.inf, op=MPI.MIN)
+    keep = (f["r"] <= AXIS_COLUMN * r_min) & within
     out = {k: f[k][keep] for k in ("depth", "r", "sigma_r", "sigma_z")}
     out["tau"] = 0.5 * np.abs(out["sigma_z"] - out["sigma_r"])
     return _gathered(model, out)
@@ -379,7 +382,8 @@ def run_submodel(
     E_star, R_star = hertz.contact_constants(scene.rod1, scene.rod2)  # R* = inf: two flat tips, no Hertz
     H_field = hertz.at_force(peak.F, E_star, R_star)  # the stored field's own force (rods.compare.stress_field_hertz)
     a = H_field["contact_radius"]
-    axis = axis_gauss_stress(model, peak.u, AXIS_DEPTH * a) if math.isfinite(a) else None
+    centric = model.kind == "axisymmetric" or (model.rm.placement.tilt == 0 and model.rm.placement.offset == 0)
+    axis = axis_gauss_stress(model, peak.u, AXIS_DEPTH * a) if math.isfinite(a) and centric else None
     s = res.summary
     s["model"] = submodel_name(level)
     s.update(rigid_velocity_rod1=None, rigid_velocity_rod2=None)  # its rods are the cut region's, driven at the cuts

@@ -32,7 +32,8 @@ __all__ = ["MEMORY_MARGIN", "MEMORY_MIN", "RUNTIME_MARGIN", "RUNTIME_START", "gl
            "submodel_cost", "verification_costs"]  # fmt: skip
 
 # the plan's wall time x this: a node a quarter as fast as the reference rate [-] (3.0 until the axisymmetric rate
-# went from 2.5e7 to 3.5e7 DOF-steps/s, 2026-12-07: the requests stay what they were, 12 to 212 min on the main job)
+# went from 2.5e7 to 3.5e7 DOF-steps/s in cache, 2026-12-07, so that the requests stay about what they were: 12 min
+# for the main job's global as before, 234 min for its ultra-fine submodel, past the cache at 2.8e7, against 212)
 RUNTIME_MARGIN = 4.2
 RUNTIME_START = 10.0  # [min] start-up beyond the plan: interpreter, JIT compilation, file system, the plan's probe
 MEMORY_MARGIN = 1.5  # the plan's memory x this: the mesher's and the assembly's transients [-]

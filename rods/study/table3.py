@@ -103,9 +103,8 @@ def _row(run: ModelRun, ref: Mapping[str, Any], E_star: float, R_star: float, nu
     an, exp = ref["analytical"], ref["experiment"]
     profile = s.get("sigma_r_profile")  # σ_r at its stored field's own force (rods.compare.stress_field_hertz)
     err = compare.sigma_r_error(profile, compare.stress_field_hertz(s), nu) if profile else {}
-    τ = (s.get("max_shear") or {}).get(
-        "max_shear_error"
-    )  # the largest shear below the patch (a submodel's; null: flat)
+    # the largest shear below the patch against Hertz's (a submodel's; null: flat tips, an off-axis impact)
+    τ = (s.get("max_shear") or {}).get("max_shear_error")
     key = run.level if run.role == "submodel" else run.role
     none = {"force": math.nan, "area": math.nan}
     pp = ref["paper"].get(key, none) if ref["paper_scene"] else none
