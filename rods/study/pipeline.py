@@ -63,10 +63,19 @@ def stage_costs(scene: Scene, p: plan.Plan, ranks: int) -> list[cost.Cost]:
             size = SUBMODEL_LEVEL_SIZES[lv]
             c = cost.fe_cost(driver, ranks, what=f"the submodel {lv}", size=size, remedy=remedy)
             costs.append(c if graded is None else _with_grading_remedy(c, graded, size))
-    products = [name for name, made in (("the comparison", bool(p.submodel_levels)),
-                                        ("the wave figure", "wave_response" in p.effects and p.global_model),
-                                        ("the contact picture", p.fields and p.global_model)) if made]  # fmt: skip
+    products = [name for name, made in _products(p).items() if made]
     return costs + ([cost.products_cost(products, ranks)] if products else [])
+
+
+def _products(p: plan.Plan) -> dict[str, bool]:
+    """Which products a study of plan ``p`` makes from its stages (:func:`_finish`; their seconds:
+    rods.cost.PRODUCT_SECONDS): Table 3 with its figures where submodels ran, Fig. 4 where the global ran for the
+    wave response, the contact picture where it wrote fields."""
+    return {
+        "the comparison": bool(p.submodel_levels),
+        "the wave figure": "wave_response" in p.effects and p.global_model,
+        "the contact picture": p.fields and p.global_model,
+    }
 
 
 def _graded_alternative(driver: Scene) -> Scene | None:
@@ -193,11 +202,12 @@ def _finish(
     root = comm.rank == 0
     if root:  # an earlier run's comparisons and pictures: this run writes those its plan asks for
         _forget_products(out / "compare")
-    comparison = _compare(scene, done, out / "compare") if (p.submodel_levels and root) else None
-    waves = "wave_response" in p.effects and p.global_model
+    made = _products(p)
+    comparison = _compare(scene, done, out / "compare") if (made["the comparison"] and root) else None
+    waves = made["the wave figure"]
     if waves and root:
         _wave_figure(done, out / "compare")
-    if p.fields and p.global_model and root:
+    if made["the contact picture"] and root:
         _contact_picture(done["global"], out / "compare", log)
     summary = _study_summary(scene, p, done, comparison, waves, out, comm, t0)
     if root:
