@@ -394,13 +394,20 @@ def _finish_submodel(
         sr.summary["warnings"].append(w)
         sr.summary["status"] = "warnings"
     if comm.rank == 0:
-        io.write_history(out / "history.csv", sr.result.history, sr.result.units)
-        io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, PROFILE_UNITS)
-        io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
-        if (axis := sr.summary.get("axis_profile")) is not None:  # the subsurface field on the axis (none: flat tips)
-            io.write_history(out / "axis_stress.csv", axis, AXIS_UNITS)
-        io.write_summary(out / "summary.json", sr.summary)
+        write_submodel_files(sr, out)
     checkpoint.discard(out, comm)  # the results written: it resumes nothing now (a kill before them keeps it)
+
+
+def write_submodel_files(sr: Any, out: Path) -> None:
+    """Write the submodel run ``sr``'s histories, profiles and summary (last) into ``out`` (rank 0's call)."""
+    io.write_history(out / "history.csv", sr.result.history, sr.result.units)
+    io.write_history(out / "pressure_profile.csv", sr.result.pressure_profile, PROFILE_UNITS)
+    io.write_history(out / "sigma_r.csv", sr.sigma_r, {"r": "m", "depth": "m", "sigma_r": "Pa"})
+    if (axis := sr.summary.get("axis_profile")) is not None:  # the subsurface field on the axis (none: flat tips,
+        io.write_history(out / "axis_stress.csv", axis, AXIS_UNITS)  # a tilted or offset impact)
+    else:  # an earlier run's profile in a reused folder is not this run's (a session's note, 2026-12-07)
+        (out / "axis_stress.csv").unlink(missing_ok=True)
+    io.write_summary(out / "summary.json", sr.summary)
 
 
 # what the comparison stage writes into its folder (rods.preflight.output_names checks them before it runs)

@@ -63,3 +63,21 @@ def test_cut_options_are_checked_by_the_library_as_by_global_py():
     ):
         with pytest.raises(InputError, match=words):
             check_cut_options(sc, **kw)
+
+
+def test_a_submodel_without_an_axis_profile_leaves_none_from_an_earlier_run(tmp_path):
+    """A submodel with no axis profile (flat tips, a tilted or offset impact) removes an earlier run's
+    axis_stress.csv from its reused folder; one with a profile writes it (rods.study.stages.write_submodel_files)."""
+    from types import SimpleNamespace
+
+    from rods.study.stages import write_submodel_files
+
+    profile = {"depth": [0.0, 1e-4], "r": [0.0, 0.0], "sigma_r": [1.0, 2.0], "sigma_z": [3.0, 4.0], "tau": [1.0, 1.0]}
+    summary = dict.fromkeys(io.SUMMARY_KEYS, 0.0) | {"axis_profile": profile}
+    result = SimpleNamespace(history={"time": [0.0, 1e-6]}, units={"time": "s"}, pressure_profile={"r": [0.0]})
+    sr = SimpleNamespace(result=result, sigma_r={"r": [0.0], "depth": [0.0], "sigma_r": [0.0]}, summary=summary)
+    write_submodel_files(sr, tmp_path)
+    assert io.read_history(tmp_path / "axis_stress.csv")["tau"].tolist() == [1.0, 1.0]
+    sr.summary = summary | {"axis_profile": None}
+    write_submodel_files(sr, tmp_path)
+    assert not (tmp_path / "axis_stress.csv").exists() and (tmp_path / "summary.json").is_file()
