@@ -86,21 +86,28 @@ STEP_BUDGET = 2e7  # steps of one FE run (the paper's runs: 2e4 to 5e4; about 5 
 WORK_BUDGET = 1e12  # DOF-steps of one FE run (the paper's finest submodel: 4e9; about 3 h on one rank, 14 h in 3D) [-]
 VALUE_BUDGET = 5e7  # history values (samples x columns) of one run: about 1.2 GB of CSV [-]
 # estimated wall time of one run (a day): the analytical model has no steps or DOFs, and 1 s of simulated time
-# (the schema's largest end_time) is ~24 000 wave passes, 116 s on the paper rods (measured), hours on short rods [s]
+# (the schema's largest end_time) is ~20 000 wave passes, 116 s on the paper rods, 103 s on 50 mm rods (measured) [s]
 TIME_BUDGET = 86400.0
-# analytical model: integration time per one-way pass L/c of a wave in the rod with the most (measured: paper rods
-# to 1.5 and 15 ms, 6 and 8.6 ms per pass; 50 mm rods to 15 ms, 12 ms per pass; 2026-11-29, paper rods to 30 ms and
-# 0.1 s, 4.9 s and 17.6 s run, 7.3 s and 24.4 s planned, to 1 s 116 s run, 222 s planned: linear since the delayed
-# force walks only the reflections that land in a contact, before 264.6 s at 0.1 s), and per history value
-SECONDS_PER_PASS = 1e-2  # [s]
-SECONDS_PER_VALUE = 1e-6  # [s]
+# analytical model: integration time per one-way pass L/c of a wave in the rod with the most (each reflection that
+# lands in a contact restarts the delay equation's integration), per history value, and a fixed part (the first
+# call's lazy imports and set-up: 0.55 s cold, 0.08 s warm on the paper scene to 0.3 ms). Refitted 2026-12-07 to
+# fourteen warm runs of rods.study.stages.analytical (paper rods 1.5-100 ms, 50 mm and 1 m rods to 15-100 ms, output
+# intervals 20 ns-1 µs, 0.5-1 mm rods, 0.05-20 m/s: least squares 0.18 s + 1.9 ms a pass + 0.68 µs a value + 89 µs
+# a step, relative): the constants below plan them 0.78-1.9x (median 1.1); the ones before (10 ms a pass, 1 µs a
+# value, 250 µs a step, no fixed part) had planned 2.0-6.8x (50 mm rods to 50 ms: 52 s for 7.7 s). Longer runs err
+# high still: 50 mm rods to 0.2 s and 1 s (1 µs and 1 ms output) planned 47.6 s and 232 s for 29.4 s and 103 s run
+# beside other work (a pass costs less once the rods have parted)
+ANALYTICAL_SECONDS = 0.3  # [s]
+SECONDS_PER_PASS = 2.2e-3  # [s]
+SECONDS_PER_VALUE = 7e-7  # [s]
 # ... and per step the contact's stiffness against the rods' impedance forces on the explicit DOP853: the
 # linearised rate of the approach at the impedance-bounded force P = s/(1/Z1 + 1/Z2) is
 # λ = (3/2) K^(2/3) s^(1/3) (1/Z1 + 1/Z2)^(2/3);
 # accepted steps per λ t (measured 0.423-0.427 on paper rods of 20 µm to 0.1 mm diameter, 2e-4 s: 5.3k-45k steps),
-# the time and the dense output's memory per step (measured 2026-11-25: 223-244 µs, 0.89 kB)
+# the time (fitted with the pass and value terms above) and the dense output's memory per step (measured
+# 2026-11-25: 0.89 kB)
 STEPS_PER_STIFFNESS = 0.45  # [-]
-SECONDS_PER_STEP = 2.5e-4  # [s]
+SECONDS_PER_STEP = 1.5e-4  # [s]
 BYTES_PER_SOLVER_STEP = 1e3  # [B]
 # [B] one rank's interpreter, DOLFINx, PETSc, gmsh, and [B] per DOF: fitted 2026-12-07 to the ranks' summed peak RSS
 # (`mpirun -n 2 /usr/bin/time -f %M python workflows/global.py ... --set simulation.end_time=2e-6`, the set-up's
@@ -887,15 +894,15 @@ def _switching_step(scene: Scene, factor: float, h_n: float) -> float:
 
 
 def analytical_cost(scene: Scene) -> Cost:
-    """The analytical model's recorded samples, memory and time: :data:`SECONDS_PER_PASS` per one-way wave pass
-    L/c of the rod with the most (each reflection restarts the delay equation's integration),
+    """The analytical model's recorded samples, memory and time: :data:`ANALYTICAL_SECONDS`, :data:`SECONDS_PER_PASS`
+    per one-way wave pass L/c of the rod with the most (each reflection restarts the delay equation's integration),
     :data:`SECONDS_PER_VALUE` per history value, and the solver steps a stiff contact forces
     (:func:`analytical_steps`), each with its time and stored dense output."""
     samples = math.floor(scene.end_time / scene.output_interval) + 1
     values = samples * (5 + 2 * len(scene.stations))
     passes = scene.end_time * max(r.material.wave_speed / r.length for r in scene.rods)  # [-]
     steps = analytical_steps(scene)
-    wall = SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values + SECONDS_PER_STEP * steps
+    wall = ANALYTICAL_SECONDS + SECONDS_PER_PASS * passes + SECONDS_PER_VALUE * values + SECONDS_PER_STEP * steps
     memory = ANALYTICAL_BASE_MEMORY + 3 * BYTES_PER_VALUE * values + BYTES_PER_SOLVER_STEP * steps
     return Cost("analytical model", 0, 0, steps, samples, values, memory, wall, file_bytes=CSV_BYTES_PER_VALUE * values)
 

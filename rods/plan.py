@@ -34,7 +34,15 @@ from typing import Any
 
 from rods import checks, metrics
 from rods.io import CONTACT_KEYS, WAVE_KEYS  # the summary contract's, named there once
-from rods.scene import SUBMODEL_EFFECTS, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, Scene, SceneError, submodel_phase_size
+from rods.scene import (
+    SUBMODEL_EFFECTS,
+    SUBMODEL_LEVEL_SIZES,
+    SUBMODEL_LEVELS,
+    Scene,
+    SceneError,
+    override,
+    submodel_phase_size,
+)
 
 __all__ = [
     "CONTACT_KEYS",
@@ -97,7 +105,7 @@ def planning_summary(scene: Scene) -> dict[str, Any]:
     from rods.hertz import YieldWarning
 
     if scene.end_time / scene.output_interval > PLAN_SAMPLES:
-        scene = scene.with_overrides(f"simulation.output_interval={scene.end_time / PLAN_SAMPLES!r}")
+        scene = scene.with_overrides(override("simulation.output_interval", scene.end_time / PLAN_SAMPLES))
     cost.check(cost.analytical_cost(scene), force=True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", YieldWarning)
@@ -113,7 +121,10 @@ def first_contact_summary(scene: Scene) -> dict[str, Any]:
     the first contact outlasts the window (a 1 s paper scene: 0.34 s instead of minutes)."""
     window = FIRST_CONTACT_ROUND_TRIPS * max(r.round_trip_time for r in scene.rods)  # [s]
     if window < scene.end_time:
-        over = (f"simulation.end_time={window!r}", f"simulation.output_interval={min(scene.output_interval, window)!r}")
+        over = (
+            override("simulation.end_time", window),
+            override("simulation.output_interval", min(scene.output_interval, window)),
+        )
         s = planning_summary(scene.with_overrides(*over))
         if s["contact_episodes"] and not metrics.first_contact_open(s["contact_episodes"], window):
             return s
@@ -188,10 +199,10 @@ def _phase(contact_end: float | None, end_time: float) -> float:
 def submodel_driver(scene: Scene, end_time: float | None = None) -> Scene:
     """The global run that drives the submodels: ``scene`` with :data:`DRIVER_OVERRIDES`, run to
     ``end_time`` [s] (the contact phase; default the scene's end time), its output interval at most that."""
-    extra = () if end_time is None else (f"simulation.end_time={end_time!r}",)
+    extra = () if end_time is None else (override("simulation.end_time", end_time),)
     if end_time is not None and scene.output_interval > end_time:  # as a submodel's (submodel_scene): at most its
         # run, not refused for an end the library chose (a fuzz: output_interval 1e-3 s against a 0.55 ms phase)
-        extra += (f"simulation.output_interval={end_time!r}",)
+        extra += (override("simulation.output_interval", end_time),)
     return scene.with_overrides(*DRIVER_OVERRIDES, *extra)
 
 

@@ -15,6 +15,7 @@ import dataclasses
 import difflib
 import json
 import math
+import numbers
 import re
 import tomllib
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -49,6 +50,7 @@ __all__ = [
     "first_difference",
     "load_scene",
     "nearest_key",
+    "override",
     "parse_override",
     "scene_from_dict",
     "scene_from_summary",
@@ -407,18 +409,18 @@ def _type_check(key: str, kind: str, v: Any) -> Any:
     if kind in ("list[str]", "list[str]|auto"):
         if isinstance(v, str):
             v = [v]
-        if not isinstance(v, list) or not all(isinstance(e, str) for e in v):
+        if not isinstance(v, list | tuple) or not all(isinstance(e, str) for e in v):  # a library caller's tuple too
             raise SceneError(key, v, "must be a list of strings")
         return list(v)
     if kind == "float|auto" and v == "auto":
         return v
     if kind == "float|none" and (v is None or v == "none"):  # TOML has no null: "none" unsets a base's value
         return None
-    if kind == "int":
-        if isinstance(v, bool) or not isinstance(v, int):
+    if kind == "int":  # numbers.Integral: a library caller's NumPy integer too (np.int64 is no int)
+        if isinstance(v, bool) or not isinstance(v, numbers.Integral):
             raise SceneError(key, v, "must be an integer")
-        return v
-    if isinstance(v, bool) or not isinstance(v, int | float):
+        return int(v)
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):  # a NumPy number too (np.float32, np.int64)
         extra = {"float|auto": " or 'auto'", "float|none": " or 'none' (not stated)"}.get(kind, "")
         raise SceneError(key, v, f"must be a number{extra}", _number_example(key))
     try:
@@ -1103,13 +1105,22 @@ def _spell(value: Any) -> str:
         return "none"
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, float):
-        return _spell_float(value)
+    if isinstance(value, numbers.Integral):  # a NumPy integer as its Python int
+        return str(int(value))
+    if isinstance(value, numbers.Real):  # a NumPy float as its Python float (NumPy 2's repr reads np.float64(...))
+        return _spell_float(float(value))
     if isinstance(value, str) and re.fullmatch(r"[A-Za-z0-9_.+-]+", value):
         return value
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_spell(v) if not isinstance(v, str) else json.dumps(v) for v in value) + "]"
     return json.dumps(value) if isinstance(value, str) else str(value)
+
+
+def override(key: str, value: Any) -> str:
+    """The ``KEY=VALUE`` override that sets ``key`` to ``value``, spelled as a label spells it (:func:`_spell`): a
+    NumPy number as its Python value (``f"{key}={value!r}"`` wrote ``np.float64(7e-05)`` under NumPy 2, which the
+    scene refused as no number: a library audit, 2026-12-07)."""
+    return f"{key}={_spell(value)}"
 
 
 def _spell_float(x: float) -> str:

@@ -18,7 +18,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-from rods.scene import Scene
+from rods.scene import Scene, override
 
 __all__ = ["PAPER_UNCERTAINTY", "Band", "propagate"]
 
@@ -53,7 +53,7 @@ def _moved(scene: Scene, key: str, kind: str, amount: float, sign: int) -> Scene
     for k in keys:
         v = scene[k]
         new = v + sign * amount if kind == "abs" else v * (1 + sign * amount)
-        over.append(f"{k}={new!r}")
+        over.append(override(k, new))
     return scene.with_overrides(*over)
 
 

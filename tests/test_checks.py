@@ -254,6 +254,14 @@ def test_rattle_advice_follows_the_contact_law(scene_with):
     kinematic = checks.rattle_warning(*spiky, scene_with("fe.contact=kinematic"))
     assert "fe.contact = 'kinematic'" in penalty and "fe.penalty" in penalty
     assert "fe.contact = 'kinematic'" not in kinematic and "fe.radial_size" in kinematic
+    # a user's step far below the stable limit is named first: each ring's impulse over one step grows as 1/Δt
+    steps = {"dt": 5e-10, "dt_critical": 1e-8}
+    for chosen in ("fe.dt=5e-10", "fe.dt_fraction=0.05"):
+        small = checks.rattle_warning(spiky[0] | steps, spiky[1], scene_with("fe.contact=kinematic", chosen))
+        assert "the step 5e-10 s is 0.05 of the stable limit (fe.dt, fe.dt_fraction)" in small, small
+        assert "fe.radial_size" in small
+    auto = checks.rattle_warning(spiky[0] | steps, spiky[1], scene_with("fe.contact=kinematic"))  # the library's
+    assert auto == kinematic
 
 
 @pytest.mark.parametrize("model", ["fe-axisymmetric", "analytical"])

@@ -890,3 +890,27 @@ def test_a_damaged_base_file_is_named_as_the_base(tmp_path):
             load_scene(tmp_path / "child.toml")
     with pytest.raises(SceneError, match=r"^--scene = '.*lat.toml': not a text"):
         load_scene(tmp_path / "lat.toml")
+
+
+def test_a_library_callers_numpy_numbers_and_tuples_are_values(scene_with):
+    """A script's values: NumPy numbers (an FE summary's np.float64, np.int64 from an array) and tuples are the
+    numbers and lists they hold (both were refused as "must be a number" / "must be a list of strings"); a bool,
+    NumPy's too, stays no number, a float no integer."""
+    from rods.scene import override
+
+    d = scene_with().as_dict(json_safe=False)
+    d["impact"]["speed"], d["rod1"]["length"] = np.int64(2), np.float32(0.25)
+    d["fe"]["degree"], d["effects"] = np.int64(1), ("wave_response", "contact_patch")
+    s = scene_from_dict(d)
+    assert s.speed == 2.0 and type(s.speed) is float and s["fe.degree"] == 1 and type(s["fe.degree"]) is int
+    assert s.rod1.length == pytest.approx(0.25) and s.effects == ("wave_response", "contact_patch")
+    for key, bad, why in (("speed", np.bool_(True), "number"), ("speed", True, "number")):
+        with pytest.raises(SceneError, match=f"must be a {why}"):
+            scene_from_dict(d | {"impact": d["impact"] | {key: bad}})
+    with pytest.raises(SceneError, match="must be an integer"):
+        scene_from_dict(d | {"fe": d["fe"] | {"degree": np.float64(1.0)}})
+    # an override spelled from a NumPy number reads back as that number (f"{x!r}" wrote np.float64(7e-05))
+    assert override("simulation.end_time", np.float64(7e-5)) == "simulation.end_time=7e-5"
+    assert override("fe.degree", np.int64(1)) == "fe.degree=1"
+    assert s.with_overrides(override("simulation.end_time", np.float64(7e-5))).end_time == 7e-5
+    assert s.with_overrides(override("submodel.levels", ("coarse", "mid")))["submodel.levels"] == ["coarse", "mid"]

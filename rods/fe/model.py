@@ -103,7 +103,8 @@ class ExplicitModel:
 
     def __init__(self, scene: Scene, comm: MPI.Comm | None = MPI.COMM_WORLD):
         t0 = time.perf_counter()
-        self.scene, self.comm = scene, MPI.COMM_WORLD if comm is None else comm  # None: as the stages take it
+        self.scene = scene
+        self.comm = comm = MPI.COMM_WORLD if comm is None else comm  # None: as the stages take it
         self.kind = kind = scene["fe.kind"]
         if kind not in forms.KINDS:
             raise SceneError("fe.kind", kind, f"must be one of {forms.KINDS}")

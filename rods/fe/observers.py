@@ -68,14 +68,27 @@ def _finish(observers: Sequence[Observer], alone: bool = False) -> None:
 
 class Progress:
     """Observer: ``progress(step, total, elapsed)`` every ``every`` steps and at the last one; a run resumed
-    from the checkpoint of step ``start`` (> 0) calls ``progress(step, total, elapsed, start)``: the
-    steps before ``start`` were not run in ``elapsed`` (a rate over all of them overstated it ~10x)."""
+    from the checkpoint of step ``start`` (> 0) calls ``progress(step, total, elapsed, start)`` where ``progress``
+    takes a fourth argument: the steps before ``start`` were not run in ``elapsed`` (a rate over all of them
+    overstated it ~10x). A callable of three, as documented for the library's callers, is called with three (a
+    resumed run had raised a TypeError in it right after the restore: a library audit, 2026-12-07)."""
 
     def __init__(self, progress: Callable[..., None], total: int, every: int = 500, start: int = 0):
         self.progress, self.total, self.every, self.start = progress, total, every, start
+        self.resumed = (start,) if start > 0 and _takes_four(progress) else ()
         self.t_start = time.perf_counter()
 
     def after_step(self, step: int, t: float, state: CentralDifference) -> None:  # noqa: ARG002
         if step % self.every == 0 or step == self.total:
-            resumed = (self.start,) if self.start > 0 else ()
-            self.progress(step, self.total, time.perf_counter() - self.t_start, *resumed)
+            self.progress(step, self.total, time.perf_counter() - self.t_start, *self.resumed)
+
+
+def _takes_four(f: Callable[..., None]) -> bool:
+    """Whether ``f`` accepts four positional arguments (one without a readable signature is taken as not)."""
+    import inspect
+
+    try:
+        inspect.signature(f).bind(0, 0, 0.0, 0)
+    except (TypeError, ValueError):
+        return False
+    return True

@@ -40,6 +40,7 @@ from rods.scene import (
     Station,
     check_submodel_length,
     last_per_key,
+    override,
     scene_from_dict,
 )
 
@@ -157,13 +158,13 @@ def submodel_scene(
             (  # what the region changed of it (its summary's stage_settings), each key once
                 *scene.settings,
                 *(
-                    f"fe.{k}={v!r}"
+                    override(f"fe.{k}", v)
                     for k, v in d["fe"].items()
                     if k in ("radial_size", "axial_size", "radial_grading", "dt", "penalty")
                 ),
-                f"rod1.length={L_s!r}",
-                f"rod2.length={L_s!r}",
-                f"simulation.end_time={end!r}",
+                override("rod1.length", L_s),
+                override("rod2.length", L_s),
+                override("simulation.end_time", end),
             )
         ),  # fmt: skip
     )

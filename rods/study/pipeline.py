@@ -21,7 +21,7 @@ from typing import Any
 
 from rods import checks, cost, io, plan
 from rods.preflight import short
-from rods.scene import RESULT_NEUTRAL, SUBMODEL_LEVEL_SIZES, Scene, cut_record_end, first_difference
+from rods.scene import RESULT_NEUTRAL, SUBMODEL_LEVEL_SIZES, Scene, cut_record_end, first_difference, override
 from rods.study import stages
 from rods.study.runs import check_reuse, stage_kind
 
@@ -172,7 +172,7 @@ def run_study(
     shared = plan.global_drives(p)
     g, kw, kept, model = scene, {}, None, None  # the global's scene, its cut recording, its kept stage or model
     if p.global_model:
-        g = scene.with_overrides(f"simulation.end_time={p.global_end_time!r}")
+        g = scene.with_overrides(override("simulation.end_time", p.global_end_time))
         drives = {"record_cut": True, "record_until": p.contact_phase, "extra": stages.driver_keys(p.contact_phase)}
         kw = drives if shared else {}
     if restart:

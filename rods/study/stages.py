@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
+import numbers
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -73,6 +75,17 @@ def _root(comm: Any) -> bool:
     return comm is None or comm.rank == 0
 
 
+def folder(out: str | Path) -> Path:
+    """A stage's output folder ``out`` as a Path (a library caller's string too), refused (rods.preflight.InputError)
+    before anything is set up where a stage could not write there (an existing file: NotADirectoryError after the
+    whole set-up; None: a bare TypeError)."""
+    from rods.preflight import InputError, output_dir
+
+    if not isinstance(out, str | Path):
+        raise InputError("out", out, "is no folder", "give a folder path (a str or pathlib.Path)")
+    return output_dir(out, "out")
+
+
 def world(comm: Any) -> Any:
     """``comm``, or MPI.COMM_WORLD for None (a library caller need not build one)."""
     if comm is not None:
@@ -88,7 +101,7 @@ def analytical(scene: Scene, out: Path, comm: Any = None, write: bool = True) ->
     from rods.analytical import simulate
     from rods.hertz import YieldWarning
 
-    out = Path(out)  # a library caller's string too
+    out = folder(out)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", YieldWarning)
         result = simulate(scene)
@@ -207,7 +220,7 @@ def check_cut_options(
 def global_model(
     scene: Scene,
     out: Path,
-    comm: Any,
+    comm: Any = None,
     *,
     record_cut: bool = False,
     record_until: float | None = None,
@@ -233,7 +246,7 @@ def global_model(
     from rods.fe.guards import SimulationError
     from rods.fe.model import ExplicitModel
 
-    out = Path(out)  # a library caller's string too
+    out = folder(out)
     options = {"record_cut": record_cut, "record_until": record_until, "record_every": record_every}
     check_cut_options(scene, **options, restart=restart)
     comm = world(comm)
@@ -291,7 +304,7 @@ def kept_global(
 def driver(
     scene: Scene,
     out: Path,
-    comm: Any,
+    comm: Any = None,
     contact_phase: float | None = None,
     progress: Progress = None,
     log: Log = None,
@@ -309,6 +322,18 @@ def driver(
     return global_model(sc, out, comm, record_cut=True, **kw)
 
 
+def _check_level(level: str, size: float | None) -> None:
+    """A library caller's submodel ``level`` and ``size`` [m] (workflows/submodel.py's --level choices and --size
+    check them alike): an unknown level was a bare KeyError, a size of 0 ran the level's own size."""
+    from rods.preflight import InputError
+    from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
+
+    if level not in SUBMODEL_LEVEL_SIZES:
+        raise InputError("level", level, "is no submodel level", f"give one of {', '.join(SUBMODEL_LEVELS)}")
+    if size is not None and not (isinstance(size, numbers.Real) and math.isfinite(size) and size > 0):
+        raise InputError("size", size, "must be a positive element size [m]", "give one, or None for the level's")
+
+
 def driver_keys(contact_phase: float) -> dict[str, Any]:
     """The keys a driving global adds to its summary: the submodels' end time [s] and the driver's settings."""
     return {"contact_phase": contact_phase, "driver_overrides": list(plan.DRIVER_OVERRIDES)}
@@ -318,7 +343,7 @@ def submodel(
     scene: Scene,
     cut_file: Path,
     out: Path,
-    comm: Any,
+    comm: Any = None,
     level: str = "fine",
     *,
     size: float | None = None,
@@ -344,8 +369,9 @@ def submodel(
     from rods.fe.submodel import run_submodel, submodel_label, submodel_name, submodel_scene
     from rods.io import cut_identity
 
-    comm = world(comm)
-    h = size or plan.submodel_size(scene, level, phase)
+    comm, out = world(comm), folder(out)
+    _check_level(level, size)
+    h = plan.submodel_size(scene, level, phase) if size is None else size
     name = submodel_label(level, size if phase is None else None)
     end = plan.submodel_end(scene, driver_summary) if end_time is None else min(end_time, scene.end_time)
     if resume:  # kept only if driven by this very record (a global rerun here wrote another)

@@ -50,7 +50,7 @@ from typing import Any
 from rods import checks, io, metrics, plan
 from rods.analytical import PAPER_LAW
 from rods.compare import cell, difference, measured, percent
-from rods.scene import PAPER_SCENE, Scene, SceneError, load_scene, parse_override
+from rods.scene import PAPER_SCENE, Scene, SceneError, load_scene, override, parse_override
 
 __all__ = [
     "CASES",
@@ -181,9 +181,9 @@ def finer(scene: Scene, end_time: float, factor: float = MESH_CHECK) -> Scene:
     """``scene`` with fe.axial_size and fe.radial_size divided by ``factor`` (a graded tip follows the radial
     size), to ``end_time`` [s]."""
     return scene.with_overrides(
-        f"fe.axial_size={scene['fe.axial_size'] / factor!r}",
-        f"fe.radial_size={scene['fe.radial_size'] / factor!r}",
-        f"simulation.end_time={end_time!r}",
+        override("fe.axial_size", scene["fe.axial_size"] / factor),
+        override("fe.radial_size", scene["fe.radial_size"] / factor),
+        override("simulation.end_time", end_time),
     )
 
 

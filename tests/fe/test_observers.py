@@ -131,6 +131,12 @@ def test_progress_of_a_resumed_run_counts_only_its_own_steps(capsys):
     assert "136 steps/s" in capsys.readouterr().err
     progress_bar(1000, 1000, 1.0)  # a fresh run: unchanged
     assert "1,000 steps/s" in capsys.readouterr().err
+    # a library caller's callable of three, as documented (stages.Progress), is called with three on a resume too
+    three = []
+    Progress(lambda step, total, elapsed: three.append(step), total=31177, every=500, start=17864).after_step(
+        18000, 0.0, None
+    )
+    assert three == [18000]
 
 
 def test_discard_removes_an_earlier_runs_checkpoint(tmp_path):

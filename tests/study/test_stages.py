@@ -81,3 +81,35 @@ def test_a_submodel_without_an_axis_profile_leaves_none_from_an_earlier_run(tmp_
     sr.summary = summary | {"axis_profile": None}
     write_submodel_files(sr, tmp_path)
     assert not (tmp_path / "axis_stress.csv").exists() and (tmp_path / "summary.json").is_file()
+
+
+def test_a_library_callers_bad_folder_level_or_size_is_refused_before_any_set_up(scene_with, tmp_path):
+    """The stages as a script calls them: an existing file, or None, as the output folder, an unknown submodel level
+    and a size of 0 are refused (InputError naming the argument) before a mesh is built (a file had failed with
+    NotADirectoryError after the set-up, a level with a bare KeyError; a size of 0 had run the level's own)."""
+    import pytest
+
+    from rods.preflight import InputError
+    from rods.study import stages
+
+    sc = scene_with("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5")
+    (tmp_path / "a-file").write_text("")
+    for out in (tmp_path / "a-file", str(tmp_path / "a-file"), None):
+        with pytest.raises(InputError, match=r"^out = "):
+            stages.global_model(sc, out)
+    cut = tmp_path / "cut.h5"  # never read: the refusals come first
+    with pytest.raises(InputError, match=r"^level = 'superfine': is no submodel level; give one of "):
+        stages.submodel(sc, cut, tmp_path / "s", level="superfine")
+    for size in (0.0, -1e-3, float("nan")):
+        with pytest.raises(InputError, match=r"^size = .*: must be a positive element size"):
+            stages.submodel(sc, cut, tmp_path / "s", size=size)
+    assert not (tmp_path / "s").exists()
+
+
+def test_a_model_set_up_with_comm_none_runs_on_the_world(scene_with):
+    """``ExplicitModel(scene, None)``, as its signature allows (the stages' comm=None): on MPI.COMM_WORLD (it raised
+    an AttributeError on None.size)."""
+    from rods.fe.model import ExplicitModel
+
+    m = ExplicitModel(scene_with("fe.axial_size=4e-3", "fe.radial_size=1e-3", "simulation.end_time=2e-5"), None)
+    assert m.comm is MPI.COMM_WORLD and m.steps > 0
