@@ -214,14 +214,18 @@ def bar_format(largest: float) -> str:
 
 
 def offscreen_pyvista() -> Any:
-    """pyvista set up for off-screen pictures on EGL (no X server): the one place that says so. Without the EGL
-    default VTK probes X first and prints "bad X server connection" on every picture of a headless run."""
+    """pyvista for off-screen pictures (each Plotter is made with ``off_screen=True``): the one place that says so.
+    On a headless Linux machine (no X or Wayland display) VTK's render window defaults to EGL: else VTK probes X first
+    and prints "bad X server connection" on every picture. Where a display is (a notebook on a desktop) and off
+    Linux (macOS has no EGL) nothing global is set, so the caller's own pyvista windows stay on screen (pyvista's
+    OFF_SCREEN had been set for good: a library audit, 2026-12-07)."""
     import os
+    import sys
 
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
 
-    pv.OFF_SCREEN = True
     return pv
 
 

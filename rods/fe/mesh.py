@@ -377,6 +377,7 @@ def gmsh_to_dolfinx(build: Callable[[], Any], comm: MPI.Comm, gdim: int) -> tupl
         if not gmsh.isInitialized():
             start_gmsh()
             started = True
+        terminal = gmsh.option.getNumber("General.Terminal")  # a caller's own gmsh session gets its setting back
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("rods")
         info = build()
@@ -388,6 +389,8 @@ def gmsh_to_dolfinx(build: Callable[[], Any], comm: MPI.Comm, gdim: int) -> tupl
             gmsh.model.remove()
             if started:
                 gmsh.finalize()
+            else:
+                gmsh.option.setNumber("General.Terminal", terminal)
     return data, info
 
 

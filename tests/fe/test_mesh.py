@@ -248,3 +248,38 @@ def test_gmsh_keeps_the_interrupt_handlers():
     finally:
         for s, h in before.items():
             signal.signal(s, h)
+
+
+def test_a_callers_gmsh_session_keeps_its_models_and_terminal(scene_with):
+    """A notebook's own gmsh session, open when a model is meshed: still open after, its model still there, its
+    General.Terminal setting back (the mesher had set it to 0 for good: a library audit, 2026-12-07)."""
+    import gmsh
+
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 1)
+        gmsh.model.add("mine")
+        build_mesh(scene_with("fe.axial_size=4e-3", "fe.radial_size=1e-3", "rod1.length=0.05"), MPI.COMM_SELF)
+        assert gmsh.isInitialized() and "mine" in gmsh.model.list()
+        assert gmsh.option.getNumber("General.Terminal") == 1
+    finally:
+        gmsh.finalize()
+
+
+def test_pictures_set_no_global_where_a_display_is(monkeypatch):
+    """rods.io.offscreen_pyvista: EGL is VTK's default only on a headless Linux machine; with a display (a desktop
+    notebook) the environment is left as it was, and pyvista's global OFF_SCREEN is never set."""
+    import os
+    import sys
+
+    from rods.io import offscreen_pyvista
+
+    monkeypatch.delenv("VTK_DEFAULT_OPENGL_WINDOW", raising=False)
+    monkeypatch.setenv("DISPLAY", ":0")
+    pv = offscreen_pyvista()
+    assert "VTK_DEFAULT_OPENGL_WINDOW" not in os.environ and pv.OFF_SCREEN is False
+    monkeypatch.delenv("DISPLAY")
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    offscreen_pyvista()
+    headless = sys.platform.startswith("linux")
+    assert ("VTK_DEFAULT_OPENGL_WINDOW" in os.environ) is headless
