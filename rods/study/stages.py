@@ -79,11 +79,14 @@ def folder(out: str | Path) -> Path:
     """A stage's output folder ``out`` as a Path (a library caller's string too), refused (rods.preflight.InputError)
     before anything is set up where a stage could not write there (an existing file: NotADirectoryError after the
     whole set-up; None: a bare TypeError)."""
-    from rods.preflight import InputError, output_dir
+    from rods.preflight import InputError
 
-    if not isinstance(out, str | Path):
+    if not isinstance(out, str | Path) or str(out) == "":
         raise InputError("out", out, "is no folder", "give a folder path (a str or pathlib.Path)")
-    return output_dir(out, "out")
+    p = Path(out)
+    if p.exists() and not p.is_dir():  # only looked at: a probe file made in it would touch a kept stage's folder
+        raise InputError("out", p, "is an existing file, not a folder", "give a folder path")
+    return p
 
 
 def world(comm: Any) -> Any:
