@@ -4,6 +4,7 @@ results/sweep-<name>.csv stands for the points whose key (code, resolved scene, 
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -32,8 +33,9 @@ def clone(tmp_path_factory):
 
 def snakemake(clone, speeds, *args):
     cmd = [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "2", "speed_sweep"]
+    env = os.environ | {"PYTHONPATH": str(clone)}  # the clone's code runs (this venv is the repository's)
     p = subprocess.run(
-        [*cmd, "--config", f"speeds=[{','.join(speeds)}]", *args], cwd=clone, capture_output=True, text=True
+        [*cmd, "--config", f"speeds=[{','.join(speeds)}]", *args], cwd=clone, capture_output=True, text=True, env=env
     )
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     return p.stdout + p.stderr
@@ -61,6 +63,10 @@ def test_fresh_clone_runs_exactly_the_changed_points(clone):
     with (clone / "rods" / "hertz.py").open("a") as f:  # a code change reruns every point
         f.write("\n# changed\n")
     assert scheduled_speeds(clone, ["1.0", "3.0"]) == {"1.0", "3.0"}
+    # the repository's own code imported for the clone's changed one (a venv shared by two clones): refused
+    p = subprocess.run([str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "1", "-n", "speed_sweep"], cwd=clone,
+                       capture_output=True, text=True, env=os.environ | {"PYTHONPATH": str(ROOT)})  # fmt: skip
+    assert p.returncode == 2 and "imports other code than" in p.stderr and "PYTHONPATH=$PWD" in p.stderr, p.stderr
 
 
 @pytest.mark.slow  # ~10 s: one real sweep point in the temporary clone, then a dry run

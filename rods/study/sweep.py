@@ -143,6 +143,12 @@ def check_config(config: Mapping[str, object], local_cpus: int | None = None) ->
                 raise ConfigError(key, values, f"entry {short(v)}: {e}") from None
         if kind is list:
             _once(key, values, [_number(v) if key in ("speeds", "dt_fractions") else v for v in values])
+        elif key == "mesh_levels":  # two names, one pair of sizes: the same run twice, two equal rows (an audit)
+            sizes = {k: tuple(_number(x) for x in v) for k, v in values.items()}
+            for k, v in sizes.items():
+                if (first := next(n for n, w in sizes.items() if w == v)) != k:
+                    why = f"levels {first!r} and {k!r} have the same sizes {list(v)}: one run twice"
+                    raise ConfigError(key, values, why, "give each pair of sizes once")
 
     each("speeds", list, lambda v: [f"impact.speed={_number(v)!r}"])
     each("mesh_levels", dict, lambda k: _mesh_level(config["mesh_levels"][k]))
@@ -184,8 +190,8 @@ def _ranks(config: Mapping[str, object], local_cpus: int | None) -> None:
     if isinstance(ranks, bool) or not isinstance(ranks, int) or ranks < 1:
         raise ConfigError("ranks", ranks, "must be an integer >= 1 (MPI ranks per FE run)")
     if local_cpus is not None and ranks > local_cpus:
-        why = f"more MPI ranks per FE run than this machine's {local_cpus} CPUs, where the jobs run (oversubscribed)"
-        fix = f"--config ranks={local_cpus} or fewer, or a cluster: --workflow-profile workflows/profiles/slurm"
+        why = f"more MPI ranks per FE run than the {local_cpus} CPUs the jobs may use here (the machine's, --cores)"
+        fix = f"--config ranks={local_cpus} or fewer, more --cores, or a cluster (workflows/profiles/slurm)"
         raise ConfigError("ranks", ranks, why, fix)
     if config["mpi"] is not None and not isinstance(config["mpi"], str):  # --config mpi= gives None
         raise ConfigError("mpi", config["mpi"], "must be a launcher command ('' = the venv's mpirun)")
@@ -269,6 +275,19 @@ def code_key(paths: Iterable[str | Path]) -> str:
     return h.hexdigest()[:16]
 
 
+def library_differs(checkout: str | Path = "rods") -> bool:
+    """Whether the ``rods`` this interpreter imports holds other code than the checkout's ``checkout`` folder, whose
+    files the points' keys hash (a venv shared by two clones ran the other clone's code: an audit, 2026-12-07); the
+    same code installed elsewhere (a wheel) is no difference."""
+    import rods
+
+    imported, here = Path(rods.__file__).resolve().parent, Path(checkout).resolve()
+    if imported == here:
+        return False
+    ours, theirs = (sorted(p.relative_to(d) for p in d.rglob("*.py")) for d in (here, imported))
+    return ours != theirs or any((here / f).read_bytes() != (imported / f).read_bytes() for f in ours)
+
+
 def scene_key(path: str | Path) -> str:
     """Hash of the resolved scene (bases merged, defaults filled): an edit that changes no value reruns nothing."""
     from rods.scene import load_scene
@@ -280,6 +299,12 @@ def point_key(code: str, scene: str, **params) -> str:
     """The key of one sweep point: code and scene hashes and the point's parameters (values as text, a number's
     as its float: --config's "4.0e-3" arrives as a string and is the yaml's 0.004, one point, not two)."""
     return _sha(json.dumps([code, scene, {k: _number_text(v) for k, v in sorted(params.items())}]))
+
+
+def folder_text(v: object) -> str:
+    """A config number as a point's folder spells it: through float (``2`` and ``2.0`` one point, one folder; a run
+    under speed-2.0/ was run again under speed-2/: an audit, 2026-12-07)."""
+    return repr(_number(v))
 
 
 def _number_text(v: object) -> str:

@@ -71,6 +71,8 @@ def test_the_shipped_config_passes(config):
         ({"paper_levels": [], "paper_phase_levels": []}, ["'paper_levels'", "at least one"]),
         ({"sceen": "x"}, ["--config scene=..."]),
         ({"zzzzzz": "x"}, ["remove it"]),
+        # a library audit (2026-12-07): two names, one pair of sizes, ran one point twice into two equal rows
+        ({"mesh_levels": {"coarse": [4e-3, 1e-3], "c2": ["4.0e-3", 0.001]}}, ["'mesh_levels'", "'c2'", "same sizes"]),
     ],
 )
 def test_a_config_the_sweeps_cannot_run_is_named(config, change, words):
@@ -124,6 +126,25 @@ def test_snakemake_stops_at_parse_time_with_one_line(tmp_path):
     )  # fmt: skip
     lines = p.stderr.strip().splitlines()
     assert p.returncode == 2 and len(lines) == 1 and "config 'ranks' = 100000" in lines[0], p.stderr[-2000:]
+    # more ranks than --cores: Snakemake lowers a rule's threads, not its mpirun -n (an audit, 2026-12-07)
+    p = subprocess.run(
+        [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "1", "-n", "mesh_sweep", "--config", "ranks=2"],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "config 'ranks' = 2" in lines[0] and "--cores" in lines[0]
+    # a speed point whose analytical run is above its budgets: refused before any job, as an FE point is (it was
+    # queued, and refused by its own job: 69 GB of history, an audit, 2026-12-07)
+    big = tmp_path / "big.toml"
+    big.write_text(f'base = "{ROOT / "workflows" / "scenes" / "paper.toml"}"\n[simulation]\nend_time = 1e-2\n'
+                   "output_interval = 1e-10\n")  # fmt: skip
+    p = subprocess.run(
+        [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "1", "-n", "speed_sweep", "--config", f"scene={big}",
+         "speeds=[1.0]"],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "the speed sweep's point speed=1.0" in lines[0], p.stderr[-2000:]
     # a point above its entry point's budgets: refused before the DAG (a 95 h point was planned and queued, then
     # refused by its own job, the others' table never written: a fuzz, 2026-12-07)
     tiny = "mesh_levels={coarse: [2.0e-3, 0.5e-3], tiny: [1.0e-4, 2.0e-6]}"
@@ -301,3 +322,13 @@ def test_a_config_file_of_ones_own_that_drops_a_key_is_told_to_copy_sweep_yaml(c
     text = str(e.value)
     assert "'fe_speed' = None: missing" in text and "copy workflows/sweep.yaml and edit the copy" in text
     assert text.count("sweep.yaml") == 2  # the replaced file, the one to copy
+
+
+def test_a_number_is_one_folder_however_it_is_spelled():
+    """2, 2.0 and "2.0" (--config gives strings) are one point (its key) and one folder (a run under speed-2.0/ was run
+    again under speed-2/: an audit, 2026-12-07)."""
+    from rods.study.sweep import folder_text, point_key
+
+    assert folder_text(2) == folder_text(2.0) == folder_text("2.0") == folder_text("2") == "2.0"
+    assert folder_text("4.0e-3") == folder_text(0.004) == "0.004"
+    assert point_key("c", "s", speed=2) == point_key("c", "s", speed=folder_text("2"))
