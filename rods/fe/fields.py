@@ -5,7 +5,9 @@ unless it is within a step of the last requested time). Frame k is formed at the
 τ = t_k - t_n in [-Δt/2, Δt/2], on the scheme's own trajectory (:mod:`rods.fe.explicit`): u is piecewise
 linear between steps with slope v_{n±½}, so u(t_k) = u_n + τ v_{n+½} (τ >= 0) or u_n + τ v_{n-½} (τ < 0),
 exact; v(t_k) is the linear interpolation of v_{n-½} and v_{n+½} at their half-step times (at t = 0: v_0).
-Stresses and the contact pressure are evaluated at u(t_k).
+Stresses are evaluated at u(t_k); the contact pressure is the contact law's force at the frame's step
+(``slave_forces``: the penalty law's at u(t_k), the kinematic law's the impulse per step of the step that ended
+there, whatever u, so the t = 0 frame holds the apex ring's first impulse).
 
 Fields (all P1, point data, one grid per frame): ``displacement``, ``velocity`` (3 components: r, z, 0
 axisymmetric; x, y, z in 3D), ``sigma_zz``, ``sigma_rr``, ``sigma_tt`` (σ_θθ) in each rod's cylindrical
@@ -438,9 +440,9 @@ class FieldOutput:
             self.series.write(k, t_k, {name: np.vstack([p[name] for p in parts])[self.order] for name in data})
 
     def _contact_pressure(self, u: np.ndarray) -> np.ndarray:
-        """Owned nodal contact pressure [Pa] at ``u`` (collective): the slave forces F_s of the contact law
-        (:meth:`rods.fe.contact.PenaltyContact.slave_forces`) per tributary area on Rod 1's tip, their
-        reaction Wᵀ F per tributary area on Rod 2's."""
+        """Owned nodal contact pressure [Pa] (collective): the slave forces F_s of the contact law
+        (:meth:`rods.fe.contact.PenaltyContact.slave_forces` at ``u``; the kinematic law's are its last step's,
+        whatever ``u``) per tributary area on Rod 1's tip, their reaction Wᵀ F per tributary area on Rod 2's."""
         c = self.contact
         F = c.slave_forces(u)  # [N]
         F_m = np.bincount(c.J.ravel(), (c.W * F[:, None]).ravel(), c.nm)  # [N]
