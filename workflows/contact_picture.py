@@ -16,11 +16,12 @@ from rods.preflight import input_dir
 
 def main(argv: list[str] | None = None) -> int:
     ap = _cli.bare_parser(__doc__)
-    ap.add_argument("--fields", required=True, help="a run folder with fields.xdmf and summary.json")
+    ap.add_argument("--fields", required=True, help="a run folder with fields.xdmf (and its summary.json)")
     ap.add_argument("--out", required=True, help="output path without suffix (.png and .json are written)")
     args = ap.parse_args(argv)
     remedy = "give the folder of a run with fields (the 'fields' effect or fe.field_interval > 0)"
-    run = input_dir(args.fields, ("fields.xdmf", "summary.json"), "--fields", remedy)  # before any folder is made
+    run = input_dir(args.fields, ("fields.xdmf",), "--fields", remedy)  # before any folder is made; a killed run
+    # has no summary.json: its series' own scene names the picture (rods.fe.fields.contact_picture)
     from rods.fe.fields import check_run, contact_picture
 
     check_run(run, "--fields")  # the series is the run's of summary.json (else its scene would label another's)

@@ -615,6 +615,18 @@ def _clear_of_the_bar(camera) -> None:
     camera.position = np.add(camera.position, (shift, 0.0, 0.0))
 
 
+def _run_summary(run: Path) -> dict:
+    """What the picture's data names of ``run``: its summary.json, or for a run killed before it wrote one (its
+    series complete to its last frame) the series' own scene (fields/mesh.h5), its model and mesh unknown (None)."""
+    if (run / "summary.json").is_file():
+        return json.loads((run / "summary.json").read_text(encoding="utf-8"))
+    values = series_scene(run)
+    if values is None:
+        raise InputError("--fields", run, "has no summary.json and its series records no scene", "give a run's folder")
+    name = f"{scene_from_summary(values).name}, its values as its field series records them (no summary.json)"
+    return {"model": None, "scene": name, "mesh": None, "scene_values": values}
+
+
 def contact_picture(run: str | Path, out: str | Path) -> dict:
     """The contact picture of ``run``'s fields (:func:`render_contact`) as ``out``.png, and its data as ``out``.json
     (the frame: time, peak contact pressure and von Mises, the run's model, scene and mesh; REPORT.md renders it):
@@ -624,7 +636,7 @@ def contact_picture(run: str | Path, out: str | Path) -> dict:
     points, cells, frames = read_fields(run / "fields.xdmf")  # once: the picture and its data
     t, d = _peak_frame(frames)
     _draw(points, cells, t, d, out.with_suffix(".png"), None)
-    s = json.loads((run / "summary.json").read_text(encoding="utf-8"))
+    s = _run_summary(run)
     data = {
         "png": out.with_suffix(".png").name,
         "time": float(t),

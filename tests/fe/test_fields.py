@@ -259,6 +259,13 @@ def test_contact_picture_off_screen_without_x_warnings(tmp_path, capfd, monkeypa
 
     text = "\n".join(contact_fields_section(cf))
     assert f"t = {t * 1e6:.2f} µs" in text and "![contact region at peak contact pressure](cf.png)" in text
+    # a run killed before its summary.json (its series complete): pictured, named by the series' own scene (it was
+    # refused as "a run without fields": an audit, 2026-12-07)
+    (tmp_path / "summary.json").unlink()
+    p = run_workflow("contact_picture.py", ["--fields", str(tmp_path), "--out", str(tmp_path / "killed")])
+    assert p.returncode == 0, p.stderr[-2000:]
+    killed = json.loads((tmp_path / "killed.json").read_text())
+    assert killed["time"] == t and killed["model"] is None and killed["scene"].endswith("(no summary.json)")
 
 
 @pytest.mark.slow  # 10 s; the axisymmetric picture off screen is in the default suite
