@@ -13,6 +13,7 @@ import csv
 import hashlib
 import io as _io
 import json
+import os
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
@@ -351,6 +352,18 @@ def sync_text(path: str | Path, text: str) -> None:
     p = Path(path)
     if not p.exists() or p.read_text() != text:
         io.atomic_write_text(p, text)
+
+
+def sync_keys(path: str | Path, points: Sequence[tuple[str, str]], record: str | Path) -> None:
+    """A sweep's trigger ``path``: its points' (summary path, key) lines (:func:`sync_text`), and touched where the
+    published ``record`` holds other keys while the trigger is no newer than it. Another config's invocation (a dry
+    run, one refused by Snakemake's lock) rewrites the trigger at parse time; the table published after it was still
+    the first config's, and under ``--rerun-triggers mtime`` the second config then ran nothing (an audit,
+    2026-12-07). Touched, the trigger reassembles the table under any trigger until the record is this config's."""
+    p, r = Path(path), Path(record)
+    sync_text(p, "".join(f"{k} {s}\n" for s, k in points))
+    if r.exists() and set(read_record(r)) != {k for _, k in points} and p.stat().st_mtime <= r.stat().st_mtime:
+        os.utime(p)
 
 
 def write_sweep_table(

@@ -332,3 +332,26 @@ def test_a_number_is_one_folder_however_it_is_spelled():
     assert folder_text(2) == folder_text(2.0) == folder_text("2.0") == folder_text("2") == "2.0"
     assert folder_text("4.0e-3") == folder_text(0.004) == "0.004"
     assert point_key("c", "s", speed=2) == point_key("c", "s", speed=folder_text("2"))
+
+
+def test_a_trigger_rewritten_by_another_config_reassembles_the_table(tmp_path):
+    """rods.study.sweep.sync_keys: the published record holds config A's keys, the trigger (written at parse time by
+    config B's refused or dry invocation) holds B's and is older than the record: touched, so the table reassembles
+    under any rerun trigger; where the record is the config's, the trigger is left alone (no rerun)."""
+    import time
+
+    from rods.study.sweep import sync_keys
+
+    record, keys = tmp_path / "sweep-speed.csv", tmp_path / "speed.keys"
+    record.write_text(f"peak_contact_force [N],key\n1.0,{'a' * 16}\n")  # A's published table
+    b = [("b/summary.json", "b" * 16)]
+    sync_keys(keys, b, record)  # B's invocation: the trigger B's
+    os.utime(keys, (time.time() - 60, time.time() - 60))  # ... then A's table published after it
+    old = keys.stat().st_mtime
+    sync_keys(keys, b, record)
+    assert keys.stat().st_mtime > record.stat().st_mtime > old and keys.read_text() == f"{'b' * 16} b/summary.json\n"
+    record.write_text(f"peak_contact_force [N],key\n1.0,{'b' * 16}\n")  # B's table published: nothing to redo
+    os.utime(keys, (time.time() - 60, time.time() - 60))
+    old = keys.stat().st_mtime
+    sync_keys(keys, b, record)
+    assert keys.stat().st_mtime == old
