@@ -1030,6 +1030,8 @@ def _analytical_memory_remedy(cost: Cost) -> str:
     """The analytical model's remedy for memory, its larger part first: the history (an output interval far below
     the scene's times) or the solver's dense output (a contact stiff against thin rods)."""
     steps = f"thicker rods (a contact this stiff against their impedance takes {cost.steps:.3g} solver steps)"
+    if 3 * BYTES_PER_VALUE * cost.values >= 10 * BYTES_PER_SOLVER_STEP * cost.steps:  # the history alone: no rods
+        return "a larger simulation.output_interval or a shorter end_time"  # (65 steps had been named: an audit)
     if 3 * BYTES_PER_VALUE * cost.values >= BYTES_PER_SOLVER_STEP * cost.steps:
         return f"a larger simulation.output_interval, a shorter end_time, or {steps}"
     return f"{steps}, a larger simulation.output_interval or a shorter end_time"

@@ -600,17 +600,33 @@ def rods_by_strength(rods: Sequence[Any]) -> dict[float | None, str]:
     return {S_y: f"rod {ns[0]}" if len(ns) == 1 else f"rods {' and '.join(map(str, ns))}" for S_y, ns in groups.items()}
 
 
-def check_yield_rods(p0: float, rods: Sequence[Any]) -> None:
-    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the Hertz pressure p0 [Pa] of their contact: one
-    warning per distinct yield strength, naming the rods it holds for (:func:`rods_by_strength`)."""
+# what the yield checks call the pressure they judge: Hertz's p0, or a patch wider than the face's mean pressure
+HERTZ_PRESSURE = "Hertz peak pressure"
+FACE_PRESSURE = "mean pressure P/(πR²) on the thinner rod's face (Hertz's patch is wider than the face)"
+
+
+def bearing_pressure(force: float, a: float, p0: float, rods: Sequence[Any]) -> tuple[float, str]:
+    """The pressure [Pa] the yield checks judge at ``force`` [N], and its name: Hertz's ``p0``, or where Hertz's patch
+    (radius ``a`` [m]) is wider than the thinner rod's face (radius R) the face's mean P/(πR²), a lower bound of the
+    peak where it is the larger (a 10 km tip at 100 m/s: Hertz's 1.8 MPa over a 0.26 m patch on a 6.35 mm rod,
+    the face's 2.0 GPa, which no yield check had seen: an audit, 2026-12-07)."""
+    R = min(rod.diameter for rod in rods) / 2  # [m]
+    face = force / (math.pi * R**2)  # [Pa]
+    return (face, FACE_PRESSURE) if a > R and face > p0 else (p0, HERTZ_PRESSURE)
+
+
+def check_yield_rods(p0: float, rods: Sequence[Any], what: str = HERTZ_PRESSURE) -> None:
+    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the pressure p0 [Pa] of their contact (``what``:
+    :func:`bearing_pressure`'s name): one warning per distinct yield strength, naming the rods it holds for
+    (:func:`rods_by_strength`)."""
     for S_y, which in rods_by_strength(rods).items():
-        check_yield(p0, S_y, where=which)
+        check_yield(p0, S_y, where=which, what=what)
 
 
-def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:
+def check_yield(p0: float, S_y: float | None, where: str = "", what: str = HERTZ_PRESSURE) -> bool:
     """:func:`yield_check`, warning with :class:`YieldWarning` when the criterion is violated.
 
-    p0 and S_y in [Pa]; ``where`` names the contact in the message. Returns the check's result.
+    p0 and S_y in [Pa]; ``where`` names the contact in the message, ``what`` the pressure. Returns the check's result.
     """
     if yield_check(p0, S_y):
         return True
@@ -618,10 +634,11 @@ def check_yield(p0: float, S_y: float | None, where: str = "") -> bool:
     limit = YIELD_FACTOR * S_y
     at = f" at {where}" if where else ""
     warnings.warn(
-        f"Hertz peak pressure{at} at the model's peak force, p0 = {p0 / 1e6:.1f} MPa, exceeds 1.1 S_y = "
+        f"{what[0].upper()}{what[1:]}{at} at the model's peak force, p0 = {p0 / 1e6:.1f} MPa, exceeds 1.1 S_y = "
         f"{limit / 1e6:.1f} MPa "
         f"(p0 / 1.1 S_y = {p0 / limit:.3f}); the elastic Hertz solution no longer holds (every model here is "
-        "elastic: a lower impact.speed or a larger tip radius keeps the contact elastic)",
+        f"elastic: {'a lower impact.speed' if what == FACE_PRESSURE else 'a lower impact.speed or a larger tip radius'}"
+        " keeps the contact elastic)",
         YieldWarning,
         stacklevel=2,
     )

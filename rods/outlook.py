@@ -62,14 +62,15 @@ def outlook(scene: Any, wave: bool = True, fe: bool = False) -> list[str]:
             f"{checks.RIM_FRACTION:g}): the patch may reach the rim, where Hertz's half-space and the analytical "
             f"rod-end term no longer hold ({checks.rim_remedy(scene)} keeps it inside)"
         )
-    p0 = at_P["peak_pressure"]  # [Pa]
+    p0, what = hertz.bearing_pressure(P, at_P["contact_radius"], at_P["peak_pressure"], scene.rods)  # [Pa]
+    lower = "a lower speed" if what == hertz.FACE_PRESSURE else "a lower speed or a larger tip radius"
     for S_y, which in hertz.rods_by_strength(scene.rods).items():
         if hertz.yield_check(p0, S_y):
             continue
         lines.append(
-            f"yield: Hertz's peak pressure at P = {P:.4g} N is {p0 / 1e6:.4g} MPa, "
+            f"yield: the {what} at P = {P:.4g} N is {p0 / 1e6:.4g} MPa, "
             f"{p0 / (hertz.YIELD_FACTOR * S_y):.2f} x 1.1 S_y of {which}: the contact may yield, where the elastic "
-            "models no longer hold (a lower speed or a larger tip radius lowers it)"
+            f"models no longer hold ({lower} lowers it)"
         )
     rise, transit = scene.estimated_rise, metrics.longer_transit(scene)  # [s]
     if rise < checks.RISE_TRANSITS * transit:

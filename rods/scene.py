@@ -1079,7 +1079,8 @@ def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), sour
     dt_out = auto_output_interval(rods, end) if dt_out == "auto" else dt_out  # [s]
     if dt_out > end:
         given = "" if values["simulation.end_time"] != "auto" else " (simulation.end_time 'auto': these rods' waves)"
-        raise SceneError("simulation.output_interval", dt_out, f"must be <= end_time = {end:g} s{given}")
+        hint = "set simulation.output_interval='auto' or at most the end time, or a longer simulation.end_time"
+        raise SceneError("simulation.output_interval", dt_out, f"must be <= end_time = {end:g} s{given}", hint)
     L_s = resolve_submodel_length(values["fe.submodel_length"], rods)
     check_submodel_length(L_s, rods, caps=bool(set(values["effects"]) & set(SUBMODEL_EFFECTS)))
     return Scene(
@@ -1307,7 +1308,10 @@ def _cross_checks(v: dict[str, Any]) -> None:
         _rod_checks(v, n)
     if math.isinf(v["rod1.tip_radius"]) and math.isinf(v["rod2.tip_radius"]):
         raise SceneError(
-            "rod1.tip_radius", math.inf, "at least one tip must be curved (Hertz contact of two flats is undefined)"
+            "rod1.tip_radius",
+            math.inf,
+            "at least one tip must be curved (Hertz contact of two flats is undefined)",
+            "give rod1.tip_radius or rod2.tip_radius a radius [m], e.g. rod1.tip_radius=0.035 (the paper's)",
         )
     _mesh_fits_rods(v)
     if "misalignment" in v["effects"] and v["fe.kind"] != "3d":

@@ -83,6 +83,11 @@ def test_too_few_plateaus_name_a_contact_that_outlasts_rod_2s_round_trip():
     w = checks.plateau_warning(t[short], merged[short], period, contact=0.2)
     assert "only 1 of 5 plateaus in 3 periods" in w and "a longer run will not help" in w and "auto" not in w
     assert "within end_time" in checks.plateau_warning(t[short], merged[short], period, contact=0.1)
+    # a contact that outlasts the round trip by a tail (0.5% of its impulse after it): a longer run may find the rest
+    # (an audit: 0.05 m/s on the paper rods, run to 1.3 contacts, was told it would not help; 'auto' found all five)
+    tail = checks.plateau_warning(t[short], merged[short], period, contact=0.152, late=0.005)
+    assert "within end_time" in tail and "will not help" not in tail
+    assert "will not help" in checks.plateau_warning(t[short], merged[short], period, contact=0.2, late=0.2)
     # as many plateaus as round trips so far: the contact need not hide them ('auto' may find all five)
     assert "within end_time" in checks.plateau_warning(t[t < 0.1], merged[t < 0.1], 0.15, contact=0.2)
 
@@ -981,3 +986,18 @@ def test_a_run_judges_its_plateaus_by_the_share_of_its_contact_after_the_round_t
     assert midpoint("titanium-rod2") == []
     (w,) = midpoint("equal-0.35m")
     assert "outlasts Rod 2's round trip" in w and "9.4% of its impulse after it" in w
+
+
+def test_a_run_stopped_while_its_patch_grows_is_not_told_to_refine(tmp_path):
+    """4 steps (end_time 1e-7 s): the patch is the end time's, not the mesh's; the contact warning says to lengthen the
+    run, and no patch warning tells it to refine fe.radial_size (it had, at 0.44 elements across: an audit)."""
+    import json
+
+    from .conftest import run_workflow
+
+    args = ["--set", "simulation.end_time=1e-7", "--set", "simulation.output_interval=auto", "--out", str(tmp_path)]
+    p = run_workflow("global.py", args)
+    assert p.returncode == 0, p.stderr[-2000:]
+    warnings = json.loads((tmp_path / "summary.json").read_text())["warnings"]
+    assert any(w.startswith("contact_duration: the first contact has not ended") for w in warnings)
+    assert not any(w.startswith("contact_radius:") for w in warnings), warnings

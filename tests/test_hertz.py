@@ -324,3 +324,29 @@ def test_subsurface_stresses_on_the_axis_are_the_axis_limit():
         assert np.allclose(got, lim, rtol=1e-2, atol=1e-3 * p0)
     σ_z, σ_r, _ = hertz.axis_stresses(z, a, p0, nu)
     assert np.array_equal(on[0], on[1]) and np.allclose(on[0], σ_r) and np.allclose(on[2], σ_z)
+
+
+def test_a_patch_wider_than_the_face_is_judged_by_the_faces_mean_pressure(scene_with):
+    """rods.hertz.bearing_pressure: where Hertz's patch is wider than the thinner rod's face, the face's mean P/(πR²)
+    is a lower bound of the peak pressure, and the yield checks judge it (a 10 km tip at 100 m/s: Hertz's 1.8 MPa
+    over a 0.26 m patch, the face's 2.0 GPa, no yield warning before: an audit, 2026-12-07); inside the face, p0."""
+    import math as m
+
+    from rods import checks
+    from rods.hertz import FACE_PRESSURE, HERTZ_PRESSURE, at_force, bearing_pressure, contact_constants
+
+    sc = scene_with("rod1.tip_radius=1e4", "rod1.material.yield_strength=1.5e9", "rod2.material.yield_strength=1.5e9")
+    R = sc.rod1.diameter / 2  # [m]
+    P = 2.5e5  # [N]
+    at = at_force(P, *contact_constants(sc.rod1, sc.rod2))
+    assert at["contact_radius"] > R and at["peak_pressure"] < 1e7  # Hertz's: a wide, gentle patch
+    p, what = bearing_pressure(P, at["contact_radius"], at["peak_pressure"], sc.rods)
+    assert p == pytest.approx(P / (m.pi * R**2)) and what == FACE_PRESSURE
+    (w,) = checks.yield_warnings(sc, P)
+    assert w.startswith("Mean pressure P/(πR²) on the thinner rod's face") and "a larger tip radius" not in w
+    paper = scene_with()
+    at = at_force(5e3, *contact_constants(paper.rod1, paper.rod2))
+    assert bearing_pressure(5e3, at["contact_radius"], at["peak_pressure"], paper.rods) == (
+        at["peak_pressure"],
+        HERTZ_PRESSURE,
+    )

@@ -914,3 +914,17 @@ def test_a_library_callers_numpy_numbers_and_tuples_are_values(scene_with):
     assert override("fe.degree", np.int64(1)) == "fe.degree=1"
     assert s.with_overrides(override("simulation.end_time", np.float64(7e-5))).end_time == 7e-5
     assert s.with_overrides(override("submodel.levels", ("coarse", "mid")))["submodel.levels"] == ["coarse", "mid"]
+
+
+def test_refusals_an_audit_found_without_a_remedy_name_one(scene_with):
+    """Two flat tips, and an end time below the scene's output interval: each refusal names what to set (the first
+    named none; the second pointed at the scene file's value: an audit, 2026-12-07)."""
+    with pytest.raises(
+        SceneError, match=r"at least one tip must be curved .*\(give rod1.tip_radius or rod2.tip_radius"
+    ):
+        scene_with("rod1.tip_radius=inf")
+    with pytest.raises(
+        SceneError, match=r"'simulation.output_interval' = 2.5e-07: .*simulation.output_interval='auto'"
+    ):
+        scene_with("simulation.end_time=1e-7")
+    assert scene_with("simulation.end_time=1e-7", "simulation.output_interval=auto").output_interval <= 1e-7
