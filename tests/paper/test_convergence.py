@@ -296,3 +296,19 @@ def test_a_single_mesh_turn_is_weighed_against_one_meshs_scatter_over_its_phase_
     assert "larger than a single mesh's scatter" in plain_flag(0.0051, spread=0.00001)
     levels = [{"level": n, "error_pct": {"a": e}} for n, e in zip(NAMES, (1.0, 0.5, 0.51), strict=False)]
     assert convergence.turns_vs_scatter(levels, "a", ["mid"]) == []  # no members: no scatter claimed
+
+
+def test_a_two_level_family_whose_error_grows_says_so_and_a_small_offset_is_no_cancelling():
+    """Two levels (the 3D globals): an error that grows from the coarser to the finer is said, not left to "no
+    convergence estimate" (+11.0% -> +12.9% radius: an audit, 2026-12-07); a force error that moves a large own-force
+    error by less than a tenth of it is no "errors cancel" (-0.49% against +11.01% -> +10.83% had been said to)."""
+    recs = [
+        record("global 3d", "3d-coarse", 1e-3, F_AN * (1 - 0.0049), e_a=0.110),
+        record("global 3d", "3d-medium", 0.7e-3, F_AN * (1 - 0.0015), e_a=0.129),
+    ]
+    flags = convergence.compute(recs, F_AN, E_STAR, R_STAR)["models"]["global 3d"]["flags"]
+    assert any(f.startswith("global 3d contact radius error grows under refinement (+11.00% at") for f in flags)
+    assert not any("errors cancel" in f for f in flags), flags
+    shrinking = convergence.compute(list(reversed([dict(r, h=h) for r, h in zip(recs, (0.7e-3, 1e-3))])), F_AN,
+                                    E_STAR, R_STAR)["models"]["global 3d"]["flags"]  # fmt: skip
+    assert not any("grows under refinement" in f and "contact radius" in f for f in shrinking)

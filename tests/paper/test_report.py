@@ -66,7 +66,7 @@ def test_stages_of_another_scene_or_a_table_without_its_global_are_refused(resul
 def test_paper_numbers_in_the_prose_follow_the_data(stages):
     before = render(stages)
     before_phrases = (
-        "5219 -> 5368 -> 5492 N, -5.8% to -0.9%", "(paper: +0.1%)", "(the paper's global model: area +24%",
+        "5219 -> 5368 -> 5492 N, -5.8% to -0.9%", "paper: +0.1%)", "(the paper's global model: area +24%",
         "Table 3's analytical 5,543 N", "(the paper: -4.9% to -1.7%)", "-1.25% from the paper's 1.105",
     )  # fmt: skip
     assert all(p in before for p in before_phrases)
@@ -80,7 +80,7 @@ def test_paper_numbers_in_the_prose_follow_the_data(stages):
     next(r for r in t2["trials"] if r["name"] == t2["fe_trial"])["paper_peak_speed"] = 1.2
     after = render(stages)
     after_phrases = (
-        "5219 -> 5368 -> 5543 N, -5.8% to +0.0%", "(paper: +1.0%)", "(the paper's global model: area +50%",
+        "5219 -> 5368 -> 5543 N, -5.8% to +0.0%", "paper: +1.0%)", "(the paper's global model: area +50%",
         "Table 3's analytical 5,000 N", "(the paper: -3.2% to +0.0%)", "-9.06% from the paper's 1.200",
     )  # fmt: skip
     assert [p for p in after_phrases if p not in after] == []
@@ -202,12 +202,16 @@ def test_fig4_strain_text_quotes_the_other_contact_law():
     f4["analytical"]["contact_law"] = "hertz"  # the paper's model (Table 2's trial run)
     text = "\n".join(report.fig4_section(f4, None, {"rows": [row]}))
     assert "The reference is the paper's model" in text
-    assert '(`analytical.contact = "hertz-rod"`) the same FE strain differs by 3.2 µε RMS, lag +0.12 µs' in text
+    # the verification's paper case, named as such: not Fig. 4's mesh (an audit: "the same FE strain" read as one run)
+    assert (
+        '(`analytical.contact = "hertz-rod"`) the verification\'s paper case (the global at its default mesh, not '
+        "this figure's) differs by 3.2 µε RMS, lag +0.12 µs" in text
+    )
     rod = copy.deepcopy(f4)
     rod["analytical"]["contact_law"] = "hertz-rod"
     text = "\n".join(report.fig4_section(rod, None, {"rows": [row]}))
     assert 'The reference carries the rods\' end correction (`analytical.contact = "hertz-rod"`)' in text
-    assert "the same FE strain differs by 13.9 µε RMS, lag -2.57 µs" in text
+    assert "not this figure's) differs by 13.9 µε RMS, lag -2.57 µs" in text
 
 
 def test_edge_scatter_sentence_quotes_each_levels_band():
@@ -252,3 +256,26 @@ def test_edge_mean_paragraph_says_when_the_trend_itself_turns():
     assert "area +1.020% / +0.520% / +0.220%" in smooth and "monotone over the three finest" in smooth
     assert "turn by more than" not in smooth
     assert "turn by more than the members' scatter" in report.edge_mean_text(conv(0.008))
+
+
+def test_a_gci_narrower_than_the_edge_scatter_is_said_to_be_bounded_by_it():
+    """The Richardson sentence quotes the edge scatter where it is wider than the GCI band (a GCI of ±0.04 points
+    beside a scatter of ±0.1 at the fine level: an audit, 2026-12-07); none where the scatter is within it."""
+    scatter = {"rows": [{"level": "fine", "errors": {"radius_loading_mean": e}} for e in (-0.0019, 0.0002, -0.0005)]}
+    wide = report._beside_scatter(scatter, ["fine", "extra-fine"], "radius_loading_mean", 0.04)
+    assert "from -0.19% to +0.02%" in wide and "±0.10 points, wider than the GCI's" in wide
+    assert report._beside_scatter(scatter, ["fine"], "radius_loading_mean", 0.2) == ""
+    assert report._beside_scatter(None, ["fine"], "radius_loading_mean", 0.04) == ""
+
+
+def test_the_verification_sentence_names_the_cases_that_warn():
+    """ "6 of 6 meet every target" is read with the cases' warnings (yield, an unreliable average speed)."""
+    rows = [
+        {"description": "paper", "warnings": []},
+        {"description": "4 m/s", "warnings": ["analytical: Hertz peak pressure at rods 1 and 2 ...",
+                                              "global: Hertz peak pressure at rods 1 and 2 ..."]},
+        {"description": "equal rods", "warnings": ["global: midpoint_peak_speed: the first contact ..."]},
+    ]  # fmt: skip
+    text = report._warned_text(rows)
+    assert "4 m/s: yield (p0 above 1.1 S_y); equal rods: midpoint_peak_speed." in text and "paper" not in text
+    assert report._warned_text(rows[:1]) == ""
