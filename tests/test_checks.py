@@ -1001,3 +1001,11 @@ def test_a_run_stopped_while_its_patch_grows_is_not_told_to_refine(tmp_path):
     warnings = json.loads((tmp_path / "summary.json").read_text())["warnings"]
     assert any(w.startswith("contact_duration: the first contact has not ended") for w in warnings)
     assert not any(w.startswith("contact_radius:") for w in warnings), warnings
+
+
+def test_the_energy_balance_bounds_an_ok_status():
+    """An FE run whose energy-balance error exceeds ENERGY_OK (1e-2) is not "ok"; below it, no energy warning (the
+    bound was tested nowhere: a mutation to 1e-1 passed the suite, an audit, 2026-12-07)."""
+    assert checks.energy_warning({"energy_error": 0.02}).startswith("energy_error: 0.02 exceeds 0.01")
+    assert checks.energy_warning({"energy_error": 0.005}) is None
+    assert checks.energy_warning({"energy_error": float("nan")}) is not None  # not a number: not "ok" either

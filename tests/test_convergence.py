@@ -134,3 +134,20 @@ def test_order_of_input_does_not_matter_and_json():
 def test_bad_input(h, f):
     with pytest.raises(ValueError):
         estimate(h, f)
+
+
+def test_the_band_of_a_noisy_five_level_fit_holds_each_of_its_terms():
+    """Eça & Hoekstra's U = Fs ε + σ + |f1 - f_fit(h1)| on five noisy levels, with σ = sqrt(n Σ w r² / (n - 3)) of
+    the fit's own weights (1/h or uniform): a mutation dropping the last term (21% of U here) or the degrees of
+    freedom n/(n - 3) passed the exact power laws the other tests fit (a mutation audit, 2026-12-07)."""
+    h = np.array([1.0, 0.5, 0.25, 0.125, 0.0625])
+    f = 2.0 + 0.3 * h**1.5 + np.array([0.001, -0.001, 0.001, -0.002, 0.004])  # the finest level off its fit
+    gc = estimate(h, f)
+    assert gc.branch == "observed order" and gc.sigma < gc.data_range  # the "good fit" branch
+    r = f - gc.fitted(h)
+    x = h / h[-1]
+    w = (1 / x) / np.sum(1 / x) if gc.weighted else np.full(h.size, 1 / h.size)
+    assert gc.sigma == pytest.approx(math.sqrt(h.size * np.sum(w * r * r) / (h.size - 3)), rel=1e-9)
+    off = abs(f[-1] - gc.fitted(h[-1:])[0])
+    assert off > 0.15 * gc.uncertainty  # the term is there to be lost
+    assert gc.uncertainty == pytest.approx(gc.safety_factor * gc.error_estimate + gc.sigma + off, rel=1e-9)

@@ -350,3 +350,16 @@ def test_a_patch_wider_than_the_face_is_judged_by_the_faces_mean_pressure(scene_
         at["peak_pressure"],
         HERTZ_PRESSURE,
     )
+
+
+def test_effective_modulus_of_unlike_materials_and_the_lame_parameters():
+    """E* = 1/((1 - ν1²)/E1 + (1 - ν2²)/E2) with ν1 ≠ ν2 (a mutation putting ν1 in both terms passed this file), and
+    Material.lame against its closed form (λ = E ν/((1 + ν)(1 - 2ν)), μ = E/(2(1 + ν))): an audit, 2026-12-07."""
+    from rods.hertz import effective_modulus
+    from rods.scene import Material
+
+    E1, n1, E2, n2 = 204.3e9, 0.29, 114e9, 0.34  # [Pa], [-] steel onto titanium
+    assert effective_modulus(E1, n1, E2, n2) == pytest.approx(1 / ((1 - n1**2) / E1 + (1 - n2**2) / E2), rel=1e-14)
+    assert effective_modulus(E1, n1, E2, n2) == effective_modulus(E2, n2, E1, n1)
+    lam, mu = Material(7803.0, E1, n1, None).lame
+    assert lam == pytest.approx(E1 * n1 / ((1 + n1) * (1 - 2 * n1)), rel=1e-14) and mu == pytest.approx(E1 / 2.58)

@@ -273,3 +273,15 @@ def test_a_low_touch_soon_after_a_contact_is_its_tail_not_a_contact():
     assert len(metrics.contact_episodes(t, main + touch(371.1e-6, 0.3), gap)) == 2
     late = 367.5e-6 + 1.1 * metrics.TAIL_TRANSITS * d  # past the tail's window
     assert len(metrics.contact_episodes(t, main + touch(late, 0.007), gap)) == 2
+
+
+def test_the_contact_duration_is_the_first_episodes_alone():
+    """Two contact episodes 50 µs apart (a rebound): the duration is the first's, 20 µs, not the span from the first
+    start to the last end (a mutation to that passed this file; only an FE recorder test caught it: an audit)."""
+    from rods.metrics import contact_duration
+
+    t = np.linspace(0.0, 100e-6, 10001)  # [s]
+    F = np.where(t < 20e-6, np.sin(np.pi * t / 20e-6), 0.0) + np.where(
+        (t > 70e-6) & (t < 80e-6), np.sin(np.pi * (t - 70e-6) / 10e-6), 0.0
+    )  # [N]
+    assert contact_duration(t, 1e3 * F, min_gap=1e-6) == pytest.approx(20e-6, abs=2e-8)

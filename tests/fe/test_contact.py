@@ -248,3 +248,19 @@ def test_serial_gap_operator_is_the_gather_and_interpolation():
         gathered = c.normal_rates(u)
         c.serial = True
         assert np.abs(serial - gathered).max() <= 1e-15 * np.abs(u).max() and np.abs(gathered).max() > 0
+
+
+def test_the_penalty_contact_radius_is_the_gaps_zero_crossing_between_nodes():
+    """PenaltyContact.radius (axisymmetric): the linear zero crossing of the gap beyond the outermost active node,
+    not that node nor the next (a mutation to the next node put the paper scene's area 26% high and passed the
+    suite, whose one end-to-end check accepts 0.8-1.5 a_H: an audit, 2026-12-07)."""
+    from types import SimpleNamespace
+
+    r = np.linspace(0.0, 2e-3, 9)  # [m] slave nodes, 0.25 mm apart
+    a0 = 1.1e-3  # [m] the gap's zero, between the nodes at 1.0 and 1.25 mm
+    gap = 0.01 * (r - a0)  # [m] closed inside a0, open outside
+    fake = SimpleNamespace(three_d=False, pressure=np.where(gap <= 0, 1.0, 0.0), slave=SimpleNamespace(r=r), gap=gap,
+                           ns=r.size)  # fmt: skip
+    assert PenaltyContact.radius(fake) == pytest.approx(a0, rel=1e-12)
+    fake.pressure = np.zeros_like(r)
+    assert PenaltyContact.radius(fake) == 0.0

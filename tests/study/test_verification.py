@@ -505,3 +505,16 @@ def test_the_duration_target_is_said_in_transits_with_its_range_in_microseconds(
     two = {"targets": t, "rows": [{"duration_target": 1.9856e-6}, {"duration_target": 2.003e-6}]}
     assert duration_words(two) == "0.8 d/c of the thinner rod (1.99-2 µs here)"
     assert duration_words({"targets": {"duration": 2e-6}, "rows": []}) == "2 µs"
+
+
+def test_the_energy_target_is_the_verifications_own():
+    """A case's energy pass is VERIFY_ENERGY (1e-3, the issue's acceptance), not the looser status bound: the rows
+    fed it 0 to 2e-7 only (a mutation to 1e-2 passed the suite, an audit, 2026-12-07)."""
+    from rods import checks
+    from rods.study import verification
+
+    assert checks.VERIFY_ENERGY == 1e-3 and verification.TARGETS["energy"] == checks.VERIFY_ENERGY
+    assert (
+        verification.passes(0.1, 0.0, 9e-4, 2e-6)["energy"] and not verification.passes(0.1, 0.0, 2e-3, 2e-6)["energy"]
+    )
+    assert not verification.passes(0.1, 0.0, float("nan"), 2e-6)["energy"]
