@@ -139,3 +139,37 @@ def test_largest_eigenvalue_is_an_upper_estimate_within_the_tolerance(route):
         λ = largest_eigenvalue_on(backend.select("numpy", 1), lambda x: apply(x, y := np.zeros(n)) or y, n)
     assert exact <= λ <= exact * (1 + EIGEN_TOL)
     assert len(products) < 1000  # measured: 601 (SLEPc), 600 (Lanczos); a residual of 1e-8: not in 10,220
+
+
+U0 = np.array([2e-3, -1e-3])  # [m] a displaced start
+
+
+def test_a_displaced_start_converges_at_second_order_and_recovers_k_u():
+    """u(0) = U0 != 0 (a prestressed or displaced state): the first half step's K u_0 term matters, so u(T) converges
+    at second order to M u'' + K u = 0 from (U0, V0), and the step-0 increment is -Δt M^-1 K u_0 (both terms vanish
+    from rest, where a mutation to a full first step or a doubled increment passed the suite: an audit, 2026-12-07)."""
+    ω2, φ = scipy.linalg.eigh(K, np.diag(MASS))
+    ω = np.sqrt(ω2)
+
+    def exact(t: float) -> np.ndarray:
+        return φ @ ((φ.T @ (MASS * U0)) * np.cos(ω * t) + (φ.T @ (MASS * V0)) * np.sin(ω * t) / ω)
+
+    def u_end(T: float, n: int, keep: bool = False) -> tuple[np.ndarray, list]:
+        st = CentralDifference(petsc_matrix(K), MASS, 1.0 / MASS, T / n, V0, 0.0)
+        st.u[:] = U0
+        increments = []
+        for _ in range(n + 1):
+            st.step(keep)
+            if keep:  # the increment of the u the step ends on (as test_discrete_energy_is_conserved_to_round_off)
+                increments.append((st.u.copy(), st.increment.copy()))
+        return st.u.copy(), increments
+
+    T = 3 * 2 * math.pi / ω.min()  # [s]
+    ns = np.array([200, 400, 800, 1600])
+    err = [np.abs(u_end(T, n)[0] - exact(T)).max() for n in ns]
+    order = np.polyfit(np.log(T / ns), np.log(err), 1)[0]
+    assert order >= 2 - 0.1, (order, err)
+    dt = T / 200
+    _, inc = u_end(T, 200, keep=True)
+    for u_n, increment in inc[:3]:  # the half step's and the next two
+        assert np.allclose(increment, -dt / MASS * (K @ u_n), rtol=1e-12, atol=1e-15)
