@@ -428,8 +428,11 @@ def test_paper_scene_validation():
         lags[name] = metrics.time_lag(*strains, window, max_lag=10e-6)
     assert abs(lags["default"][0]) < 0.5e-6
     assert -4e-6 < lags["paper"][0] < -1e-6 and lags["paper"][1] < 10e-6  # the FE leads the paper's law
-    a_h = hertz.at_force(s["peak_contact_force"], *hertz.contact_constants(sc.rod1, sc.rod2))["contact_radius"]
-    assert 0.8 < s["contact_radius"] / a_h < 1.5  # the global mesh resolves the patch coarsely
+    h = hertz.at_force(s["peak_contact_force"], *hertz.contact_constants(sc.rod1, sc.rod2))
+    # the global mesh puts ~4 elements across the patch: measured 2026-12-07 radius -0.19%, peak pressure -4.8% from
+    # Hertz at its own force (a band of 0.8-1.5 had let a radius taken at the next node, +26% area, pass: an audit)
+    assert abs(s["contact_radius"] / h["contact_radius"] - 1) < 0.03
+    assert abs(s["peak_contact_pressure"] / h["peak_pressure"] - 1) < 0.08
 
 
 def test_omega_max_matches_dense_eigenvalue():
