@@ -79,12 +79,15 @@ def test_a_base_scenes_edit_reruns_its_points_under_any_rerun_trigger(clone):
     text = base.read_text()
     cmd = [str(SNAKEMAKE), "-s", "workflows/Snakefile", "--cores", "2", "speed_sweep", "--config", "speeds=[1.5]",
            "scene=workflows/scenes/derived.toml"]  # fmt: skip
-    p = subprocess.run(cmd, cwd=clone, capture_output=True, text=True)
+    env = os.environ | {"PYTHONPATH": str(clone)}  # the clone's code (another test of this module changed it)
+    p = subprocess.run(cmd, cwd=clone, capture_output=True, text=True, env=env)
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     try:
         base.write_text(text.replace("youngs_modulus = 204.3e9", "youngs_modulus = 150e9", 1))
         assert base.read_text() != text
-        p = subprocess.run([*cmd, "--rerun-triggers", "mtime", "-n"], cwd=clone, capture_output=True, text=True)
+        p = subprocess.run(
+            [*cmd, "--rerun-triggers", "mtime", "-n"], cwd=clone, capture_output=True, text=True, env=env
+        )
         assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
         assert re.search(r"rule analytical:[^\n]*\n(?:[^\n]*\n)*?\s*wildcards: .*speed=1\.5", p.stdout), p.stdout
     finally:
