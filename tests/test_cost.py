@@ -216,6 +216,27 @@ def test_time_estimate_is_the_measured_order(scene_with):
 
 
 @pytest.mark.alone  # a wall time: not beside another test
+def test_a_3d_time_estimate_is_the_measured_order():
+    """The 3D model's loop (a quarter of paper-3d-coarse.toml, 38.8k DOFs, 20 µs in contact, ~200 steps) within 0.5x
+    to 2x of its plan at this machine's probe (2026-12-07: 1.07x; 0.94x on 0.1 m rods; to 0.1 ms, past the contact,
+    1.57x: its steps are cheaper once the rods part). No test timed 3D before (a mutation audit, 2026-12-07); this
+    one catches a rate off by 2.5x or more: a 2x error (0.65x here) lies within reach of the run-to-run noise of a
+    loop this short (0.94-1.17x over three runs), so the bound leaves it, as the axisymmetric test's does."""
+    from rods.fe.model import ExplicitModel
+    from rods.scene import load_scene
+
+    from .conftest import ROOT
+
+    sc = load_scene(
+        ROOT / "workflows" / "scenes" / "paper-3d-coarse.toml", ["fe.symmetry=quarter", "simulation.end_time=2e-5"]
+    )
+    r = ExplicitModel(sc).run()
+    (c,) = cost.calibrated([cost.fe_cost(sc)])
+    ratio = (c.wall_time - c.setup_time) / r.summary["wall_time"]
+    assert 0.5 < ratio < 2.0, ratio
+
+
+@pytest.mark.alone  # a wall time: not beside another test
 def test_a_memory_bound_run_is_estimated_at_this_machines_rate(scene_with):
     """A mesh too large for a core's cache (the paper scene at 0.25 x 0.125 mm, 398k DOFs, 10 µs, ~900 steps) runs
     at the memory-bound rate: its time loop's estimate at this machine's probe (524288 rows: its working set's 452k
