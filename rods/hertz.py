@@ -615,6 +615,12 @@ def bearing_pressure(force: float, a: float, p0: float, rods: Sequence[Any]) -> 
     return (face, FACE_PRESSURE) if a > R and face > p0 else (p0, HERTZ_PRESSURE)
 
 
+def pressure_lowered_by(what: str, speed: str = "impact.speed") -> str:
+    """What lowers the pressure ``what`` names (:func:`bearing_pressure`): a lower ``speed``, and for Hertz's p0 a
+    larger tip radius too (the face's mean pressure of a patch wider than the face, the speed alone)."""
+    return f"a lower {speed}" if what == FACE_PRESSURE else f"a lower {speed} or a larger tip radius"
+
+
 def check_yield_rods(p0: float, rods: Sequence[Any], what: str = HERTZ_PRESSURE) -> None:
     """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the pressure p0 [Pa] of their contact (``what``:
     :func:`bearing_pressure`'s name): one warning per distinct yield strength, naming the rods it holds for
@@ -637,8 +643,7 @@ def check_yield(p0: float, S_y: float | None, where: str = "", what: str = HERTZ
         f"{what[0].upper()}{what[1:]}{at} at the model's peak force, p0 = {p0 / 1e6:.1f} MPa, exceeds 1.1 S_y = "
         f"{limit / 1e6:.1f} MPa "
         f"(p0 / 1.1 S_y = {p0 / limit:.3f}); the elastic Hertz solution no longer holds (every model here is "
-        f"elastic: {'a lower impact.speed' if what == FACE_PRESSURE else 'a lower impact.speed or a larger tip radius'}"
-        " keeps the contact elastic)",
+        f"elastic: {pressure_lowered_by(what)} keeps the contact elastic)",
         YieldWarning,
         stacklevel=2,
     )

@@ -63,7 +63,7 @@ def outlook(scene: Any, wave: bool = True, fe: bool = False) -> list[str]:
             f"rod-end term no longer hold ({checks.rim_remedy(scene)} keeps it inside)"
         )
     p0, what = hertz.bearing_pressure(P, at_P["contact_radius"], at_P["peak_pressure"], scene.rods)  # [Pa]
-    lower = "a lower speed" if what == hertz.FACE_PRESSURE else "a lower speed or a larger tip radius"
+    lower = hertz.pressure_lowered_by(what, "speed")
     for S_y, which in hertz.rods_by_strength(scene.rods).items():
         if hertz.yield_check(p0, S_y):
             continue

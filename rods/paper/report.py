@@ -207,13 +207,18 @@ def fig4_section(
     ]
 
 
+def _level_errors(es: dict[str, Any], level: str, key: str) -> list[float]:
+    """The edge-scatter study's (``es``) errors [%] of ``key`` over its meshes around ``level``'s size."""
+    return [100 * r["errors"][key] for r in es["rows"] if r["level"] == level and key in r["errors"]]
+
+
 def _scatter_band(scatter: dict[str, Any] | None, levels: list[str], key: str) -> tuple[str, float, float] | None:
     """The finest of ``levels`` the edge-scatter study ran, and the least and largest error [%] of ``key`` over its
     meshes a few per cent around that level's size; None where it ran none of them."""
     ran = [lv for lv in reversed(levels) if scatter and any(r["level"] == lv for r in scatter.get("rows", []))]
     if not ran:
         return None
-    v = [100 * r["errors"][key] for r in scatter["rows"] if r["level"] == ran[0] and key in r["errors"]]
+    v = _level_errors(scatter, ran[0], key)
     return (ran[0], min(v), max(v)) if v else None
 
 
@@ -497,7 +502,7 @@ def edge_scatter_text(es: dict[str, Any]) -> str:
     """How much the submodel's radius and area move with element sizes a few per cent around each level."""
 
     def band(level: str, key: str) -> str:
-        v = [r["errors"][key] * 100 for r in es["rows"] if r["level"] == level]
+        v = _level_errors(es, level, key)
         return f"{min(v):+.2f}% to {max(v):+.2f}%"
 
     levels = es["levels"]
