@@ -17,10 +17,14 @@ import os
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rods import io
 from rods.preflight import InputError, distinct, short
 from rods.scene import PAPER_SCENE  # the main job's scene, which its global meshes run on (the Snakefile's rules)
+
+if TYPE_CHECKING:
+    from rods.cost import Cost
 
 __all__ = [
     "CONFIG_KEYS",
@@ -30,7 +34,9 @@ __all__ = [
     "check_config",
     "code_key",
     "gpu_choice",
+    "point_cost",
     "point_key",
+    "point_overrides",
     "read_record",
     "scene_key",
     "sync_text",
@@ -252,6 +258,29 @@ def _mesh_level(sizes: object) -> list[str]:
     if not isinstance(sizes, list) or len(sizes) != 2:
         raise TypeError(f"{short(sizes)} is not [axial size, radial size] in metres")
     return [f"fe.axial_size={_number(sizes[0])!r}", f"fe.radial_size={_number(sizes[1])!r}"]
+
+
+def point_overrides(config: Mapping[str, object], point: Mapping[str, object]) -> list[str]:
+    """A sweep point's overrides of the sweep's scene (``config["scene"]``): its impact speed and, for a global FE
+    point (one with a ``kind``), its model kind, its mesh level's sizes and its time-step fraction."""
+    overrides = [f"impact.speed={point['speed']}"]
+    if "kind" in point:
+        sizes = _mesh_level(config["mesh_levels"][point["level"]])
+        overrides += [f"fe.kind={point['kind']}", *sizes, f"fe.dt_fraction={point['dtf']}"]
+    return overrides
+
+
+def point_cost(config: Mapping[str, object], point: Mapping[str, object]) -> Cost:
+    """The plan of a sweep point (rods.cost): the analytical model's at its speed, or its global FE run's on the
+    config's ranks, the costs its entry point prints."""
+    from rods import cost
+    from rods.scene import load_scene
+    from rods.study import jobs
+
+    scene = load_scene(config["scene"], point_overrides(config, point))
+    if "kind" not in point:
+        return cost.analytical_cost(scene)
+    return jobs.global_cost(scene, int(config["ranks"]))
 
 
 def _number(v: object) -> float:

@@ -355,3 +355,22 @@ def test_a_trigger_rewritten_by_another_config_reassembles_the_table(tmp_path):
     old = keys.stat().st_mtime
     sync_keys(keys, b, record)
     assert keys.stat().st_mtime == old
+
+
+def test_a_sweep_points_scene_and_plan_are_its_parameters(config):
+    """rods.study.sweep.point_overrides/point_cost (the Snakefile's rules run and plan through them): an FE point's
+    scene has its mesh level's sizes, kind, step fraction and speed, whichever way --config spells the numbers; an
+    analytical point's only its speed, and its plan is the analytical model's."""
+    from rods import cost
+    from rods.scene import load_scene
+    from rods.study.sweep import point_cost, point_overrides
+
+    fe = dict(kind="axisymmetric", level="fine", dtf="0.5", speed="3.0")
+    sc = load_scene(config["scene"], point_overrides(config | {"mesh_levels": {"fine": ["5e-4", 1.25e-4]}}, fe))
+    keys = ("fe.axial_size", "fe.radial_size", "fe.dt_fraction", "impact.speed", "fe.kind")
+    assert [sc[k] for k in keys] == [5e-4, 1.25e-4, 0.5, 3.0, "axisymmetric"]
+    assert point_overrides(config, dict(speed="1.0")) == ["impact.speed=1.0"]
+    analytical = point_cost(config, dict(speed="1.0"))
+    assert analytical == cost.analytical_cost(load_scene(config["scene"], ["impact.speed=1.0"]))
+    fine, coarse = point_cost(config, fe), point_cost(config, fe | dict(level="coarse"))
+    assert fine.wall_time > 8 * coarse.wall_time  # 16x the elements, a step a quarter as long
