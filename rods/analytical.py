@@ -56,7 +56,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rods import hertz, metrics
+from rods import cost, hertz, metrics
 from rods.scene import SCHEMA, Rod, Scene, impedance_force
 
 __all__ = [
@@ -509,5 +509,6 @@ def simulate(scene: Scene, rtol: float | None = None) -> AnalyticalResult:
         "rtol": model.rtol,
         "steps": model.steps,
         "wall_time": wall,
+        "peak_memory": cost.peak_memory(),  # [B] this process's peak RSS, beside the plan's memory (rods.cost)
     }
     return AnalyticalResult(model, hist, units, summary, trace)

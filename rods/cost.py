@@ -78,6 +78,7 @@ __all__ = [
     "fe_cost",
     "local_memory",
     "machine_speed",
+    "peak_memory",
     "products_cost",
     "total",
 ]
@@ -934,6 +935,18 @@ def local_memory() -> float:
     except OSError:
         pass
     return math.inf
+
+
+def peak_memory(comm: Any = None) -> float:
+    """The peak resident memory of this process so far [B] (``ru_maxrss``: kB on Linux, bytes on macOS), summed over
+    ``comm``'s ranks (collective where given): what :data:`BASE_MEMORY` and :data:`BYTES_PER_DOF` were fitted to, so
+    a run's summary sets it beside its plan's :attr:`Cost.memory`. A process that ran other work first (a study's
+    stages, a test session) reports that work's peak where it was higher."""
+    import resource
+    import sys
+
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * (1 if sys.platform == "darwin" else 1024)
+    return float(comm.allreduce(rss) if comm is not None else rss)
 
 
 def available_disk(folder: str | Path) -> float:

@@ -64,7 +64,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         kw = {"record_until": args.record_until, "record_every": args.record_every, "restart": args.restart}
         s = stages.global_model(scene, out, comm, record_cut=args.record_cut, progress=progress, log=log, **kw)
         s = s.summary
-    log(json.dumps({k: s[k] for k in (*io.SUMMARY_KEYS[2:], *SHOWN, "dof_steps_per_second")}, indent=1))
+    log(json.dumps({k: s[k] for k in (*io.SUMMARY_KEYS[2:], *SHOWN, "dof_steps_per_second", "peak_memory")}, indent=1))
     _cli.status(s, comm.rank)
     return 0
 

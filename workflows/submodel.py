@@ -55,6 +55,7 @@ OWN_OPTIONS = {
     "simulation.end_time": "--end-time",
 }
 SHOWN = ("model", "peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
+SHOWN_RUN = ("hertz_at_own_force", "dofs", "steps", "dt", "wall_time", "peak_memory")  # its set-up and cost
 
 
 def _step(text: str) -> float | str:
@@ -192,7 +193,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         hint = "--dt auto takes a stable step" if flag == "--dt" else (e.hint or f"another {flag}")
         given = f"global ({dt:.3g} s)" if args.dt == "global" else args.dt  # the driver's step, as it was taken
         raise InputError(flag, given if flag == "--dt" else e.value, e.allowed, hint) from None
-    log(json.dumps({k: s[k] for k in (*SHOWN, "hertz_at_own_force", "dofs", "steps", "dt", "wall_time")}, indent=1))
+    log(json.dumps({k: s[k] for k in (*SHOWN, *SHOWN_RUN)}, indent=1))
     _cli.status(s, comm.rank)
     return 0
 

@@ -45,7 +45,7 @@ import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from rods import hertz, metrics
+from rods import cost, hertz, metrics
 from rods.fe import backend as backends
 from rods.fe import checkpoint, fields, forms, matrixfree
 from rods.fe.contact import PenaltyContact, bilinear_pairing, face_quads, tip_nodes
@@ -443,6 +443,7 @@ def fe_result(model: ExplicitModel, recorder: Recorder, rows: int, steps: int, w
             "penalty_factor": sc["fe.penalty"] if penalty else None,
             "bulk_viscosity": model.ξ,
             "dof_steps_per_second": model.n_global * n_steps / wall_loop if wall_loop > 0 else 0.0,
+            "peak_memory": cost.peak_memory(model.comm),  # [B] the ranks' summed peak RSS, beside the plan's memory
         }
     )
     summary.update(_mesh_summary(model, recorder.peak, hist))
