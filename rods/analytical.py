@@ -394,6 +394,9 @@ class WaveModel:
 
 @dataclass
 class AnalyticalResult:
+    """The analytical model's run (:func:`simulate`): the wave model it integrated, the histories at the output
+    interval with their units, the summary (summary.json's keys) and the force on a fine grid for the checks."""
+
     model: WaveModel
     history: dict[str, NDArray[np.float64]]
     units: dict[str, str]

@@ -299,6 +299,11 @@ GRADED_SUBMODEL_CAP_STEP_FACTOR = (  # [deg, -]
 
 @dataclass(frozen=True)
 class Cost:
+    """What one run will cost, estimated before anything heavy is allocated (:func:`fe_cost`, :func:`analytical_cost`):
+    its size (cells, DOFs, steps, samples), memory [B] and files [B] of all ranks, and wall time [s] at the reference
+    rates or, once :func:`calibrated`, at this machine's; :meth:`describe` is the plan's line, :func:`check` refuses
+    a run above a budget or the available memory, naming the fields below that would lower it."""
+
     what: str
     cells: float
     dofs: float

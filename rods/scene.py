@@ -594,6 +594,9 @@ def impedance_force(speed: float, rod1: Rod, rod2: Rod) -> float:
 
 @dataclass(frozen=True)
 class Material:
+    """A rod's isotropic, linear-elastic material (paper, Table 1): density, Young's modulus, Poisson's ratio and,
+    where the scene gives one, the yield strength that the yield warnings judge the Hertz pressure against."""
+
     density: float  # ρ [kg/m^3]
     youngs_modulus: float  # E [Pa]
     poisson_ratio: float  # ν [-]
@@ -619,6 +622,9 @@ class Material:
 
 @dataclass(frozen=True)
 class Rod:
+    """One rod: a cylinder of ``length`` and ``diameter`` [m] whose impact end is a spherical cap of ``tip_radius`` [m]
+    (``inf``: flat), of one :class:`Material` (paper, Fig. 1)."""
+
     length: float  # L [m]
     diameter: float  # d [m]
     tip_radius: float  # r [m]; inf = flat
@@ -701,6 +707,11 @@ def square_tip_grading(radial: float, axial: float) -> float:
 
 @dataclass(frozen=True)
 class Scene:
+    """A validated scene (:func:`load_scene`, :func:`scene_from_dict`): the two rods, Rod 1's impact speed, the end
+    time and output interval, the effects asked for, the stations, and every resolved key flat in :attr:`values`
+    (read ``scene["fe.axial_size"]``: an "auto" resolves there). Immutable: a change is a new scene
+    (:meth:`with_overrides`), which records what it changed."""
+
     name: str
     rod1: Rod
     rod2: Rod

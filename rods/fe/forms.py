@@ -65,6 +65,8 @@ def stress(ε, λ, μ):
 
 @dataclass
 class Materials:
+    """The Lamé parameters and density as cellwise-constant fields (:func:`materials`): each rod's own."""
+
     λ: dolfinx.fem.Function  # [Pa], DG0
     μ: dolfinx.fem.Function  # [Pa], DG0
     ρ: dolfinx.fem.Function  # [kg/m^3], DG0

@@ -70,6 +70,11 @@ class Interrupted(SimulationError):
 
 @dataclass
 class Guard:
+    """The stability rules of the time loop (:class:`RunGuard` applies them): a run whose energy grows by more than
+    ``growth_limit`` of the initial energy, whose state turns non-finite or whose elements invert stops with a
+    :class:`SimulationError` naming the likely cause against the step's limits (the stable step, the
+    contact-switching limit)."""
+
     dt: float  # [s]
     dt_critical: float  # [s]
     growth_limit: float = 0.05  # relative energy growth that stops the run (scene fe.energy_growth_limit) [-]

@@ -68,6 +68,9 @@ SLANT = 1.0  # [-]
 
 @dataclass
 class RodsMesh:
+    """The two rods' axisymmetric mesh (r, z; :func:`build_mesh`): the DOLFINx mesh with its cell tags (rod 1, rod 2)
+    and facet tags (the tip faces, the far ends), and the element counts and sizes the plan and the summary report."""
+
     mesh: dolfinx.mesh.Mesh
     cell_tags: dolfinx.mesh.MeshTags
     facet_tags: dolfinx.mesh.MeshTags

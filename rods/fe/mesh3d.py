@@ -82,6 +82,9 @@ class Placement:
 
 @dataclass
 class RodsMesh3D(RodsMesh):
+    """The rods' 3D hexahedral mesh (O-grid sections; :func:`build_mesh_3d`): a :class:`RodsMesh` with the section's
+    core count, the symmetry modelled (full, half, quarter) and Rod 1's placement (offset, tilt)."""
+
     n_core: int  # cells along the core side and each quarter arc (full section) [-]
     symmetry: str  # "full" | "half" | "quarter"
     multiplicity: int  # full rod / modelled part (1, 2, 4) [-]

@@ -89,6 +89,9 @@ CHECKPOINT_FORMAT = 3
 
 @dataclass
 class FEResult:
+    """An FE run (:meth:`ExplicitModel.run`): the histories at the output interval with their units, the summary
+    (summary.json's keys), the contact pressure profile at the peak force, and the force at every step."""
+
     history: dict[str, np.ndarray]
     units: dict[str, str]
     summary: dict[str, Any]

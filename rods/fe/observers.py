@@ -24,6 +24,9 @@ __all__ = ["Observer", "Progress", "march"]
 
 
 class Observer(Protocol):
+    """What the time loop calls after every step (:func:`march`): the recorder, the guards, checkpoints, field
+    frames, the cut recorder and driver. ``state`` is the stepper itself: its arrays are updated in place."""
+
     def after_step(self, step: int, t: float, state: CentralDifference) -> None: ...
 
 

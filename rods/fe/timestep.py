@@ -54,6 +54,11 @@ __all__ = [
 
 @dataclass(frozen=True)
 class TimeStep:
+    """The explicit step and the limits it was chosen under (:func:`time_step`): the highest frequency with and
+    without the contact, the critical step (rods.stability.stable_step of ω_max and the bulk viscosity ξ), the
+    element and Gershgorin estimates, the contact-switching limit, and the step marched at with its count to the end
+    time."""
+
     ω_max: float  # [rad/s] with the contact at full engagement
     ω_max_K: float  # [rad/s] without contact
     ξ: float  # bulk-viscosity fraction of critical damping [-]
