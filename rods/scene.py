@@ -705,6 +705,20 @@ def square_tip_grading(radial: float, axial: float) -> float:
     return min(1.0, max(0.05, radial / axial))
 
 
+class FrozenValues(dict):
+    """A scene's resolved keys, read-only: a change is a new scene (:meth:`Scene.with_overrides`), never an edit that
+    leaves the fields resolved from the old value behind (``speed``, the rods, the end time). Pickles and copies as a
+    dict would."""
+
+    def _refuse(self, *args: Any, **kwargs: Any) -> None:
+        raise TypeError("a scene's values are read-only: make a new scene with scene.with_overrides('KEY=VALUE')")
+
+    __setitem__ = __delitem__ = __ior__ = clear = pop = popitem = setdefault = update = _refuse  # type: ignore[assignment]
+
+    def __reduce__(self) -> tuple[type, tuple[dict[str, Any]]]:
+        return type(self), (dict(self),)
+
+
 @dataclass(frozen=True)
 class Scene:
     """A validated scene (:func:`load_scene`, :func:`scene_from_dict`): the two rods, Rod 1's impact speed, the end
@@ -732,6 +746,10 @@ class Scene:
     # a submodel's driving global's resolved fe.axial_size [m], which bounds the elements a radially graded submodel
     # grows to across (rods.fe.layout.bar_size: nowhere coarser than its global); 0: this scene's own fe.axial_size
     global_axial_size: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.values, FrozenValues):
+            object.__setattr__(self, "values", FrozenValues(self.values))
 
     @property
     def identity(self) -> dict[str, Any]:

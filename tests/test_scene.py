@@ -928,3 +928,21 @@ def test_refusals_an_audit_found_without_a_remedy_name_one(scene_with):
     ):
         scene_with("simulation.end_time=1e-7")
     assert scene_with("simulation.end_time=1e-7", "simulation.output_interval=auto").output_interval <= 1e-7
+
+
+def test_a_scene_is_not_edited_in_place(scene_with):
+    """A scene's values are read-only (rods.scene.FrozenValues): ``scene.values["impact.speed"] = 3`` left
+    ``scene.speed`` at 2.197 while ``scene["impact.speed"]`` read 3 (noticed in a library audit, 2026-12-07). A change is a new
+    scene; the values still pickle and copy (a process pool's arguments)."""
+    import copy
+    import pickle
+
+    sc = scene_with()
+    with pytest.raises(TypeError, match="with_overrides"):
+        sc.values["impact.speed"] = 3.0
+    with pytest.raises(TypeError, match="read-only"):
+        sc.values.update({"impact.speed": 3.0})
+    assert sc.speed == sc["impact.speed"] == 2.197
+    assert sc.with_overrides("impact.speed=3").speed == 3.0
+    for twin in (pickle.loads(pickle.dumps(sc)), copy.deepcopy(sc)):
+        assert twin == sc and twin.values == sc.values
