@@ -932,8 +932,8 @@ def test_refusals_an_audit_found_without_a_remedy_name_one(scene_with):
 
 def test_a_scene_is_not_edited_in_place(scene_with):
     """A scene's values are read-only (rods.scene.FrozenValues): ``scene.values["impact.speed"] = 3`` left
-    ``scene.speed`` at 2.197 while ``scene["impact.speed"]`` read 3 (noticed in a library audit, 2026-12-07). A change is a new
-    scene; the values still pickle and copy (a process pool's arguments)."""
+    ``scene.speed`` at 2.197 while ``scene["impact.speed"]`` read 3 (noticed in a library audit, 2026-12-07). A
+    change is a new scene; the values still pickle and copy (a process pool's arguments)."""
     import copy
     import pickle
 
