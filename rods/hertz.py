@@ -308,12 +308,12 @@ def bar_rise(τ: float) -> tuple[float, float]:
     reach y = u² is τ(u) = -2/3 ln(1 - u) + 1/3 ln(1 + u + u²) - 2/√3 (atan((2u + 1)/√3) - π/6) (u = √y;
     partial fractions of 2u/(1 - u³)). F/P = y^(3/2); S = ∂ln F/∂ln K at a fixed time t (τ ∝ K^(2/3)) =
     τ (1 - y^(3/2))/y: how much the force at t rests on the contact stiffness: 0 once it is impedance-bound (F = P
-    whatever K), 1 while the bars have barely moved (F = K (s1 t)^(3/2)). Past τ ≈ 24, y is 1 to round-off: (1, 0)."""
+    whatever K), 1 while the bars have barely moved (F = K (s1 t)^(3/2)). Past τ ≈ 22.8, y is 1 to round-off: (1, 0)."""
     if τ <= 0.0:
         return 0.0, 1.0
     from scipy.optimize import brentq  # lazy: a scene validates without scipy's optimisers loaded
 
-    top = 1.0 - 1e-15  # [-] u below 1 by about round-off: τ(top) ≈ 24
+    top = 1.0 - 1e-15  # [-] u below 1 by about round-off: τ(top) ≈ 22.8
     if τ >= _rise_time(top):
         return 1.0, 0.0
     u = brentq(lambda u: _rise_time(u) - τ, 0.0, top, xtol=1e-15, rtol=1e-14)

@@ -363,9 +363,11 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # the first contact < 0.4 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md); step ~ 1/sqrt(factor).
     # Softer layers lengthen the contact (paper scene: 1 x +1.8 µs, 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7% force):
     # below SOFT_PENALTY a run warns (rods.checks.contact_layer_warning)
-    "fe.penalty": ("float", 10.0, _positive("x element stiffness", hi=1e4)),
+    "fe.penalty": ("float", 10.0, _positive("x E*/h", hi=1e4)),
     # penalty law only: viscous damping of each contact pair, fraction of critical (rods.fe.contact)
     "fe.contact_damping": ("float", 0.2, _interval(0.0, 0.5, "of critical", closed_lo=True, closed_hi=True)),
+    # stiffness-proportional damping C = β K, β = 2 ξ/ω_max: ξ of critical in the highest mode (rods.fe.explicit; not
+    # Abaqus's volumetric bulk viscosity: it damps every strain rate), the stable step shortened by sqrt(1 + ξ²) - ξ
     "fe.bulk_viscosity": ("float", 0.0, _interval(0.0, 1.0, closed_lo=True)),
     "fe.field_interval": ("float", 0.0, _interval(0.0, 1.0, "s (0 = no fields)", closed_lo=True)),
     "fe.symmetry": ("str", "full", _choice(SYMMETRIES)),
@@ -391,7 +393,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # auto: three consecutive levels from the coarsest that resolves the expected patch (Scene.submodel_levels)
     "submodel.levels": ("list[str]|auto", "auto", _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
-    "submodel.penalty": ("float", 10.0, _positive("x element stiffness", hi=1e4)),
+    "submodel.penalty": ("float", 10.0, _positive("x E*/h", hi=1e4)),
     # how the global drives the submodel's cuts: mixed (its traction plus a dashpot to its velocity, rods.fe.traction),
     # its traction alone, or its displacement (the paper's)
     "submodel.driving": ("str", "mixed", _choice(SUBMODEL_DRIVINGS)),

@@ -27,7 +27,9 @@ outside the band's polygonal section (by its sagitta, 0.03 mm for 1 mm global ce
 extrapolates them linearly from the nearest band cell, bounded by :data:`MAX_EXTRAPOLATION`. In
 time, U_band is interpolated linearly
 between recorded steps: the central-difference displacement is itself piecewise linear in time
-(u_{n+1} = u_n + Δt v_{n+1/2}), so this reproduces the global trajectory exactly at any submodel time.
+(u_{n+1} = u_n + Δt v_{n+1/2}), so this reproduces the global trajectory exactly at any submodel time when every
+global step is recorded (the driver's and --record-cut's default); ``--record-every k`` > 1 interpolates across k
+steps, an O((k Δt)² ü) error.
 
 Prescription in the explicit scheme: after v_{n+1/2} is computed, its cut entries are overwritten by
 (u_cut(t_{n+1}) - u_n)/Δt, so u_{n+1} = u_cut(t_{n+1}) exactly. Initial state = the global one

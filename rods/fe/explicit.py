@@ -8,7 +8,10 @@ Scheme, with lumped (diagonal) mass M, stiffness K, damping C = β_v K and conta
 
 Stability: Δt <= Δt_crit = 2/ω_max (sqrt(1 + ξ²) - ξ), ω_max² the largest eigenvalue of
 M^-1 (K + K_c) with the contact stiffness K_c at full engagement (the penalty stiffens the system as
-contact closes) and ξ the bulk-viscosity fraction of critical damping in that mode. ω_max² is found
+contact closes) and ξ the fraction of critical damping in that mode: C = β_v K with β_v = 2ξ/ω_max is
+stiffness-proportional (Rayleigh) damping, ξ ω_i/ω_max of critical in mode i, shear modes as well as volumetric
+ones (the key is ``fe.bulk_viscosity`` after the explicit codes' high-frequency damping, but unlike Abaqus's linear
+bulk viscosity it acts on the whole strain rate, not its volumetric part alone). ω_max² is found
 with SLEPc (Krylov-Schur, symmetric) on the scaled operator M^-½ (K + K_c) M^-½, which has the same
 spectrum. The step needs ω_max to a fraction of a percent (it marches at ``fe.dt_fraction`` of the limit),
 not to round-off: the Ritz pair (θ, y) is converged to a relative residual of :data:`EIGEN_TOL` and
@@ -32,8 +35,9 @@ below 1.5e-3 for penalties from 20 to 1000 x E*/h. The step is
 therefore also limited to Δt <= :data:`rods.stability.SWITCHING` / ω_c (:func:`switching_step`); for penalties that
 do not control the spectrum (ω_c Δt ~ 0.25-0.45 at the paper mesh) this limit is inactive.
 
-Safe lower bound (Gershgorin): ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i, reported with the step as
-``dt_gershgorin`` (a check on the Krylov-Schur value, never used to march).
+Gershgorin bound: ω_max² <= max_i Σ_j |(K + K_c)_ij| / m_i, an upper bound on ω_max² and so a safe lower
+bound on the stable step, reported with the step as ``dt_gershgorin``: a check on the Krylov-Schur value, and the
+step marched at where that solve does not converge (above).
 
 Discrete energy: for the linear part the scheme conserves exactly
 H_n = ½ v_{n-½}·M v_{n+½} + ½ u_n·K u_n, so the kinetic energy is reported as ½ v_{n-½}·M v_{n+½}

@@ -61,7 +61,7 @@ class TimeStep:
 
     ω_max: float  # [rad/s] with the contact at full engagement
     ω_max_K: float  # [rad/s] without contact
-    ξ: float  # bulk-viscosity fraction of critical damping [-]
+    ξ: float  # fe.bulk_viscosity: stiffness-proportional damping, fraction of critical at ω_max [-]
     dt_critical: float  # [s] the linear limit with contact
     dt_critical_no_contact: float  # [s]
     dt_gershgorin: float  # [s] a safe lower bound of dt_critical
