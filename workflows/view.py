@@ -115,7 +115,8 @@ def render(reader, t: float, scale: float, png: str, run: Path) -> None:
     three_d = bounds[5] - bounds[4] > 0
     u_c = contact_motion(reader, t)
     source = pv.Slice(Input=reader, SliceType="Plane") if three_d else reader
-    if three_d:  # a hair off the symmetry plane: its nodes sit at y = ±1e-19, and a cut at 0 dropped the rim's cells
+    if three_d:  # a hair off the symmetry plane: a series written before rods.fe.mesh3d.SNAP has its nodes at
+        # y = ±1e-19 there, and a cut at 0 dropped the rim's cells
         source.SliceType.Origin, source.SliceType.Normal = [0, 1e-12, 0], [0, 1, 0]
     relative = pv.Calculator(Input=source, ResultArrayName="relative_displacement")
     relative.Function = f"displacement - ({u_c[0]!r}*iHat + {u_c[1]!r}*jHat + {u_c[2]!r}*kHat)"

@@ -174,7 +174,7 @@ def fig4_section(
     agrees = (
         "overlies the analytical curves, as the paper found"
         if rms <= STRAIN_RMS_OK * 1e6
-        else ("overlies the analytical force and speed, as the paper found, its strain not within the threshold")
+        else "overlies the analytical force and speed, as the paper found, its strain not within the threshold"
     )  # (it had said "overlies" above a strain miss: an audit, 2026-12-07)
     text = (
         f"**Agrees:** the axisymmetric global model {agrees}: "

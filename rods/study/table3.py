@@ -204,9 +204,8 @@ def table3(scene: Scene, analytical: Mapping[str, Any], runs: Sequence[ModelRun]
                 k: analytical[k]
                 for k in ("peak_contact_force", "contact_radius", "contact_area", "peak_contact_pressure")
             },
-            "contact_law": analytical.get(
-                "contact_law"
-            ),  # the reference's law (REPORT.md names it; Fig. 4's may differ)
+            # the reference's law (REPORT.md names it; Fig. 4's may differ)
+            "contact_law": analytical.get("contact_law"),
         },
         "experiment": {
             "contact_radius": a_exp,
