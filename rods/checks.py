@@ -1026,10 +1026,9 @@ def yield_warnings(scene: Any, force: float) -> list[str]:
     at = hertz.at_force(force, E_star, R_star)
     if not math.isfinite(at["peak_pressure"]):
         return []
-    p, what = hertz.bearing_pressure(force, at["contact_radius"], at["peak_pressure"], scene.rods)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", hertz.YieldWarning)
-        hertz.check_yield_rods(p, scene.rods, what)
+        hertz.check_yield_rods(force, at["contact_radius"], at["peak_pressure"], scene.rods)
     return [str(w.message) for w in caught]
 
 

@@ -621,12 +621,14 @@ def pressure_lowered_by(what: str, speed: str = "impact.speed") -> str:
     return f"a lower {speed}" if what == FACE_PRESSURE else f"a lower {speed} or a larger tip radius"
 
 
-def check_yield_rods(p0: float, rods: Sequence[Any], what: str = HERTZ_PRESSURE) -> None:
-    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at the pressure p0 [Pa] of their contact (``what``:
-    :func:`bearing_pressure`'s name): one warning per distinct yield strength, naming the rods it holds for
+def check_yield_rods(force: float, a: float, p0: float, rods: Sequence[Any]) -> None:
+    """:func:`check_yield` of Rod 1 and Rod 2 (``rods``) at ``force`` [N], whose Hertz patch has radius ``a`` [m] and
+    peak pressure ``p0`` [Pa]: judged at :func:`bearing_pressure` (Hertz's p0, or the face's mean pressure of a patch
+    wider than the face), one warning per distinct yield strength, naming the rods it holds for
     (:func:`rods_by_strength`)."""
+    p, what = bearing_pressure(force, a, p0, rods)
     for S_y, which in rods_by_strength(rods).items():
-        check_yield(p0, S_y, where=which, what=what)
+        check_yield(p, S_y, where=which, what=what)
 
 
 def check_yield(p0: float, S_y: float | None, where: str = "", what: str = HERTZ_PRESSURE) -> bool:
