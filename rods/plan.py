@@ -368,6 +368,12 @@ def make_plan(scene: Scene, contact_end: float | None = None) -> Plan:
             f"add cost, not resolution (the ladder ends at {SUBMODEL_LEVELS[-1]}); the global's contact values are "
             "as resolved"
         )
+    elif contact and not levels:  # "auto" past the ladder's end (Scene.submodel_levels): no submodel runs
+        reasons.append(
+            f"no submodel level is finer than the global mesh across the contact (the ladder ends at "
+            f"{SUBMODEL_LEVELS[-1]}, {SUBMODEL_LEVEL_SIZES[SUBMODEL_LEVELS[-1]] * 1e3:.4g} mm; global "
+            f"{scene.radial_size * 1e3:.4g} mm): no submodel runs; the global's contact values are the finest"
+        )
     if wave:
         reasons.append("wave_response: the global run covers the whole end_time; no submodel needed for it")
     if "misalignment" in fx and not scene.misaligned:

@@ -68,15 +68,18 @@ FE_OPERATORS = ("assembled", "matrix-free")
 RADIAL_GRADINGS = ("auto", "uniform", "graded")
 RADIAL_COARSENINGS = ("auto", "none")  # fe.radial_coarsening: rods.fe.layout.coarsening
 # submodel mesh levels -> uniform element size across and along [m] (paper: coarse/mid/fine = 0.25/0.125/0.0625
-# mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The three below
+# mm; each level halves the last, so any three consecutive levels have the Richardson ratio 2). The levels below
 # ultra-fine serve small rods' patches ("auto" picks them where a_P < 0.0625 mm: 2 mm rods with a 5 mm tip at
-# 1 m/s, a = 0.127 mm, had -2.2% peak pressure at ultra-fine, 8 elements across); the four above coarse serve
-# large ones (a_P > 2 mm: 100 mm rods with a 200 mm tip at 1 m/s, a_P = 5.9 mm, put 24/48/95 elements across the
-# patch at coarse/mid/fine, 3.7 h for the fine level on one core). The one definition:
-# rods.fe.submodel.LEVEL_SIZES is this table (kept here so that scenes validate without DOLFINx).
+# 1 m/s, a = 0.127 mm, had -2.2% peak pressure at ultra-fine, 8 elements across); those above coarse serve large
+# ones (a_P > 2 mm: 100 mm rods with a 200 mm tip at 1 m/s, a_P = 5.9 mm, put 24/48/95 elements across the patch at
+# coarse/mid/fine, 3.7 h for the fine level on one core). The ladder spans the element sizes the schema accepts
+# (fe.radial_size 1e-8 to 0.1 m; a rod's radius / BAR_ELEMENTS is at most 62.5 mm): elastodynamics with Hertz
+# contact has no length of its own, so "auto" finds three levels on every scene of the schema's range (an audit,
+# 2026-12-07: ending at 1.95 µm, the paper scene x 0.01 took three levels from 7.8 µm, coarser than its global,
+# and x 0.001 levels wider than its rods). The one definition: rods.fe.submodel.LEVEL_SIZES is this table (kept
+# here so that scenes validate without DOLFINx).
 SUBMODEL_LEVEL_SIZES = {
-    "ultra-coarse-x4": 4e-3,  # [m]
-    "ultra-coarse-x2": 2e-3,  # [m]
+    **{f"ultra-coarse-x{2**k}": 2**k * 1e-3 for k in range(6, 0, -1)},  # [m] 64 mm down to 2 mm
     "ultra-coarse": 1e-3,  # [m]
     "extra-coarse": 0.5e-3,  # [m]
     "coarse": 0.25e-3,  # [m]
@@ -84,9 +87,7 @@ SUBMODEL_LEVEL_SIZES = {
     "fine": 0.0625e-3,  # [m]
     "extra-fine": 0.03125e-3,  # [m]
     "ultra-fine": 0.015625e-3,  # [m]
-    "ultra-fine-x2": 0.0078125e-3,  # [m]
-    "ultra-fine-x4": 0.00390625e-3,  # [m]
-    "ultra-fine-x8": 0.001953125e-3,  # [m]
+    **{f"ultra-fine-x{2**k}": 0.015625e-3 / 2**k for k in range(1, 11)},  # [m] 7.8 µm down to 15 nm
 }
 SUBMODEL_LEVELS = tuple(SUBMODEL_LEVEL_SIZES)
 # meshes per submodel level in the phase-averaged convergence study (submodel_phase_size); the middle one is the
@@ -830,8 +831,11 @@ class Scene:
             return list(v)
         n, h_auto = len(SUBMODEL_LEVELS), self.submodel_start_size  # [m]
         first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if h <= h_auto), n)
-        start = min(first, n - 3)  # the finest three where fewer than three remain
-        return list(SUBMODEL_LEVELS[start : start + 3])
+        if first <= n - 3:
+            return list(SUBMODEL_LEVELS[first : first + 3])
+        # past the ladder's fine end (a patch under ~0.1 µm): its finest levels that are finer than the global
+        # across the contact; none, and the global's contact values are the finest there are (the plan says so)
+        return [lv for lv in SUBMODEL_LEVELS[n - 3 :] if SUBMODEL_LEVEL_SIZES[lv] < self.radial_size]
 
     @property
     def submodel_start_size(self) -> float:
@@ -1246,7 +1250,7 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
                 raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {what})")
     radius = min(v["rod1.diameter"], v["rod2.diameter"]) / 2  # [m]
     levels = v["submodel.levels"]
-    if set(v["effects"]) & set(SUBMODEL_EFFECTS) and levels != "auto":  # auto: within it by construction
+    if set(v["effects"]) & set(SUBMODEL_EFFECTS) and levels != "auto":  # auto: finer than the global, so within it
         for lv in levels:
             if SUBMODEL_LEVEL_SIZES[lv] > radius:  # the submodel mesh's limit, as fe.radial_size's: before any run
                 fit = [k for k, h in SUBMODEL_LEVEL_SIZES.items() if h <= radius]

@@ -8,7 +8,7 @@ import pytest
 
 from rods import plan
 from rods.plan import CONTACT_MARGIN, make_plan
-from rods.scene import SceneError
+from rods.scene import SUBMODEL_LEVELS, SceneError
 
 from .conftest import PAPER
 
@@ -154,6 +154,7 @@ def test_levels_no_submodel_would_use_are_refused(scene_with):
         plan.check_levels(scene_with("submodel.levels=['fine']"))
     with pytest.raises(SceneError, match=r"no level finer than the global mesh .*0.2728 mm.*levels from coarse on"):
         plan.check_levels(scene_with("effects=['contact_patch']", "submodel.levels=['ultra-coarse', 'extra-coarse']"))
-    fine_global = scene_with("effects=['contact_patch']", "fe.radial_size=1e-6", "submodel.levels=['ultra-fine']")
+    last = SUBMODEL_LEVELS[-1]  # 15 nm: the ladder spans the radial sizes the schema accepts, down to 1e-8 m
+    fine_global = scene_with("effects=['contact_patch']", "fe.radial_size=1e-8", f"submodel.levels=['{last}']")
     plan.check_levels(fine_global)  # no level of the ladder is finer: refusing would leave no remedy
     assert "add cost, not resolution" in " ".join(plan.make_plan(fine_global).reasons)

@@ -129,13 +129,16 @@ def omega_max(model: SetUpModel, with_contact: bool, K_device=None) -> float:
 
 def start_vector(model: SetUpModel) -> np.ndarray:
     """The eigenvalue solves' start vector, owned entries: 1 + 0.1 sin(k·x + 7.9 c) at each DOF's node x [m]
-    and component c, k = (3.1, 4.3, 5.7)/h_ref with h_ref = 1e-4 m: a wavelength below the elements, so it is
+    and component c, k = (3.1, 4.3, 5.7)/h_ref with h_ref = the thinner rod's diameter / 127 (1e-4 m on the
+    paper's 12.7 mm rods; a fixed 1e-4 m was smooth across the elements of a scene 10 x smaller): a wavelength
+    below the elements whatever the scene's size, so it is
     rough from node to node like the top modes and not orthogonal to them by any symmetry of the mesh, and the
     same vector on any rank count and DOF numbering (the estimate of ω_max depends on the start at the level of
     its residual, rods.fe.explicit.EIGEN_TOL)."""
     V, bs = model.V, model.bs
     x = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local]  # [m] owned nodes
-    phase = x @ (np.array([3.1, 4.3, 5.7]) / 1e-4)
+    h_ref = min(rod.diameter for rod in model.scene.rods) / 127.0  # [m]
+    phase = x @ (np.array([3.1, 4.3, 5.7]) / h_ref)
     return (1.0 + 0.1 * np.sin(phase[:, None] + 7.9 * np.arange(bs)[None, :])).ravel()
 
 

@@ -21,7 +21,7 @@ from rods.plan import (
     offers,
     submodel_driver,
 )
-from rods.scene import SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
+from rods.scene import BAR_ELEMENTS, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
 
 SHORT_STRIKER = (  # a short steel striker on a long aluminium rod: several contact episodes
     "rod1.length=0.092",
@@ -82,15 +82,17 @@ def _summary(F: float, a: float = 1e-3, speed: float = 1.1) -> dict:
 
 
 def test_plan_says_when_no_submodel_level_is_finer_than_the_global(scene_with):
-    """The level ladder ends at ultra-fine-x8 (1.95 µm); at 0.5 µm/s the auto global is finer across the patch (1.67
-    µm), and the plan says that the submodels add cost, not resolution. On the paper scene (0.27 mm) it says nothing,
-    nor for coarse levels given by hand under a coarser global; at 0.1 mm/s (global 9.7 µm) the ladder's finest
-    three lie below the global's size."""
+    """ "auto" finds three levels wherever the ladder reaches (it ends at 15 nm: the paper scene at 0.5 µm/s, its
+    global 0.49 µm, gets ultra-fine-x16 to x64, 0.98 to 0.24 µm); past its end (1 µm rods at 1 mm/s, a
+    global of 0.5 nm) no submodel runs and the plan says so. On the paper scene it says nothing, nor for coarse levels
+    given by hand under a coarser global."""
     slow = scene_with("impact.speed=5e-7", "effects=['contact_patch']")
-    finest = ["ultra-fine-x2", "ultra-fine-x4", "ultra-fine-x8"]
-    assert slow["submodel.levels"] == finest and slow.radial_size < SUBMODEL_LEVEL_SIZES["ultra-fine-x8"]
-    assert not any("no submodel level" in r for r in make_plan(slow.with_overrides("impact.speed=1e-4"), 2e-4).reasons)
-    assert any("no submodel level is finer than the global mesh" in r for r in make_plan(slow, 2e-4).reasons)
+    assert slow["submodel.levels"] == ["ultra-fine-x16", "ultra-fine-x32", "ultra-fine-x64"]
+    assert not any("no submodel level" in r for r in make_plan(slow, 2e-4).reasons)
+    tiny = scene_with(*(f"rod{n}.diameter=1e-6" for n in (1, 2)), "rod1.length=1e-5", "rod2.length=2e-5",
+                      "rod1.tip_radius=3e-6", "impact.speed=1e-3", "effects=['contact_patch']")  # fmt: skip
+    assert tiny["submodel.levels"] == [] and tiny.radial_size < SUBMODEL_LEVEL_SIZES[SUBMODEL_LEVELS[-1]]
+    assert any("no submodel runs" in r for r in make_plan(tiny, 1e-8).reasons)
     paper = scene_with("effects=['contact_patch']")
     assert not any("no submodel level" in r for r in make_plan(paper, 2e-4).reasons)
     coarse = scene_with("effects=['contact_patch']", "submodel.levels=['coarse']", "fe.radial_size=1e-3")
@@ -145,12 +147,15 @@ def test_most_refined_model_wins(scene_with):
 
 
 def test_level_sizes_are_one_table_halving_per_level():
-    fine = ("ultra-fine-x2", "ultra-fine-x4", "ultra-fine-x8")  # below the paper's ladder: small rods' patches
-    coarse = ("ultra-coarse-x4", "ultra-coarse-x2", "ultra-coarse", "extra-coarse")  # above it: large patches
+    """One ladder of halvings through the paper's coarse/mid/fine, spanning the element sizes the schema accepts:
+    64 mm (a 1 m rod's radius / BAR_ELEMENTS is 62.5 mm) down to 15 nm (fe.radial_size >= 1e-8 m)."""
     paper = ("coarse", "mid", "fine", "extra-fine", "ultra-fine")
+    coarse = (*(f"ultra-coarse-x{2**k}" for k in range(6, 0, -1)), "ultra-coarse", "extra-coarse")
+    fine = tuple(f"ultra-fine-x{2**k}" for k in range(1, 11))  # below the paper's ladder: small rods' patches
     assert SUBMODEL_LEVELS == tuple(SUBMODEL_LEVEL_SIZES) == (*coarse, *paper, *fine)
     h = list(SUBMODEL_LEVEL_SIZES.values())
     assert SUBMODEL_LEVEL_SIZES["coarse"] == 0.25e-3 and all(a / b == 2.0 for a, b in zip(h, h[1:], strict=False))
+    assert h[0] >= 0.5 / BAR_ELEMENTS and 1e-8 <= h[-1] < 2e-8
 
 
 def test_richardson_takes_the_three_finest_levels_with_constant_ratio():
