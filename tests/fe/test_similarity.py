@@ -14,6 +14,8 @@ import math
 
 import rods.fe  # noqa: F401  (the PyPI wheel's dolfinx shim before dolfinx/petsc4py)
 
+# isort: split
+
 import numpy as np
 import pytest
 
