@@ -182,7 +182,8 @@ class CentralDifference:
         self.mass = backend.asarray(mass)  # [kg]
         self.v[:] = backend.asarray(v0)
         arrays = (self.u, self.v, self._z, self.y, self._q, self._q_prev)
-        self.op = backend.operator(A, -self.dt_inv_mass, arrays)
+        self._neg_dt_inv_mass = -self.dt_inv_mass  # -Δt M^-1: the operator's scale, and the energy record's
+        self.op = backend.operator(A, self._neg_dt_inv_mass, arrays)
         # the kinematic contact's rates before the product (rods.fe.kinematic, "Overlap"): serial CSR, undamped
         self.overlap = bool(
             backend.overlap and contact is not None and contact.predictive and contact.serial and not self.damped
@@ -254,7 +255,8 @@ class CentralDifference:
         h = 0.5 if self.n == 0 else 1.0
         dv = self.v - self.v_prev
         if self.contact is not None:
-            self.contact.add_force(dv, -h * self.dt_inv_mass)
+            # -Δt M^-1 kept from the set-up (-h Δt M^-1 on the half step only): not a full-length product per record
+            self.contact.add_force(dv, self._neg_dt_inv_mass if self.n else -h * self.dt_inv_mass)
         if self.n == 0:
             dv *= 2.0
         return dv

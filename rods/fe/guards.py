@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 from mpi4py import MPI
 
+from rods import interrupt
 from rods.fe.backend import PETSC
 
 __all__ = [
@@ -181,16 +182,21 @@ class InterruptCheck:
 
     def __init__(self, comm: MPI.Comm, every: int = INTERRUPT_EVERY, on_stop: Any = None):
         self.comm, self.every, self._ctx = comm, every, None
+        self._signum = np.zeros(1, dtype=np.int64)  # the stop request's buffer (Allreduce, MAX over the ranks)
         self.on_stop = on_stop  # on_stop(step, t), collective, before the stop (a restartable checkpoint)
 
     def after_step(self, step: int, t: float, state) -> None:  # noqa: ARG002
-        from rods import interrupt
-
         if self._ctx is None:
             self._ctx = interrupt.armed()
             self._ctx.__enter__()
         if step % self.every == 0:
-            signum = self.comm.allreduce(interrupt.requested(), op=MPI.MAX)
+            # serial: the request itself (no reduction); under MPI one integer Allreduce (not the pickled allreduce)
+            if self.comm.size == 1:
+                signum = interrupt.requested()
+            else:
+                self._signum[0] = interrupt.requested()
+                self.comm.Allreduce(MPI.IN_PLACE, self._signum, op=MPI.MAX)
+                signum = int(self._signum[0])
             if signum:
                 interrupt.reset()
                 if self.on_stop is not None:

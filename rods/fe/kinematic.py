@@ -128,7 +128,7 @@ def edge_radius(r: np.ndarray, gap: np.ndarray, closed: np.ndarray) -> float:
         if i + 1 < r.size and 0.0 < gap[i] < gap[i + 1]:
             s1, s2 = gap[i] ** (2.0 / 3.0), gap[i + 1] ** (2.0 / 3.0)
             a = r[i] - s1 * (r[i + 1] - r[i]) / (s2 - s1)
-            return float(np.clip(a, r[max(k - 1, 0)], r[k + 1]))
+            return float(min(max(a, r[max(k - 1, 0)]), r[k + 1]))  # (np.clip on a scalar: ~7 µs, every record)
     return float(r[k])
 
 

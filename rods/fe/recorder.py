@@ -137,7 +137,8 @@ class Recorder:
         E_k = 0.5 * sp(st.mass * st.v_prev, st.v)  # ½ v_{n-½}·M v_{n+½}
         W_dev = not isinstance(self.W_local, float)  # damped on a device: the sum is there (np.float64 is a float)
         sums = [E_k, E_s, sp(self.mass_axial, st.v)] + ([self.W_local] if W_dev else [])
-        probed = (product(self.P, st.v_prev + st.v), product(self.P, st.u))
+        # P (v_{n-½} + v_{n+½}) as two products of the few probe rows: no full-length sum per record
+        probed = (product(self.P, st.v_prev) + product(self.P, st.v), product(self.P, st.u))
         got = be.to_host(xp.concatenate((xp.stack(sums), *probed)))  # one copy
         k = len(sums)
         W_ext = sum(s.external_work() for s in self.sources) if self.sources else 0.0
