@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import bisect
 import json
+import math
 import time
 import uuid
 from pathlib import Path
@@ -377,7 +378,30 @@ def cut_weights(
     share a cell) at a time: a cut point lies in one band cell, which holds at most one node of the colour, so
     the interpolated unit field there is that node's weight, and the field (index + 1) over it names the node.
     Two interpolations per colour instead of one per band node (the 3D coarse submodel's cut: minutes to
-    seconds); the weights are the per-node ones to round-off (tests/fe/test_submodel.py)."""
+    seconds); the weights are the per-node ones to round-off (tests/fe/test_submodel.py).
+
+    DOLFINx's point ownership takes a point within a squared distance of 10 machine epsilons of a cell, in the
+    mesh's units, as inside it (and ``padding`` is absolute too): in metres 4.7e-8 m, 5% of a 1 µm cell of a scene
+    scaled by 1e-3, whose cut points near a band cell's face were extrapolated from its neighbour (weights off by
+    up to 5e-3, histories by 5e-6 against the same scene at full size: an audit). Both meshes are therefore
+    scaled by a power of two to the band's size while the weights are computed (exact, and undone after), which
+    makes both tolerances relative to the scene."""
+    meshes = [V0.mesh] if V0.mesh is Vb.mesh else [V0.mesh, Vb.mesh]
+    size = Vb.mesh.comm.allreduce(float(np.abs(Vb.mesh.geometry.x).max(initial=0.0)), op=MPI.MAX)  # [m]
+    scale = 2.0 ** -math.floor(math.log2(size)) if size > 0.0 else 1.0  # [1/m] exact both ways
+    for m in meshes:
+        m.geometry.x[:] *= scale
+    try:
+        return _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, cells, n_nodes, tol)
+    finally:
+        for m in meshes:
+            m.geometry.x[:] /= scale
+
+
+def _cut_weights(
+    V0, nodes0, cut_cells, Vb, node_of_dof, cells: np.ndarray, n_nodes: int, tol: float
+) -> scipy.sparse.csr_matrix:
+    """:func:`cut_weights` on meshes in units of about the band's size (``padding``: a fraction of it)."""
     data = dolfinx.fem.create_interpolation_data(V0, Vb, cut_cells, padding=1e-10)
     fb, g = dolfinx.fem.Function(Vb), dolfinx.fem.Function(V0)
     own = np.arange(Vb.dofmap.index_map.size_local)
