@@ -666,7 +666,30 @@ def _fe_mesh(
     if scene["fe.kind"] == "3d":
         return (h_r, h, g), None, *_mesh_3d(scene, h_r, h, g, lengths)
     region = scene if size is None else _submodel_region(scene, size, axial_size)
+    _check_across(region, h_r, size)
     return (h_r, h, g), region, *_mesh_axisymmetric(region, h_r, h, g)
+
+
+# [-] most elements across a rod's radius the plan counts: its layout (rods.fe.layout: the 3:1 merges' groups, the tip
+# row) walks every element across, in Python and in arrays, before the memory is checked. A fuzz: 1 m rods at
+# fe.radial_size = 1e-8 (5e7 across, every value in the schema's range) took 134 s and over 5 GB in the dry run, then
+# exit 1 (MemoryError). At 1e6 across the counting takes about a second and the mesh (its tip zone alone at least
+# 1e6 x its rows) is beyond any one machine's memory.
+MAX_ACROSS = 1_000_000
+
+
+def _check_across(region: Scene, h_r: float, size: float | None) -> None:
+    """Refuse (exit 2, before any per-element counting) an axisymmetric mesh of more than :data:`MAX_ACROSS`
+    elements across a rod's radius: its columns' counts (rods.fe.layout.scene_columns) are a few numbers each."""
+    from rods.fe.layout import scene_columns
+
+    across = max(sum(c.n for c in columns) for columns in scene_columns(region))
+    if across > MAX_ACROSS:
+        what, remedy = ("fe.radial_size", "a larger fe.radial_size") if size is None else ("--size", "a larger --size")
+        raise InputError(
+            what, h_r, f"{across:.3g} elements across a rod's radius, above {MAX_ACROSS:.0e} (a mesh no machine's "
+            "memory holds)", f"{remedy}, or fe.radial_grading = 'graded' (fine only around the patch)",
+        )  # fmt: skip
 
 
 def _fe_time(scene: Scene, ranks: int, steps: int, dofs: float, cut: bool, rows: int = 0) -> tuple[float, float, float]:
@@ -921,6 +944,22 @@ def analytical_steps(scene: Scene) -> float:
     k = hertz.tangent_stiffness(P, *hertz.contact_constants(scene.rod1, scene.rod2))  # [N/m] dF/dδ at P
     λ = k * scene.speed / P  # [1/s] d(K δ^1.5 (1/Z1 + 1/Z2))/dδ at K δ^1.5 = P, as (1/Z1 + 1/Z2) = s1/P
     return STEPS_PER_STIFFNESS * λ * scene.end_time
+
+
+def check_mesh(scene: Scene, ranks: int = 1, comm: Any = None, what: str = "the global") -> None:
+    """Refuse (exit 2) a global FE model of ``scene`` whose mesh alone (its DOFs and the ranks' interpreters) exceeds
+    the available memory: what a plan checks before it runs the analytical model to its first contact (a study's
+    dry run, a driver's phase), which on a micrometre rod takes minutes (a fuzz: run.py --dry-run --set
+    rod2.diameter=1e-6 planned 'at most about 1830 s' and ran past 120 s, where the mesh's 8e6 GB is refused in
+    seconds once counted). The whole run's memory and budgets are checked after the plan, as before."""
+    _, _, _, dofs = _fe_mesh(scene, None, None)
+    memory = sum(b for b, _ in _memory_of(scene, ranks, dofs, 0, 0.0, None).values())  # [B] no steps, no histories
+    free = available_memory(comm)
+    if memory > free:
+        raise InputError(
+            what, f"{memory / 1e9:.3g} GB", f"its mesh alone needs more memory than available ({free / 1e9:.3g} GB): "
+            f"{dofs:.3g} DOFs", "coarser sizes (fe.radial_size, fe.axial_size), or thicker rods",
+        )  # fmt: skip
 
 
 def available_memory(comm: Any = None) -> float:

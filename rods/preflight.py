@@ -292,7 +292,7 @@ class FolderClaim:
         """The exclusive lock on :attr:`path`: again where the file was replaced between the open and the lock (a run
         ending removes its file), or briefly held shared (another claim's probe, :func:`_held`)."""
         for _ in range(LOCK_TRIES):
-            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            fd = self._open(out, what)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError as e:
@@ -312,6 +312,23 @@ class FolderClaim:
         raise InputError(
             what, out, f"another run is writing this folder (it holds {LOCK} there)",
             "wait for it to end, or give another folder",
+        )  # fmt: skip
+
+    def _open(self, out: Path, what: str) -> int:
+        """The lock file's descriptor: created, or an earlier one opened (flock needs no write access: a lock file left
+        by another user's run, 0644, is opened read-only; a fuzz found it, and a folder of that name, ending the run
+        with exit 1 and an OSError's text after its plan)."""
+        try:
+            return os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        except PermissionError:
+            with contextlib.suppress(OSError):
+                return os.open(self.path, os.O_RDONLY)
+        except OSError:
+            pass
+        self.release()  # the folders the claim made (none: the lock's folder exists)
+        raise InputError(
+            what, out, f"its {LOCK} cannot be opened to hold the folder (not a file, or not readable by this user)",
+            f"remove {self.path} (no run holds it when none is writing there), or give another folder",
         )  # fmt: skip
 
     def release(self) -> None:

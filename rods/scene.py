@@ -506,6 +506,36 @@ def first_difference(ours: Any, theirs: Any, ignore: Iterable[str] = ()) -> tupl
     return (given or diffs)[0] if diffs else None
 
 
+MAX_NESTING = 32  # [-] deepest list/table nesting a scene holds (its deepest is 3: [[station]] in a file); deeper
+# input overflowed Python's recursion in tomllib, copy.deepcopy or _flatten (a fuzz: exit 1, "RecursionError")
+
+
+def _nesting(value: Any) -> int:
+    """How deep ``value``'s lists and tables nest (iterative: it must not recurse on what it guards against)."""
+    deepest, todo = 0, [(value, 0)]
+    while todo:
+        v, depth = todo.pop()
+        deepest = max(deepest, depth)
+        if depth <= MAX_NESTING and isinstance(v, Mapping | list | tuple):
+            todo.extend((e, depth + 1) for e in (v.values() if isinstance(v, Mapping) else v))
+    return deepest
+
+
+def _too_deep(key: str, raw: Any, argument: bool = False) -> SceneError:
+    return SceneError(
+        key,
+        raw,
+        f"nests lists or tables deeper than {MAX_NESTING} levels",
+        "give numbers, strings and flat lists (README 'Scenes')",
+        argument=argument,
+    )
+
+
+def _check_nesting(key: str, value: Any, raw: Any, argument: bool = False) -> None:
+    if _nesting(value) > MAX_NESTING:
+        raise _too_deep(key, raw, argument)
+
+
 def parse_override(text: str) -> tuple[str, Any]:
     """Parse ``KEY=VALUE``; VALUE is read as a TOML value, else kept as a bare string."""
     if "=" not in text:
@@ -517,6 +547,9 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw}")["v"]
         if isinstance(value, float) and math.isinf(value) and "inf" not in raw.lower():  # 1e400 reads as inf
             raise SceneError(key, raw, "must be a number a float64 holds (below 1.8e308)")
+        _check_nesting(key, value, raw)
+    except RecursionError:  # tomllib's parser recurses once per '[' or '{'
+        raise _too_deep(key, raw) from None
     except tomllib.TOMLDecodeError as e:
         if raw[:1] and raw[:1] in "[{\"'":  # meant as a TOML list, table or string: a bare string would hide the slip
             kind = SCHEMA.get(key, ("",))[0]
@@ -1491,6 +1524,9 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     try:
         # UTF-8 whatever the locale; a byte-order mark some editors write is dropped
         data = tomllib.loads(p.read_text(encoding="utf-8-sig"))
+        _check_nesting(what, data, str(p), argument=flag)  # before copy.deepcopy and _flatten recurse on it
+    except RecursionError:  # tomllib's parser recurses once per '[' or '{'
+        raise _too_deep(what, str(p), argument=flag) from None
     except tomllib.TOMLDecodeError as e:
         fix = "fix the TOML syntax there (strings quoted, tables as [rod1], one key = value a line)"
         raise SceneError(what, str(p), f"malformed TOML: {e}", fix, argument=flag) from None

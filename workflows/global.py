@@ -47,6 +47,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         checkpoint.precheck(out, comm.size, scene)  # before the set-up: exit 2 naming the remedy
     log, progress = _cli.rank0(comm)
     if args.driver:  # its phase runs the analytical model to the first contact: within its budgets first
+        cost.check_mesh(scene, comm.size, comm, "the driving global")  # the mesh the phase is planned for
         log(_cli.planning(cost.check(cost.analytical_cost(scene), args.force, comm=comm)))
     phase = plan.driver_phase(scene) if args.driver else None  # [s] the driver's record, the submodels' end
     sc = plan.submodel_driver(scene, phase) if args.driver else scene  # the driver: over the contact phase

@@ -41,6 +41,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = _cli.out_dir(args, "run", scene)
     _cli.backend(scene, comm.size)  # refused before the plan, which names a folder a refused run never makes
     log, progress = _cli.rank0(comm)
+    if plan.make_plan(scene).global_model:  # its mesh before the plan runs the analytical model (minutes on a µm rod)
+        cost.check_mesh(scene, comm.size, comm)
     analytical = cost.check(cost.analytical_cost(scene), args.force, comm=comm)
     log(_cli.planning(analytical))  # before the plan, which runs the analytical model to the first contact
     p = plan.study_plan(scene)  # run_study's plan, from the analytical model to its first contact

@@ -101,9 +101,10 @@ def _check_overrides(overrides: Sequence[str]) -> None:
 
 def _flags(args: argparse.Namespace) -> dict[str, str]:
     """The submodel scene's keys that this script's options set: a refusal names the option the user gave."""
+    size = "--size" if args.size else "--level"  # a level's size refused names the --level given (it said --size)
     return {
-        "fe.radial_size": "--size",
-        "fe.axial_size": "--axial-size" if args.axial_size else "--size",
+        "fe.radial_size": size,
+        "fe.axial_size": "--axial-size" if args.axial_size else size,
         "fe.dt": "--dt",
         **({"simulation.end_time": "--end-time"} if args.end_time is not None else {}),
     }
@@ -119,7 +120,12 @@ def _named_by_options(args: argparse.Namespace) -> Iterator[None]:
     except SceneError as e:
         if e.key not in flags:
             raise
-        raise InputError(flags[e.key], e.value, e.allowed, e.hint or f"a smaller {flags[e.key]}") from None
+        flag = flags[e.key]
+        if flag == "--level":  # the level's elements, in the range's unit
+            raise InputError(
+                flag, args.level, f"its {e.value:g} m elements: {e.allowed}", e.hint or "a finer --level, or --size"
+            ) from None
+        raise InputError(flag, e.value, e.allowed, e.hint or f"a smaller {flag}") from None
 
 
 def _own_settings(scene: Scene, h: float, args: argparse.Namespace, end: float | None, dt: float | str) -> Scene:

@@ -36,7 +36,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     cases = args.case or list(verification.CASES)
     distinct(cases, "--case")  # a case given twice would run twice into its one folder
     costs = [
-        c for name in cases for c in verification.case_costs(base, name, args.overrides, comm.size, args.force, comm)
+        c
+        for name in cases
+        for c in verification.case_costs(base, name, args.overrides, comm.size, args.force, comm, cases)
     ]
     for name in cases:
         _cli.backend(verification.case_scene(base, name, args.overrides), comm.size)

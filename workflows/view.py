@@ -174,8 +174,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--png", help="save a screenshot (needs a display: xvfb-run -a pvpython ...)")
     ap.add_argument("--check", action="store_true", help="exit 1 unless every frame has every field")
     a = ap.parse_args(argv)
-    xdmf = a.run / "fields.xdmf" if a.run.is_dir() else a.run
-    if not xdmf.is_file():
+    try:  # a name over the file system's 255 bytes raises here (a fuzz: a traceback, exit 1)
+        xdmf = a.run / "fields.xdmf" if a.run.is_dir() else a.run
+        found = xdmf.is_file()
+    except OSError as e:
+        return _bad(f"{str(a.run)[:120]}: {e.strerror or e}; give a run folder or its fields.xdmf")
+    if not found:
         return _bad(f"{xdmf}: no such file (a run writes fields.xdmf when its scene asks for fields; README "
                     "'Looking at fields')")  # fmt: skip
     try:
@@ -184,6 +188,9 @@ def main(argv: list[str] | None = None) -> int:
         return _bad(f"ParaView's Python is not importable ({e}); run this script with pvpython, not the venv's python")
     reader = open_fields(a.run, a.reader == "legacy")
     series = frames(reader)
+    if not series:  # a series whose XML lists no frame (a run stopped before its first), or not one ParaView reads:
+        # --check passed it and --png ended in max()'s ValueError (a fuzz, with a stand-in reader)
+        return _bad(f"{xdmf}: no frames that ParaView reads; give the fields.xdmf of a run that wrote frames")
     for t, names, p in series:
         print(f"t = {t:.6g} s  p_max = {p:.4g} Pa  {' '.join(names)}")
     if a.check and any(sorted(FIELDS) != names for _, names, _ in series):

@@ -38,6 +38,7 @@ MPI: the XDMF is written by rank 0 from arrays gathered in global node order (on
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import shutil
@@ -87,11 +88,25 @@ def discard(out: str | Path, comm) -> None:
     if comm.rank == 0:
         for pattern in SERIES_FILES:
             for old in sorted(Path(out).glob(pattern)):
-                if old.is_dir() and not old.is_symlink():
+                if old.name == "fields" and old.is_dir() and not old.is_symlink():
+                    _discard_series_folder(old)
+                elif old.is_dir() and not old.is_symlink():
                     shutil.rmtree(old, ignore_errors=True)
                 else:
                     old.unlink(missing_ok=True)
     comm.barrier()
+
+
+def _discard_series_folder(folder: Path) -> None:
+    """Remove the files a series writes into ``fields/`` (mesh.h5, frame-<k>.h5, their temporaries) and the folder
+    where nothing else is left: an --out given a folder of the user's that holds a ``fields/`` of theirs keeps it (a
+    fuzz: global.py --out DIR removed DIR/fields/ whole, whatever it held, with exit 0)."""
+    for pattern in ("mesh.h5", "frame-*.h5", ".mesh.h5.tmp", ".frame-*.h5.tmp"):
+        for p in folder.glob(pattern):
+            if p.is_file() or p.is_symlink():
+                p.unlink(missing_ok=True)
+    with contextlib.suppress(OSError):
+        folder.rmdir()  # only an empty one
 
 
 def series_scene(folder: str | Path) -> dict | None:
