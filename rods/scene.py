@@ -1518,7 +1518,9 @@ def _read_with_base(p: Path, seen: tuple[Path, ...]) -> dict[str, Any]:
     this file's tables are merged over it, so a trial scene states only what differs; its name is its own (the
     file's stem where it sets none), never its base's."""
     if p.resolve() in seen:
-        raise SceneError("base", str(p), "scene files include each other in a cycle")
+        chain = " -> ".join(q.name for q in (*seen, p.resolve()))
+        raise SceneError("base", str(p), f"scene files include each other in a cycle, {chain}",
+                         "remove the base line of one of them")  # fmt: skip
     # the file given, or a base it names (a damaged base was reported as the --scene option: a fuzz, 2026-12-07)
     what, flag = ("--scene", True) if not seen else ("base", False)
     try:

@@ -245,7 +245,7 @@ def test_files(tmp_path):
         load_scene(bad)
     loop = tmp_path / "loop.toml"
     loop.write_text('base = "loop.toml"\n')
-    with pytest.raises(SceneError, match="cycle"):
+    with pytest.raises(SceneError, match=r"cycle, loop.toml -> loop.toml \(remove the base line of one of them\)"):
         load_scene(loop)
     with pytest.raises(SceneError, match="KEY=VALUE"):
         parse_override("impact.speed")
