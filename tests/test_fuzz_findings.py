@@ -213,3 +213,11 @@ def test_verify_refusal_names_a_case_that_was_asked_for(tmp_path):
                    "--dry-run", "--out", str(tmp_path / "v"), cwd=tmp_path)  # fmt: skip
     line = refused(p, tmp_path / "v")
     assert "simulation.end_time" in line and "speed-1.0" not in line, line
+
+
+# echo -----------------------------------------------------------------------------------------------------------------
+def test_a_long_malformed_set_is_echoed_cut(tmp_path):
+    """A malformed --set of 600 characters: the refusal quotes it cut (rods.preflight.short), one short line."""
+    p = in_process("analytical.py", "--set", "impact.speed=[1," + "2," * 300, "--dry-run", cwd=tmp_path)
+    line = refused(p)
+    assert "(618 characters)" in line and len(line) < 400, line

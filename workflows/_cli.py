@@ -86,7 +86,8 @@ class _Override(argparse.Action):
         try:
             parse_override(text)
         except SceneError as e:
-            raise argparse.ArgumentError(self, f"{text!r}: {e.allowed}" + (f" ({e.hint})" if e.hint else "")) from None
+            said = short(text)  # one line whatever the value's length (rods.preflight.MAX_VALUE)
+            raise argparse.ArgumentError(self, f"{said}: {e.allowed}" + (f" ({e.hint})" if e.hint else "")) from None
         setattr(namespace, self.dest, [*(getattr(namespace, self.dest) or []), text])
 
 
