@@ -484,13 +484,16 @@ def fe_cost(
     remedy: str = "",
     record_until: float | None = None,
     record_every: int = 1,
+    record_flags: bool = False,
     cut_record_bytes: float | None = None,
 ) -> Cost:
     """The cost of the FE model of ``scene`` on ``ranks`` ranks; a submodel with ``size`` [m] across and
     ``axial_size`` along (uniform, or graded outside the patch as rods.fe.submodel.submodel_grading), rods cut to
     fe.submodel_length, to ``end_time`` [s] at its own step ``dt`` [s] ("auto": the stable one; the global's is
     fe.dt). ``remedy``: :attr:`Cost.remedy`. ``record_until`` [s]: a global recording the submodels' cut band to
-    that time every ``record_every`` steps (its memory and its file, :func:`_cut_record_bytes`). A submodel reads its
+    that time every ``record_every`` steps (its memory and its file, :func:`_cut_record_bytes`; ``record_flags``: the
+    user set them, workflows/global.py --record-cut's --record-every and --record-until, and a remedy may name
+    them: a driver and a study record their contact phase every step). A submodel reads its
     driver's cut record whole on every rank (rods.fe.cut.CutDriver): ``cut_record_bytes`` [B], that file's size where
     it is at hand, else the record the scene's driving global writes to ``end_time`` (:func:`_driver_record_bytes`;
     a fuzz measured 704 MB against a 191 MB plan that left it out)."""
@@ -519,11 +522,8 @@ def fe_cost(
     if record_until is not None:
         cut = _cut_record_bytes(scene, dt, steps, record_until, record_every)
         files += cut
-        parts["the cut record"] = (
-            CUT_RECORD_COPIES * cut,
-            "coarser sizes (fewer cut nodes, a larger step); with --record-cut, a larger --record-every or an "
-            "earlier --record-until",
-        )
+        flags = ", a larger --record-every or an earlier --record-until" if record_flags else ""
+        parts["the cut record"] = (CUT_RECORD_COPIES * cut, f"coarser sizes (fewer cut nodes, a larger step){flags}")
     memory = sum(b for b, _ in parts.values())
     return Cost(
         what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from rods import cost
 from rods.preflight import InputError
 from rods.scene import SceneError
+from rods.study import jobs
 
 from .conftest import SCENES, in_process, run_workflow
 
@@ -402,6 +403,15 @@ def test_a_memory_refusal_names_what_the_memory_goes_to(scene_with, monkeypatch)
     with pytest.raises(InputError, match="the cut record .* GB: coarser sizes") as e:
         cost.check(recording)
     assert "simulation.output_interval" not in str(e.value)
+    # the --record-* options are named only where the user has them (global.py --record-cut): a driver and a study
+    # record their contact phase every step (a corner audit: run.py refused for 25 GB was told --record-every)
+    assert "--record-every" not in recording.memory_parts
+    assert "--record-every" in cost.fe_cost(sc, record_until=sc.end_time, record_flags=True).memory_parts
+    driver = jobs.global_cost(sc, 1, driver=True, phase=2e-4)
+    assert (
+        "--record-every" not in driver.memory_parts
+        and "--record-every" in jobs.global_cost(sc, 1, record_cut=True).memory_parts
+    )
 
 
 def test_an_end_time_below_one_step_is_refused_before_the_set_up(scene_with):

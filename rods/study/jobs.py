@@ -59,7 +59,7 @@ def global_cost(
     sc = plan.submodel_driver(scene, phase) if driver else scene
     until = cut_record_end(sc, record_until) if driver or record_cut else None
     what = "the driving global" if driver else "the global"
-    return cost.fe_cost(sc, ranks, what=what, record_until=until, record_every=record_every)
+    return cost.fe_cost(sc, ranks, what=what, record_until=until, record_every=record_every, record_flags=record_cut)
 
 
 def submodel_cost(
