@@ -130,7 +130,7 @@ import numpy as np
 
 from rods import hertz, metrics
 from rods.compare import measured
-from rods.scene import PEAK_FORCE_TARGET, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS
+from rods.scene import PEAK_FORCE_TARGET, SUBMODEL_LEVEL_SIZES, SUBMODEL_LEVELS, TINY
 
 __all__ = [
     "AGREE_TRANSITS",
@@ -1202,6 +1202,11 @@ def _finer(row: Mapping[str, Any]) -> str:
     if finer:
         return f"add '{finer[0]}' to submodel.levels"
     h = 0.5e-3 * row["h_mm"]  # [m]
+    if h < TINY["size"]:  # the ladder ends at the schema's smallest fe.radial_size: no finer run is accepted
+        return (
+            f"{level or 'this size'} is the finest level of the ladder, at the smallest element size accepted "
+            f"({TINY['size']:g} m): no finer submodel runs; read this contact's values as unconverged"
+        )
     return (
         f"{level or 'this size'} is the finest level of the ladder: run workflows/submodel.py --global DRIVER "
         f"--size {h:.3g} (half its size)"

@@ -498,7 +498,7 @@ def fe_cost(
     it is at hand, else the record the scene's driving global writes to ``end_time`` (:func:`_driver_record_bytes`;
     a fuzz measured 704 MB against a 191 MB plan that left it out)."""
     kind = scene["fe.kind"]
-    (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size)
+    (h_r, h, g), region, cells, dofs = _fe_mesh(scene, size, axial_size, what, remedy)
     end = scene.end_time if end_time is None else end_time
     # the step given, by the key that gave it: a global's fe.dt, a submodel's own --dt (not its global's fe.dt)
     given = ("fe.dt" if scene["fe.dt"] != "auto" else None) if size is None else ("--dt" if dt != "auto" else None)
@@ -653,10 +653,11 @@ def _symmetry_remedy(scene: Scene) -> str:
 
 
 def _fe_mesh(
-    scene: Scene, size: float | None, axial_size: float | None
+    scene: Scene, size: float | None, axial_size: float | None, what: str = "the submodel", remedy: str = ""
 ) -> tuple[tuple[float, float, float], Scene | None, float, float]:
     """The sizes (across, along [m], tip grading), the region (an axisymmetric submodel's own scene, on which its
-    mesh and step are counted; else ``scene`` or, in 3D, None), cells and DOFs of :func:`fe_cost`'s mesh."""
+    mesh and step are counted; else ``scene`` or, in 3D, None), cells and DOFs of :func:`fe_cost`'s mesh (``what``,
+    ``remedy``: a submodel's, as :func:`fe_cost`'s, for :func:`_check_across`)."""
     if size is None:
         h_r, h, g = scene["fe.radial_size"], scene["fe.axial_size"], scene.tip_grading
         lengths = (scene.rod1.length, scene.rod2.length)
@@ -666,7 +667,7 @@ def _fe_mesh(
     if scene["fe.kind"] == "3d":
         return (h_r, h, g), None, *_mesh_3d(scene, h_r, h, g, lengths)
     region = scene if size is None else _submodel_region(scene, size, axial_size)
-    _check_across(region, h_r, size)
+    _check_across(region, h_r, size, what, remedy)
     return (h_r, h, g), region, *_mesh_axisymmetric(region, h_r, h, g)
 
 
@@ -678,17 +679,20 @@ def _fe_mesh(
 MAX_ACROSS = 1_000_000
 
 
-def _check_across(region: Scene, h_r: float, size: float | None) -> None:
+def _check_across(region: Scene, h_r: float, size: float | None, what: str = "the submodel", remedy: str = "") -> None:
     """Refuse (exit 2, before any per-element counting) an axisymmetric mesh of more than :data:`MAX_ACROSS`
-    elements across a rod's radius: its columns' counts (rods.fe.layout.scene_columns) are a few numbers each."""
+    elements across a rod's radius: its columns' counts (rods.fe.layout.scene_columns) are a few numbers each. A
+    submodel's refusal names the stage ``what`` and its caller's ``remedy`` (a study's level is no --size of its)."""
     from rods.fe.layout import scene_columns
 
     across = max(sum(c.n for c in columns) for columns in scene_columns(region))
     if across > MAX_ACROSS:
-        what, remedy = ("fe.radial_size", "a larger fe.radial_size") if size is None else ("--size", "a larger --size")
+        if size is None:
+            what, remedy = "fe.radial_size", "a larger fe.radial_size"
         raise InputError(
             what, h_r, f"{across:.3g} elements across a rod's radius, above {MAX_ACROSS:.0e} (a mesh no machine's "
-            "memory holds)", f"{remedy}, or fe.radial_grading = 'graded' (fine only around the patch)",
+            "memory holds)", f"{remedy or 'a coarser level'}, or fe.radial_grading = 'graded' (fine only around the "
+            "patch)",
         )  # fmt: skip
 
 

@@ -319,7 +319,7 @@ def check_levels(scene: Scene) -> None:
     """Refuse (SceneError, before anything runs) ``submodel.levels`` given as a list that no submodel would use: the
     effects ask for none (no contact_patch or subsurface_stress), or none of them is finer across the contact than
     the global mesh while the ladder has one (the submodels would add cost, not resolution; where even the finest
-    level is not finer, "auto" picks it and :func:`make_plan` says so)."""
+    level is not finer, "auto" picks none and :func:`make_plan` says so)."""
     levels = scene.values["submodel.levels"]
     if levels == "auto":
         return

@@ -297,6 +297,13 @@ class FolderClaim:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError as e:
                 os.close(fd)
+                if e.errno == errno.EBADF:  # a read-only descriptor (:meth:`_open`) where flock is byte-range (NFS)
+                    self.release()
+                    raise InputError(
+                        what, out, f"its {LOCK} is another user's and cannot be locked through a read-only descriptor "
+                        "on this file system", f"remove {self.path} (no run holds it when none is writing there), or "
+                        "give another folder",
+                    ) from None  # fmt: skip
                 if e.errno not in BUSY:  # no locks on this file system: not held
                     with contextlib.suppress(OSError):
                         self.path.unlink()

@@ -232,6 +232,7 @@ MAX_TIP_RADIUS = 1e4  # [m] a curved tip's largest radius: the Hertz stiffness g
 # diameter in ~1e-10 s), but above where a scene's cell, step and sample counts overflow a float (5e-324 m/s, a
 # 1e-160 m element: OverflowError and ZeroDivisionError instead of a refusal naming the key)
 TINY = {"diameter": 1e-6, "size": 1e-8, "time": 1e-12, "dt": 1e-15, "speed": 1e-9}
+MAX_SIZE = 0.1  # largest fe.axial_size and fe.radial_size [m]
 MIN_YIELD_STRAIN = 1e-5  # lowest yield_strength / youngs_modulus accepted: a tenth of the softest metals' [-]
 
 
@@ -340,11 +341,11 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.kind": ("str", "axisymmetric", _choice(FE_KINDS)),
     # auto: the paper's 1 mm on its 12.7 mm rods (diameter / AXIAL_PER_DIAMETER), finer where the contact force
     # rises so fast that the rods ring (Scene.axial_size: a stiff, wide contact)
-    "fe.axial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
+    "fe.axial_size": ("float|auto", "auto", _positive("m", hi=MAX_SIZE, lo=TINY["size"])),
     # auto: 4-13.7 elements across the expected contact radius (Scene.radial_size, Scene.patch_elements: 6 and more
     # where the peak rests on the contact stiffness), so any scene's patch is resolved (the paper's mesh, 0.25 mm, is
     # what auto gives there, 0.27 mm; at 0.05 m/s it gives 0.043 mm)
-    "fe.radial_size": ("float|auto", "auto", _positive("m", hi=0.1, lo=TINY["size"])),
+    "fe.radial_size": ("float|auto", "auto", _positive("m", hi=MAX_SIZE, lo=TINY["size"])),
     # auto: the tip elements as long as they are wide (fe.radial_size), so the contact patch is resolved
     "fe.tip_grading": ("float|auto", "auto", _interval(0.05, 1.0, closed_lo=True, closed_hi=True)),
     # axisymmetric only (the 3D section is an O-grid at fe.radial_size): rods.fe.layout.radial_columns; the submodels'
@@ -738,9 +739,9 @@ class Station:
 # the auto tip grading's floor [-], far below the schema's 0.05 for a set fe.tip_grading. At 0.05 a small patch got
 # tip elements deeper than they are wide: 2 mm rods at 1 mm/s (a = 8.6 µm, 0.97 µm across, 7.9 µm deep) read a peak
 # force +0.86% and a contact -1.16 µs from the analytical model with status "ok" (+0.43% at half the depth, +0.16%
-# square). 1e-7 is the schema's smallest fe.radial_size over its largest fe.axial_size (1e-8 / 0.1 m): square tip
+# square). The schema's smallest fe.radial_size over its largest fe.axial_size (1e-8 / 0.1 m = 1e-7): square tip
 # elements on every scene; the graded block costs log(1/g)/log(GROWTH) elements (at most 89)
-AUTO_TIP_GRADING_MIN = 1e-7
+AUTO_TIP_GRADING_MIN = TINY["size"] / MAX_SIZE
 
 
 def square_tip_grading(radial: float, axial: float) -> float:
@@ -860,14 +861,15 @@ class Scene:
 
     @cached_property
     def submodel_levels(self) -> list[str]:
-        """``submodel.levels`` resolved. "auto": three consecutive levels (:data:`SUBMODEL_LEVEL_SIZES`, the last
-        three where fewer remain) from the coarsest with :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P
-        at the impedance-bound force and :data:`BAR_ELEMENTS` across the thinner rod's radius (the global's auto
-        mesh where its peak is impedance-bound, :attr:`auto_radial_size`; a study's levels start there whatever
-        the peak rests on, each a halving: a global's 6 would double the submodel's costs for a level the study
-        refines past anyway). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the
-        paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): ultra-fine and the
-        two below it, 6.7, 13 and 27 elements across the patch, where the paper's three put 0.4, 0.8 and 1.7."""
+        """``submodel.levels`` resolved. "auto": three consecutive levels (:data:`SUBMODEL_LEVEL_SIZES`; where fewer
+        remain, those of the last three finer than the global, perhaps none) from the coarsest with
+        :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P at the impedance-bound force and
+        :data:`BAR_ELEMENTS` across the thinner rod's radius (the global's auto mesh where its peak is
+        impedance-bound, :attr:`auto_radial_size`; a study's levels start there whatever the peak rests on, each a
+        halving: a global's 6 would double the submodel's costs for a level the study refines past anyway). The paper
+        scene (a_P = 1.09 mm): coarse, mid, fine, the paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods
+        with a 5 mm tip (0.105 mm): ultra-fine and the two below it, 6.7, 13 and 27 elements across the patch, where
+        the paper's three put 0.4, 0.8 and 1.7."""
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
@@ -1292,7 +1294,7 @@ def _mesh_fits_rods(v: dict[str, Any]) -> None:
                 raise SceneError(k, v[k], f"must be <= {lim:g} m (rod {n} {what})")
     radius = min(v["rod1.diameter"], v["rod2.diameter"]) / 2  # [m]
     levels = v["submodel.levels"]
-    if set(v["effects"]) & set(SUBMODEL_EFFECTS) and levels != "auto":  # auto: finer than the global, so within it
+    if set(v["effects"]) & set(SUBMODEL_EFFECTS) and levels != "auto":  # auto: <= submodel_start_size <= radius
         for lv in levels:
             if SUBMODEL_LEVEL_SIZES[lv] > radius:  # the submodel mesh's limit, as fe.radial_size's: before any run
                 fit = [k for k, h in SUBMODEL_LEVEL_SIZES.items() if h <= radius]

@@ -99,6 +99,26 @@ def test_lock_file_of_another_user_is_opened_read_only(tmp_path, monkeypatch):
     claim.release()
 
 
+def test_a_lock_flock_cannot_take_is_refused_not_removed(tmp_path, monkeypatch):
+    """Where flock is byte-range (NFS) an exclusive lock through a read-only descriptor fails with EBADF: that is no
+    file system without locks, so the other user's lock file stays and the claim is refused (a review, 2026-12-07)."""
+    import errno
+
+    from rods import preflight
+
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / ".rods-lock").write_text("")
+
+    def flock(fd, op):
+        raise OSError(errno.EBADF, "Bad file descriptor")
+
+    monkeypatch.setattr(preflight.fcntl, "flock", flock)
+    with pytest.raises(preflight.InputError, match="read-only descriptor"):
+        preflight.FolderClaim(out)
+    assert (out / ".rods-lock").exists()
+
+
 # sizes ----------------------------------------------------------------------------------------------------------------
 def _quick_refusal(tmp_path, script: str, overrides: list[str], seconds: float, megabytes: float) -> str:
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # [kB]

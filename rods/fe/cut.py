@@ -389,12 +389,14 @@ def cut_weights(
     meshes = [V0.mesh] if V0.mesh is Vb.mesh else [V0.mesh, Vb.mesh]
     size = Vb.mesh.comm.allreduce(float(np.abs(Vb.mesh.geometry.x).max(initial=0.0)), op=MPI.MAX)  # [m]
     scale = 2.0 ** -math.floor(math.log2(size)) if size > 0.0 else 1.0  # [1/m] exact both ways
-    for m in meshes:
-        m.geometry.x[:] *= scale
+    scaled = []  # the meshes scaled so far: undone whatever stops the computation, even between the two
     try:
+        for m in meshes:
+            m.geometry.x[:] *= scale
+            scaled.append(m)
         return _cut_weights(V0, nodes0, cut_cells, Vb, node_of_dof, cells, n_nodes, tol)
     finally:
-        for m in meshes:
+        for m in scaled:
             m.geometry.x[:] /= scale
 
 

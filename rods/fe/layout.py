@@ -505,8 +505,12 @@ def graded_words(graded: tuple[bool, ...]) -> str:
 def progression(length: float, n: int, q: float) -> np.ndarray:
     """The sizes [m] of ``n`` elements growing by ``q`` that fill ``length`` [m]: the first length (q - 1)/(q^n - 1),
     or length/n where q = 1 (a deep cap's block of equal elements, :func:`_graded_counts`)."""
-    first = length / n if q == 1.0 else length * (q - 1.0) / (q**n - 1.0)
-    return first * q ** np.arange(n)
+    return first_size(length, n, q) * q ** np.arange(n)
+
+
+def first_size(length: float, n: int, q: float) -> float:
+    """The first of :func:`progression`'s sizes [m], without the other n - 1 (a block of 1.2e8 elements)."""
+    return length / n if q == 1.0 else length * (q - 1.0) / (q**n - 1.0)
 
 
 def element_sizes(columns: tuple[Column, ...]) -> np.ndarray:
@@ -579,8 +583,7 @@ def tip_row(layout: RodLayout) -> np.ndarray:
     r_face = np.asarray(face)
     r_top = np.asarray(split if split is not None else [*top[:-1], R])
     on_face = np.stack([r_face, cap_depth(r_face, rt)], axis=1)
-    first = 1.0 / n if ratio == 1.0 else (ratio - 1.0) / (ratio**n - 1.0)  # progression(1.0, n, ratio)[0], without
-    # its n sizes (a block of 1.2e8 elements along a 1 µm rod's partner allocated 1 GB in a dry run: a fuzz)
+    first = first_size(1.0, n, ratio)  # not progression()[0]: 1.2e8 sizes along a 1 µm rod's partner, 1 GB (a fuzz)
     below = on_face + first * (np.stack([r_top, np.full_like(r_top, z_end)], axis=1) - on_face)
     return np.stack([on_face[:-1], on_face[1:], below[:-1], below[1:]], axis=1)
 

@@ -7,7 +7,7 @@ output interval, mesh sizes, time step) must follow the scene and the FE histori
 The 3D model (a misaligned half model: the mesher's, the pairing's and the probes' tolerances would show at λ = 1e-3,
 12.7 µm rods, or 50 if any were absolute) and the submodel's cut weights (DOLFINx's point ownership has an absolute
 tolerance) are held to the same. The analytical model's counterpart:
-tests/test_checks.py::test_a_scene_scaled_in_size_is_judged_alike. About 15 s on one core.
+tests/test_checks.py::test_a_scene_scaled_in_size_is_judged_alike. About 8 s on one core.
 """
 
 from __future__ import annotations
