@@ -78,6 +78,8 @@ XML_LAG = 0.1  # frames fields.xdmf may leave unlisted during a run, per frame i
 FIELD_NAMES = ("displacement", "velocity", "sigma_zz", "sigma_rr", "sigma_tt", "von_mises", "contact_pressure")
 # a run folder's field files (module docstring; fields.h5: an older version's XDMF data), removed by a run afresh
 SERIES_FILES = ("fields.xdmf", "fields.h5", "fields", "fields.bp", "fields-restart-*.bp", ".fields.xdmf.*.tmp")
+# what a series writes into its fields/ folder, each through a temporary .<name>.tmp (XdmfSeries._write_h5)
+FOLDER_FILES = ("mesh.h5", "frame-*.h5")
 
 
 def discard(out: str | Path, comm) -> None:
@@ -101,7 +103,7 @@ def _discard_series_folder(folder: Path) -> None:
     """Remove the files a series writes into ``fields/`` (mesh.h5, frame-<k>.h5, their temporaries) and the folder
     where nothing else is left: an --out given a folder of the user's that holds a ``fields/`` of theirs keeps it (a
     fuzz: global.py --out DIR removed DIR/fields/ whole, whatever it held, with exit 0)."""
-    for pattern in ("mesh.h5", "frame-*.h5", ".mesh.h5.tmp", ".frame-*.h5.tmp"):
+    for pattern in (*FOLDER_FILES, *(f".{name}.tmp" for name in FOLDER_FILES)):
         for p in folder.glob(pattern):
             if p.is_file() or p.is_symlink():
                 p.unlink(missing_ok=True)
