@@ -1125,16 +1125,22 @@ def driver_warning(summary: Mapping[str, Any], driver: Mapping[str, Any], scene:
     """A warning when a submodel's peak contact force (``summary``) is further than :data:`AGREE_FORCE` from its
     driving global's (``driver``, a summary): the two resolve one impact, and the default mixed cut driving keeps
     them within 0.05% from the coarse level on (results/driver-study.md); traction driving was +2.4% at mid with
-    status "ok" (found by a probe), displacement driving +1% to +2% at coarse (the global's contact compliance)."""
+    status "ok" (found by a probe; the submodel rings against the prescribed traction), displacement driving +1% to
+    +2% at coarse (the global's contact compliance). The remedy names the cause of the driving in use."""
     F, Fd = summary.get("peak_contact_force"), driver.get("peak_contact_force")
     if not F or not Fd or abs(F / Fd - 1.0) <= AGREE_FORCE:
         return None
     driving = scene["submodel.driving"]
-    remedy = (
-        "the default mixed driving passes the global's waves without its contact compliance: submodel.driving = 'mixed'"
-        if driving != "mixed"
-        else "a finer level, or a finer driving global (fe.radial_size, and fe.axial_size on thick rods, whose ringing "
-        "the auto axial mesh of diameter/12.7 may not resolve)"
+    remedy = {
+        "displacement": "displacement driving prescribes the global's cut motion and so carries its contact "
+        "compliance; the default mixed driving passes the global's waves without it: submodel.driving = 'mixed'",
+        "traction": "traction driving reflects whatever the submodel's contact does differently from the global's "
+        "back into it (a free end for the difference), and the submodel rings; the default mixed driving lets that "
+        "difference leave unreflected: submodel.driving = 'mixed'",
+    }.get(
+        driving,
+        "a finer level, or a finer driving global (fe.radial_size, and fe.axial_size on thick rods, whose ringing "
+        "the auto axial mesh of diameter/12.7 may not resolve)",
     )
     return (
         f"peak_contact_force: the submodel's {F:.5g} N is {F / Fd - 1:+.2%} from its driving global's {Fd:.5g} N, "

@@ -668,11 +668,15 @@ def test_an_impact_beyond_small_strains_is_flagged(scene_with):
 
 def test_a_submodel_is_checked_against_its_driving_global(scene_with):
     """Within 0.5% of its driver's peak force: no warning; +2.4% (traction driving at mid, measured by a probe,
-    status "ok" before): a warning naming the driving and the default that does not carry the compliance."""
+    status "ok" before): a warning naming the driving, its own cause (traction: the submodel rings against the
+    prescribed traction; displacement: the global's contact compliance) and the default mixed driving."""
     driver = {"peak_contact_force": 5558.8}
     assert checks.driver_warning({"peak_contact_force": 5560.0}, driver, scene_with()) is None
     w = checks.driver_warning({"peak_contact_force": 5687.1}, driver, scene_with("submodel.driving=traction"))
     assert w.startswith("peak_contact_force") and "+2.31%" in w and "'traction'" in w and "= 'mixed'" in w
+    assert "rings" in w and "compliance" not in w  # traction driving carries no contact compliance of the global's
+    w = checks.driver_warning({"peak_contact_force": 5687.1}, driver, scene_with("submodel.driving=displacement"))
+    assert "'displacement'" in w and "contact compliance" in w and "rings" not in w and "= 'mixed'" in w
     w = checks.driver_warning({"peak_contact_force": 5400.0}, driver, scene_with("submodel.driving=mixed"))
     assert "-2.86%" in w and "finer level" in w
 
