@@ -455,11 +455,15 @@ def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
     """Dotted keys of a parsed scene's tables. A table given where a value belongs (``impact.speed = {}``) stays a
     value, refused by its type (an empty one vanished before: the key took its default, silently); a key set twice
     through a quoted dotted key and its table (``"rod1.length" = 0.3`` beside ``[rod1] length = 0.2``) is refused
-    (one of the two was dropped, silently)."""
+    (one of the two was dropped, silently). An empty table that is no scene table (``[simulaton]`` with no keys) stays
+    a key, refused as unknown (it vanished before: a fuzz, 2026-12-07)."""
     out: dict[str, Any] = {}
     for k, v in d.items():
         key = f"{prefix}{k}"
-        items = _flatten(v, key + ".") if isinstance(v, Mapping) and key not in SCHEMA else {key: v}
+        table = isinstance(v, Mapping) and key not in SCHEMA
+        if table and not v and not any(s.startswith(key + ".") for s in SCHEMA):
+            table = False
+        items = _flatten(v, key + ".") if table else {key: v}
         for name, value in items.items():
             if name in out:
                 raise SceneError(name, value, "is given twice (a quoted dotted key and its table)", "remedy: keep one")
@@ -1117,7 +1121,7 @@ def _stations(raw: Any, rods: tuple[Rod, Rod]) -> tuple[Station, ...]:
     return tuple(out)
 
 
-def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "") -> Scene:
+def scene_from_dict(data: Mapping[str, Any], overrides: Iterable[str] | None = (), source: str = "") -> Scene:
     """Validate a parsed scene (plus ``KEY=VALUE`` overrides) and build a :class:`Scene`."""
     data, overrides = copy.deepcopy(dict(data)), _override_list(overrides)
     given = copy.deepcopy(data)  # the values before the overrides: the label lists those that change one
@@ -1491,16 +1495,17 @@ def scene_from_summary(
     return dataclasses.replace(scene, overrides=by_key(last_per_key((*given, *scene.overrides))))
 
 
-def _override_list(overrides: Iterable[str] | str) -> tuple[str, ...]:
+def _override_list(overrides: Iterable[str] | str | None) -> tuple[str, ...]:
     """``overrides`` as KEY=VALUE strings: one string is one override (it was read letter by letter: "scene key 'i'
-    = None" for "impact.speed=1.0"); anything else but strings is refused naming the argument."""
-    given = (overrides,) if isinstance(overrides, str) else tuple(overrides)
+    = None" for "impact.speed=1.0"), None none (a TypeError of tuple(None) before); anything else but strings is
+    refused naming the argument."""
+    given = (overrides,) if isinstance(overrides, str) else () if overrides is None else tuple(overrides)
     if odd := [o for o in given if not isinstance(o, str)]:
         raise TypeError(f"overrides: KEY=VALUE strings, e.g. ['impact.speed=1.0'], not {odd[0]!r}")
     return given
 
 
-def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
+def load_scene(path: str | Path, overrides: Iterable[str] | None = ()) -> Scene:
     """Read, override and validate a scene file; raises SceneError on any problem."""
     p = Path(path)
     if not p.is_file():
