@@ -870,15 +870,20 @@ class Scene:
         :data:`PATCH_ELEMENTS` elements across the Hertz radius a_P at the impedance-bound force and
         :data:`BAR_ELEMENTS` across the thinner rod's radius (the global's auto mesh where its peak is
         impedance-bound, :attr:`auto_radial_size`; a study's levels start there whatever the peak rests on, each a
-        halving: a global's 6 would double the submodel's costs for a level the study refines past anyway). The paper
-        scene (a_P = 1.09 mm): coarse, mid, fine, the paper's; 1 m/s (0.84 mm): mid, fine, extra-fine; 1 mm rods
-        with a 5 mm tip (0.105 mm): ultra-fine and the two below it, 6.7, 13 and 27 elements across the patch, where
-        the paper's three put 0.4, 0.8 and 1.7."""
+        halving: a global's 6 would double the submodel's costs for a level the study refines past anyway), or later,
+        so that the finest is finer than the global across the contact where ``fe.radial_size`` is set finer than
+        all three (they would add cost, not resolution: the paper scene at 0.05 mm runs mid, fine, extra-fine; the
+        auto global is never that fine). The paper scene (a_P = 1.09 mm): coarse, mid, fine, the paper's; 1 m/s
+        (0.84 mm): mid, fine, extra-fine; 1 mm rods with a 5 mm tip (0.105 mm): ultra-fine and the two below it, 6.7,
+        13 and 27 elements across the patch, where the paper's three put 0.4, 0.8 and 1.7."""
         v = self.values["submodel.levels"]
         if v != "auto":
             return list(v)
         n, h_auto = len(SUBMODEL_LEVELS), self.submodel_start_size  # [m]
-        first = next((i for i, h in enumerate(SUBMODEL_LEVEL_SIZES.values()) if h <= h_auto), n)
+        sizes = list(SUBMODEL_LEVEL_SIZES.values())  # [m] coarse to fine
+        first = next((i for i, h in enumerate(sizes) if h <= h_auto), n)
+        # a global set finer than all three (paper scene, fe.radial_size = 0.05 mm): the three whose finest is finer
+        first = max(first, next((i for i, h in enumerate(sizes) if h < self.radial_size), n) - 2)
         if first <= n - 3:
             return list(SUBMODEL_LEVELS[first : first + 3])
         # past the ladder's fine end (a patch under ~0.1 µm): its finest levels that are finer than the global

@@ -413,6 +413,10 @@ def test_submodel_levels_wider_than_a_rod_are_refused_with_the_scene(scene_with)
         # 2 mm rubber rods: a patch as wide as the rod (0.99 mm); 8 across the 1 mm radius, as the global's auto mesh
         ((*MINI, *RUBBER), ["mid", "fine", "extra-fine"]),
         (("submodel.levels=['mid']",), ["mid"]),  # a list is taken as given
+        # a global set finer than the three (0.05 mm): from the three whose finest is finer than it, not coarse to fine
+        (("fe.radial_size=0.05e-3",), ["mid", "fine", "extra-fine"]),
+        (("fe.radial_size=0.0625e-3",), ["mid", "fine", "extra-fine"]),  # fine only as fine as the global
+        (("fe.radial_size=0.07e-3",), ["coarse", "mid", "fine"]),
     ],
 )
 def test_auto_submodel_levels_resolve_the_patch(scene_with, overrides, levels):
@@ -421,8 +425,10 @@ def test_auto_submodel_levels_resolve_the_patch(scene_with, overrides, levels):
     s = scene_with(*overrides)
     assert s["submodel.levels"] == s.submodel_levels == levels
     first = SUBMODEL_LEVEL_SIZES[levels[0]]
-    if len(levels) == 3 and levels[-1] != SUBMODEL_LEVELS[-1]:
+    if len(levels) == 3 and levels[-1] != SUBMODEL_LEVELS[-1] and s["fe.radial_size"] == "auto":
         assert s._impedance_patch[1] / first >= 4 > s._impedance_patch[1] / (2 * first)
+    if len(levels) == 3:
+        assert SUBMODEL_LEVEL_SIZES[levels[-1]] < s.radial_size  # the finest resolves more than the global
 
 
 def test_phase_members_step_the_edge_by_equal_fractions_of_an_element():
