@@ -698,9 +698,10 @@ def strain_warning(scene: Any, summary: Mapping[str, Any] | None = None) -> str 
     )
 
 
-def locking_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
-    """A warning when an FE run has a Poisson ratio above :data:`NU_LOCKING` (Q1 volumetric locking)."""
-    if not _fe(summary):
+def locking_warning(summary: Mapping[str, Any] | None, scene: Any) -> str | None:
+    """A warning when an FE run has a Poisson ratio above :data:`NU_LOCKING` (Q1 volumetric locking); ``summary``
+    None: on the scene alone (the plan's outlook of a run with an FE model asks it before the run)."""
+    if summary is not None and not _fe(summary):
         return None
     ν = max(r.material.poisson_ratio for r in scene.rods)
     if ν <= NU_LOCKING:

@@ -18,7 +18,8 @@ contact), and the rise time δ_P/s1 the impedance bound implies (rods.scene.Scen
 * **the global's mesh** (FE runs): sizes above :data:`rods.checks.COARSE_OK` x auto (rods.checks.coarse_warning, the
   run's own line), and the patch at Hertz's radius at P (rods.checks.patch_resolution: too few elements across it,
   or in 3D a node ring above :data:`rods.checks.RING_STEP_OK` of its area, as every 3D run this machine can afford
-  has: resolving it takes elements of ~27 µm on the paper scene).
+  has: resolving it takes elements of ~27 µm on the paper scene), and a Poisson ratio above
+  :data:`rods.checks.NU_LOCKING` (rods.checks.locking_warning: the Q1 elements lock; the run's own line).
 
 P bounds the analytical force from above and that force reaches it where it rises before a reflection returns
 (the paper scene's peak 1.3e-5 below it; a 6.5 mm tip at 0.5 m/s, rising longer, 5.3% below), so a rim or yield
@@ -84,7 +85,8 @@ def outlook(scene: Any, wave: bool = True, fe: bool = False) -> list[str]:
         lines.append(strain)
     if fe:  # the global's mesh: its sizes against auto (the scene alone), its patch at Hertz's radius at P, which
         # bounds the run's (a default 3D plan of 5-9 h said nothing of the node-ring warning every such run gives)
-        lines += [w for w in (checks.coarse_warning(scene), _patch_line(at_P["contact_radius"], P, scene)) if w]
+        checked = (checks.coarse_warning(scene), _patch_line(at_P["contact_radius"], P, scene))
+        lines += [w for w in (*checked, checks.locking_warning(None, scene)) if w]
     periods = scene.end_time / scene.rod2.round_trip_time  # Rod 2's round trips 2 L2/c2 the run holds [-]
     if wave and "wave_response" in scene.effects and periods < END_PERIODS:
         lines.append(

@@ -182,3 +182,16 @@ def test_a_coarse_global_foresees_its_resolution_and_patch_warnings(scene_with):
     assert _keys(lines) == ["fe.radial_size", "contact_radius"]
     assert lines[0] == checks.coarse_warning(sc)
     assert "1.09 elements across the 1.09 mm contact radius" in lines[1]
+
+
+@pytest.mark.parametrize("ν", [0.49, 0.4999])
+def test_a_near_incompressible_global_foresees_its_locking_warning(scene_with, ν):
+    """ν above rods.checks.NU_LOCKING: the global's run warns that its Q1 elements lock (an audit's ν = 0.4999 run:
+    +16.9%, locking named), and its plan said nothing. The FE plan's line is the run's, word for word; the analytical
+    model's plan has none (no elements)."""
+    sc = scene_with(*(f"rod{i}.material.poisson_ratio={ν}" for i in (1, 2)))
+    lines = outlook(sc, fe=True)
+    assert checks.locking_warning(None, sc) in lines
+    assert checks.locking_warning({"model": "fe-global"}, sc) == checks.locking_warning(None, sc)
+    assert not any(line.startswith("poisson_ratio") for line in outlook(sc))
+    assert checks.locking_warning(None, scene_with()) is None
