@@ -54,7 +54,7 @@ from scipy.linalg import lapack
 from rods.fe.backend import product
 from rods.fe.contact import PenaltyContact, _interp, _transpose
 
-__all__ = ["KinematicContact", "edge_radius", "solve_lcp"]
+__all__ = ["KinematicContact", "solve_lcp"]
 
 MAX_SWEEPS = 100  # active-set changes per step before giving up (a set of n pairs needs <= ~n)
 
@@ -104,32 +104,6 @@ def _cholesky(block: np.ndarray) -> np.ndarray:
             f"kinematic contact: the Delassus block is not positive definite (potrf info {info})"
         )
     return factor
-
-
-def edge_radius(r: np.ndarray, gap: np.ndarray, closed: np.ndarray) -> float:
-    """Contact radius [m] from the nodal gaps [m] at radii ``r`` (sorted) with the ``closed`` pairs at zero gap.
-
-    Near the edge of a smooth frictionless contact the separation grows as (r - a)^{3/2} (the pressure vanishes
-    as (a - r)^{1/2}; Johnson, Contact Mechanics, Sec. 4.2), so g^{2/3} is extrapolated linearly to zero from two
-    open nodes beyond the outermost closed slave r_k. The two are r_{k+2}, r_{k+3}, not the first open node: the
-    P1 surface between r_k (closed) and r_{k+1} is straight, so g_{k+1} is under-resolved (paper scene,
-    0.125 mm submodel at its peak: 0.094 µm against Hertz's 0.243 µm), which put the edge up to 3% out as it
-    passed between nodes; on the exact Hertz profile either pair is within 0.6% for a > 4 h. The result is kept
-    within [r_{k-1}, r_{k+1}], not [r_k, r_{k+1}]: the discrete contact closes a node that lies just beyond the
-    edge with a vanishing force (paper scene, 0.058 mm submodel at its peak: the outermost closed node 0.2 h beyond
-    Hertz's edge, carrying 1% of p0; clipped at it, the radius read +1.05%, extrapolated +0.08%). Falls back to
-    r_{k+1}, r_{k+2}, then to r_k, where there are not enough open nodes with growing gaps."""
-    act = np.flatnonzero(closed)
-    if act.size == 0:
-        return 0.0
-    k = act[-1]
-    for j in (2, 1):
-        i = k + j
-        if i + 1 < r.size and 0.0 < gap[i] < gap[i + 1]:
-            s1, s2 = gap[i] ** (2.0 / 3.0), gap[i + 1] ** (2.0 / 3.0)
-            a = r[i] - s1 * (r[i + 1] - r[i]) / (s2 - s1)
-            return float(min(max(a, r[max(k - 1, 0)]), r[k + 1]))  # (np.clip on a scalar: ~7 µs, every record)
-    return float(r[k])
 
 
 class KinematicContact(PenaltyContact):
@@ -247,12 +221,6 @@ class KinematicContact(PenaltyContact):
         """As :meth:`PenaltyContact.add_force`, nothing while every pair is open (the forces are zero)."""
         if self._closed:
             super().add_force(y, scale)
-
-    def radius(self) -> float:
-        """Contact radius [m] (:func:`edge_radius`); 3D: sqrt(A/π), as for the penalty law."""
-        if self.three_d:
-            return super().radius()
-        return edge_radius(self.slave.r, self.gap, self.pressure > 0)
 
     def slave_forces(self, u) -> np.ndarray:  # noqa: ARG002
         """The slave forces F_s [N] of the last step (not a function of u: they are constraint forces)."""

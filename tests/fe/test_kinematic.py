@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from mpi4py import MPI
 
 from rods.fe.explicit import CentralDifference
-from rods.fe.kinematic import KinematicContact, edge_radius, solve_lcp
+from rods.fe.kinematic import KinematicContact, solve_lcp
 from rods.fe.recorder import Recorder
 from tests.fe.test_contact import R_CAP
 from tests.fe.toy import petsc_matrix, tip
@@ -135,50 +135,6 @@ def test_elastic_impact_never_penetrates_and_closes_the_energy_balance():
     assert summary["energy_error"] < 1e-10  # ... and the balance, with it counted, is closed
     p = s.backend.to_host(mass * s.v).sum()
     assert p == pytest.approx(mass @ v0, rel=1e-12)  # the contact impulses cancel pairwise
-
-
-@pytest.mark.parametrize("a", [0.31e-3, 0.5e-3, 0.549e-3])  # [m]
-def test_edge_radius_recovers_a_three_halves_gap(a):
-    """Exact for the (r - a)^{3/2} separation outside a smooth contact, wherever the edge falls between nodes."""
-    r = np.linspace(0.0, 1e-3, 21)  # [m]
-    gap = 3e-2 * np.clip(r - a, 0.0, None) ** 1.5  # [m]
-    assert edge_radius(r, gap, gap == 0.0) == pytest.approx(a, rel=1e-12)
-    assert edge_radius(r, gap, np.zeros(r.size, dtype=bool)) == 0.0
-
-
-def hertz_separation(r: np.ndarray, a: float, R: float) -> np.ndarray:
-    """Separation [m] of a Hertz contact of radius a [m] and relative radius R [m] (Johnson, Sec. 4.2):
-    r²/2R - δ + ū_z(r), ū_z the summed surface displacement of the elliptical pressure, zero for r <= a."""
-    ro = np.maximum(r, a)
-    uz = ((2 * a * a - ro**2) * np.arcsin(a / ro) + a * np.sqrt(ro**2 - a * a)) / (np.pi * R)
-    return np.where(r > a, ro**2 / (2 * R) - a * a / R + uz, 0.0)
-
-
-@pytest.mark.parametrize("θ", [0.05, 0.2, 0.35])
-def test_edge_radius_when_a_node_closes_just_beyond_the_edge(θ):
-    """A node a fraction θ of an element beyond the Hertz edge closed with a vanishing force (as the discrete
-    contact does: measured 0.2 h at the 0.058 mm submodel): the open nodes' gaps still place the edge within
-    0.1% of a, not at that node (which would read up to θ h / a = 1.2% too wide here)."""
-    a, R, h = 1.091e-3, 35e-3, 0.0625e-3  # [m]
-    r = a + θ * h + h * np.arange(-18, 30)  # [m] node k = 18 at a + θ h
-    g = hertz_separation(r, a, R)
-    closed = r <= r[18]
-    g[closed] = 0.0
-    assert edge_radius(r, g, closed) == pytest.approx(a, rel=1e-3)
-
-
-@pytest.mark.parametrize("h", [0.25e-3, 0.125e-3, 0.0625e-3])
-def test_edge_radius_on_the_hertz_profile_wherever_the_edge_falls(h):
-    """The paper scene's contact at peak (a = 1.09 mm, R = 35 mm) on nodes spaced h, the edge at 40 positions
-    between two nodes: within 0.6% of a at h = 0.25 mm (the pure 3/2 law is exact only as r -> a), the error
-    falling at least as h^1.5."""
-    a, R = 1.091e-3, 35e-3  # [m]
-    errors = []
-    for θ in np.linspace(0.0, 1.0, 40, endpoint=False):
-        r = np.arange(0.0, 3e-3, h) + θ * h  # [m]
-        g = hertz_separation(r, a, R)
-        errors.append(edge_radius(r, g, g == 0.0) / a - 1.0)
-    assert np.abs(errors).max() < 0.006 * (h / 0.25e-3) ** 1.5 + 1e-4
 
 
 @pytest.mark.parametrize("overlap", [False, True], ids=["after-product", "overlap"])
