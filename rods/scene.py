@@ -364,7 +364,8 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.03% and
     # the first contact < 0.4 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md); step ~ 1/sqrt(factor).
     # Softer layers lengthen the contact (paper scene: 1 x +1.8 µs, 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7% force):
-    # below SOFT_PENALTY a run warns (rods.checks.contact_layer_warning)
+    # a run whose layer penetrates more than rods.checks.LAYER_SHARE_OK of Hertz's approach warns
+    # (rods.checks.contact_layer_warning)
     "fe.penalty": ("float", 10.0, _positive("x E*/h", hi=1e4)),
     # penalty law only: viscous damping of each contact pair, fraction of critical (rods.fe.contact)
     "fe.contact_damping": ("float", 0.2, _interval(0.0, 0.5, "of critical", closed_lo=True, closed_hi=True)),
