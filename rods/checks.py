@@ -1120,6 +1120,11 @@ def agreement_warnings(
         remedy = PAPER_LAW_REMEDY  # chosen, not fallen back to (a patch as wide as the rods: its own warning)
     if any(w.startswith("misalignment: the analytical model is centric") for w in analytical.get("warnings", [])):
         remedy = MISALIGNED_REMEDY  # the mesh is not what differs (the gap stays on a finer one)
+    if (share := layer_share(fe, scene)) is not None and share > LAYER_SHARE_OK:  # its own warning says it too
+        remedy = (
+            f"the FE's penalty layer penetrates {share:.1%} of Hertz's approach at the peak, and its compliance "
+            "lengthens the contact: a stiffer fe.penalty, or the kinematic contact (no layer)"
+        )
     if Fa and Ff and abs(Ff / Fa - 1.0) > AGREE_FORCE:
         found.append(
             f"peak_contact_force: the global FE model's {Ff:.5g} N is {Ff / Fa - 1:+.2%} from the analytical model's "

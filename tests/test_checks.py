@@ -352,6 +352,18 @@ def test_a_penalty_layer_is_judged_by_its_share_of_the_approach(scene_with, fact
         assert checks.contact_layer_warning(_penalty_run(sc, 2.0 / (math.pi * 13.7 * factor)), sc) is None
 
 
+def test_a_study_names_a_soft_penalty_layer_for_a_long_contact(scene_with):
+    """The study's agreement check on a penalty global whose layer penetrates 13% of the approach (1 x E*/h): its
+    +3.7 µs (an audit's drawn scene) is the layer's, and the remedy says so, not the mesh's or the 1D model's."""
+    sc = scene_with("fe.contact=penalty", "fe.penalty=1")
+    analytical = {"peak_contact_force": 5556.0, "contact_duration": 200e-6}
+    fe = {**_penalty_run(sc, 0.13), "contact_duration": 203.7e-6}
+    (w,) = checks.agreement_warnings(analytical, fe, sc)
+    assert w.startswith("contact_duration") and "penalty layer penetrates 13.0%" in w and "kinematic" in w
+    (w,) = checks.agreement_warnings(analytical, {**fe, "penalty": fe["penalty"] * 10}, sc)  # 1.3%: not the layer
+    assert "penalty layer" not in w and "fe.radial_size" in w
+
+
 def test_the_default_layer_passes_and_an_undamped_one_rattles(scene_with):
     """At the default 10 x E*/h on 4 elements across (1.6%): no warning; undamped: the rattle warning; the submodel
     is judged by its own factor; a kinematic run or a run without contact has no layer share."""
