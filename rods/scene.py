@@ -361,8 +361,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # of the stable step; below 1e-3 a run takes 1000 x the steps it needs for nothing
     "fe.dt_fraction": ("float", 0.8, _interval(1e-3, 1.0, closed_lo=True, closed_hi=True)),
     "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),
-    # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.03% and
-    # the first contact < 0.4 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md); step ~ 1/sqrt(factor).
+    # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.06% and
+    # the first contact < 0.6 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md), on drawn scenes < 0.3%
+    # and 0.15-0.65 µs, 1.2-1.3 µs on slow, 250 µs contacts (docs/models.md); step ~ 1/sqrt(factor).
     # Softer layers lengthen the contact (paper scene: 1 x +1.8 µs, 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7% force):
     # a run whose layer penetrates more than rods.checks.LAYER_SHARE_OK of Hertz's approach warns
     # (rods.checks.contact_layer_warning)
