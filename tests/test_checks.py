@@ -370,7 +370,13 @@ def test_the_default_layer_passes_and_an_undamped_one_rattles(scene_with):
     sc = scene_with("fe.contact=penalty")
     assert checks.contact_layer_warning(_penalty_run(sc, 0.016), sc) is None
     undamped = scene_with("fe.contact=penalty", "fe.contact_damping=0")
-    assert "rattles" in checks.contact_layer_warning(_penalty_run(undamped, 0.016), undamped)
+    assert checks.contact_layer_warning(_penalty_run(undamped, 0.016), undamped) is None
+    assert "rattles" in checks.contact_damping_warning(_penalty_run(undamped, 0.016), undamped)
+    assert checks.contact_damping_warning(_penalty_run(sc, 0.016), sc) is None
+    assert checks.contact_damping_warning({"contact": "kinematic"}, undamped) is None
+    # both where both apply (the damping's was hidden behind the layer's before)
+    assert checks.contact_layer_warning(_penalty_run(undamped, 0.05), undamped) is not None
+    assert checks.contact_damping_warning(_penalty_run(undamped, 0.05), undamped) is not None
     assert checks.contact_layer_warning({**_penalty_run(sc, 0.2), "contact": "kinematic"}, sc) is None
     assert checks.layer_share({**_penalty_run(sc, 0.2), "peak_contact_force": 0.0}, sc) is None
     sub = _penalty_run(sc, 0.05, model="fe-submodel-fine")
