@@ -149,16 +149,31 @@ OUT_OF_CACHE_DOF_STEPS_PER_SECOND = {"axisymmetric": 2.8e7}  # [1/s]
 CACHE_BYTES = 32 * 2**20  # [B] this machine's last-level cache, where the rates were measured (AMD EPYC, 32 MiB L3)
 IN_CACHE, OUT_OF_CACHE = 0.65, 1.6  # a rank's working set (LOOP_BYTES_PER_DOF x DOFs) over CACHE_BYTES [-]
 # the probe (machine_speed): a banded CSR matrix, each row the 18 entries of an axisymmetric stiffness row (9 nodes x
-# 2 components), y = A x, of as many rows as a run's per-rank working set (PROBE_ROWS_PER_DOF), rounded up to a power
-# of two so that a study's stages share probes, within PROBE_MIN_ROWS (a few ms with its build) and PROBE_ROWS (~0.22
-# GB, past any core's share of a cache: larger sets run at its rate)
+# 2 components; a 3D run's: 81, below), y = A x, of as many rows as a run's per-rank working set (PROBE_ROWS_PER_DOF),
+# rounded to a grid (PROBE_STEPS_PER_DOUBLING) so that a study's stages share probes, within PROBE_MIN_ROWS (a few ms
+# with its build) and PROBE_ROWS (~0.22 GB, past any core's share of a cache: larger sets run at its rate)
 PROBE_ROWS = 1_000_000  # [-]
 PROBE_MIN_ROWS = 1 << 15  # [-]
+# the probe's sizes: the nearest 2^(k/4) rows, within 9% of the run's working set. The next power of two put it up to
+# 2 x over, past a cache the run's mesh sits in: on the Intel Xeon (2026-12-08) the 3D probe read 3.0 x its reference
+# at 40k rows, 1.3 x at 65,536, the 2^16 a 38.8k-DOF run was probed at (its plan 2.9 x the run), and 1.5-2.6 x at the
+# next 2^(k/4), 46,341 (the cache's edge: rounding up kept it there)
+PROBE_STEPS_PER_DOUBLING = 4
 # a DOF's traffic per step over a probe row's (18 entries of 8 + 4 B, the row pointer, x and y: 236 B): its row's
 # entries, the row pointer and 48 B of vectors (rods.fe.backend), 268 B axisymmetric (18 entries), 1024 B in 3D (81)
 LOOP_BYTES_PER_DOF = {"axisymmetric": 268.0, "3d": 1024.0}  # [B]
-PROBE_ROWS_PER_DOF = {kind: b / 236.0 for kind, b in LOOP_BYTES_PER_DOF.items()}  # [-]
-PROBE_RATE_REFERENCE = 4.0e7  # [rows/s] the probe's rate that DOF_STEPS_PER_SECOND is paired with
+# a 3D run is probed with rows of its own shape (a hexahedral node's 27 neighbours x 3 components, 81 entries: 992 B a
+# row), at most PROBE_ROWS_3D (~0.26 GB): the axisymmetric probe's 18-entry rows did not carry over between machines,
+# the 3D loop per entry ran 0.76 x the 18-entry probe's rate on the AMD EPYC (32 MiB L3) where the rates were measured
+# and 2.0 x on an Intel Xeon (480 MiB L3, 2026-12-08): its plans read 2.6-3.1 x the run there
+PROBE_ROW_BYTES = {"axisymmetric": 236.0, "3d": 992.0}  # [B]
+PROBE_ROWS_3D = 1 << 18  # [-]
+PROBE_ROWS_PER_DOF = {kind: b / PROBE_ROW_BYTES[kind] for kind, b in LOOP_BYTES_PER_DOF.items()}  # [-]
+# [rows/s] the probe's rate that DOF_STEPS_PER_SECOND is paired with, per kind. 3D, 2026-12-08 on the Intel Xeon,
+# serial, idle: the 3D loop at 132k and 525k DOFs (paper-3d-coarse, a quarter of the paper rods at 0.5 x 1 mm; 305 and
+# 448 steps) 8.1e6 and 8.9e6 DOF-steps/s where the probe at their rows read 9.0e6 and 9.1e6 rows/s; a quarter of
+# paper-3d-coarse (38.8k DOFs, in that machine's cache) 1.7e7-2.0e7 where the probe at its own size read 2.2e7
+PROBE_RATE_REFERENCE = {"axisymmetric": 4.0e7, "3d": 7.2e6}
 ESTIMATE_METHOD = "working-set probe"  # how calibrated estimates a run (the probe benchmarks record it) [-]
 # [s] a probe older than this is measured again: one process planning many runs (the benchmarks, a notebook) tracks a
 # machine whose memory-bound rate moves within the hour (2026-11-29, here: 0.3x to 1x of the reference in one hour)
@@ -324,6 +339,7 @@ class Cost:
     memory_bound_time: float = 0.0
     speed: float | None = None  # [-] the machine_speed it was scaled by (None: the reference rates)
     probe_rows: int = 0  # [-] the probe's size for this run's working set per rank (probe_rows; 0: none, no CPU loop)
+    probe_kind: str = "axisymmetric"  # the probe's row shape (the run's kind: machine_speed)
     file_bytes: float = 0.0  # [B] what the run writes: histories, field frames, checkpoints, the cut record
     # what the plan cannot settle and the set-up will (a given step above the estimated stable limit), said after
     # the cost so that a dry run does not pass it as valid [-]
@@ -527,7 +543,7 @@ def fe_cost(
     memory = sum(b for b, _ in parts.values())
     return Cost(
         what, cells, dofs, steps, samples, values, memory, wall, ranks, setup, frames, field_bytes, remedy, bound,
-        file_bytes=files, probe_rows=probe_rows(kind, dofs, ranks) if bound > 0 else 0, caveat=caveat,
+        file_bytes=files, probe_rows=probe_rows(kind, dofs, ranks) if bound > 0 else 0, probe_kind=kind, caveat=caveat,
         cheaper=_symmetry_remedy(scene), memory_parts=_memory_parts(parts), step_remedy=_step_remedy(scene, size),
         ranks_remedy=_ranks_remedy(scene),
     )  # fmt: skip
@@ -731,9 +747,11 @@ def reference_rate(kind: str, dofs_per_rank: float) -> float:
 
 def probe_rows(kind: str, dofs: float, ranks: int) -> int:
     """The probe's rows for a loop over ``dofs`` DOFs on ``ranks`` ranks of ``kind`` (:data:`PROBE_ROWS_PER_DOF`):
-    the next power of two, within :data:`PROBE_MIN_ROWS` and :data:`PROBE_ROWS`."""
+    the nearest 2^(k/:data:`PROBE_STEPS_PER_DOUBLING`), within :data:`PROBE_MIN_ROWS` and :data:`PROBE_ROWS`
+    (:data:`PROBE_ROWS_3D` in 3D)."""
     rows = max(PROBE_ROWS_PER_DOF[kind] * dofs / ranks, PROBE_MIN_ROWS)
-    return min(1 << math.ceil(math.log2(rows)), PROBE_ROWS)
+    rounded = 2.0 ** (round(PROBE_STEPS_PER_DOUBLING * math.log2(rows)) / PROBE_STEPS_PER_DOUBLING)
+    return min(max(round(rounded), PROBE_MIN_ROWS), PROBE_ROWS_3D if kind == "3d" else PROBE_ROWS)
 
 
 def _driver_record_bytes(scene: Scene, until: float) -> float:
@@ -1027,35 +1045,40 @@ def check_disk(costs: Sequence[Cost], out: str | Path, comm: Any = None) -> None
         )  # fmt: skip
 
 
-_probes: dict[int, tuple[float, float]] = {}  # rows -> (_clock() of the probe, its speed)
+_probes: dict[tuple[str, int], tuple[float, float]] = {}  # (kind, rows) -> (_clock() of the probe, its speed)
 _clock = time.monotonic  # [s]
 
 
-def probe_is_stale(rows: int = PROBE_ROWS) -> bool:
+def probe_is_stale(rows: int = PROBE_ROWS, kind: str = "axisymmetric") -> bool:
     """Whether :func:`machine_speed` at ``rows`` would measure again (none yet, or older than :data:`PROBE_MAX_AGE`)."""
-    return rows not in _probes or _clock() - _probes[rows][0] > PROBE_MAX_AGE
+    return (kind, rows) not in _probes or _clock() - _probes[kind, rows][0] > PROBE_MAX_AGE
 
 
-def machine_speed(rows: int = PROBE_ROWS, refresh: bool | None = None) -> float:
+def machine_speed(rows: int = PROBE_ROWS, refresh: bool | None = None, kind: str = "axisymmetric") -> float:
     """This machine's rate at a working set of ``rows`` over the reference's [-]: the best of at least four products
-    y = A x of a banded CSR matrix (``rows`` rows of the axisymmetric row's 18 entries, spread as a structured mesh's:
-    in a core's cache where a small run's mesh is, past it at :data:`PROBE_ROWS`, ~0.22 GB, ~0.3 s with the build),
-    in rows/s over :data:`PROBE_RATE_REFERENCE`. Measured again where the last probe of this size is older than
-    :data:`PROBE_MAX_AGE` (``refresh`` overrides: under MPI one rank decides for all, :func:`calibrated`); 1.0 where
-    the memory for it is not available."""
+    y = A x of a banded CSR matrix (``rows`` rows of a ``kind`` stiffness row's entries, the axisymmetric 18 or the
+    3D 81, spread as a structured mesh's: in a core's cache where a small run's mesh is, past it at
+    :data:`PROBE_ROWS`, ~0.22 GB, ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE` of ``kind``.
+    Measured again where the last probe of this size is older than :data:`PROBE_MAX_AGE` (``refresh`` overrides:
+    under MPI one rank decides for all, :func:`calibrated`); 1.0 where the memory for it is not available."""
     if refresh is None:
-        refresh = probe_is_stale(rows)
-    if refresh or rows not in _probes:
-        _probes[rows] = (_clock(), _probe(rows))
-    return _probes[rows][1]
+        refresh = probe_is_stale(rows, kind)
+    if refresh or (kind, rows) not in _probes:
+        _probes[kind, rows] = (_clock(), _probe(rows, kind))
+    return _probes[kind, rows][1]
 
 
-def _probe(rows: int) -> float:
+def _probe(rows: int, kind: str = "axisymmetric") -> float:
     """One measurement of :func:`machine_speed` (no memory: 1.0)."""
     import scipy.sparse
 
-    nodes = np.array([-501, -500, -499, -1, 0, 1, 499, 500, 501])  # a node's neighbours, 500 nodes a mesh row
-    offsets = (2 * nodes[:, None] + np.arange(2)).ravel()  # [-] 2 components per node
+    if kind == "3d":  # a hexahedral node's 27 neighbours, 40 x 40 nodes a mesh layer, 3 components per node
+        step = np.array([-1, 0, 1])
+        nodes = (step[:, None, None] * 1600 + step[None, :, None] * 40 + step[None, None, :]).ravel()
+        offsets = (3 * nodes[:, None] + np.arange(3)).ravel()  # [-]
+    else:  # a quadrilateral node's 9, 500 nodes a mesh row, 2 components per node
+        nodes = np.array([-501, -500, -499, -1, 0, 1, 499, 500, 501])
+        offsets = (2 * nodes[:, None] + np.arange(2)).ravel()  # [-]
     n, k = rows, offsets.size
     if local_memory() < 4 * n * k * 12:  # values (8 B) and column indices (4 B), with room to spare
         return 1.0
@@ -1066,7 +1089,7 @@ def _probe(rows: int) -> float:
         t0 = time.perf_counter()
         a @ x
         best = min(best, time.perf_counter() - t0)
-    return n / best / PROBE_RATE_REFERENCE
+    return n / best / PROBE_RATE_REFERENCE[kind]
 
 
 def calibrated(costs: Sequence[Cost], comm: Any = None) -> list[Cost]:
@@ -1075,16 +1098,16 @@ def calibrated(costs: Sequence[Cost], comm: Any = None) -> list[Cost]:
     loop (the analytical model, a GPU's) as they are. Under MPI every rank of ``comm`` probes at once, as the run's
     ranks will share a node's cache and memory bandwidth, and all take the slowest. Every rank must call it with the
     same costs (they follow from the scene alone), so every rank plans and refuses alike."""
-    sizes = sorted({c.probe_rows for c in costs if c.memory_bound_time > 0 and c.probe_rows > 0})
+    sizes = sorted({(c.probe_kind, c.probe_rows) for c in costs if c.memory_bound_time > 0 and c.probe_rows > 0})
     if comm is None or comm.size == 1:
-        speeds = {rows: machine_speed(rows) for rows in sizes}
+        speeds = {(kind, rows): machine_speed(rows, kind=kind) for kind, rows in sizes}
     else:  # rank 0 says which probes are stale, so that every rank probes at once or none does
-        stale = comm.bcast([probe_is_stale(rows) for rows in sizes] if comm.rank == 0 else None, root=0)
+        stale = comm.bcast([probe_is_stale(rows, kind) for kind, rows in sizes] if comm.rank == 0 else None, root=0)
         speeds = {}
-        for rows, refresh in zip(sizes, stale, strict=True):
+        for (kind, rows), refresh in zip(sizes, stale, strict=True):
             comm.Barrier()
-            speeds[rows] = min(comm.allgather(machine_speed(rows, refresh)))
-    return [c.at_speed(speeds[c.probe_rows]) if c.probe_rows in speeds else c for c in costs]
+            speeds[kind, rows] = min(comm.allgather(machine_speed(rows, refresh, kind)))
+    return [c.at_speed(speeds[key]) if (key := (c.probe_kind, c.probe_rows)) in speeds else c for c in costs]
 
 
 def _analytical_memory_remedy(cost: Cost) -> str:
