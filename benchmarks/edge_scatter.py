@@ -2,7 +2,7 @@
 
     python benchmarks/edge_scatter.py [--levels fine extra-fine ...] [--work DIR] [--out results/edge-scatter]
 
-The submodel's contact radius is placed from the nodal gaps around the edge (rods.fe.kinematic.edge_radius); the
+The submodel's contact radius is placed from the nodal gaps around the edge (rods.fe.contact.edge_radius); the
 discrete contact set closes node by node, so the radius at one element size depends on where the Hertz edge falls
 between two tip nodes, not only on the size. This benchmark runs the default driver (rods.study.stages.driver, the
 scene's own global over the contact phase) once and the submodel at element sizes a few per cent either side of

@@ -244,10 +244,13 @@ RISE_TRANSITS = 2.0  # shortest 10-90% rise of the analytical force, in diameter
 RIM_FRACTION = 0.57
 END_ZONE = 2.0  # stations nearer a rod's end than this many diameters are in its Saint-Venant zone [-]
 # penalty layer of an "ok" run: its penetration at the peak as a share of Hertz's approach there (rods.checks.
-# layer_share), which widens the patch by about as much and lengthens the contact: an audit's 59 penalty runs on
-# eight scenes (2026-12-08), area excess over Hertz 0.9-1.2 x the share (x 1 E*/h: shares 6-14%, areas +8 to +16%,
-# durations +1 to +7 µs, each "ok" under the old fixed cut-off of 1 x E*/h; x 5: 1.3-2.9%, areas +1.3 to +2.9% over
-# the kinematic runs'); HERTZ_OK, the area tolerance, bounds it
+# layer_share), which widens the patch and lengthens the contact: an audit's 51 penalty runs on eight scenes
+# (2026-12-08), area excess over Hertz 0.9-1.2 x the share where the patch has 4 elements across (x 1 E*/h: shares
+# 6-14%, areas +8 to +16%, durations +1 to +7 µs, each "ok" under the old fixed cut-off of 1 x E*/h; x 5: shares 2.9%,
+# areas +1.5 to +3.6% over the kinematic runs'), up to 2 x the share on the slow contacts with 6-7 across (a 10 mm tip
+# at 0.2 m/s: x 5 1.9%, +3.6%, no warning; x 10 0.94%, +1.8%). 2%, HERTZ_OK, the area tolerance: a global's area is
+# no closer on its 4-6 elements across the patch (the kinematic runs there: -1.3% to +0.4%), and 1% would warn on the
+# default 10 x E*/h at 4 across (1.5%) everywhere, whose forces and durations are within the verification's targets
 LAYER_SHARE_OK = 0.02  # [-]
 # less damped rattles (0 of critical: peak +2.6%; 0.2, the default, and 0.5: within 0.05%)
 UNDAMPED = 0.1  # [of critical]
@@ -669,9 +672,13 @@ def layer_share(summary: Mapping[str, Any], scene: Any) -> float | None:
     [Pa/m], the summary's ``penalty``), as a share of Hertz's approach δ = a²/R* at its peak force [-]; None for a
     kinematic run or one without contact. The layer's compliance adds to Hertz's in series, so the penetrating
     region is wider by about this share in area (a² = R* δ) and the contact longer; on a patch of n elements across
-    a, 2/(π n f) at f x E*/h (1.5% at the default 10 and 4 across)."""
+    a, 2/(π n f) at f x E*/h (1.6% at the default 10 and 4 across; measured 1.5%)."""
     ε, p, F = summary.get("penalty"), summary.get("peak_contact_pressure"), summary.get("peak_contact_force")
-    if summary.get("contact") != "penalty" or not ε or not p or not F or F <= 0.0:
+    if summary.get("contact") != "penalty" or not all(
+        isinstance(x, float | int) and math.isfinite(x) for x in (ε, p, F)
+    ):
+        return None
+    if F <= 0.0 or p <= 0.0 or ε <= 0.0:
         return None
     return float(p / ε / hertz.approach(F, *hertz.contact_constants(scene.rod1, scene.rod2)))
 
@@ -692,9 +699,9 @@ def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
         return (
             f"{key}: the penalty layer's penetration at the peak, {depth * 1e6:.3g} µm, is {share:.1%} of Hertz's "
             f"approach at the peak force, above {LAYER_SHARE_OK:.0%}: the layer's compliance widens the patch by about "
-            "as much (contact area) and lengthens the contact (measured at 1 x E*/h: areas +8 to +16%, durations +1 to "
-            f"+7 µs); {key} = {stiffer:.3g} puts it at {0.5 * LAYER_SHARE_OK:.0%} (a shorter stable step), or the "
-            "kinematic contact (fe.contact = 'kinematic', the default) has no layer"
+            "as much or up to twice (contact area) and lengthens the contact (measured at 1 x E*/h: areas +8 to +16%, "
+            f"durations +1 to +7 µs); {key} = {stiffer:.3g} puts it at {0.5 * LAYER_SHARE_OK:.0%} (a shorter stable "
+            "step), or the kinematic contact (fe.contact = 'kinematic', the default) has no layer"
         )
     return None
 
@@ -702,12 +709,12 @@ def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
 def contact_damping_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     """A warning for a penalty layer damped below :data:`UNDAMPED` of critical: it rattles and its spikes raise the
     peak (beside :func:`contact_layer_warning`, which it used to be hidden behind; where it warns, the peak's
-    ringing check is not asked: it blamed the mesh for +2.5 to +4.8% undamped peaks on an audit's scenes)."""
+    ringing check is not asked: it blamed the mesh for +2.5 to +4.8% undamped peaks on four of an audit's scenes)."""
     if summary.get("contact") != "penalty" or scene["fe.contact_damping"] >= UNDAMPED:
         return None
     return (
         f"fe.contact_damping: {scene['fe.contact_damping']:g} of critical: the penalty layer rattles and raises "
-        f"the peak (undamped, 10 x E*/h: +2.6% on the paper scene, its 2 µs average +0.4%; +2.5 to +5.3% on drawn "
+        f"the peak (undamped, 10 x E*/h: +2.6% on the paper scene, its 2 µs average +0.4%; +0.1 to +5.3% on drawn "
         f"scenes); use {UNDAMPED:g} or more"
     )
 
@@ -1131,8 +1138,9 @@ def agreement_warnings(
         remedy = MISALIGNED_REMEDY  # the mesh is not what differs (the gap stays on a finer one)
     if (share := layer_share(fe, scene)) is not None and share > LAYER_SHARE_OK:  # its own warning says it too
         remedy = (
-            f"the FE's penalty layer penetrates {share:.1%} of Hertz's approach at the peak, and its compliance "
-            "lengthens the contact: a stiffer fe.penalty, or the kinematic contact (no layer)"
+            f"{remedy}; here also the FE's penalty layer, which penetrates {share:.1%} of Hertz's approach at the "
+            "peak: its compliance lowers the force and lengthens the contact (a stiffer fe.penalty, or the kinematic "
+            "contact, which has no layer)"
         )
     if Fa and Ff and abs(Ff / Fa - 1.0) > AGREE_FORCE:
         found.append(

@@ -33,8 +33,9 @@ estimates"):
   where the run's mesh is, out of it where it is not) timed on every rank at once (milliseconds for a small run,
   about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against :data:`PROBE_RATE_REFERENCE`: the
   reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (idle: 3.5e7
-  axisymmetric, long runs serial and on 2 ranks, 2026-12-07, and 2.8e7 past the cache, :func:`reference_rate`; 6.8e6
-  in 3D, serial, 2026-12-06). Set-up 1.2e-5 s
+  axisymmetric, long runs serial and on 2 ranks, 2026-12-07 on an AMD EPYC, and 2.8e7 past the cache,
+  :func:`reference_rate`; 6.8e6 in 3D where the 3D-shaped probe reads its 7.2e6 rows/s, serial, 2026-12-08 on an Intel
+  Xeon: the 3D pair is measured on that machine only). Set-up 1.2e-5 s
   per DOF axisymmetric and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s
   at 132k on 2026-11-27, 6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at
   398k);
@@ -130,8 +131,9 @@ BYTES_PER_VALUE = 33.0
 # [1/s]: the loop's rate x PROBE_RATE_REFERENCE / the probe's, measured 2026-12-06 on this idle machine, serial (the
 # paper rods, coarsened, 600 steps, best of 2; the probe at each mesh's probe_rows, best of 5): axisymmetric 3.0e7
 # at 23k DOFs, 2.8e7 at 103k, 2.1e7 at 299k, 2.3e7 at 398k (the loop 8.6e7, 6.9e7, 5.4e7, 6.1e7; the probe 101 to
-# 117 M rows/s); 3D 6.7e6 at 132k, 6.8e6 at 83k (the loop 1.78e7, 1.81e7). 2026-11-27: 3.3e7 and 8.5e6 at the 1M-row
-# probe alone. Axisymmetric 3.5e7 since 2026-12-07: those 600-step runs carry the loop's one-off costs (first
+# 117 M rows/s); 3D 6.7e6 at 132k, 6.8e6 at 83k (the loop 1.78e7, 1.81e7) at the 18-entry probe, which 3D no longer
+# uses: its 6.8e6 is paired with PROBE_RATE_REFERENCE["3d"] since 2026-12-08. 2026-11-27: 3.3e7 and 8.5e6 at the
+# 1M-row probe alone. Axisymmetric 3.5e7 since 2026-12-07: those 600-step runs carry the loop's one-off costs (first
 # touches, the last step's output) in their steps, and the runs users make are long; the plans of long runs (1.3
 # contact phases of drawn scenes, 5k-49k steps) came out 1.31x (seed 61213, 2 ranks, 2026-12-07) and 1.46x, 1.52x
 # (seed 61214, 2 ranks and serial, the same day) of the measured global stage, median, at 2.5e7: the loop's rate
@@ -153,7 +155,8 @@ IN_CACHE, OUT_OF_CACHE = 0.65, 1.6  # a rank's working set (LOOP_BYTES_PER_DOF x
 # rounded to a grid (PROBE_STEPS_PER_DOUBLING) so that a study's stages share probes, within PROBE_MIN_ROWS (a few ms
 # with its build) and PROBE_ROWS (~0.22 GB, past any core's share of a cache: larger sets run at its rate)
 PROBE_ROWS = 1_000_000  # [-]
-PROBE_MIN_ROWS = 1 << 15  # [-]
+PROBE_MIN_ROWS = 1 << 15  # [-] (7.7 MB of 18-entry rows)
+PROBE_MIN_ROWS_3D = 1 << 13  # [-] (8.1 MB of 81-entry rows: a small 3D run's mesh in cache, as the axisymmetric one)
 # the probe's sizes: the nearest 2^(k/4) rows, within 9% of the run's working set. The next power of two put it up to
 # 2 x over, past a cache the run's mesh sits in: on the Intel Xeon (2026-12-08) the 3D probe read 3.0 x its reference
 # at 40k rows, 1.3 x at 65,536, the 2^16 a 38.8k-DOF run was probed at (its plan 2.9 x the run), and 1.5-2.6 x at the
@@ -170,9 +173,10 @@ PROBE_ROW_BYTES = {"axisymmetric": 236.0, "3d": 992.0}  # [B]
 PROBE_ROWS_3D = 1 << 18  # [-]
 PROBE_ROWS_PER_DOF = {kind: b / PROBE_ROW_BYTES[kind] for kind, b in LOOP_BYTES_PER_DOF.items()}  # [-]
 # [rows/s] the probe's rate that DOF_STEPS_PER_SECOND is paired with, per kind. 3D, 2026-12-08 on the Intel Xeon,
-# serial, idle: the 3D loop at 132k and 525k DOFs (paper-3d-coarse, a quarter of the paper rods at 0.5 x 1 mm; 305 and
-# 448 steps) 8.1e6 and 8.9e6 DOF-steps/s where the probe at their rows read 9.0e6 and 9.1e6 rows/s; a quarter of
-# paper-3d-coarse (38.8k DOFs, in that machine's cache) 1.7e7-2.0e7 where the probe at its own size read 2.2e7
+# serial, idle, at the probe then sized to the next power of two (262,144 rows for both, the cap: 525k DOFs need 542k):
+# the 3D loop at 132k and 525k DOFs (paper-3d-coarse, a quarter of the paper rods at 0.5 x 1 mm; 305 and 448 steps)
+# 8.1e6 and 8.9e6 DOF-steps/s where the probe read 9.0e6 and 9.1e6 rows/s; a quarter of paper-3d-coarse (38.8k DOFs,
+# in that machine's cache) 1.7e7-2.0e7 where the probe at its own size read 2.2e7. Not measured on the AMD EPYC
 PROBE_RATE_REFERENCE = {"axisymmetric": 4.0e7, "3d": 7.2e6}
 ESTIMATE_METHOD = "working-set probe"  # how calibrated estimates a run (the probe benchmarks record it) [-]
 # [s] a probe older than this is measured again: one process planning many runs (the benchmarks, a notebook) tracks a
@@ -748,10 +752,11 @@ def reference_rate(kind: str, dofs_per_rank: float) -> float:
 def probe_rows(kind: str, dofs: float, ranks: int) -> int:
     """The probe's rows for a loop over ``dofs`` DOFs on ``ranks`` ranks of ``kind`` (:data:`PROBE_ROWS_PER_DOF`):
     the nearest 2^(k/:data:`PROBE_STEPS_PER_DOUBLING`), within :data:`PROBE_MIN_ROWS` and :data:`PROBE_ROWS`
-    (:data:`PROBE_ROWS_3D` in 3D)."""
-    rows = max(PROBE_ROWS_PER_DOF[kind] * dofs / ranks, PROBE_MIN_ROWS)
+    (:data:`PROBE_MIN_ROWS_3D` and :data:`PROBE_ROWS_3D` in 3D)."""
+    least, most = (PROBE_MIN_ROWS_3D, PROBE_ROWS_3D) if kind == "3d" else (PROBE_MIN_ROWS, PROBE_ROWS)
+    rows = max(PROBE_ROWS_PER_DOF[kind] * dofs / ranks, least)
     rounded = 2.0 ** (round(PROBE_STEPS_PER_DOUBLING * math.log2(rows)) / PROBE_STEPS_PER_DOUBLING)
-    return min(max(round(rounded), PROBE_MIN_ROWS), PROBE_ROWS_3D if kind == "3d" else PROBE_ROWS)
+    return min(max(round(rounded), least), most)
 
 
 def _driver_record_bytes(scene: Scene, until: float) -> float:

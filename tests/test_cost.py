@@ -3,6 +3,7 @@ entry points refusing, exit 2 with one line and no folder, what would run into t
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import replace
@@ -242,8 +243,9 @@ def test_a_3d_time_estimate_is_the_measured_order():
 @pytest.mark.alone  # a wall time: not beside another test
 def test_a_memory_bound_run_is_estimated_at_this_machines_rate(scene_with):
     """A mesh too large for a core's cache (the paper scene at 0.25 x 0.125 mm, 398k DOFs, 10 µs, ~900 steps) runs
-    at the memory-bound rate: its time loop's estimate at this machine's probe (524288 rows: its working set's 452k
-    rounded up) and the out-of-cache rate is within 0.5x to 2.5x of the measured loop (2026-12-07: 0.84x and 0.93x;
+    at the memory-bound rate: its time loop's estimate at this machine's probe (440,872 rows, the nearest 2^(k/4) to
+    its working set's 452k; 524,288 until 2026-12-08) and the out-of-cache rate is within 0.5x to 2.5x of the
+    measured loop (2026-12-07, at 524,288 rows: 0.84x and 0.93x;
     at the in-cache rate 0.67x to 0.90x; the reference rates alone erred low 3.4x here at 1.57M DOFs before they were
     re-measured, and the same loop once ran 3x faster on this machine, 2026-11-22: a fixed rate cannot hold). Loop
     against loop: the plan's steps are its own count, above the run's (rods.cost.STEP_COUNT_BIAS)."""
@@ -310,10 +312,12 @@ def test_the_probe_is_sized_to_the_working_set(kind, dofs, ranks):
     up to the largest probe, never below the smallest."""
     rows = cost.probe_rows(kind, dofs, ranks)
     need = cost.PROBE_ROWS_PER_DOF[kind] * dofs / ranks
-    largest = cost.PROBE_ROWS_3D if kind == "3d" else cost.PROBE_ROWS
-    assert cost.PROBE_MIN_ROWS <= rows <= largest
+    least, largest = (
+        (cost.PROBE_MIN_ROWS_3D, cost.PROBE_ROWS_3D) if kind == "3d" else (cost.PROBE_MIN_ROWS, cost.PROBE_ROWS)
+    )
+    assert least <= rows <= largest
     step = 2.0 ** (0.5 / cost.PROBE_STEPS_PER_DOUBLING)  # [-] half a grid step: 1.09
-    assert rows in (largest, cost.PROBE_MIN_ROWS) or need / step <= rows * (1 + 1e-9) and rows <= need * step + 1
+    assert rows in (largest, least) or need / step <= rows * (1 + 1e-9) and rows <= need * step + 1
     assert rows == largest or need <= rows * step + 1  # never far under the run's set
 
 
@@ -326,6 +330,22 @@ def test_a_small_runs_probe_is_cheap():
     t0 = time.perf_counter()
     speed = cost._probe(cost.PROBE_MIN_ROWS)
     assert time.perf_counter() - t0 < 0.1 and speed > 0
+
+
+def test_a_3d_run_is_probed_with_its_own_rows(scene_with, monkeypatch):
+    """calibrated: an axisymmetric and a 3D run of the same probe rows get separate probes (the 3D one of 81-entry
+    rows, rods.cost._probe(rows, "3d")), each scaled by its own; a 3D probe at its smallest is ~8 MB, as the
+    axisymmetric one's, not the 32 MB of its 32k rows (past the AMD's 32 MiB cache)."""
+    readings = {"axisymmetric": 2.0, "3d": 0.5}
+    monkeypatch.setattr(cost, "_probe", lambda rows, kind: readings[kind])
+    monkeypatch.setattr(cost, "_probes", {})
+    axi, solid = cost.fe_cost(scene_with(*TINY)), cost.fe_cost(scene_with(*TINY, "fe.kind=3d", "fe.symmetry=quarter"))
+    solid = dataclasses.replace(solid, probe_rows=axi.probe_rows)  # the same size: only the kind tells them apart
+    fast, slow = cost.calibrated([axi, solid])
+    assert (fast.speed, slow.speed) == (2.0, 0.5) and set(cost._probes) == {("axisymmetric", axi.probe_rows),
+                                                                         ("3d", axi.probe_rows)}  # fmt: skip
+    assert cost.probe_rows("3d", 1.0, 1) * cost.PROBE_ROW_BYTES["3d"] < 1e7
+    assert cost.probe_rows("axisymmetric", 1.0, 1) * cost.PROBE_ROW_BYTES["axisymmetric"] < 1e7
 
 
 def test_the_probe_is_measured_again_when_it_ages(monkeypatch):
