@@ -1485,7 +1485,10 @@ def _misaligned_contact_on_the_tips(v: dict[str, Any]) -> None:
 
 
 def scene_from_summary(
-    values: Mapping[str, Any], overrides: Iterable[str] = (), source: str = "", given: Iterable[str] = ()
+    values: Mapping[str, Any],
+    overrides: Iterable[str] | None = (),
+    source: str = "",
+    given: Iterable[str] | None = (),
 ) -> Scene:
     """Rebuild a scene from a summary.json's ``scene_values`` (where inf was written as "inf"), ``overrides``
     applied; ``given``: the overrides that run was given (its summary's ``scene_overrides``), already in
@@ -1498,8 +1501,8 @@ def scene_from_summary(
             return [restore(v) for v in d]
         return math.inf if d == "inf" else d
 
-    scene = scene_from_dict(restore(values), tuple(overrides), source=source)
-    return dataclasses.replace(scene, overrides=by_key(last_per_key((*given, *scene.overrides))))
+    scene = scene_from_dict(restore(values), _override_list(overrides), source=source)  # one string is one override
+    return dataclasses.replace(scene, overrides=by_key(last_per_key((*_override_list(given), *scene.overrides))))
 
 
 def _override_list(overrides: Iterable[str] | str | None) -> tuple[str, ...]:

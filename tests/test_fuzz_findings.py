@@ -263,3 +263,14 @@ def test_no_overrides_may_be_given_as_none():
     from rods.scene import load_scene
 
     assert load_scene(PAPER, None) == load_scene(PAPER)
+
+
+def test_a_summarys_scene_takes_overrides_as_load_scene_does():
+    """scene_from_summary: None is no overrides (a TypeError), one string is one override (it was split into letters:
+    "scene key 'i' = None"), as load_scene and scene_from_dict take them."""
+    from rods.scene import load_scene, scene_from_summary
+
+    values = load_scene(PAPER).as_dict(json_safe=True)
+    assert scene_from_summary(values, None) == scene_from_summary(values)
+    assert scene_from_summary(values, "impact.speed=1.0")["impact.speed"] == 1.0
+    assert scene_from_summary(values, given="impact.speed=2.197").overrides == ("impact.speed=2.197",)
