@@ -674,11 +674,7 @@ def layer_share(summary: Mapping[str, Any], scene: Any) -> float | None:
     region is wider by about this share in area (a² = R* δ) and the contact longer; on a patch of n elements across
     a, 2/(π n f) at f x E*/h (1.6% at the default 10 and 4 across; measured 1.5%)."""
     ε, p, F = summary.get("penalty"), summary.get("peak_contact_pressure"), summary.get("peak_contact_force")
-    if summary.get("contact") != "penalty" or not all(
-        isinstance(x, float | int) and math.isfinite(x) for x in (ε, p, F)
-    ):
-        return None
-    if F <= 0.0 or p <= 0.0 or ε <= 0.0:
+    if summary.get("contact") != "penalty" or not all(measured(x) and x > 0.0 for x in (ε, p, F)):
         return None
     return float(p / ε / hertz.approach(F, *hertz.contact_constants(scene.rod1, scene.rod2)))
 

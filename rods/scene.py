@@ -462,9 +462,10 @@ def _flatten(d: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
     out: dict[str, Any] = {}
     for k, v in d.items():
         key = f"{prefix}{k}"
-        table = isinstance(v, Mapping) and key not in SCHEMA
-        if table and not v and not any(s.startswith(key + ".") for s in SCHEMA):
-            table = False
+        # an empty table is a table only where the scene has one of that name (else a key, refused as unknown)
+        table = (
+            isinstance(v, Mapping) and key not in SCHEMA and (bool(v) or any(s.startswith(key + ".") for s in SCHEMA))
+        )
         items = _flatten(v, key + ".") if table else {key: v}
         for name, value in items.items():
             if name in out:
@@ -1501,7 +1502,7 @@ def scene_from_summary(
             return [restore(v) for v in d]
         return math.inf if d == "inf" else d
 
-    scene = scene_from_dict(restore(values), _override_list(overrides), source=source)  # one string is one override
+    scene = scene_from_dict(restore(values), overrides, source=source)
     return dataclasses.replace(scene, overrides=by_key(last_per_key((*_override_list(given), *scene.overrides))))
 
 
