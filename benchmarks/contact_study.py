@@ -1,15 +1,16 @@
 """Contact study (issue 13): the kinematic (penalty-free) contact against the penalty law over its factor, at the
 default global mesh, on the paper scene and the paper rods at 1.0 m/s.
 
-    python benchmarks/contact_study.py [--factors 5 10 20 40] [--dampings 0.2 0] [--out results/contact-study]
+    python benchmarks/contact_study.py [--multiples 0.5 1 2 4] [--dampings 0.2 0] [--out results/contact-study]
 
 Each row runs the global model (one process) and the analytical model on the same scene and reports: peak force
 and first-contact duration against the analytical model, the Rod-2 midpoint strain RMS difference over
 rods.metrics.strain_window (paper scene, whole 1.5 ms), the energy-balance error (the kinematic contact's
 dissipation counted), the step and its limits (linear stability with the contact stiffness at full engagement,
 contact switching) and the cost per step (wall time of set-up + loop / steps, the loop dominates). The penalty
-factors are ε = factor x E*/h (h the tip element normal to the face); issue 13 asks that, if a contact
-stiffness setting remains, x0.5 to x4 of its default move the peak force by < 0.3% and the duration by < 1 µs.
+factors are ε = factor x E*/h (h the tip element normal to the face), --multiples of each scene's default
+(fe.penalty = "auto", rods.scene.Scene.auto_penalty); issue 13 asks that, if a contact stiffness setting remains,
+x0.5 to x4 of its default move the peak force by < 0.3% and the duration by < 1 µs.
 The penalty rows run at each contact damping of --dampings (fe.contact_damping; default: the scene default and
 undamped), and every row also reports its 2 µs-smoothed peak, which a rattle spike does not move.
 Writes --out + .json (read by the paper report), .md and .png.
@@ -39,7 +40,7 @@ from rods.compare import cell, measured  # noqa: E402
 from rods.fe.model import ExplicitModel  # noqa: E402
 from rods.hertz import YieldWarning  # noqa: E402
 from rods.paper import report  # noqa: E402  (the record's name in results/)
-from rods.scene import SCHEMA, load_scene  # noqa: E402
+from rods.scene import SCHEMA, Scene, load_scene  # noqa: E402
 from rods.study.figures import pyplot  # noqa: E402
 
 PAPER = ROOT / "workflows" / "scenes" / "paper.toml"
@@ -49,6 +50,16 @@ SCENES = {
     "paper rods, 1.0 m/s": (("impact.speed=1.0", "simulation.end_time=3e-4"), False),
 }
 TARGETS = {"peak_force": 0.003, "contact_duration": 1e-6}  # issue 13's insensitivity: [-], [s]
+
+
+def default_penalty(scene_name: str) -> float:
+    """The scene's default penalty factor [x E*/h] (``fe.penalty = "auto"`` under the penalty law)."""
+    return penalty_scene(scene_name)["fe.penalty"]
+
+
+def penalty_scene(scene_name: str, *extra: str) -> Scene:
+    """The scene of ``scene_name`` under the penalty law, with ``extra`` overrides."""
+    return load_scene(PAPER, [*SCENES[scene_name][0], "fe.contact='penalty'", *extra])
 
 
 def hertz_factor(scene_name: str, compliance: float) -> float:
@@ -97,6 +108,7 @@ def run(
         "scene": scene_name,
         "law": law,
         "factor": factor,
+        "multiple": None if factor is None else factor / default_penalty(scene_name),
         "basis": basis,
         "damping": sc["fe.contact_damping"] if law == "penalty" else None,
         "smoothed_peak_vs_analytical": metrics.smoothed_peak(h["time"], h["contact_force"], metrics.smoothing(sc))
@@ -129,25 +141,25 @@ def label(r: dict) -> str:
     ζ = f", ζ = {damping(r):g}" if damping(r) is not None else ""
     if r.get("basis", "element").startswith("hertz"):
         return f"penalty from Hertz, {float(r['basis'].split()[1]):.0%} compliance ({r['factor']:.3g} x E*/h{ζ})"
-    return f"penalty {r['factor']:g} x E*/h{ζ}"
+    return f"penalty {r['factor']:.3g} x E*/h{ζ}"
 
 
 def spread(rows: list[dict], key: str, lo: float, hi: float, ζ: float | None = None) -> float:
     """Largest minus smallest ``key`` over the penalty rows with lo <= factor <= hi (and contact damping ``ζ``, if
-    given)."""
+    given); lo and hi carry a part in 1e9 of slack, as a multiple of a computed default is not exact."""
     v = [
         r[key]
         for r in rows
         if r["law"] == "penalty"
         and r.get("basis") == "element"
-        and lo <= r["factor"] <= hi
+        and lo * (1 - 1e-9) <= r["factor"] <= hi * (1 + 1e-9)
         and (ζ is None or damping(r) == ζ)
     ]
     return max(v) - min(v) if v else float("nan")
 
 
 def render_md(data: dict) -> str:
-    p0 = data["default_penalty"]
+    defaults = data["default_penalty"]  # scene -> its default factor
     lines = [
         "# Contact study: kinematic contact and the penalty law at the default global mesh",
         "",
@@ -182,18 +194,20 @@ def render_md(data: dict) -> str:
         "Peak (2 µs mean): the largest 2 µs moving average of the force (rods.metrics.smoothed_peak); where it and the "
         "raw peak part, the raw peak is a rattle spike of the penalty layer.",
         "",
-        f"Penalty insensitivity over x0.5 to x4 of the default {p0:g} x E*/h (issue 13 targets: "
-        f"< {TARGETS['peak_force']:.1%} peak force, < {TARGETS['contact_duration'] * 1e6:g} µs duration):",
+        f"Penalty insensitivity over x0.5 to x4 of each scene's default factor (fe.penalty = 'auto'; issue 13 "
+        f"targets: < {TARGETS['peak_force']:.1%} peak force, < {TARGETS['contact_duration'] * 1e6:g} µs duration):",
         "",
     ]
     dampings = sorted({damping(r) for r in data["rows"] if damping(r) is not None}, reverse=True)
     for sc in SCENES:
-        rows = [r for r in data["rows"] if r["scene"] == sc]
+        rows, p0 = [r for r in data["rows"] if r["scene"] == sc], defaults[sc]
         for ζ in dampings or [None]:
             dF = spread(rows, "peak_force_vs_analytical", 0.5 * p0, 4 * p0, ζ)
             dT = spread(rows, "duration_vs_analytical", 0.5 * p0, 4 * p0, ζ)
             tag = "" if ζ is None else f" (contact damping ζ = {ζ:g}{', the default' if ζ == ζ0 else ''})"
-            lines.append(f"* {sc}{tag}: peak force spread {dF:.3%}, duration spread {dT * 1e6:.2f} µs")
+            lines.append(
+                f"* {sc}, default {p0:.3g} x E*/h{tag}: peak force spread {dF:.3%}, duration spread {dT * 1e6:.2f} µs"
+            )
     return "\n".join(lines) + "\n"
 
 
@@ -223,8 +237,9 @@ def plot(data: dict, curves: list[dict], path: Path) -> None:
 
 def main() -> None:
     ap = _cli.bare_parser(__doc__.splitlines()[0])
-    p0 = SCHEMA["fe.penalty"][1]
-    ap.add_argument("--factors", type=float, nargs="+", default=[0.5 * p0, p0, 2 * p0, 4 * p0])
+    ap.add_argument(
+        "--multiples", type=float, nargs="+", default=[0.5, 1.0, 2.0, 4.0], help="of each scene's default fe.penalty"
+    )
     ap.add_argument(
         "--hertz-compliance",
         type=float,
@@ -243,14 +258,17 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=ROOT / "results" / report.CONTACT_STUDY)
     args = ap.parse_args()
     _cli.output_file(args.out)  # before the runs: an unwritable --out was found at the last write
-    for f in args.factors:  # each penalty row's settings, before the kinematic rows run
-        load_scene(PAPER, ["fe.contact='penalty'", f"fe.penalty={f!r}"])
-    for ζ in args.dampings:
-        load_scene(PAPER, ["fe.contact='penalty'", f"fe.contact_damping={ζ!r}"])
+    defaults = {sc: default_penalty(sc) for sc in SCENES}
+    factors = {sc: [m * p0 for m in args.multiples] for sc, p0 in defaults.items()}
+    for sc in SCENES:  # each penalty row's settings, before the kinematic rows run
+        for f in factors[sc]:
+            penalty_scene(sc, f"fe.penalty={f!r}")
+        for ζ in args.dampings:
+            penalty_scene(sc, f"fe.contact_damping={ζ!r}")
     rows, curves = [], []
     for sc in SCENES:
         settings = [("kinematic", None, "element", None)]
-        settings += [("penalty", f, "element", ζ) for ζ in args.dampings for f in args.factors]
+        settings += [("penalty", f, "element", ζ) for ζ in args.dampings for f in factors[sc]]
         settings += [("penalty", hertz_factor(sc, c), f"hertz {c:g}", args.dampings[0]) for c in args.hertz_compliance]
         for law, f, basis, ζ in settings:
             row, curve = run(sc, law, f, basis, ζ)
@@ -262,7 +280,7 @@ def main() -> None:
                 flush=True,
             )
     data = {
-        "default_penalty": p0,
+        "default_penalty": defaults,
         "default_damping": ζ0,
         "default_contact": SCHEMA["fe.contact"][1],
         "targets": TARGETS,

@@ -250,7 +250,7 @@ END_ZONE = 2.0  # stations nearer a rod's end than this many diameters are in it
 # areas +1.5 to +3.6% over the kinematic runs'), up to 2 x the share on the slow contacts with 6-7 across (a 10 mm tip
 # at 0.2 m/s: x 5 1.9%, +3.6%, no warning; x 10 0.94%, +1.8%). 2%, HERTZ_OK, the area tolerance: a global's area is
 # no closer on its 4-6 elements across the patch (the kinematic runs there: -1.3% to +0.4%), and 1% would warn on the
-# default 10 x E*/h at 4 across (1.5%) everywhere, whose forces and durations are within the verification's targets
+# default's floor, 10 x E*/h, at 4 across (1.5%) everywhere, whose forces and durations are within the targets
 LAYER_SHARE_OK = 0.02  # [-]
 # less damped rattles (0 of critical: peak +2.6%; 0.2, the default, and 0.5: within 0.05%)
 UNDAMPED = 0.1  # [of critical]
@@ -672,7 +672,7 @@ def layer_share(summary: Mapping[str, Any], scene: Any) -> float | None:
     [Pa/m], the summary's ``penalty``), as a share of Hertz's approach δ = a²/R* at its peak force [-]; None for a
     kinematic run or one without contact. The layer's compliance adds to Hertz's in series, so the penetrating
     region is wider by about this share in area (a² = R* δ) and the contact longer; on a patch of n elements across
-    a, 2/(π n f) at f x E*/h (1.6% at the default 10 and 4 across; measured 1.5%)."""
+    a, 2/(π n f) at f x E*/h (1.6% at auto's floor 10 and 4 across; measured 1.5%)."""
     ε, p, F = summary.get("penalty"), summary.get("peak_contact_pressure"), summary.get("peak_contact_force")
     if summary.get("contact") != "penalty" or not all(measured(x) and x > 0.0 for x in (ε, p, F)):
         return None

@@ -230,7 +230,7 @@ def fe_stage(scene: Scene, what: str, end_time: float | None = None, size: float
                 mesh += f", graded beyond {scene.graded_core * 1e3:.3g} mm from the patch to the global's sizes"
     law = scene["fe.contact"]
     if law == "penalty":
-        law += f" ({scene['fe.penalty']:g} x E*/h)"
+        law += f" ({scene['fe.penalty']:.4g} x E*/h{', auto' if scene.values['fe.penalty'] == 'auto' else ''})"
     t_end = scene.end_time if end_time is None else end_time
     fields = f"fields every {scene.field_interval:g} s" if scene.field_interval > 0 else "no fields"
     backend = scene["fe.backend"] + (", K element by element" if scene["fe.operator"] == "matrix-free" else "")

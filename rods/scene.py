@@ -131,6 +131,7 @@ _RESOLVED = {
     "fe.axial_size": "axial_size",
     "submodel.levels": "submodel_levels",
     "fe.submodel_length": "submodel_length",
+    "fe.penalty": "penalty",
 }
 # the keys whose value a record (Scene.as_dict, json_safe) holds resolved: the times and sizes the run used
 _RECORDED_RESOLVED = ("simulation.end_time", "simulation.output_interval", "fe.radial_size", "fe.axial_size",
@@ -303,6 +304,18 @@ PATCH_RIPPLE = 0.013  # the patch stiffness's relative ripple at PATCH_ELEMENTS_
 PEAK_FORCE_TARGET = 0.005
 PEAK_SHARE = PEAK_FORCE_TARGET / 2  # of it, the patch's stiffness ripple's share [-]
 BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [-]
+# fe.penalty = "auto" (Scene.penalty): at least this factor x E*/h [-]. With the default contact damping, over x0.5
+# to x4 of it the peak force moved < 0.06% and the first contact < 0.6 µs on the paper rods at 2.197 and 1.0 m/s
+# (results/contact-study.md), its layer 1.6% of Hertz's approach on the 4 elements across the patch auto puts ...
+PENALTY_FACTOR = 10.0
+# ... and stiff enough that its layer's delay of the contact, the layer's share of the approach times the time the
+# impact speed takes to close it, share x t_P, stays within this many diameter transits d/c of the thinner rod [-] (the
+# scale of the duration's targets, rods.checks.agree_duration; so geometrically similar scenes get the same factor):
+# the layer adds share x δ to the approach. An audit (2026-12-08, eight scenes at 10 x E*/h, damped) found the
+# duration's spread over x0.5 to x4 1.6 to 2.6 x share x t_P (0.15 µs on a drawn scene with t_P = 5.4 µs; 1.18 and
+# 1.27 µs, over issue 13's 1 µs, on two slow contacts with t_P = 43 and 52 µs), so 0.1 d/c (0.25 µs on the paper's
+# 12.7 mm rods) holds it to ~0.26 d/c (0.65 µs there). The paper scene's factor stays 10
+LAYER_DELAY_TRANSITS = 0.1
 # a graded mesh (fe.radial_grading) keeps fe.radial_size out to this many Hertz radii a_P from the axis [-]: the
 # patch (a <= a_P) and the ring around it where Hertz's stresses still vary on the patch's scale (their gradients
 # fall as (a/r)^3 outside it); the elements then grow by rods.fe.layout.GROWTH per element to the bar's size
@@ -361,13 +374,11 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # of the stable step; below 1e-3 a run takes 1000 x the steps it needs for nothing
     "fe.dt_fraction": ("float", 0.8, _interval(1e-3, 1.0, closed_lo=True, closed_hi=True)),
     "fe.contact": ("str", "kinematic", _choice(CONTACT_LAWS)),
-    # penalty law only. 10 x E*/h with the contact damping below: over x0.5 to x4 the peak force moves < 0.06% and
-    # the first contact < 0.6 µs (paper rods at 2.197 and 1.0 m/s, results/contact-study.md), on drawn scenes < 0.3%
-    # and 0.15-0.65 µs, 1.2-1.3 µs on slow, 250 µs contacts (docs/models.md); step ~ 1/sqrt(factor).
-    # Softer layers lengthen the contact (paper scene: 1 x +1.8 µs, 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7% force):
-    # a run whose layer penetrates more than rods.checks.LAYER_SHARE_OK of Hertz's approach warns
-    # (rods.checks.contact_layer_warning)
-    "fe.penalty": ("float", 10.0, _positive("x E*/h", hi=1e4)),
+    # penalty law only. auto: Scene.auto_penalty, at least PENALTY_FACTOR x E*/h, stiffer where the layer would
+    # lengthen a slow contact by more than LAYER_DELAY_TRANSITS d/c; step ~ 1/sqrt(factor). Softer layers lengthen
+    # the contact (paper scene: 1 x +1.8 µs, 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7% force): a run whose layer
+    # penetrates more than rods.checks.LAYER_SHARE_OK of Hertz's approach warns (rods.checks.contact_layer_warning)
+    "fe.penalty": ("float|auto", "auto", _positive("x E*/h", hi=1e4)),
     # penalty law only: viscous damping of each contact pair, fraction of critical (rods.fe.contact)
     "fe.contact_damping": ("float", 0.2, _interval(0.0, 0.5, "of critical", closed_lo=True, closed_hi=True)),
     # stiffness-proportional damping C = β K, β = 2 ξ/ω_max: ξ of critical in the highest mode (rods.fe.explicit; not
@@ -1026,6 +1037,25 @@ class Scene:
         approach δ_P at the impedance-bound force P (:attr:`impedance_force`) at the impact speed (against the
         analytical model's 10-90% rise: paper scene 15.5 / 22.5 µs, 10 m/s 9.3 / 11.5 µs, a 1 m tip 5.1 / 4.0 µs)."""
         return self._impedance_patch[2] / self.speed
+
+    @property
+    def penalty(self) -> float:
+        """``fe.penalty`` resolved [x E*/h]. "auto": :attr:`auto_penalty`."""
+        v = self.values["fe.penalty"]
+        return self.auto_penalty if v == "auto" else float(v)
+
+    @property
+    def auto_penalty(self) -> float:
+        """What "auto" gives ``fe.penalty`` on this scene [x E*/h]: the stiffer of :data:`PENALTY_FACTOR` and the
+        factor whose layer delays the contact by :data:`LAYER_DELAY_TRANSITS` x d/c (the thinner rod's diameter
+        transit), share x t_P = that delay with share = 2/(π n f) the layer's penetration over Hertz's approach at the
+        patch (p_0/ε over a²/R*, rods.checks.layer_share; n = a_P/h elements across the Hertz radius at the
+        impedance-bound force on the scene's ``fe.radial_size``) and t_P the :attr:`estimated_rise`: f = 2 t_P/(π n
+        delay), at most the schema's 1e4. The paper scene: t_P = 15.5 µs, n = 4.0, 9.9 (so 10); the paper rods at
+        0.1 m/s 18.5, at 1.0 m/s 12.9; a coarser mesh (smaller n) a stiffer layer."""
+        n = self.impedance_patch_radius / self.radial_size  # [-]
+        delay = LAYER_DELAY_TRANSITS * min(r.diameter_transit for r in self.rods)  # [s]
+        return min(1e4, max(PENALTY_FACTOR, 2.0 * self.estimated_rise / (math.pi * n * delay)))
 
     @property
     def submodel_length(self) -> float:

@@ -309,6 +309,32 @@ def test_auto_axial_size_is_the_papers_unless_the_force_rises_fast(scene_with):
     assert wide.tip_grading == pytest.approx(min(1.0, wide["fe.radial_size"] / wide["fe.axial_size"]))
 
 
+def test_auto_penalty_holds_the_layers_delay(scene_with):
+    """fe.penalty = "auto" (the default): 10 x E*/h where the layer's delay of the contact, share x t_P with share =
+    2/(π n f), is within 0.1 d/c of the thinner rod (the paper scene), else the factor that puts it there (slow
+    contacts, coarse meshes: n = a_P/h smaller); the same on a geometrically similar scene; a set value kept, and a
+    record keeps "auto" (the run's factor is its summary's penalty_factor)."""
+    from rods.scene import LAYER_DELAY_TRANSITS, PENALTY_FACTOR
+
+    def delay(sc) -> float:  # [d/c] the layer's share of Hertz's approach x t_P, over the thinner rod's d/c
+        n = sc.impedance_patch_radius / sc["fe.radial_size"]
+        d_c = min(r.diameter_transit for r in sc.rods)
+        return 2.0 / (math.pi * n * sc["fe.penalty"]) * sc.estimated_rise / d_c
+
+    paper = scene_with("fe.contact=penalty")
+    assert paper["fe.penalty"] == PENALTY_FACTOR and delay(paper) < LAYER_DELAY_TRANSITS
+    slow = paper.with_overrides("impact.speed=0.1")  # t_P 43 µs, 6 across: 18.5
+    assert 18.0 < slow["fe.penalty"] < 19.0 and delay(slow) == pytest.approx(LAYER_DELAY_TRANSITS, rel=1e-12)
+    coarse = paper.with_overrides("fe.radial_size=1e-3")  # 1.1 elements across the patch: a stiffer layer
+    assert coarse["fe.penalty"] > 3 * PENALTY_FACTOR and delay(coarse) == pytest.approx(LAYER_DELAY_TRANSITS)
+    lam = 1e-3  # every length x λ: t_P, a_P, h and d/c alike
+    small = slow.with_overrides(*(f"{k}={slow[k] * lam!r}" for k in ("rod1.length", "rod2.length", "rod1.diameter",
+                                                                     "rod2.diameter", "rod1.tip_radius")))  # fmt: skip
+    assert small["fe.penalty"] == pytest.approx(slow["fe.penalty"], rel=1e-9)
+    assert slow.with_overrides("fe.penalty=5")["fe.penalty"] == 5.0
+    assert slow.as_dict()["fe"]["penalty"] == "auto" and slow.auto_penalty == slow["fe.penalty"]
+
+
 def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):
     """fe.radial_size = "auto" (the default): 4 elements across the Hertz radius at the impedance-bound force
     s1 Z1 Z2/(Z1 + Z2) where the peak is impedance-bound, 6 where it rests on the contact stiffness, at most the

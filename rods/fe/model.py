@@ -504,7 +504,7 @@ def _contact_text(model: ExplicitModel) -> str:
     if sc["fe.contact"] == "kinematic":
         return "kinematic (forward-increment Lagrange multipliers, no penalty; dissipation counted)"
     return (
-        f"penalty {model.ε_pen:.4g} Pa/m ({sc['fe.penalty']:g} x E*/h, "
+        f"penalty {model.ε_pen:.4g} Pa/m ({sc['fe.penalty']:.4g} x E*/h, "
         f"E* = {model.E_star:.4g} Pa, h = {model.h_normal:.4g} m)"
     )
 
