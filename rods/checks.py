@@ -691,7 +691,10 @@ def contact_layer_warning(summary: Mapping[str, Any], scene: Any) -> str | None:
     key = "submodel.penalty" if _fe(summary, "fe-submodel") else "fe.penalty"
     share = layer_share(summary, scene)
     if share is not None and share > LAYER_SHARE_OK:
-        stiffer = scene[key] * share / (0.5 * LAYER_SHARE_OK)  # [x E*/h] the share ∝ 1/factor: half the limit
+        # [x E*/h] the run's own factor (a submodel's: its level's, its scene's fe.penalty where the summary has none):
+        # the share ∝ 1/factor, at half the limit
+        factor = summary.get("penalty_factor")
+        stiffer = (factor if measured(factor) else scene["fe.penalty"]) * share / (0.5 * LAYER_SHARE_OK)
         depth = summary["peak_contact_pressure"] / summary["penalty"]  # [m]
         return (
             f"{key}: the penalty layer's penetration at the peak, {depth * 1e6:.3g} µm, is {share:.1%} of Hertz's "

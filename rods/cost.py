@@ -865,7 +865,7 @@ def _step_limits(
     stable *= damped_step_factor(scene)
     if scene["fe.contact"] != "penalty":
         return stable, math.inf
-    factor = scene["fe.penalty"] if size is None else scene["submodel.penalty"]
+    factor = scene["fe.penalty"] if size is None else scene.submodel_penalty(h_r)
     return stable, _switching_step(scene, factor, g * h)
 
 

@@ -407,8 +407,9 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "fe.operator": ("str", "assembled", _choice(FE_OPERATORS)),
     # auto: three consecutive levels from the coarsest that resolves the expected patch (Scene.submodel_levels)
     "submodel.levels": ("list[str]|auto", "auto", _choices(SUBMODEL_LEVELS)),
-    # the submodel's own contact layer under the penalty law (fe.penalty is the global's)
-    "submodel.penalty": ("float", 10.0, _positive("x E*/h", hi=1e4)),
+    # the submodel's own contact layer under the penalty law (fe.penalty is the global's); auto: as fe.penalty's, on
+    # each level's own size (Scene.submodel_penalty)
+    "submodel.penalty": ("float|auto", "auto", _positive("x E*/h", hi=1e4)),
     # how the global drives the submodel's cuts: mixed (its traction plus a dashpot to its velocity, rods.fe.traction),
     # its traction alone, or its displacement (the paper's)
     "submodel.driving": ("str", "mixed", _choice(SUBMODEL_DRIVINGS)),
@@ -1053,9 +1054,21 @@ class Scene:
         impedance-bound force on the scene's ``fe.radial_size``) and t_P the :attr:`estimated_rise`: f = 2 t_P/(π n
         delay), at most the schema's 1e4. The paper scene: t_P = 15.5 µs, n = 4.0, 9.9 (so 10); the paper rods at
         0.1 m/s 18.5, at 1.0 m/s 12.9; a coarser mesh (smaller n) a stiffer layer."""
-        n = self.impedance_patch_radius / self.radial_size  # [-]
+        return self.auto_penalty_at(self.radial_size)
+
+    def auto_penalty_at(self, h: float) -> float:
+        """:attr:`auto_penalty` on a mesh of ``h`` [m] across the patch (a submodel level's, :meth:`submodel_penalty`)
+        [x E*/h]."""
+        n = self.impedance_patch_radius / h  # [-]
         delay = LAYER_DELAY_TRANSITS * min(r.diameter_transit for r in self.rods)  # [s]
         return min(1e4, max(PENALTY_FACTOR, 2.0 * self.estimated_rise / (math.pi * n * delay)))
+
+    def submodel_penalty(self, h: float) -> float:
+        """``submodel.penalty`` resolved for a submodel of ``h`` [m] across [x E*/h]: "auto" is
+        :meth:`auto_penalty_at` its own size, as the global's on its own mesh (the levels' patches have 4 and more
+        elements across, so 10 on most scenes)."""
+        v = self.values["submodel.penalty"]
+        return self.auto_penalty_at(h) if v == "auto" else float(v)
 
     @property
     def submodel_length(self) -> float:

@@ -333,6 +333,10 @@ def test_auto_penalty_holds_the_layers_delay(scene_with):
     assert small["fe.penalty"] == pytest.approx(slow["fe.penalty"], rel=1e-9)
     assert slow.with_overrides("fe.penalty=5")["fe.penalty"] == 5.0
     assert slow.as_dict()["fe"]["penalty"] == "auto" and slow.auto_penalty == slow["fe.penalty"]
+    # a submodel level's own: the same rule on its size (f ∝ h above the floor), a set value kept
+    assert coarse.submodel_penalty(0.5e-3) == pytest.approx(coarse["fe.penalty"] / 2, rel=1e-12)
+    assert coarse.submodel_penalty(0.1e-3) == PENALTY_FACTOR
+    assert coarse.with_overrides("submodel.penalty=3").submodel_penalty(0.5e-3) == 3.0
 
 
 def test_auto_radial_size_resolves_the_patch_on_any_scene(scene_with):

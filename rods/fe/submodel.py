@@ -133,7 +133,7 @@ def submodel_scene(
             "tip_grading": 1.0,
             "radial_grading": submodel_grading(scene),  # one for all levels: they refine alike at the patch
             "dt": dt,
-            "penalty": scene["submodel.penalty"],
+            "penalty": scene.submodel_penalty(h),  # resolved: the level's own
             "submodel_length": L_s,  # resolved: "auto" on the cut rods would give another length
         }
     )

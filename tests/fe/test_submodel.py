@@ -128,6 +128,15 @@ def test_kinematic_driving_reproduces_global(tmp_path_factory):
     assert res.summary["energy_error"] < 1e-6 and sub.summary["energy_error"] < 1e-2
 
 
+def test_a_submodel_level_gets_its_own_penalty(scene_with):
+    """submodel.penalty = "auto": each level's region carries the factor auto gives on its own size (the global's
+    rule, rods.scene.Scene.auto_penalty_at), resolved, so its summary's penalty_factor is the one it ran."""
+    sc = scene_with("fe.contact='penalty'", "impact.speed=0.1")
+    for h in (0.25e-3, 0.0625e-3):
+        region = submodel_scene(sc, h)
+        assert region.values["fe.penalty"] == region["fe.penalty"] == sc.auto_penalty_at(h) == region.auto_penalty
+
+
 def test_non_nested_submodel_runs_and_matches(tiny):
     """h = 0.7 mm divides neither the global sizes nor L_s: the cut nodes fall inside global cells. At the
     global's penalty stiffness (ε = factor x E*/h_tip, h_tip = L_s/18 = 0.667 mm) the force agrees within 3%
