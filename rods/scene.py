@@ -314,8 +314,12 @@ PENALTY_FACTOR = 10.0
 # the layer adds share x δ to the approach. An audit (2026-12-08, eight scenes at 10 x E*/h, damped) found the
 # duration's spread over x0.5 to x4 1.6 to 2.6 x share x t_P (0.15 µs on a drawn scene with t_P = 5.4 µs; 1.18 and
 # 1.27 µs, over issue 13's 1 µs, on two slow contacts with t_P = 43 and 52 µs), so 0.1 d/c (0.25 µs on the paper's
-# 12.7 mm rods) holds it to ~0.26 d/c (0.65 µs there). The paper scene's factor stays 10
+# 12.7 mm rods) holds it to ~0.26 d/c (0.65 µs there). The paper scene's factor stays 10 ...
 LAYER_DELAY_TRANSITS = 0.1
+# ... and at most this [s]: the issue's 1 µs is a time, and 0.1 d/c of a thicker rod let it pass (20 mm rods at
+# 0.5 m/s, d/c = 3.9 µs: 1.02 µs over x0.5 to x4, 0.26 d/c; 2026-12-08), so rods thicker than the paper's (steel
+# 12.7 mm) get the paper's delay, and only scenes up to that size are similar in their factor
+LAYER_DELAY_MAX = 0.25e-6
 # a graded mesh (fe.radial_grading) keeps fe.radial_size out to this many Hertz radii a_P from the axis [-]: the
 # patch (a <= a_P) and the ring around it where Hertz's stresses still vary on the patch's scale (their gradients
 # fall as (a/r)^3 outside it); the elements then grow by rods.fe.layout.GROWTH per element to the bar's size
@@ -1049,18 +1053,19 @@ class Scene:
     def auto_penalty(self) -> float:
         """What "auto" gives ``fe.penalty`` on this scene [x E*/h]: the stiffer of :data:`PENALTY_FACTOR` and the
         factor whose layer delays the contact by :data:`LAYER_DELAY_TRANSITS` x d/c (the thinner rod's diameter
-        transit), share x t_P = that delay with share = 2/(π n f) the layer's penetration over Hertz's approach at the
-        patch (p_0/ε over a²/R*, rods.checks.layer_share; n = a_P/h elements across the Hertz radius at the
-        impedance-bound force on the scene's ``fe.radial_size``) and t_P the :attr:`estimated_rise`: f = 2 t_P/(π n
-        delay), at most the schema's 1e4. The paper scene: t_P = 15.5 µs, n = 4.0, 9.9 (so 10); the paper rods at
-        0.1 m/s 18.5, at 1.0 m/s 12.9; a coarser mesh (smaller n) a stiffer layer."""
+        transit; at most :data:`LAYER_DELAY_MAX`), share x t_P = that delay with share = 2/(π n f) the layer's
+        penetration over Hertz's approach at the patch (p_0/ε over a²/R*, rods.checks.layer_share; n = a_P/h elements
+        across the Hertz radius at the impedance-bound force on the scene's ``fe.radial_size``) and t_P the
+        :attr:`estimated_rise`: f = 2 t_P/(π n delay), at most the schema's 1e4. The paper scene: t_P = 15.5 µs,
+        n = 4.0, 9.9 (so 10); the paper rods at 0.1 m/s 18.5, at 1.0 m/s 12.9; a coarser mesh (smaller n) a stiffer
+        layer."""
         return self.auto_penalty_at(self.radial_size)
 
     def auto_penalty_at(self, h: float) -> float:
         """:attr:`auto_penalty` on a mesh of ``h`` [m] across the patch (a submodel level's, :meth:`submodel_penalty`)
         [x E*/h]."""
         n = self.impedance_patch_radius / h  # [-]
-        delay = LAYER_DELAY_TRANSITS * min(r.diameter_transit for r in self.rods)  # [s]
+        delay = min(LAYER_DELAY_TRANSITS * min(r.diameter_transit for r in self.rods), LAYER_DELAY_MAX)  # [s]
         return min(1e4, max(PENALTY_FACTOR, 2.0 * self.estimated_rise / (math.pi * n * delay)))
 
     def submodel_penalty(self, h: float) -> float:

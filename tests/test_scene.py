@@ -311,10 +311,10 @@ def test_auto_axial_size_is_the_papers_unless_the_force_rises_fast(scene_with):
 
 def test_auto_penalty_holds_the_layers_delay(scene_with):
     """fe.penalty = "auto" (the default): 10 x E*/h where the layer's delay of the contact, share x t_P with share =
-    2/(π n f), is within 0.1 d/c of the thinner rod (the paper scene), else the factor that puts it there (slow
-    contacts, coarse meshes: n = a_P/h smaller); the same on a geometrically similar scene; a set value kept, and a
-    record keeps "auto" (the run's factor is its summary's penalty_factor)."""
-    from rods.scene import LAYER_DELAY_TRANSITS, PENALTY_FACTOR
+    2/(π n f), is within 0.1 d/c of the thinner rod and 0.25 µs (the paper scene), else the factor that puts it
+    there (slow contacts, coarse meshes: n = a_P/h smaller); the same on a geometrically similar smaller scene; a
+    set value kept, and a record keeps "auto" (the run's factor is its summary's penalty_factor)."""
+    from rods.scene import LAYER_DELAY_MAX, LAYER_DELAY_TRANSITS, PENALTY_FACTOR
 
     def delay(sc) -> float:  # [d/c] the layer's share of Hertz's approach x t_P, over the thinner rod's d/c
         n = sc.impedance_patch_radius / sc["fe.radial_size"]
@@ -331,6 +331,10 @@ def test_auto_penalty_holds_the_layers_delay(scene_with):
     small = slow.with_overrides(*(f"{k}={slow[k] * lam!r}" for k in ("rod1.length", "rod2.length", "rod1.diameter",
                                                                      "rod2.diameter", "rod1.tip_radius")))  # fmt: skip
     assert small["fe.penalty"] == pytest.approx(slow["fe.penalty"], rel=1e-9)
+    # rods thicker than the paper's hold the delay to LAYER_DELAY_MAX in seconds, not 0.1 of their longer d/c
+    thick = paper.with_overrides("rod1.diameter=0.02", "rod2.diameter=0.02", "impact.speed=0.5")
+    d_c = min(r.diameter_transit for r in thick.rods)
+    assert 0.1 * d_c > LAYER_DELAY_MAX and delay(thick) * d_c == pytest.approx(LAYER_DELAY_MAX, rel=1e-12)
     assert slow.with_overrides("fe.penalty=5")["fe.penalty"] == 5.0
     assert slow.as_dict()["fe"]["penalty"] == "auto" and slow.auto_penalty == slow["fe.penalty"]
     # a submodel level's own: the same rule on its size (f ∝ h above the floor), a set value kept
