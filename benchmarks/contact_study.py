@@ -108,7 +108,6 @@ def run(
         "scene": scene_name,
         "law": law,
         "factor": factor,
-        "multiple": None if factor is None else factor / default_penalty(scene_name),
         "basis": basis,
         "damping": sc["fe.contact_damping"] if law == "penalty" else None,
         "smoothed_peak_vs_analytical": metrics.smoothed_peak(h["time"], h["contact_force"], metrics.smoothing(sc))
@@ -146,13 +145,13 @@ def label(r: dict) -> str:
 
 def spread(rows: list[dict], key: str, lo: float, hi: float, ζ: float | None = None) -> float:
     """Largest minus smallest ``key`` over the penalty rows with lo <= factor <= hi (and contact damping ``ζ``, if
-    given); lo and hi carry a part in 1e9 of slack, as a multiple of a computed default is not exact."""
+    given)."""
     v = [
         r[key]
         for r in rows
         if r["law"] == "penalty"
         and r.get("basis") == "element"
-        and lo * (1 - 1e-9) <= r["factor"] <= hi * (1 + 1e-9)
+        and lo <= r["factor"] <= hi
         and (ζ is None or damping(r) == ζ)
     ]
     return max(v) - min(v) if v else float("nan")

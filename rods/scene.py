@@ -1064,8 +1064,10 @@ class Scene:
     def auto_penalty_at(self, h: float) -> float:
         """:attr:`auto_penalty` on a mesh of ``h`` [m] across the patch (a submodel level's, :meth:`submodel_penalty`)
         [x E*/h]."""
+        from rods.metrics import shorter_transit  # lazy: rods.metrics reads scenes
+
         n = self.impedance_patch_radius / h  # [-]
-        delay = min(LAYER_DELAY_TRANSITS * min(r.diameter_transit for r in self.rods), LAYER_DELAY_MAX)  # [s]
+        delay = min(LAYER_DELAY_TRANSITS * shorter_transit(self), LAYER_DELAY_MAX)  # [s]
         return min(1e4, max(PENALTY_FACTOR, 2.0 * self.estimated_rise / (math.pi * n * delay)))
 
     def submodel_penalty(self, h: float) -> float:

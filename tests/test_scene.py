@@ -314,12 +314,12 @@ def test_auto_penalty_holds_the_layers_delay(scene_with):
     2/(π n f), is within 0.1 d/c of the thinner rod and 0.25 µs (the paper scene), else the factor that puts it
     there (slow contacts, coarse meshes: n = a_P/h smaller); the same on a geometrically similar smaller scene; a
     set value kept, and a record keeps "auto" (the run's factor is its summary's penalty_factor)."""
+    from rods.metrics import shorter_transit
     from rods.scene import LAYER_DELAY_MAX, LAYER_DELAY_TRANSITS, PENALTY_FACTOR
 
     def delay(sc) -> float:  # [d/c] the layer's share of Hertz's approach x t_P, over the thinner rod's d/c
         n = sc.impedance_patch_radius / sc["fe.radial_size"]
-        d_c = min(r.diameter_transit for r in sc.rods)
-        return 2.0 / (math.pi * n * sc["fe.penalty"]) * sc.estimated_rise / d_c
+        return 2.0 / (math.pi * n * sc["fe.penalty"]) * sc.estimated_rise / shorter_transit(sc)
 
     paper = scene_with("fe.contact=penalty")
     assert paper["fe.penalty"] == PENALTY_FACTOR and delay(paper) < LAYER_DELAY_TRANSITS
@@ -333,7 +333,7 @@ def test_auto_penalty_holds_the_layers_delay(scene_with):
     assert small["fe.penalty"] == pytest.approx(slow["fe.penalty"], rel=1e-9)
     # rods thicker than the paper's hold the delay to LAYER_DELAY_MAX in seconds, not 0.1 of their longer d/c
     thick = paper.with_overrides("rod1.diameter=0.02", "rod2.diameter=0.02", "impact.speed=0.5")
-    d_c = min(r.diameter_transit for r in thick.rods)
+    d_c = shorter_transit(thick)
     assert 0.1 * d_c > LAYER_DELAY_MAX and delay(thick) * d_c == pytest.approx(LAYER_DELAY_MAX, rel=1e-12)
     assert slow.with_overrides("fe.penalty=5")["fe.penalty"] == 5.0
     assert slow.as_dict()["fe"]["penalty"] == "auto" and slow.auto_penalty == slow["fe.penalty"]
