@@ -13,7 +13,9 @@ mesher (:mod:`rods.fe.mesh`) builds by, cell for cell:
   (``fe.radial_coarsening``);
 * :func:`mesh_counts`: the cells and nodes that all of this makes;
 * :func:`tip_row`: the corners of the cells on a one-block tip face, whose distorted rim cells set a curved tip's
-  stable step (:func:`rods.cost._tip_step`).
+  stable step (:func:`rods.cost._tip_step`);
+* :func:`tip_faces`: each tip face's nodes and the row of cells under them, whose masses and areas set the penalty
+  contact's switching limit (:func:`rods.cost._switching_step`).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ __all__ = [
     "Column",
     "GradedButterfly",
     "RodLayout",
+    "TipFace",
     "altitudes",
     "axial_blocks",
     "axial_spacing",
@@ -42,11 +45,14 @@ __all__ = [
     "coarsening_start",
     "element_count",
     "element_sizes",
+    "face_areas",
     "graded_butterfly",
     "mesh_counts",
     "radial_columns",
     "rod_layouts",
     "scene_columns",
+    "row_volumes",
+    "tip_faces",
     "tip_row",
 ]
 
@@ -571,21 +577,110 @@ def tip_row(layout: RodLayout) -> np.ndarray:
     (L - c)/L as thick as the axis's under a cap of height c over a block of length L."""
     rod, columns = layout.rod, layout.columns
     rt, R = rod.tip_radius, rod.diameter / 2
-    face, top, r0 = [0.0], [0.0], 0.0
+    top, r0 = [0.0], 0.0
     for c in columns:
-        s0, s1 = arc_to(rod, r0), arc_to(rod, c.r_end)
-        arcs = s0 + np.cumsum(progression(s1 - s0, c.n, c.ratio))
-        face.extend(arcs if math.isinf(rt) else rt * np.sin(arcs / rt))
         top.extend(r0 + np.cumsum(progression(c.r_end - r0, c.n, c.ratio)))
         r0 = c.r_end
-    face[-1] = R  # the rim exactly, as the mesher's last point
     z_end, n, ratio, split = axial_blocks(rod, layout.spacing, layout.coarsened)[0]
-    r_face = np.asarray(face)
+    r_face = _on_profile(rod, _column_arcs(rod, columns))
     r_top = np.asarray(split if split is not None else [*top[:-1], R])
     on_face = np.stack([r_face, cap_depth(r_face, rt)], axis=1)
     first = first_size(1.0, n, ratio)  # not progression()[0]: 1.2e8 sizes along a 1 µm rod's partner, 1 GB (a fuzz)
     below = on_face + first * (np.stack([r_top, np.full_like(r_top, z_end)], axis=1) - on_face)
     return np.stack([on_face[:-1], on_face[1:], below[:-1], below[1:]], axis=1)
+
+
+def _column_arcs(rod: Rod, columns: tuple[Column, ...]) -> np.ndarray:
+    """The arc lengths [m] from the apex of a one-block face's nodes (each column's elements along its arc,
+    rods.fe.mesh._flat_block_cap), the apex's 0 first."""
+    arcs, r0 = [np.zeros(1)], 0.0
+    for c in columns:
+        s0, s1 = arc_to(rod, r0), arc_to(rod, c.r_end)
+        arcs.append(s0 + np.cumsum(progression(s1 - s0, c.n, c.ratio)))
+        r0 = c.r_end
+    return np.concatenate(arcs)
+
+
+def _on_profile(rod: Rod, arcs: np.ndarray) -> np.ndarray:
+    """The radii [m] of the face's points ``arcs`` [m] along its profile from the apex, the last the rim exactly (as
+    the mesher's last point)."""
+    rt = rod.tip_radius
+    r = arcs.copy() if math.isinf(rt) else rt * np.sin(arcs / rt)
+    r[-1] = rod.diameter / 2
+    return r
+
+
+@dataclass(frozen=True)
+class TipFace:
+    """A rod's tip face as the mesher lays it (:func:`tip_faces`): its nodes from the apex to the rim."""
+
+    rod: Rod
+    arc: np.ndarray  # [m] each node's arc length from the apex along the face's profile
+    r: np.ndarray  # [m] each node's radius
+    area: np.ndarray  # [m^2] ∫ N_i r ds along the face: each node's tributary area over 2π
+    volume: np.ndarray  # [m^3] ∫ N_i r dA over the row of cells under each node: its lumped mass over 2π ρ
+    h_tip: float  # [m] the mesher's element normal to the face (rods.fe.mesh.RodsMesh.h_tip is the rods' smaller)
+
+
+def tip_faces(scene: Scene) -> tuple[TipFace, TipFace]:
+    """Both rods' tip faces on ``scene``'s axisymmetric mesh (a global's or a submodel's region): a one-block face's
+    nodes along its columns over the first row of its first axial block (:func:`tip_row`'s), a butterfly's along
+    its arcs A-P (graded: A-K-P) and P-E over its band's first element across (rods.fe.mesh._butterfly_cap)."""
+    hr = scene["fe.radial_size"]
+    faces = []
+    for layout in rod_layouts(scene):
+        rod, b = layout.rod, layout.butterfly
+        if b is None:
+            arcs = _column_arcs(rod, layout.columns)
+            r = _on_profile(rod, arcs)
+            faces.append(TipFace(rod, arcs, r, face_areas(arcs, r), row_volumes(tip_row(layout)), layout.spacing.h_tip))
+            continue
+        gb = graded_butterfly(rod, hr, scene.bar_axial_size, scene.graded_core, scene["fe.radial_grading"])
+        arc_ap, arc_pe = b.arcs
+        if gb is None:
+            n_a, n_b, m = butterfly_counts(b, hr)
+            pieces, h_tip = [progression(arc_ap, n_a, 1.0), progression(arc_pe, n_b, 1.0)], b.t / m
+        else:
+            core = gb.n_core * hr
+            pieces = [np.full(gb.n_core, hr), progression(arc_ap - core, gb.n_g, gb.q_g)]
+            pieces, h_tip = [*pieces, progression(arc_pe, gb.n_b, gb.q_b)], hr
+        arcs = np.concatenate(([0.0], np.cumsum(np.concatenate(pieces))))
+        r = _on_profile(rod, arcs)
+        area = face_areas(arcs, r)
+        faces.append(TipFace(rod, arcs, r, area, area * h_tip / 2.0, h_tip))  # the band's first row: h_tip thick
+    return faces[0], faces[1]
+
+
+def face_areas(arc: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """∫ N_i r ds [m^2] of a face's nodes at arc lengths ``arc`` and radii ``r`` [m] (linear elements along the
+    profile, r linear on each): the set-up's tributary areas (rods.fe.forms.tributary_area_form) over 2π."""
+    ds, ra, rb = np.diff(arc), r[:-1], r[1:]
+    a = np.zeros(r.size)
+    a[:-1] += ds * (2.0 * ra + rb) / 6.0
+    a[1:] += ds * (ra + 2.0 * rb) / 6.0
+    return a
+
+
+# 2-point Gauss rule on [0, 1]: exact for the cubic ξ-dependence of N r det J on a bilinear cell
+_GAUSS = (0.5 - 0.5 / math.sqrt(3.0), 0.5 + 0.5 / math.sqrt(3.0))
+
+
+def row_volumes(cells: np.ndarray) -> np.ndarray:
+    """∫ N_i r dA [m^3] of a face's nodes over the row of cells ``cells`` under it (corners as :func:`tip_row`'s:
+    (face node i, face node i + 1, the two below), bilinear, 2 x 2 Gauss points): the lumped (row-sum) mass of
+    the face's nodes over 2π ρ (rods.fe.forms.lumped_mass_form), which only that row's cells carry."""
+    P = [cells[:, k] for k in range(4)]
+    volume = np.zeros(cells.shape[0] + 1)
+    for ξ in _GAUSS:
+        for η in _GAUSS:
+            N = ((1 - ξ) * (1 - η), ξ * (1 - η), (1 - ξ) * η, ξ * η)
+            dξ = (1 - η) * (P[1] - P[0]) + η * (P[3] - P[2])
+            dη = (1 - ξ) * (P[2] - P[0]) + ξ * (P[3] - P[1])
+            r = sum(n * p[:, 0] for n, p in zip(N, P, strict=True))
+            w = 0.25 * r * np.abs(dξ[:, 0] * dη[:, 1] - dξ[:, 1] * dη[:, 0])  # the rule's weight 1/4 on [0, 1]²
+            volume[:-1] += N[0] * w
+            volume[1:] += N[1] * w
+    return volume
 
 
 def altitudes(cells: np.ndarray) -> np.ndarray:

@@ -49,6 +49,7 @@ __all__ = [
     "RodsMesh3D",
     "build_mesh_3d",
     "cell_sizes_3d",
+    "first_layer",
     "section_counts",
     "section_size",
     "tip_rim_cell",
@@ -154,15 +155,22 @@ def tip_rim_cell(rod: Rod, hr: float, h: float, grading: float) -> tuple[np.ndar
     edge along the rim [m], a quarter arc over n_c/2 cells."""
     n_c, n_r, s = section_counts(rod.diameter / 2, hr)
     R = area_radius(rod.diameter / 2, n_c)  # [m] the rim nodes' radius, as the mesher places them
+    rho = np.array([R - (R - s * math.sqrt(2)) / n_r, R])
+    c = cap_depth(rho, rod.tip_radius)
+    face = np.stack([rho, c], axis=1)
+    below = np.stack([rho, c + first_layer(rod, h, grading, rho)], axis=1)
+    return np.stack([face[0], face[1], below[0], below[1]])[None], math.pi * R / 2 / (n_c // 2)
+
+
+def first_layer(rod: Rod, h: float, grading: float, rho: np.ndarray) -> np.ndarray:
+    """The first layer's thickness along the axis [m] under the tip face at the radii ``rho`` [m], as the mesher
+    makes it: the extrusion's first layer (:func:`_layers`) moved by the tip mapping c(ρ) (1 - z/L_b), so (1 -
+    c(ρ)/L_b) of the axis's where the cap is c(ρ) deep."""
     counts, heights, L_b = _layers(rod, h, grading)
     first = heights[0] * rod.length  # the first layer's thickness [m] (_layers' heights are cumulative over L)
     if counts[0] > 1:  # an ungraded rod: its one block's elements
         first /= counts[0]
-    rho = np.array([R - (R - s * math.sqrt(2)) / n_r, R])
-    c = cap_depth(rho, rod.tip_radius)
-    face = np.stack([rho, c], axis=1)
-    below = np.stack([rho, c + first * (1.0 - c / L_b)], axis=1)
-    return np.stack([face[0], face[1], below[0], below[1]])[None], math.pi * R / 2 / (n_c // 2)
+    return first * (1.0 - cap_depth(rho, rod.tip_radius) / L_b)
 
 
 def _cross_section(geo, R: float, n_c: int, n_r: int, s: float, quadrants: tuple[int, ...], z: float) -> list[int]:

@@ -22,9 +22,11 @@ from rods.fe.layout import (
     coarsening,
     coarsening_start,
     element_sizes,
+    face_areas,
     face_count,
     graded_butterfly,
     radial_columns,
+    row_volumes,
     scene_columns,
 )
 from rods.scene import BAR_ELEMENTS, load_scene
@@ -209,6 +211,22 @@ def test_altitudes_are_a_cells_thickness_across_its_thinnest_direction():
     assert altitudes(rectangle)[0] == pytest.approx(b, rel=1e-12)
     assert altitudes(parallelogram)[0] == pytest.approx(b * np.cos(θ), rel=1e-12)
     assert altitudes(rectangle[:, :, ::-1])[0] == pytest.approx(b, rel=1e-12)  # r and z swapped
+
+
+def test_face_areas_and_row_volumes_are_the_closed_forms_of_a_flat_face():
+    """rods.fe.layout.face_areas and row_volumes, the switching estimate's areas and lumped masses (over 2π, 2π ρ):
+    on a flat face of n elements Δ wide over a row t thick, ∫ N_i r ds = Δ²/6 at the axis, Δ r_i inside and
+    Δ (3 r_n - Δ)/6 at the rim; ∫ N_i r dA = t/2 of each (the bilinear shape's mean over the row's depth); they sum
+    to R²/2 and t R²/4, the face's and the half row's ∫ r."""
+    n, Δ, t = 5, 0.4e-3, 0.1e-3  # [-], [m], [m]
+    r = Δ * np.arange(n + 1)
+    cells = np.stack([np.stack([r[:-1], 0 * r[:-1]], 1), np.stack([r[1:], 0 * r[1:]], 1),
+                      np.stack([r[:-1], t + 0 * r[:-1]], 1), np.stack([r[1:], t + 0 * r[1:]], 1)], axis=1)  # fmt: skip
+    area, volume = face_areas(r, r), row_volumes(cells)
+    assert area[0] == pytest.approx(Δ**2 / 6, rel=1e-12) and area[-1] == pytest.approx(Δ * (3 * r[-1] - Δ) / 6)
+    assert area[1:-1] == pytest.approx(Δ * r[1:-1], rel=1e-12)
+    assert volume == pytest.approx(area * t / 2, rel=1e-12)
+    assert area.sum() == pytest.approx(r[-1] ** 2 / 2) and volume.sum() == pytest.approx(t * r[-1] ** 2 / 4)
 
 
 @pytest.mark.parametrize("h", [1e-7, 1e-6])
