@@ -31,15 +31,14 @@ estimates"):
   The rate is the machine's, and it moves: the same 396k-DOF loop ran 9.9e7 DOF-steps/s on 2026-11-22, 3.3e7 on
   2026-11-27 and 6.1e7 on 2026-12-06, here. So the entry points scale it by :func:`machine_speed`
   (:func:`calibrated`): a sparse product of the run's own per-rank working set (:attr:`Cost.probe_rows`: in cache
-  where the run's mesh is, out of it where it is not) timed on every rank at once (milliseconds for a small run,
-  about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against :data:`PROBE_RATE_REFERENCE`: the
-  reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe reads that (idle: 3.5e7
-  axisymmetric, long runs serial and on 2 ranks, 2026-12-07 on an AMD EPYC, and 2.8e7 past the cache,
-  :func:`reference_rate`; 6.8e6 in 3D where the 3D-shaped probe reads its 7.2e6 rows/s, serial, 2026-12-08 on an Intel
-  Xeon: the 3D pair is measured on that machine only). Set-up 1.2e-5 s
-  per DOF axisymmetric and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s
-  at 132k on 2026-11-27, 6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at
-  398k);
+  where the run's mesh is, out of it where it is not) timed on every rank at once (:data:`PROBE_MIN_SECONDS` for a
+  small run, about 0.3 s at most; again when older than :data:`PROBE_MAX_AGE`), against
+  :data:`PROBE_RATE_REFERENCE`: the reference rates :data:`DOF_STEPS_PER_SECOND` are the loop's where the probe
+  reads that (idle: 3.5e7 axisymmetric, long runs serial and on 2 ranks, 2026-12-07 on an AMD EPYC, and 2.8e7
+  past the cache, :func:`reference_rate`; 6.8e6 in 3D where the 3D-shaped probe reads its 7.2e6 rows/s, serial,
+  2026-12-08 on an Intel Xeon: the 3D pair is measured on that machine only). Set-up 1.2e-5 s per DOF axisymmetric
+  and 6e-5 in 3D over the ranks (measured serial: 0.42 s at 48k DOFs, 1.9 s at 199k; 3D 4.2 s at 132k on 2026-11-27,
+  6.4 s on 2026-11-28: :data:`SETUP_SECONDS_PER_DOF`; 2026-12-06: 0.17 s at 23k, 3.9 s at 398k);
 * time on a GPU (fe.backend "cupy", or "auto" serial where CuPy sees a device): set-up on the host per DOF and
   steps x (:data:`GPU_STEP_OVERHEAD` + DOFs / :data:`GPU_DOF_STEPS_PER_SECOND`), measured on an H200;
 * cells and DOFs: the mesh modules' counts (3D: 38240 estimated and built for a 4 mm / 1 mm paper scene), 2 DOFs
@@ -163,6 +162,11 @@ PROBE_MIN_ROWS_3D = 1 << 13  # [-] (8.1 MB of 81-entry rows: a small 3D run's me
 # at 40k rows, 1.3 x at 65,536, the 2^16 a 38.8k-DOF run was probed at (its plan 2.9 x the run), and 1.5-2.6 x at the
 # next 2^(k/4), 46,341 (the cache's edge: rounding up kept it there)
 PROBE_STEPS_PER_DOUBLING = 4
+# the probe's products are repeated for at least this long [s]: near the cache's edge a product reaches its steady
+# rate only after tens of repeats. On the Intel Xeon (2026-12-08, 2 ranks probing at once, 8 trials each) the best of
+# 4-6 products at 155,872 rows (34 MB a rank) read 1.03-1.49 x the reference, of 0.1 s 1.32-2.28 x; the run it was
+# probed for (a drawn scene at 130k DOFs a rank) looped at ~2.2 x, and its plan had read 2.14 x its time
+PROBE_MIN_SECONDS = 0.1
 # a DOF's traffic per step over a probe row's (18 entries of 8 + 4 B, the row pointer, x and y: 236 B): its row's
 # entries, the row pointer and 48 B of vectors (rods.fe.backend), 268 B axisymmetric (18 entries), 1024 B in 3D (81)
 LOOP_BYTES_PER_DOF = {"axisymmetric": 268.0, "3d": 1024.0}  # [B]
@@ -1101,9 +1105,10 @@ def probe_is_stale(rows: int = PROBE_ROWS, kind: str = "axisymmetric") -> bool:
 
 def machine_speed(rows: int = PROBE_ROWS, refresh: bool | None = None, kind: str = "axisymmetric") -> float:
     """This machine's rate at a working set of ``rows`` over the reference's [-]: the best of at least four products
-    y = A x of a banded CSR matrix (``rows`` rows of a ``kind`` stiffness row's entries, the axisymmetric 18 or the
-    3D 81, spread as a structured mesh's: in a core's cache where a small run's mesh is, past it at
-    :data:`PROBE_ROWS`, ~0.22 GB, ~0.3 s with the build), in rows/s over :data:`PROBE_RATE_REFERENCE` of ``kind``.
+    (and :data:`PROBE_MIN_SECONDS` of them) y = A x of a banded CSR matrix (``rows`` rows of a ``kind`` stiffness
+    row's entries, the axisymmetric 18 or the 3D 81, spread as a structured mesh's: in a core's cache where a small
+    run's mesh is, past it at :data:`PROBE_ROWS`, ~0.22 GB, ~0.3 s with the build), in rows/s over
+    :data:`PROBE_RATE_REFERENCE` of ``kind``.
     Measured again where the last probe of this size is older than :data:`PROBE_MAX_AGE` (``refresh`` overrides:
     under MPI one rank decides for all, :func:`calibrated`); 1.0 where the memory for it is not available."""
     if refresh is None:
@@ -1129,11 +1134,13 @@ def _probe(rows: int, kind: str = "axisymmetric") -> float:
         return 1.0
     columns = ((np.arange(n)[:, None] + offsets) % n).astype(np.int32).ravel()
     a = scipy.sparse.csr_matrix((np.ones(n * k), columns, np.arange(0, n * k + 1, k, dtype=np.int32)), shape=(n, n))
-    x, best = np.ones(n), math.inf
-    for _ in range(max(4, PROBE_ROWS // n)):  # a small product is short against the clock's jitter: more of them
+    x, best, start, repeats = np.ones(n), math.inf, time.perf_counter(), 0
+    # a small product is short against the clock's jitter, and one near the cache's edge reaches its steady rate late
+    # (PROBE_MIN_SECONDS): at least max(4, PROBE_ROWS // n) of them, for at least PROBE_MIN_SECONDS
+    while repeats < max(4, PROBE_ROWS // n) or time.perf_counter() - start < PROBE_MIN_SECONDS:
         t0 = time.perf_counter()
         a @ x
-        best = min(best, time.perf_counter() - t0)
+        best, repeats = min(best, time.perf_counter() - t0), repeats + 1
     return n / best / PROBE_RATE_REFERENCE[kind]
 
 
