@@ -217,6 +217,36 @@ def test_the_tip_row_is_the_meshers_own(overrides, submodel):
         assert found.max() < 1e-9 * layout.rod.diameter, found.max()
 
 
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        (),  # the paper's 35 mm tip onto a flat face
+        ("rod1.diameter=0.0088", "rod1.tip_radius=0.022", "rod2.diameter=0.0039"),  # graded over a thin uniform face
+        ("rod1.tip_radius=0.0064", "rod2.tip_radius=0.007"),  # two butterflies, uniform
+        ("rod1.tip_radius=0.0066", "rod2.tip_radius=0.007", "fe.radial_grading='graded'"),  # graded butterflies
+    ],
+    ids=["paper", "graded-over-thin", "butterflies", "graded-butterflies"],
+)
+def test_the_tip_faces_are_the_meshers_own(overrides):
+    """rods.fe.layout.tip_faces, which the plan's switching limit reads (rods.cost._switching_step) without building
+    a mesh: each face's node radii are the built mesh's tip nodes', to round-off, and its h_tip the mesh's."""
+    import dolfinx
+
+    from rods.fe.layout import tip_faces
+    from rods.fe.mesh import TAGS
+
+    sc = load_scene(PAPER, ["simulation.end_time=1e-5", *overrides])
+    rm = build_mesh(sc, MPI.COMM_SELF)
+    msh = rm.mesh
+    faces = tip_faces(sc)
+    for k, face in enumerate(faces, start=1):
+        facets = rm.facet_tags.find(TAGS[f"rod{k}_tip"])
+        nodes = np.unique(dolfinx.mesh.entities_to_geometry(msh, msh.topology.dim - 1, facets))
+        r = np.sort(msh.geometry.x[nodes, 0])
+        assert r.shape == face.r.shape and np.abs(r - face.r).max() < 1e-8 * face.rod.diameter
+    assert rm.h_tip == pytest.approx(min(f.h_tip for f in faces), rel=1e-9)
+
+
 def _caught(sig: int) -> bool:
     """Whether this process has a handler installed for ``sig`` at the C level (/proc/self/status, SigCgt)."""
     for line in open("/proc/self/status"):
