@@ -42,6 +42,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "scene-probe-random-61207.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61207.json")),
     "scene-probe-random-61208.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61208.json")),
     "scene-probe-random-61209.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61209.json")),
+    "scene-probe-random-61223.md": lambda: benchmark("scene_probe").render(_data("scene-probe-random-61223.json")),
     "submodel-probe.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe.json")),
     "submodel-probe-random.md": lambda: benchmark("submodel_probe").render(_data("submodel-probe-random.json")),
     "submodel-probe-random-1206.md": lambda: benchmark("submodel_probe").render(
@@ -55,6 +56,9 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     ),
     "submodel-probe-random-61209.md": lambda: benchmark("submodel_probe").render(
         _data("submodel-probe-random-61209.json")
+    ),
+    "submodel-probe-random-61223.md": lambda: benchmark("submodel_probe").render(
+        _data("submodel-probe-random-61223.json")
     ),
     "wave-probe-random.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random.json")),
     "wave-probe-random-61206.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61206.json")),
