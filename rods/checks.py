@@ -11,7 +11,8 @@ interrupt "interrupted"). The checks, each a warning naming the quantity and the
   agree on the force within 0.1% differ there by 2% to 4% of the tail (measured, FE at default settings against
   the analytical model, tails of 49, 65, 68 and 305 µs: separation 1.0, 1.1, 2.7 and 6.8 µs apart; 20 m/s on the
   paper rods, 5 mm rods, a 1 m tip, 10 mm rods 1 m / 2 m long), by 14% at ν = -0.9 (the paper scene: force within
-  0.22%, a 52 µs tail, 7.1 µs apart, 2026-12-08), and the tail amplifies the FE's own error too (the
+  0.22%, a 52 µs tail, 7.1 µs apart, 2026-12-08; the FE converged there, 190.0 µs extrapolated from three meshes:
+  the gap is the 1D model's), and the tail amplifies the FE's own error too (the
   10 mm rods on a mesh 2 x coarser both ways: 11.1 µs apart, peak force within 0.2% on both meshes); the
   verification matrix's tails are 1.0-6.5 µs;
 * **plateaus**: ``midpoint_peak_speed`` (rods.metrics) assumes :data:`rods.metrics.PLATEAU_COUNT` flat
