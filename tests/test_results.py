@@ -64,6 +64,7 @@ RENDERINGS: dict[str, Callable[[], str]] = {
     "wave-probe-random-61206.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61206.json")),
     "wave-probe-random-61207.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61207.json")),
     "wave-probe-random-61208.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61208.json")),
+    "wave-probe-random-61223.md": lambda: benchmark("wave_probe").render(_data("wave-probe-random-61223.json")),
     "rod-end-compliance.md": lambda: benchmark("rod_end_compliance").render(_data("rod-end-compliance.json")),
 }
 
