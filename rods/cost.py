@@ -969,29 +969,38 @@ def _switching_step(region: Scene, factor: float, h_r: float, h: float, g: float
     share, t_i the first layer there (rods.fe.mesh3d.first_layer: a curved tip's rim cells are thin) and θ_1 the
     slave face's slope (its area over its projection); 0.93 to 1.02 x on eight quarter models (curved tips low), where
     the equal-mesh estimate read 0.98 to 1.66 x (a 7 mm tip on the paper rods)."""
-    m1, m2 = region.rod1.material, region.rod2.material
     E_star = hertz.contact_constants(region.rod1, region.rod2)[0]  # [Pa]
-    if region["fe.kind"] == "3d":
-        from rods.fe.layout import axial_spacing
-        from rods.fe.mesh3d import first_layer, section_radius
+    ω2 = _pair_frequency_3d if region["fe.kind"] == "3d" else _pair_frequency_axisymmetric
+    return switching_step(math.sqrt(ω2(region, factor * E_star, h_r, h, g)))
 
-        ε = factor * E_star / min(axial_spacing(rod, h, g).h_tip for rod in region.rods)  # [Pa/m]
-        rho = np.linspace(0.0, min(section_radius(rod.diameter / 2, h_r) for rod in region.rods), 65)
-        cos = np.sqrt(np.maximum(1.0 - (rho / region.rod1.tip_radius) ** 2, 1e-12))
-        t1, t2 = (first_layer(rod, h, g, rho) for rod in region.rods)
-        return switching_step(
-            math.sqrt(float(np.max(2.0 * ε / cos * (1.0 / (m1.density * t1) + 1.0 / (m2.density * t2)))))
-        )
+
+def _pair_frequency_3d(region: Scene, stiffness: float, h_r: float, h: float, g: float) -> float:
+    """ω_c² [1/s²] of the stiffest 3D pair (:func:`_switching_step`) at ``stiffness`` = factor x E* [Pa]: equal
+    O-grid faces, 2 ε/cos θ_1 (1/(ρ_1 t_1) + 1/(ρ_2 t_2)) at the largest radius both share."""
+    from rods.fe.layout import axial_spacing
+    from rods.fe.mesh3d import first_layer, section_radius
+
+    ε = stiffness / min(axial_spacing(rod, h, g).h_tip for rod in region.rods)  # [Pa/m]
+    rho = np.linspace(0.0, min(section_radius(rod.diameter / 2, h_r) for rod in region.rods), 65)  # [m]
+    cos = np.sqrt(np.maximum(1.0 - (rho / region.rod1.tip_radius) ** 2, 1e-12))  # the slave face's slope
+    (t1, t2), (ρ1, ρ2) = ((first_layer(r, h, g, rho) for r in region.rods), (r.material.density for r in region.rods))
+    return float(np.max(2.0 * ε / cos * (1.0 / (ρ1 * t1) + 1.0 / (ρ2 * t2))))
+
+
+def _pair_frequency_axisymmetric(region: Scene, stiffness: float, *_: float) -> float:
+    """ω_c² [1/s²] of the stiffest axisymmetric pair (:func:`_switching_step`) at ``stiffness`` = factor x E* [Pa]:
+    each slave over the master face on the spring ε a_s, against its lumped mass and its masters' weighted by W²."""
     from rods.fe.layout import tip_faces
 
     slave, master = tip_faces(region)
-    ε = factor * E_star / min(slave.h_tip, master.h_tip)  # [Pa/m]
+    ρ1, ρ2 = (rod.material.density for rod in region.rods)
+    ε = stiffness / min(slave.h_tip, master.h_tip)  # [Pa/m]
     j = np.clip(np.searchsorted(master.r, slave.r, side="right") - 1, 0, master.r.size - 2)
     t = np.clip((slave.r - master.r[j]) / (master.r[j + 1] - master.r[j]), 0.0, 1.0)
-    inv_m = 1.0 / (m2.density * master.volume)  # [2π/kg] the masters' inverse lumped masses
-    pair = 1.0 / (m1.density * slave.volume) + (1.0 - t) ** 2 * inv_m[j] + t**2 * inv_m[j + 1]
+    inv_m = 1.0 / (ρ2 * master.volume)  # [2π/kg] the masters' inverse lumped masses
+    pair = 1.0 / (ρ1 * slave.volume) + (1.0 - t) ** 2 * inv_m[j] + t**2 * inv_m[j + 1]
     over = slave.r <= master.r[-1] * (1.0 + 1e-12)  # the slaves over the master face
-    return switching_step(math.sqrt(float(np.max(ε * slave.area * pair, where=over, initial=0.0))))
+    return float(np.max(ε * slave.area * pair, where=over, initial=0.0))
 
 
 def analytical_cost(scene: Scene) -> Cost:
