@@ -879,8 +879,9 @@ def test_the_plans_time_counts_the_steps_the_run_will_take(scene_with):
     sc = scene_with("simulation.end_time=3e-4")
     planned, timed = run_steps(sc)
     assert timed == pytest.approx(planned / bias, rel=1e-9)
-    given = sc.with_overrides(f"fe.dt={0.5 * sc.end_time / planned!r}")  # half the plan's step: the run's exactly
-    assert run_steps(given)[1] == pytest.approx(run_steps(given)[0], rel=1e-9) == 2 * planned
+    dt = 0.5 * sc.end_time / planned  # [s] about half the plan's step, given: the run's exactly
+    given = sc.with_overrides(f"fe.dt={dt!r}")
+    assert run_steps(given)[1] == pytest.approx(run_steps(given)[0], rel=1e-9) == math.ceil(sc.end_time / dt)
     stiff = scene_with("simulation.end_time=3e-4", "fe.contact=penalty", "fe.penalty=40.0")  # the switching limit
     assert run_steps(stiff)[1] == pytest.approx(run_steps(stiff)[0], rel=1e-9)
     (h_r, h, g), region, _, _ = cost._fe_mesh(sc, 0.2e-3, None)
