@@ -282,7 +282,7 @@ H_MIN_FRACTION = 0.85  # smallest cell / smallest requested size [-]
 DT_REFUSE_FACTOR = 2.0  # [-]
 # the penalty pair's estimated switching limit (_switching_step) read 4% above the set-up's exact one on the paper
 # scene (1.136e-8 against 1.0885e-8 s: a fuzz, 2026-12-07; since 2026-12-08 computed as the set-up does, at most 0.3%
-# above it axisymmetric, 2.4% in 3D), so a given step above this fraction of it is only "valid as far as the plan can
+# above it axisymmetric, 3.4% in 3D), so a given step above this fraction of it is only "valid as far as the plan can
 # tell" [-]
 SWITCHING_CAVEAT = 0.9
 # the tip cells' estimated step (_tip_step) is this fraction of their thickness over the wave speed: that ratio read
@@ -965,26 +965,29 @@ def _switching_step(region: Scene, factor: float, h_r: float, h: float, g: float
     face), its spring pulls on masters lighter than it: the equal-mesh estimate 2 factor E* (1/ρ_1 + 1/ρ_2)/h_n² read
     0.97 to 1.80 x the exact limit on 29 drawn scenes (five above 1.2 x); now 0.9999 to 1.0000 x on them and 0.966
     to 1.003 x on ten more (butterflies, near-hemispherical masters, submodels; 2026-12-08). 3D (equal O-grid sections
-    at h_r on both faces): ω² = 2 ε/cos θ_1 (1/(ρ_1 t_1) + 1/(ρ_2 t_2)) at the outer radius both faces
-    share, t_i the first layer there (rods.fe.mesh3d.first_layer: a curved tip's rim cells are thin) and θ_1 the
-    slave face's slope (its area over its projection); 0.93 to 1.02 x on eight quarter models (curved tips low), where
-    the equal-mesh estimate read 0.98 to 1.66 x (a 7 mm tip on the paper rods)."""
+    at h_r on both faces): ω² = 2 ε/cos θ_1 (1/(ρ_1 t_1) + (A_1/A_2)/(ρ_2 t_2)) over the radii both faces share,
+    t_i the first layer there (rods.fe.mesh3d.first_layer: a curved tip's rim cells are thin), A_i the O-grids' cells
+    (the slave's spring over the master's mass) and θ_1 the slave face's slope (its area over its projection): 0.930 to
+    1.034 x on fourteen quarter models (curved tips low), where the equal-mesh estimate read up to 1.66 x (a 7 mm tip
+    on the paper rods) and the first layer without the areas 1.16 x (a 6 mm rod onto a 12.7 mm one)."""
     E_star = hertz.contact_constants(region.rod1, region.rod2)[0]  # [Pa]
     ω2 = _pair_frequency_3d if region["fe.kind"] == "3d" else _pair_frequency_axisymmetric
     return switching_step(math.sqrt(ω2(region, factor * E_star, h_r, h, g)))
 
 
 def _pair_frequency_3d(region: Scene, stiffness: float, h_r: float, h: float, g: float) -> float:
-    """ω_c² [1/s²] of the stiffest 3D pair (:func:`_switching_step`) at ``stiffness`` = factor x E* [Pa]: equal
-    O-grid faces, 2 ε/cos θ_1 (1/(ρ_1 t_1) + 1/(ρ_2 t_2)) at the largest radius both share."""
+    """ω_c² [1/s²] of the stiffest 3D pair (:func:`_switching_step`) at ``stiffness`` = factor x E* [Pa]:
+    2 ε/cos θ_1 (1/(ρ_1 t_1) + (A_1/A_2)/(ρ_2 t_2)) over the radii both faces share, A_i each O-grid's cells there
+    (rods.fe.mesh3d.section_cell_area: a thin slave's ring cells over a thick master's core)."""
     from rods.fe.layout import axial_spacing
-    from rods.fe.mesh3d import first_layer, section_radius
+    from rods.fe.mesh3d import first_layer, section_cell_area, section_radius
 
     ε = stiffness / min(axial_spacing(rod, h, g).h_tip for rod in region.rods)  # [Pa/m]
-    rho = np.linspace(0.0, min(section_radius(rod.diameter / 2, h_r) for rod in region.rods), 65)  # [m]
+    rho = np.linspace(0.0, min(section_radius(rod.diameter / 2, h_r) for rod in region.rods), 257)  # [m]
     cos = np.sqrt(np.maximum(1.0 - (rho / region.rod1.tip_radius) ** 2, 1e-12))  # the slave face's slope
     (t1, t2), (ρ1, ρ2) = ((first_layer(r, h, g, rho) for r in region.rods), (r.material.density for r in region.rods))
-    return float(np.max(2.0 * ε / cos * (1.0 / (ρ1 * t1) + 1.0 / (ρ2 * t2))))
+    A1, A2 = (section_cell_area(r.diameter / 2, h_r, rho) for r in region.rods)  # [m^2]
+    return float(np.max(2.0 * ε / cos * (1.0 / (ρ1 * t1) + A1 / A2 / (ρ2 * t2))))
 
 
 def _pair_frequency_axisymmetric(region: Scene, stiffness: float, *_: float) -> float:

@@ -50,6 +50,7 @@ __all__ = [
     "build_mesh_3d",
     "cell_sizes_3d",
     "first_layer",
+    "section_cell_area",
     "section_counts",
     "section_size",
     "tip_rim_cell",
@@ -115,6 +116,16 @@ def area_radius(R: float, n_c: int) -> float:
     middles 0.16% inside)."""
     N = 4 * n_c
     return R * math.sqrt(2.0 * math.pi / (N * math.sin(2.0 * math.pi / N)))
+
+
+def section_cell_area(R: float, h: float, rho: np.ndarray) -> np.ndarray:
+    """The area [m^2] of the O-grid's cells at the radii ``rho`` [m] of a section of radius R meshed at h
+    (:func:`section_counts`), averaged over the angle: the core's squares (s/m)² inside the core's half-side s, the
+    ring's cells outside it, the ring's mean radial width by the quarter's n_c cells around (its tributary area per
+    node: the penalty contact's switching limit pairs a slave's spring with its masters' masses by these)."""
+    n_c, n_r, s = section_counts(R, h)
+    ring = (R - s * (1 + math.sqrt(2)) / 2) / n_r * np.maximum(rho, s) * (math.pi / 2) / n_c
+    return np.where(rho < s, (s / (n_c // 2)) ** 2, ring)
 
 
 def section_radius(R: float, h: float) -> float:
