@@ -308,6 +308,7 @@ BAR_ELEMENTS = 8  # ... and at least this many across the thinner rod's radius [
 # to x4 of it the peak force moved < 0.06% and the first contact < 0.6 µs on the paper rods at 2.197 and 1.0 m/s
 # (results/contact-study.md), its layer 1.6% of Hertz's approach on the 4 elements across the patch auto puts ...
 PENALTY_FACTOR = 10.0
+PENALTY_MAX = 1e4  # the largest fe.penalty and submodel.penalty [x E*/h], and so the most "auto" gives
 # ... and stiff enough that its layer's delay of the contact, the layer's share of the approach times the time the
 # impact speed takes to close it, share x t_P, stays within this many diameter transits d/c of the thinner rod [-] (the
 # scale of the duration's targets, rods.checks.agree_duration; so geometrically similar scenes get the same factor):
@@ -382,7 +383,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     # lengthen a slow contact by more than LAYER_DELAY_TRANSITS d/c; step ~ 1/sqrt(factor). Softer layers lengthen
     # the contact (paper scene: 1 x +1.8 µs, 0.1 x +13.5 µs, 0.01 x +83 µs and -6.7% force): a run whose layer
     # penetrates more than rods.checks.LAYER_SHARE_OK of Hertz's approach warns (rods.checks.contact_layer_warning)
-    "fe.penalty": ("float|auto", "auto", _positive("x E*/h", hi=1e4)),
+    "fe.penalty": ("float|auto", "auto", _positive("x E*/h", hi=PENALTY_MAX)),
     # penalty law only: viscous damping of each contact pair, fraction of critical (rods.fe.contact)
     "fe.contact_damping": ("float", 0.2, _interval(0.0, 0.5, "of critical", closed_lo=True, closed_hi=True)),
     # stiffness-proportional damping C = β K, β = 2 ξ/ω_max: ξ of critical in the highest mode (rods.fe.explicit; not
@@ -413,7 +414,7 @@ SCHEMA: dict[str, tuple[str, Any, Callable | None]] = {
     "submodel.levels": ("list[str]|auto", "auto", _choices(SUBMODEL_LEVELS)),
     # the submodel's own contact layer under the penalty law (fe.penalty is the global's); auto: as fe.penalty's, on
     # each level's own size (Scene.submodel_penalty)
-    "submodel.penalty": ("float|auto", "auto", _positive("x E*/h", hi=1e4)),
+    "submodel.penalty": ("float|auto", "auto", _positive("x E*/h", hi=PENALTY_MAX)),
     # how the global drives the submodel's cuts: mixed (its traction plus a dashpot to its velocity, rods.fe.traction),
     # its traction alone, or its displacement (the paper's)
     "submodel.driving": ("str", "mixed", _choice(SUBMODEL_DRIVINGS)),
@@ -1056,7 +1057,7 @@ class Scene:
         transit; at most :data:`LAYER_DELAY_MAX`), share x t_P = that delay with share = 2/(π n f) the layer's
         penetration over Hertz's approach at the patch (p_0/ε over a²/R*, rods.checks.layer_share; n = a_P/h elements
         across the Hertz radius at the impedance-bound force on the scene's ``fe.radial_size``) and t_P the
-        :attr:`estimated_rise`: f = 2 t_P/(π n delay), at most the schema's 1e4. The paper scene: t_P = 15.5 µs,
+        :attr:`estimated_rise`: f = 2 t_P/(π n delay), at most :data:`PENALTY_MAX`. The paper scene: t_P = 15.5 µs,
         n = 4.0, 9.9 (so 10); the paper rods at 0.1 m/s 18.5, at 1.0 m/s 12.9; a coarser mesh (smaller n) a stiffer
         layer."""
         return self.auto_penalty_at(self.radial_size)
@@ -1068,7 +1069,7 @@ class Scene:
 
         n = self.impedance_patch_radius / h  # [-]
         delay = min(LAYER_DELAY_TRANSITS * shorter_transit(self), LAYER_DELAY_MAX)  # [s]
-        return min(1e4, max(PENALTY_FACTOR, 2.0 * self.estimated_rise / (math.pi * n * delay)))
+        return min(PENALTY_MAX, max(PENALTY_FACTOR, 2.0 * self.estimated_rise / (math.pi * n * delay)))
 
     def submodel_penalty(self, h: float) -> float:
         """``submodel.penalty`` resolved for a submodel of ``h`` [m] across [x E*/h]: "auto" is
