@@ -41,6 +41,7 @@ __all__ = [
     "axial_spacing",
     "bar_size",
     "butterfly",
+    "butterfly_tip_element",
     "coarsening",
     "coarsening_start",
     "element_count",
@@ -537,19 +538,35 @@ class RodLayout:
     spacing: AxialSpacing
     coarsened: Coarsening | None
     butterfly: Butterfly | None
+    graded: GradedButterfly | None = None  # the butterfly's grading (:func:`graded_butterfly`; None: uniform)
 
 
 def rod_layouts(scene: Scene) -> tuple[RodLayout, RodLayout]:
     """Both rods' layouts on ``scene``'s axisymmetric mesh (a global's, or a submodel's region): the columns across
     (:func:`scene_columns`), the spacing along (:func:`axial_spacing` at fe.axial_size and the tip grading, a graded
-    submodel's core), the 3:1 merges (:func:`coarsening`) and a near-hemispherical tip's butterfly."""
+    submodel's core), the 3:1 merges (:func:`coarsening`) and a near-hemispherical tip's butterfly, graded or not."""
     h, g, start = scene["fe.axial_size"], scene.tip_grading, coarsening_start(scene)
+    hr, h_bar, core, grading = (
+        scene["fe.radial_size"],
+        scene.bar_axial_size,
+        scene.graded_core,
+        scene["fe.radial_grading"],
+    )
     layouts = []
     for rod, columns in zip(scene.rods, scene_columns(scene), strict=True):
         sp = axial_spacing(rod, h, g, *scene.axial_core)
-        co = coarsening(rod, columns, scene.bar_axial_size, sp, start)
-        layouts.append(RodLayout(rod, columns, sp, co, butterfly(rod)))
+        co = coarsening(rod, columns, h_bar, sp, start)
+        b = butterfly(rod)
+        layouts.append(
+            RodLayout(rod, columns, sp, co, b, graded_butterfly(rod, hr, h_bar, core, grading) if b else None)
+        )
     return layouts[0], layouts[1]
+
+
+def butterfly_tip_element(b: Butterfly, hr: float, gb: GradedButterfly | None) -> float:
+    """The element normal to a butterfly cap's face at the apex [m] (the mesh's h_tip there): the band's thickness
+    over its m elements across, or, graded, hr (its bands grow inward from hr at the face)."""
+    return b.t / butterfly_counts(b, hr)[2] if gb is None else hr
 
 
 def axial_blocks(rod: Rod, sp: AxialSpacing, co: Coarsening | None) -> list[tuple[float, int, float, Any]]:
@@ -635,15 +652,15 @@ def tip_faces(scene: Scene) -> tuple[TipFace, TipFace]:
             r = _on_profile(rod, arcs)
             faces.append(TipFace(rod, arcs, r, face_areas(arcs, r), row_volumes(tip_row(layout)), layout.spacing.h_tip))
             continue
-        gb = graded_butterfly(rod, hr, scene.bar_axial_size, scene.graded_core, scene["fe.radial_grading"])
-        arc_ap, arc_pe = b.arcs
+        gb, (arc_ap, arc_pe) = layout.graded, b.arcs
         if gb is None:
-            n_a, n_b, m = butterfly_counts(b, hr)
-            pieces, h_tip = [progression(arc_ap, n_a, 1.0), progression(arc_pe, n_b, 1.0)], b.t / m
+            n_a, n_b, _ = butterfly_counts(b, hr)
+            pieces = [progression(arc_ap, n_a, 1.0), progression(arc_pe, n_b, 1.0)]
         else:
             core = gb.n_core * hr
             pieces = [np.full(gb.n_core, hr), progression(arc_ap - core, gb.n_g, gb.q_g)]
-            pieces, h_tip = [*pieces, progression(arc_pe, gb.n_b, gb.q_b)], hr
+            pieces = [*pieces, progression(arc_pe, gb.n_b, gb.q_b)]
+        h_tip = butterfly_tip_element(b, hr, gb)
         arcs = np.concatenate(([0.0], np.cumsum(np.concatenate(pieces))))
         r = _on_profile(rod, arcs)
         area = face_areas(arcs, r)

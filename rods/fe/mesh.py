@@ -37,9 +37,9 @@ from rods.fe.layout import (
     arc_to,
     axial_blocks,
     butterfly_counts,
+    butterfly_tip_element,
     cap_depth,
     element_sizes,
-    graded_butterfly,
     rod_layouts,
 )
 from rods.scene import Rod, Scene
@@ -120,7 +120,7 @@ def _butterfly_cap(geo, b: Butterfly, s: float, hr: float, gb: GradedButterfly |
         "rim": [[tag(x) for x in column] for column in rim],
         "corners": [p[x] for x in corners],
         "n_cross": n_a + m,
-        "h_tip": b.t / m if gb is None else hr,  # the element normal to the contact face at the apex [m]
+        "h_tip": butterfly_tip_element(b, hr, gb),  # the element normal to the contact face at the apex [m]
         "h_face": max(length / n for length, n in zip(b.arcs, (n_a, n_b), strict=True)) if gb is None else hr,
     }
 
@@ -322,8 +322,7 @@ def _build_gmsh_model(scene: Scene):  # rank 0 only
     for k, (layout, s) in enumerate(zip(rod_layouts(scene), (-1.0, 1.0), strict=True), start=1):
         rod, b, columns = layout.rod, layout.butterfly, layout.columns
         if b:
-            gb = graded_butterfly(rod, hr, scene.bar_axial_size, scene.graded_core, scene["fe.radial_grading"])
-            cap = _butterfly_cap(geo, b, s, hr, gb)
+            cap = _butterfly_cap(geo, b, s, hr, layout.graded)
         else:
             cap = _flat_block_cap(geo, rod, s, columns)
         surfs, axis_curves, outer_curves, lower = _rod_body(geo, cap, layout, s)
