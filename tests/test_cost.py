@@ -336,6 +336,17 @@ def test_a_small_runs_probe_is_cheap():
     assert time.perf_counter() - t0 < cost.PROBE_MIN_SECONDS + 0.1 and speed > 0
 
 
+def test_the_probe_repeats_its_products_for_its_minimum_time(monkeypatch):
+    """rods.cost._probe repeats its products for PROBE_MIN_SECONDS at least (near the cache's edge a product reaches
+    its steady rate only after tens of repeats: a plan read 2.14 x its run from 4-6 of them, 2026-12-08)."""
+    import time
+
+    monkeypatch.setattr(cost, "PROBE_MIN_SECONDS", 0.2)
+    t0 = time.perf_counter()
+    cost._probe(cost.PROBE_MIN_ROWS)  # its 30 products and the build: ~10 ms without the minimum (2026-12-08)
+    assert time.perf_counter() - t0 >= 0.2
+
+
 def test_a_3d_run_is_probed_with_its_own_rows(scene_with, monkeypatch):
     """calibrated: an axisymmetric and a 3D run of the same probe rows get separate probes (the 3D one of 81-entry
     rows, rods.cost._probe(rows, "3d")), each scaled by its own; a 3D probe at its smallest is ~8 MB, as the
